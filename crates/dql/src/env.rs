@@ -1,0 +1,88 @@
+//! The environment interface for discrete tasks, in Gymnasium's shape.
+
+/// What one call to [`Environment::step`] observed.
+///
+/// `terminated` and `truncated` follow Gymnasium's convention: a *terminated* step
+/// ended the episode inside the task (goal reached, obstacle hit, target lost), so
+/// its successor has no value and learners must not bootstrap from it; a
+/// *truncated* step was cut by something outside the task (the step cap), so the
+/// successor still has a value and learners bootstrap as usual. At most one of the
+/// two is `true`; when both would apply, `terminated` wins and `truncated` is `false`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    /// Index of the state the action led to, in `0..n_states()`.
+    pub next_state: usize,
+    /// The task's own reward for this transition (the one learning curves plot).
+    pub reward: f64,
+    /// The episode ended inside the task: do not bootstrap from `next_state`.
+    pub terminated: bool,
+    /// The episode was cut by the step cap: bootstrap from `next_state` as usual.
+    pub truncated: bool,
+}
+
+impl Step {
+    /// `true` when the episode is over, for either reason.
+    #[must_use]
+    pub fn done(&self) -> bool {
+        self.terminated || self.truncated
+    }
+}
+
+/// A discrete, episodic task: finitely many states and actions, indexed from 0.
+///
+/// # Contract
+///
+/// * [`reset`](Environment::reset) starts an episode and returns its initial state.
+///   `Some(seed)` re-seeds the environment's own random stream (sensor noise,
+///   random starts, …) so that everything after it is a function of the seed;
+///   `None` continues the current stream. A fresh environment behaves as if it was
+///   reset with some fixed seed documented by the implementation.
+/// * [`step`](Environment::step) must only be called after `reset` and before the
+///   step that returned `done()`; the result of stepping a finished episode is
+///   unspecified but must not panic or produce non-finite rewards. An action
+///   outside `0..n_actions()` may panic (it is a caller bug, not bad input).
+/// * Every state index returned is in `0..n_states()`; every reward is finite.
+/// * After each `step`, [`subtask_rewards`](Environment::subtask_rewards) holds one
+///   reward per sub-task for that same transition (the decomposition of the task
+///   that EA-MADM trains sub-task learners on). Tasks without a decomposition
+///   return an empty slice. Implementations keep these in a buffer they own, so
+///   stepping allocates nothing.
+/// * [`state_features`](Environment::state_features) describes a state by small
+///   discrete features (for a grid: its column and row) so that state similarity
+///   can be measured (the experience-aggregation tree does). It is not called on
+///   the hot path; the default is the single feature `[state]`.
+/// * Everything random in an environment comes from its own seeded generator;
+///   an implementation never touches a global or thread-local RNG.
+pub trait Environment {
+    /// Number of states; state indices are `0..n_states()`.
+    fn n_states(&self) -> usize;
+
+    /// Number of actions; action indices are `0..n_actions()`.
+    fn n_actions(&self) -> usize;
+
+    /// Number of sub-tasks the task is decomposed into (0 when it is not).
+    fn n_subtasks(&self) -> usize {
+        0
+    }
+
+    /// Names of the sub-tasks, in the order of [`subtask_rewards`](Environment::subtask_rewards).
+    fn subtask_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// Starts an episode and returns the initial state (see the trait docs for `seed`).
+    fn reset(&mut self, seed: Option<u64>) -> usize;
+
+    /// Applies `action` and returns what happened.
+    fn step(&mut self, action: usize) -> Step;
+
+    /// The sub-task rewards of the last transition, one per sub-task.
+    fn subtask_rewards(&self) -> &[f64] {
+        &[]
+    }
+
+    /// Discrete features of `state` (one bin index per feature).
+    fn state_features(&self, state: usize) -> Vec<u32> {
+        vec![u32::try_from(state).unwrap_or(u32::MAX)]
+    }
+}
