@@ -1,0 +1,104 @@
+//! Atomic file writes: every output goes through [`write_atomic`], so a reader (or a resumed
+//! run) sees either the old file or the complete new one, never half a file.
+
+use std::io::{self, Write as _};
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// A failed atomic write, naming the file.
+#[derive(Debug, Error)]
+#[error("could not write {}: {source}", path.display())]
+pub(crate) struct AtomicWriteError {
+    /// The file we were writing.
+    pub(crate) path: PathBuf,
+    /// What went wrong.
+    #[source]
+    pub(crate) source: io::Error,
+}
+
+/// Writes `contents` to `path` atomically: creates the parent folders, writes a temporary file in
+/// the same folder (same file system, so the rename is atomic), flushes it to disk and renames it
+/// over `path`. On error the temporary file is removed and `path` is untouched. A process killed
+/// mid-write may leave a hidden `.<name>.*.tmp` file behind; nothing reads those.
+pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
+    let error = |source| AtomicWriteError {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file_name = path.file_name().ok_or_else(|| {
+        error(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "the path names no file",
+        ))
+    })?;
+    let folder = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    std::fs::create_dir_all(folder).map_err(error)?;
+    let mut prefix = std::ffi::OsString::from(".");
+    prefix.push(file_name);
+    prefix.push(".");
+    let mut temp = tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(".tmp")
+        .tempfile_in(folder)
+        .map_err(error)?;
+    temp.write_all(contents).map_err(error)?;
+    temp.as_file().sync_all().map_err(error)?;
+    temp.persist(path).map_err(|persist| error(persist.error))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entries(folder: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn writes_the_file_creating_folders_and_leaves_no_temp_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a/b/figure.svg");
+        write_atomic(&path, b"<svg/>").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"<svg/>");
+        assert_eq!(entries(&dir.path().join("a/b")), vec!["figure.svg"]);
+    }
+
+    #[test]
+    fn replaces_an_existing_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("REPORT.md");
+        write_atomic(&path, b"old, longer contents").unwrap();
+        write_atomic(&path, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+        assert_eq!(entries(dir.path()), vec!["REPORT.md"]);
+    }
+
+    #[test]
+    fn failure_names_the_path_and_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        // A folder where the file should be: the rename fails.
+        let path = dir.path().join("taken");
+        std::fs::create_dir(&path).unwrap();
+        std::fs::write(path.join("inside"), b"x").unwrap();
+        let error = write_atomic(&path, b"data").unwrap_err();
+        assert_eq!(error.path, path);
+        assert!(error.to_string().contains("taken"), "{error}");
+        assert_eq!(entries(dir.path()), vec!["taken"]);
+    }
+
+    #[test]
+    fn a_path_without_file_name_is_refused() {
+        let error = write_atomic(Path::new("/"), b"x").unwrap_err();
+        assert_eq!(error.source.kind(), io::ErrorKind::InvalidInput);
+    }
+}
