@@ -13,7 +13,17 @@ mod figures;
     not(test),
     expect(dead_code, reason = "used once the eamadm runner lands")
 )]
+mod progress;
+#[cfg_attr(
+    not(test),
+    expect(dead_code, reason = "used once the eamadm runner lands")
+)]
 mod report;
+#[cfg_attr(
+    not(test),
+    expect(dead_code, reason = "used once the eamadm runner lands")
+)]
+mod resume;
 #[cfg_attr(
     not(test),
     expect(dead_code, reason = "used once the eamadm runner lands")
