@@ -1,0 +1,502 @@
+//! What a command will do, checked before anything runs: the tasks, methods and seeds, the
+//! config file and the output folder (resolved to an absolute path and refused inside
+//! `fixtures/`, which only `regen-fixtures` writes).
+
+use std::fmt::Write as _;
+use std::io;
+use std::path::{Component, Path, PathBuf};
+
+use thiserror::Error;
+
+use crate::cli::{ReproduceArgs, Task};
+
+/// Seeds per task and method of the default run.
+pub(crate) const DEFAULT_SEEDS: u32 = 10;
+/// Seeds per task and method of a `--quick` run.
+pub(crate) const QUICK_SEEDS: u32 = 3;
+
+/// The method labels of the embedded default configs: the four methods, then the ablations
+/// (each EA-MADM with one switch flipped). To be replaced by the labels of the loaded config
+/// once the `eamadm` runner lands.
+pub(crate) const DEFAULT_METHODS: [&str; 8] = [
+    "ea-madm",
+    "epsilon-greedy",
+    "epsilon-decreasing",
+    "softmax",
+    "ea-madm-table",
+    "ea-madm-uniform",
+    "ea-madm-literal",
+    "ea-madm-distance",
+];
+
+/// Arguments that cannot work.
+#[derive(Debug, Error)]
+pub(crate) enum PlanError {
+    /// A `--method` label no config defines.
+    #[error("--method {method:?}: unknown method; the methods are: {}", known.join(", "))]
+    UnknownMethod {
+        /// The label given.
+        method: String,
+        /// The labels that exist.
+        known: Vec<String>,
+    },
+    /// An `--out` folder inside the fixtures.
+    #[error(
+        "--out {}: the output folder must not be inside {} (fixtures are written only by \
+         `cargo xtask regen-fixtures`); choose another folder or omit --out for the default \
+         target/reproduce-paper",
+        out.display(),
+        fixtures.display()
+    )]
+    OutInsideFixtures {
+        /// The resolved output folder.
+        out: PathBuf,
+        /// The workspace's fixtures folder.
+        fixtures: PathBuf,
+    },
+    /// An `--out` that exists and is not a folder.
+    #[error("--out {}: exists and is not a folder", out.display())]
+    OutNotAFolder {
+        /// The resolved output folder.
+        out: PathBuf,
+    },
+    /// A `--config` file that cannot be read.
+    #[error("--config {}: cannot read it: {source}", path.display())]
+    ConfigUnreadable {
+        /// The file given.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: io::Error,
+    },
+}
+
+/// Where the workspace is and where the command was started: relative paths given on the
+/// command line are relative to `current_dir`, default outputs to `root`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Workspace {
+    /// The workspace root (the folder of the root `Cargo.toml`).
+    pub(crate) root: PathBuf,
+    /// The folder the command was started in.
+    pub(crate) current_dir: PathBuf,
+}
+
+impl Workspace {
+    /// The workspace this xtask was built in, and the process's current folder.
+    pub(crate) fn from_env() -> io::Result<Self> {
+        // xtask/ sits directly under the workspace root.
+        let manifest_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let root = manifest_dir.parent().unwrap_or(manifest_dir).to_path_buf();
+        Ok(Self {
+            root,
+            current_dir: std::env::current_dir()?,
+        })
+    }
+
+    /// `fixtures/` of the workspace.
+    pub(crate) fn fixtures(&self) -> PathBuf {
+        self.root.join("fixtures")
+    }
+
+    /// The default output folder, `target/reproduce-paper` under the root.
+    pub(crate) fn default_out(&self) -> PathBuf {
+        self.root.join("target").join("reproduce-paper")
+    }
+}
+
+/// A checked `reproduce-paper` invocation.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct ReproducePlan {
+    /// Tasks to run, in run order, without repeats.
+    pub(crate) tasks: Vec<Task>,
+    /// Method labels to run, in the order given (or the config's order), without repeats.
+    pub(crate) methods: Vec<String>,
+    /// Seeds per task and method.
+    pub(crate) seeds: u32,
+    /// Smoke run: few seeds and episodes.
+    pub(crate) quick: bool,
+    /// Config file replacing the embedded defaults.
+    pub(crate) config: Option<PathBuf>,
+    /// Absolute output folder.
+    pub(crate) out: PathBuf,
+}
+
+impl ReproducePlan {
+    /// Checks `args`: method labels against `known_methods` (the labels the config defines),
+    /// the config file is readable, the output folder is not inside `fixtures/` and, if it
+    /// exists, is a folder. Touches nothing on disk.
+    pub(crate) fn from_args(
+        args: &ReproduceArgs,
+        known_methods: &[&str],
+        workspace: &Workspace,
+    ) -> Result<Self, PlanError> {
+        let tasks = if args.tasks.is_empty() {
+            Task::ALL.to_vec()
+        } else {
+            let mut tasks = args.tasks.clone();
+            tasks.sort_unstable();
+            tasks.dedup();
+            tasks
+        };
+
+        let mut methods: Vec<String> = Vec::new();
+        if args.methods.is_empty() {
+            methods.extend(known_methods.iter().map(|m| (*m).to_owned()));
+        }
+        for method in &args.methods {
+            if !known_methods.contains(&method.as_str()) {
+                return Err(PlanError::UnknownMethod {
+                    method: method.clone(),
+                    known: known_methods.iter().map(|m| (*m).to_owned()).collect(),
+                });
+            }
+            if !methods.contains(method) {
+                methods.push(method.clone());
+            }
+        }
+
+        let config = match &args.config {
+            None => None,
+            Some(path) => {
+                let absolute = workspace.current_dir.join(path);
+                // Read it now so a missing or unreadable file fails before anything runs.
+                std::fs::read(&absolute).map_err(|source| PlanError::ConfigUnreadable {
+                    path: path.clone(),
+                    source,
+                })?;
+                Some(absolute)
+            }
+        };
+
+        let out = match &args.out {
+            None => workspace.default_out(),
+            Some(out) => lexically_normal(&workspace.current_dir.join(out)),
+        };
+        let fixtures = workspace.fixtures();
+        if resolve_links(&out).starts_with(resolve_links(&fixtures)) {
+            return Err(PlanError::OutInsideFixtures { out, fixtures });
+        }
+        if out.exists() && !out.is_dir() {
+            return Err(PlanError::OutNotAFolder { out });
+        }
+
+        Ok(Self {
+            tasks,
+            methods,
+            seeds: args.seeds.unwrap_or(if args.quick {
+                QUICK_SEEDS
+            } else {
+                DEFAULT_SEEDS
+            }),
+            quick: args.quick,
+            config,
+            out,
+        })
+    }
+
+    /// Number of runs: tasks × methods × seeds.
+    pub(crate) fn runs(&self) -> u64 {
+        self.tasks.len() as u64 * self.methods.len() as u64 * u64::from(self.seeds)
+    }
+
+    /// The plan, for people.
+    pub(crate) fn describe(&self) -> String {
+        let mut text = String::from("reproduce-paper plan\n");
+        let tasks: Vec<String> = self
+            .tasks
+            .iter()
+            .map(|t| format!("{} ({})", t.name(), t.description()))
+            .collect();
+        // Writing to a String cannot fail.
+        let _ = writeln!(text, "  tasks:    {}", tasks.join(", "));
+        let _ = writeln!(text, "  methods:  {}", self.methods.join(", "));
+        let _ = writeln!(
+            text,
+            "  seeds:    {} per task and method → {} × {} × {} = {} runs{}",
+            self.seeds,
+            self.tasks.len(),
+            self.methods.len(),
+            self.seeds,
+            self.runs(),
+            if self.quick {
+                " (quick: few episodes)"
+            } else {
+                ""
+            }
+        );
+        let config = self.config.as_ref().map_or_else(
+            || "embedded defaults (the paper's Table 1 and 2)".to_owned(),
+            |path| path.display().to_string(),
+        );
+        let _ = writeln!(text, "  config:   {config}");
+        let _ = writeln!(
+            text,
+            "  output:   {} (runs/, CSV curves, JSON record, SVG figures, REPORT.md)",
+            self.out.display()
+        );
+        text
+    }
+}
+
+/// The `regen-fixtures` plan, for people.
+pub(crate) fn describe_regen_fixtures(check: bool, workspace: &Workspace) -> String {
+    let fixtures = workspace.fixtures();
+    let mut text = String::from("regen-fixtures plan\n");
+    let action = if check {
+        "compare with what the code produces now, writing nothing; fail naming the first file \
+         that differs"
+    } else {
+        "regenerate"
+    };
+    let _ = writeln!(text, "  fixtures: {}", fixtures.display());
+    let _ = writeln!(text, "  action:   {action}");
+    let _ = writeln!(
+        text,
+        "  files:    maze layouts (task1, task2), the robot scenario, and reference trajectories \
+         and curves for one fixed seed per task and method, each with a header saying how it \
+         was made"
+    );
+    text
+}
+
+/// `path` with `.` removed and `..` applied, without touching the file system.
+fn lexically_normal(path: &Path) -> PathBuf {
+    let mut normal = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                // `..` at the root stays at the root; a leading `..` of a relative path stays.
+                if !normal.pop() && !normal.has_root() {
+                    normal.push(component);
+                }
+            }
+            other => normal.push(other),
+        }
+    }
+    normal
+}
+
+/// `path` with symbolic links resolved in the part that exists (the rest may not exist yet), so
+/// that a link into `fixtures/` is recognised.
+fn resolve_links(path: &Path) -> PathBuf {
+    let mut existing = path;
+    let mut rest = Vec::new();
+    loop {
+        if let Ok(canonical) = existing.canonicalize() {
+            return rest
+                .iter()
+                .rev()
+                .fold(canonical, |acc: PathBuf, part| acc.join(part));
+        }
+        match (existing.parent(), existing.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_owned());
+                existing = parent;
+            }
+            _ => return path.to_path_buf(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args() -> ReproduceArgs {
+        ReproduceArgs {
+            seeds: None,
+            tasks: vec![],
+            methods: vec![],
+            config: None,
+            out: None,
+            quick: false,
+        }
+    }
+
+    /// A workspace in a temporary folder, started from its root.
+    fn workspace() -> (tempfile::TempDir, Workspace) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("fixtures")).unwrap();
+        let root = dir.path().canonicalize().unwrap();
+        let workspace = Workspace {
+            current_dir: root.clone(),
+            root,
+        };
+        (dir, workspace)
+    }
+
+    #[test]
+    fn defaults() {
+        let (_dir, ws) = workspace();
+        let plan = ReproducePlan::from_args(&args(), &DEFAULT_METHODS, &ws).unwrap();
+        assert_eq!(plan.tasks, Task::ALL.to_vec());
+        assert_eq!(plan.methods, DEFAULT_METHODS.to_vec());
+        assert_eq!(plan.seeds, DEFAULT_SEEDS);
+        assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
+        assert_eq!(plan.runs(), 3 * 8 * 10);
+        let quick = ReproduceArgs {
+            quick: true,
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&quick, &DEFAULT_METHODS, &ws).unwrap();
+        assert_eq!(plan.seeds, QUICK_SEEDS);
+    }
+
+    #[test]
+    fn selections_are_deduplicated_and_tasks_ordered() {
+        let (_dir, ws) = workspace();
+        let selected = ReproduceArgs {
+            seeds: Some(2),
+            tasks: vec![Task::Robot, Task::Task1, Task::Robot],
+            methods: vec!["softmax".into(), "ea-madm".into(), "softmax".into()],
+            quick: true,
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&selected, &DEFAULT_METHODS, &ws).unwrap();
+        assert_eq!(plan.tasks, vec![Task::Task1, Task::Robot]);
+        assert_eq!(plan.methods, vec!["softmax", "ea-madm"]);
+        assert_eq!(plan.seeds, 2);
+        assert_eq!(plan.runs(), 8);
+    }
+
+    #[test]
+    fn unknown_method_lists_the_known_ones() {
+        let (_dir, ws) = workspace();
+        let bad = ReproduceArgs {
+            methods: vec!["ea-madm".into(), "sarsa".into()],
+            ..args()
+        };
+        let error = ReproducePlan::from_args(&bad, &["ea-madm", "softmax"], &ws).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "--method \"sarsa\": unknown method; the methods are: ea-madm, softmax"
+        );
+    }
+
+    #[test]
+    fn out_inside_fixtures_is_refused() {
+        let (_dir, ws) = workspace();
+        for out in [
+            "fixtures",
+            "fixtures/results",
+            "./target/../fixtures/new/deeper",
+        ] {
+            let bad = ReproduceArgs {
+                out: Some(out.into()),
+                ..args()
+            };
+            let error = ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).unwrap_err();
+            assert!(
+                matches!(error, PlanError::OutInsideFixtures { .. }),
+                "{out}: {error}"
+            );
+            assert!(error.to_string().contains("must not be inside"), "{error}");
+        }
+        // A sibling whose name merely starts with "fixtures" is fine, as is the default.
+        let fine = ReproduceArgs {
+            out: Some("fixtures-results".into()),
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&fine, &DEFAULT_METHODS, &ws).unwrap();
+        assert_eq!(plan.out, ws.root.join("fixtures-results"));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn out_through_a_link_into_fixtures_is_refused() {
+        let (_dir, ws) = workspace();
+        std::os::unix::fs::symlink(ws.root.join("fixtures"), ws.root.join("sneaky")).unwrap();
+        let bad = ReproduceArgs {
+            out: Some("sneaky/out".into()),
+            ..args()
+        };
+        let error = ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).unwrap_err();
+        assert!(
+            matches!(error, PlanError::OutInsideFixtures { .. }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn relative_out_is_relative_to_the_current_folder() {
+        let (_dir, mut ws) = workspace();
+        ws.current_dir = ws.root.join("crates");
+        let relative = ReproduceArgs {
+            out: Some("../results".into()),
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&relative, &DEFAULT_METHODS, &ws).unwrap();
+        assert_eq!(plan.out, ws.root.join("results"));
+        // From a sub-folder, `../fixtures` is still the fixtures.
+        let bad = ReproduceArgs {
+            out: Some("../fixtures".into()),
+            ..args()
+        };
+        assert!(ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).is_err());
+    }
+
+    #[test]
+    fn out_that_is_a_file_is_refused() {
+        let (_dir, ws) = workspace();
+        std::fs::write(ws.root.join("REPORT.md"), "x").unwrap();
+        let bad = ReproduceArgs {
+            out: Some("REPORT.md".into()),
+            ..args()
+        };
+        let error = ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).unwrap_err();
+        assert!(matches!(error, PlanError::OutNotAFolder { .. }), "{error}");
+    }
+
+    #[test]
+    fn config_must_be_readable() {
+        let (_dir, ws) = workspace();
+        let missing = ReproduceArgs {
+            config: Some("nope.toml".into()),
+            ..args()
+        };
+        let error = ReproducePlan::from_args(&missing, &DEFAULT_METHODS, &ws).unwrap_err();
+        assert!(
+            error
+                .to_string()
+                .starts_with("--config nope.toml: cannot read it"),
+            "{error}"
+        );
+        std::fs::write(ws.root.join("mine.toml"), "episodes = 5\n").unwrap();
+        let present = ReproduceArgs {
+            config: Some("mine.toml".into()),
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&present, &DEFAULT_METHODS, &ws).unwrap();
+        assert_eq!(plan.config, Some(ws.root.join("mine.toml")));
+    }
+
+    #[test]
+    fn plans_read_well() {
+        let ws = Workspace {
+            root: PathBuf::from("/nonexistent-ws"),
+            current_dir: PathBuf::from("/nonexistent-ws"),
+        };
+        let plan = ReproducePlan::from_args(&args(), &DEFAULT_METHODS, &ws).unwrap();
+        insta::assert_snapshot!("reproduce_default", plan.describe());
+        let quick = ReproduceArgs {
+            quick: true,
+            tasks: vec![Task::Task2],
+            methods: vec!["ea-madm".into(), "softmax".into()],
+            out: Some("results".into()),
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&quick, &DEFAULT_METHODS, &ws).unwrap();
+        insta::assert_snapshot!("reproduce_quick", plan.describe());
+        insta::assert_snapshot!("regen_check", describe_regen_fixtures(true, &ws));
+    }
+
+    #[test]
+    fn lexical_normalisation() {
+        assert_eq!(
+            lexically_normal(Path::new("/a/./b/../c/")),
+            PathBuf::from("/a/c")
+        );
+        assert_eq!(lexically_normal(Path::new("/..")), PathBuf::from("/"));
+    }
+}
