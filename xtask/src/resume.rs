@@ -6,6 +6,10 @@
 //! method and task, the seed, and a version of the code that computes it (e.g. the `eamadm`
 //! crate version or a "results format" number bumped on numeric changes) — otherwise a stale
 //! result would be reused after the code changes.
+//!
+//! Records come back bit for bit (xtask turns on `serde_json`'s `float_roundtrip`; without it
+//! about a third of arbitrary `f64`s change in the last bit), so a resumed run's outputs equal an
+//! uninterrupted run's.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -327,6 +331,40 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names, vec![std::ffi::OsString::from(format!("{key}.json"))]);
+    }
+
+    #[test]
+    fn stored_floats_come_back_bit_for_bit() {
+        // A resumed run must produce the same outputs as an uninterrupted one, so every f64 must
+        // survive the JSON round trip exactly (serde_json's `float_roundtrip` feature).
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let values: Vec<f64> = (0..20_000)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                f64::from_bits(state)
+            })
+            .filter(|v| v.is_finite())
+            .chain([0.1, 1.0 / 3.0, -155.25, 5e-324, f64::MAX, f64::MIN_POSITIVE])
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let store = RunStore::new(dir.path());
+        let key = RunKey::of(&"floats").unwrap();
+        store.store(&key, &"floats", &values).unwrap();
+        let loaded: Vec<f64> = store.load(&key).unwrap().unwrap();
+        let differing = values
+            .iter()
+            .zip(&loaded)
+            .filter(|(a, b)| a.to_bits() != b.to_bits())
+            .count();
+        assert_eq!(loaded.len(), values.len());
+        assert_eq!(
+            differing,
+            0,
+            "{differing} of {} values changed",
+            values.len()
+        );
     }
 
     #[test]
