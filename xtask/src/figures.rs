@@ -55,6 +55,12 @@ pub(crate) enum FigureError {
         /// Its value.
         value: f64,
     },
+    /// Values so large that the band's arithmetic overflows (beyond about 1e150).
+    #[error("series {series:?}: values too large to plot (the confidence band overflows)")]
+    TooLarge {
+        /// The series' name.
+        series: String,
+    },
     /// A smoothing window of zero episodes.
     #[error("smoothing window must be at least 1 episode, got 0")]
     ZeroSmoothingWindow,
@@ -260,6 +266,18 @@ impl LineChart {
                     .map_err(in_series)?;
                 stats::mean_band(&smoothed).map_err(in_series)
             })
+            .zip(&self.series)
+            .map(|(band, series)| {
+                let band = band?;
+                let finite = |p: &BandPoint| p.lower.is_finite() && p.upper.is_finite();
+                if band.iter().all(finite) {
+                    Ok(band)
+                } else {
+                    Err(FigureError::TooLarge {
+                        series: series.name.clone(),
+                    })
+                }
+            })
             .collect()
     }
 
@@ -276,9 +294,9 @@ impl LineChart {
         let (low, high) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
             (lo.min(y), hi.max(y))
         });
-        let span = high - low;
-        let pad = if span > 0.0 {
-            0.05 * span
+        // 5% of each end separately: `high - low` itself could overflow.
+        let pad = if high > low {
+            0.05 * high - 0.05 * low
         } else {
             (0.1 * low.abs()).max(1.0)
         };
@@ -610,6 +628,12 @@ mod tests {
             .render_svg()
             .unwrap_err();
         assert!(matches!(error, FigureError::NonFiniteReference { .. }));
+
+        let error = LineChart::new("t", "x", "y")
+            .with_series("huge", vec![vec![1e300], vec![-1e300]])
+            .render_svg()
+            .unwrap_err();
+        assert!(matches!(error, FigureError::TooLarge { .. }), "{error}");
 
         let error = tiny_chart().with_smoothing(0).render_svg().unwrap_err();
         assert!(matches!(error, FigureError::ZeroSmoothingWindow));
