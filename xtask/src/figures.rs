@@ -253,10 +253,10 @@ impl LineChart {
                     series: series.name.clone(),
                     source,
                 };
-                // Validate the raw curves first so errors name the raw episode.
-                stats::mean_band(&series.runs).map_err(in_series)?;
+                // The raw curves first, so errors name the episode as given.
+                let raw = stats::mean_band(&series.runs).map_err(in_series)?;
                 if self.smoothing_window == 1 {
-                    return stats::mean_band(&series.runs).map_err(in_series);
+                    return Ok(raw);
                 }
                 let smoothed = series
                     .runs
