@@ -370,6 +370,8 @@ impl LineChart {
             .y_desc(self.y_label.as_str())
             .axis_desc_style(("sans-serif", AXIS_FONT))
             .label_style(("sans-serif", TICK_FONT))
+            // Episodes are whole numbers: at most one tick per episode, so no label repeats.
+            .x_labels(((x_max - x_min) as usize + 1).clamp(2, 10))
             .x_label_formatter(&|x| format!("{x:.0}"))
             .y_label_formatter(&|y| format!("{y:.y_decimals$}"))
             .bold_line_style(RGBColor(0xDD, 0xDD, 0xDD))
@@ -592,6 +594,29 @@ mod tests {
         assert_eq!(a, b);
         assert!(a.contains("2-episode moving average"));
         assert_ne!(a, tiny_chart().render_svg().unwrap());
+    }
+
+    /// The texts of an SVG's `<text>` elements (plotters writes each on its own line).
+    fn texts(svg: &str) -> Vec<&str> {
+        let lines: Vec<&str> = svg.lines().collect();
+        lines
+            .windows(2)
+            .filter(|pair| pair[0].starts_with("<text"))
+            .map(|pair| pair[1])
+            .collect()
+    }
+
+    #[test]
+    fn short_runs_get_one_tick_per_episode() {
+        let svg = LineChart::new("quick", "episode", "steps")
+            .with_series("a", vec![vec![150.0, 130.0, 120.0, 110.0, 105.0]])
+            .render_svg()
+            .unwrap();
+        let texts = texts(&svg);
+        for tick in ["1", "2", "3", "4", "5"] {
+            let count = texts.iter().filter(|text| **text == tick).count();
+            assert_eq!(count, 1, "tick {tick} in {texts:?}");
+        }
     }
 
     #[test]
