@@ -3,8 +3,9 @@
 //! Obstacles are gray squares, the start a green `S` tile, the target a red `T` tile;
 //! each trajectory is a polyline through tile centres in its own colour, nudged
 //! diagonally by a fraction of a tile so overlapping paths of different methods stay
-//! visible side by side, with a dot where it ends. A legend below the maze names each
-//! trajectory and its number of moves.
+//! visible side by side, with a dot where it ends. The `S` and `T` letters are drawn
+//! last, above every path. A legend below the maze names each
+//! trajectory and its number of steps (tiles in the path − 1; a bump is a step).
 
 use serde::{Deserialize, Serialize};
 use svg::Document;
@@ -113,7 +114,9 @@ pub fn render_svg(maze: &Maze, trajectories: &[SvgTrajectory<'_>], options: &Svg
         let y = top + grid_height + margin * 0.5 + legend_row * (index as f64 + 0.5);
         document = document.add(legend_entry(trajectory, color, left, y));
     }
-    document.to_string()
+    document
+        .add(marker_letters(maze, tile, left, top))
+        .to_string()
 }
 
 /// Fraction of a tile by which trajectory `index` of `count` is shifted (centred on 0,
@@ -133,8 +136,7 @@ fn grid_group(maze: &Maze, tile: f64, left: f64, top: f64, grid_lines: bool) -> 
             .set("y", fmt(top))
             .set("width", fmt(tile * maze.width() as f64))
             .set("height", fmt(tile * maze.height() as f64))
-            .set("fill", "white")
-            .set("stroke", "black"),
+            .set("fill", "white"),
     );
     if grid_lines {
         let mut d = String::new();
@@ -177,19 +179,36 @@ fn grid_group(maze: &Maze, tile: f64, left: f64, top: f64, grid_lines: bool) -> 
     for pos in maze.obstacles() {
         group = group.add(tile_rect(pos, OBSTACLE_FILL));
     }
-    for (pos, fill, letter) in [
-        (maze.start(), START_FILL, "S"),
-        (maze.target(), TARGET_FILL, "T"),
-    ] {
-        group = group.add(tile_rect(pos, fill)).add(
+    for (pos, fill) in [(maze.start(), START_FILL), (maze.target(), TARGET_FILL)] {
+        group = group.add(tile_rect(pos, fill));
+    }
+    group.add(
+        Rectangle::new()
+            .set("x", fmt(left))
+            .set("y", fmt(top))
+            .set("width", fmt(tile * maze.width() as f64))
+            .set("height", fmt(tile * maze.height() as f64))
+            .set("fill", "none")
+            .set("stroke", "black"),
+    )
+}
+
+/// The `S` and `T` letters, drawn above the trajectories so paths never hide them.
+fn marker_letters(maze: &Maze, tile: f64, left: f64, top: f64) -> Group {
+    let mut group = Group::new();
+    for (pos, letter) in [(maze.start(), "S"), (maze.target(), "T")] {
+        group = group.add(
             Text::new(letter)
                 .set("x", fmt(left + tile * (pos.x as f64 + 0.5)))
                 .set("y", fmt(top + tile * (pos.y as f64 + 0.5)))
+                .set("dy", "0.35em")
                 .set("text-anchor", "middle")
-                .set("dominant-baseline", "central")
                 .set("font-family", FONT)
                 .set("font-weight", "bold")
-                .set("font-size", fmt(tile * 0.75)),
+                .set("font-size", fmt(tile * 0.75))
+                .set("stroke", "white")
+                .set("stroke-width", fmt(tile * 0.1))
+                .set("paint-order", "stroke"),
         );
     }
     group
@@ -237,7 +256,7 @@ fn trajectory_group(path: &[Pos], color: &str, tile: f64, left: f64, top: f64) -
 }
 
 fn legend_entry(trajectory: &SvgTrajectory<'_>, color: &str, left: f64, y: f64) -> Group {
-    let moves = trajectory.path.len().saturating_sub(1);
+    let steps = trajectory.path.len().saturating_sub(1);
     Group::new()
         .add(
             Line::new()
@@ -249,10 +268,10 @@ fn legend_entry(trajectory: &SvgTrajectory<'_>, color: &str, left: f64, y: f64) 
                 .set("stroke-width", 3),
         )
         .add(
-            Text::new(format!("{} ({moves} moves)", trajectory.label))
+            Text::new(format!("{} ({steps} steps)", trajectory.label))
                 .set("x", fmt(left + 2.5 * LEGEND_FONT_PX))
                 .set("y", fmt(y))
-                .set("dominant-baseline", "central")
+                .set("dy", "0.35em")
                 .set("font-family", FONT)
                 .set("font-size", fmt(LEGEND_FONT_PX)),
         )
