@@ -16,7 +16,7 @@ fn task_i_steps(c: &mut Criterion) {
     env.reset(None);
     // A random walk, drawn up front so the benchmark measures the environment, not the RNG.
     let mut rng = ChaCha8Rng::seed_from_u64(0);
-    let actions: Vec<usize> = (0..STEPS).map(|_| rng.random_range(0..4)).collect();
+    let actions: Vec<u8> = (0..STEPS).map(|_| rng.random_range(0..4)).collect();
 
     let mut group = c.benchmark_group("maze_env");
     group.throughput(Throughput::Elements(STEPS as u64));
@@ -24,7 +24,7 @@ fn task_i_steps(c: &mut Criterion) {
         b.iter(|| {
             let mut total = 0.0;
             for &action in &actions {
-                let step = env.step(black_box(action));
+                let step = env.step(black_box(usize::from(action)));
                 total += step.reward + env.subtask_rewards()[1];
                 if step.done() {
                     env.reset(None);

@@ -1,9 +1,10 @@
 //! The maze as a [`dql::Environment`]: task reward, sub-task rewards, termination, step cap.
 //!
 //! Construction precomputes, for every tile and action, the successor state and the
-//! [`Event`] of the move, packed in one `u32`, and one row of rewards per event (the
-//! task's, then each sub-task's). A step is then a table load, a row copy and two
-//! comparisons, and allocates nothing.
+//! [`Event`] of the move, packed in one `u32`; the task's reward per event; and one row
+//! of sub-task rewards per event, plus an all-zero row for "no step yet". A step is then
+//! two table loads and two comparisons: it copies no rewards and allocates nothing, and
+//! `subtask_rewards()` returns the row of the last step's event.
 
 use dql::{Environment, Step};
 
@@ -14,6 +15,8 @@ use crate::reward::{Event, SpecError, TaskSpec};
 /// The low bits of a packed transition hold the event.
 const EVENT_BITS: u32 = 2;
 const EVENT_MASK: u32 = (1 << EVENT_BITS) - 1;
+/// `last_event` before the first step of an episode (the index of the all-zero row).
+const NO_EVENT: u32 = Event::COUNT as u32;
 
 /// A maze task: states are tiles (`y * width + x`), actions are [`Action`] indices
 /// (0 up, 1 down, 2 left, 3 right; `y` grows downwards).
@@ -26,20 +29,25 @@ const EVENT_MASK: u32 = (1 << EVENT_BITS) - 1;
 ///   the [`TaskSpec`], in its order (for the presets: "reach the target faster", then
 ///   "do not hit obstacles"); before the first step of an episode, all zeros.
 /// * `n_states()` counts every tile, obstacles included (the agent never occupies them).
+/// * `state_features(s)` is `[x, y]`.
 #[derive(Clone)]
 pub struct MazeEnv {
     maze: Maze,
     spec: TaskSpec,
     /// `transitions[state][action] = next_state << 2 | event index`.
     transitions: Vec<[u32; N_ACTIONS]>,
-    /// Row `event` (length `row_len`): the task's reward, then each sub-task's.
-    reward_rows: Vec<f64>,
-    row_len: usize,
-    subtask_rewards: Vec<f64>,
+    /// The task's reward, by event index.
+    task_rewards: [f64; Event::COUNT],
+    /// Row `event` (length `n_subtasks`) holds each sub-task's reward for that event;
+    /// row [`NO_EVENT`] is all zeros.
+    subtask_rows: Vec<f64>,
+    n_subtasks: usize,
+    step_cap: u32,
     start: u32,
     position: u32,
     steps: u32,
-    last_event: Option<Event>,
+    /// Event index of the last step, or [`NO_EVENT`].
+    last_event: u32,
 }
 
 impl MazeEnv {
@@ -63,31 +71,30 @@ impl MazeEnv {
                 })
             })
             .collect();
-        let row_len = 1 + spec.subtasks.len();
-        let reward_rows = Event::ALL
+        let subtask_rows = Event::ALL
             .iter()
             .flat_map(|&event| {
-                std::iter::once(spec.reward.reward(event)).chain(
-                    spec.subtasks
-                        .iter()
-                        .map(move |sub| sub.reward.reward(event)),
-                )
+                spec.subtasks
+                    .iter()
+                    .map(move |sub| sub.reward.reward(event))
             })
+            .chain(spec.subtasks.iter().map(|_| 0.0))
             .collect();
         let start = maze
             .state_of(maze.start())
             .expect("the start is inside the grid") as u32;
         Ok(Self {
-            subtask_rewards: vec![0.0; spec.subtasks.len()],
-            maze,
-            spec,
             transitions,
-            reward_rows,
-            row_len,
+            task_rewards: spec.reward.by_event(),
+            subtask_rows,
+            n_subtasks: spec.subtasks.len(),
+            step_cap: spec.step_cap,
             start,
             position: start,
             steps: 0,
-            last_event: None,
+            last_event: NO_EVENT,
+            maze,
+            spec,
         })
     }
 
@@ -127,7 +134,7 @@ impl MazeEnv {
     /// [`Event::Bump`]s gives an episode's collisions.
     #[must_use]
     pub fn last_event(&self) -> Option<Event> {
-        self.last_event
+        Event::ALL.get(self.last_event as usize).copied()
     }
 }
 
@@ -141,7 +148,7 @@ impl Environment for MazeEnv {
     }
 
     fn n_subtasks(&self) -> usize {
-        self.spec.subtasks.len()
+        self.n_subtasks
     }
 
     fn subtask_names(&self) -> Vec<String> {
@@ -156,8 +163,7 @@ impl Environment for MazeEnv {
     fn reset(&mut self, _seed: Option<u64>) -> usize {
         self.position = self.start;
         self.steps = 0;
-        self.last_event = None;
-        self.subtask_rewards.fill(0.0);
+        self.last_event = NO_EVENT;
         self.start as usize
     }
 
@@ -167,23 +173,23 @@ impl Environment for MazeEnv {
     #[inline]
     fn step(&mut self, action: usize) -> Step {
         let packed = self.transitions[self.position as usize][action];
-        let event = (packed & EVENT_MASK) as usize;
-        let row = &self.reward_rows[event * self.row_len..(event + 1) * self.row_len];
-        self.subtask_rewards.copy_from_slice(&row[1..]);
+        let event = packed & EVENT_MASK;
         self.position = packed >> EVENT_BITS;
+        self.last_event = event;
         self.steps = self.steps.saturating_add(1);
-        self.last_event = Some(Event::ALL[event]);
-        let terminated = event == Event::Target.index();
+        let terminated = event == Event::Target as u32;
         Step {
             next_state: self.position as usize,
-            reward: row[0],
+            reward: self.task_rewards[event as usize],
             terminated,
-            truncated: !terminated && self.steps >= self.spec.step_cap,
+            truncated: !terminated && self.steps >= self.step_cap,
         }
     }
 
+    #[inline]
     fn subtask_rewards(&self) -> &[f64] {
-        &self.subtask_rewards
+        let start = self.last_event as usize * self.n_subtasks;
+        &self.subtask_rows[start..start + self.n_subtasks]
     }
 
     /// `[x, y]`: the tile's column and row.
@@ -203,7 +209,7 @@ impl std::fmt::Debug for MazeEnv {
             .field("spec", &self.spec)
             .field("position", &self.position())
             .field("steps", &self.steps)
-            .field("last_event", &self.last_event)
+            .field("last_event", &self.last_event())
             .finish_non_exhaustive()
     }
 }
