@@ -1,0 +1,215 @@
+//! The maze as a [`dql::Environment`]: task reward, sub-task rewards, termination, step cap.
+//!
+//! Construction precomputes, for every tile and action, the successor state and the
+//! [`Event`] of the move, packed in one `u32`; the task's reward per event; and one row
+//! of sub-task rewards per event, plus an all-zero row for "no step yet". A step is then
+//! two table loads and two comparisons: it copies no rewards and allocates nothing, and
+//! `subtask_rewards()` returns the row of the last step's event.
+
+use dql::{Environment, Step};
+
+use crate::geometry::{Action, N_ACTIONS, Pos};
+use crate::maze::Maze;
+use crate::reward::{Event, SpecError, TaskSpec};
+
+/// The low bits of a packed transition hold the event.
+const EVENT_BITS: u32 = 2;
+const EVENT_MASK: u32 = (1 << EVENT_BITS) - 1;
+/// `last_event` before the first step of an episode (the index of the all-zero row).
+const NO_EVENT: u32 = Event::COUNT as u32;
+
+/// A maze task: states are tiles (`y * width + x`), actions are [`Action`] indices
+/// (0 up, 1 down, 2 left, 3 right; `y` grows downwards).
+///
+/// * Every episode starts on the maze's start tile; the task is deterministic, so the
+///   seed passed to [`reset`](Environment::reset) is ignored (there is no random stream).
+/// * A move into an obstacle or the outer wall is a bump: the agent stays.
+/// * Reaching the target *terminates* the episode; the step cap *truncates* it.
+/// * [`subtask_rewards`](Environment::subtask_rewards) holds one reward per sub-task of
+///   the [`TaskSpec`], in its order (for the presets: "reach the target faster", then
+///   "do not hit obstacles"); before the first step of an episode, all zeros.
+/// * `n_states()` counts every tile, obstacles included (the agent never occupies them).
+/// * `state_features(s)` is `[x, y]`.
+#[derive(Clone)]
+pub struct MazeEnv {
+    maze: Maze,
+    spec: TaskSpec,
+    /// `transitions[state][action] = next_state << 2 | event index`.
+    transitions: Vec<[u32; N_ACTIONS]>,
+    /// The task's reward, by event index.
+    task_rewards: [f64; Event::COUNT],
+    /// Row `event` (length `n_subtasks`) holds each sub-task's reward for that event;
+    /// row [`NO_EVENT`] is all zeros.
+    subtask_rows: Vec<f64>,
+    n_subtasks: usize,
+    step_cap: u32,
+    start: u32,
+    position: u32,
+    steps: u32,
+    /// Event index of the last step, or [`NO_EVENT`].
+    last_event: u32,
+}
+
+impl MazeEnv {
+    /// A maze task with the given rewards, sub-tasks and step cap.
+    ///
+    /// # Errors
+    ///
+    /// [`SpecError`] when `spec` fails [`TaskSpec::validate`].
+    pub fn new(maze: Maze, spec: TaskSpec) -> Result<Self, SpecError> {
+        spec.validate()?;
+        let transitions = (0..maze.n_tiles())
+            .map(|state| {
+                let from = maze.pos_of(state).expect("state < n_tiles");
+                Action::ALL.map(|action| {
+                    let (next, event) = maze.transition(from, action);
+                    let next = maze
+                        .state_of(next)
+                        .expect("successors stay inside the grid");
+                    // `next < MAX_TILES = 2^24`, so shifting by 2 bits cannot overflow.
+                    (next as u32) << EVENT_BITS | event.index() as u32
+                })
+            })
+            .collect();
+        let subtask_rows = Event::ALL
+            .iter()
+            .flat_map(|&event| {
+                spec.subtasks
+                    .iter()
+                    .map(move |sub| sub.reward.reward(event))
+            })
+            .chain(spec.subtasks.iter().map(|_| 0.0))
+            .collect();
+        let start = maze
+            .state_of(maze.start())
+            .expect("the start is inside the grid") as u32;
+        Ok(Self {
+            transitions,
+            task_rewards: spec.reward.by_event(),
+            subtask_rows,
+            n_subtasks: spec.subtasks.len(),
+            step_cap: spec.step_cap,
+            start,
+            position: start,
+            steps: 0,
+            last_event: NO_EVENT,
+            maze,
+            spec,
+        })
+    }
+
+    /// The maze.
+    #[must_use]
+    pub fn maze(&self) -> &Maze {
+        &self.maze
+    }
+
+    /// The rewards, sub-tasks and step cap.
+    #[must_use]
+    pub fn spec(&self) -> &TaskSpec {
+        &self.spec
+    }
+
+    /// The agent's tile.
+    #[must_use]
+    pub fn position(&self) -> Pos {
+        self.maze
+            .pos_of(self.position as usize)
+            .expect("the position is always a tile of the maze")
+    }
+
+    /// The agent's state index (`y * width + x`).
+    #[must_use]
+    pub fn state(&self) -> usize {
+        self.position as usize
+    }
+
+    /// Steps taken in the current episode.
+    #[must_use]
+    pub fn steps(&self) -> u32 {
+        self.steps
+    }
+
+    /// What the last step was (`None` before the first step of an episode). Counting
+    /// [`Event::Bump`]s gives an episode's collisions.
+    #[must_use]
+    pub fn last_event(&self) -> Option<Event> {
+        Event::ALL.get(self.last_event as usize).copied()
+    }
+}
+
+impl Environment for MazeEnv {
+    fn n_states(&self) -> usize {
+        self.maze.n_tiles()
+    }
+
+    fn n_actions(&self) -> usize {
+        N_ACTIONS
+    }
+
+    fn n_subtasks(&self) -> usize {
+        self.n_subtasks
+    }
+
+    fn subtask_names(&self) -> Vec<String> {
+        self.spec
+            .subtasks
+            .iter()
+            .map(|sub| sub.name.clone())
+            .collect()
+    }
+
+    /// Puts the agent on the start tile; `seed` is ignored (the task is deterministic).
+    fn reset(&mut self, _seed: Option<u64>) -> usize {
+        self.position = self.start;
+        self.steps = 0;
+        self.last_event = NO_EVENT;
+        self.start as usize
+    }
+
+    /// # Panics
+    ///
+    /// When `action >= 4` (a caller bug, as the trait allows).
+    #[inline]
+    fn step(&mut self, action: usize) -> Step {
+        let packed = self.transitions[self.position as usize][action];
+        let event = packed & EVENT_MASK;
+        self.position = packed >> EVENT_BITS;
+        self.last_event = event;
+        self.steps = self.steps.saturating_add(1);
+        let terminated = event == Event::Target as u32;
+        Step {
+            next_state: self.position as usize,
+            reward: self.task_rewards[event as usize],
+            terminated,
+            truncated: !terminated && self.steps >= self.step_cap,
+        }
+    }
+
+    #[inline]
+    fn subtask_rewards(&self) -> &[f64] {
+        let start = self.last_event as usize * self.n_subtasks;
+        &self.subtask_rows[start..start + self.n_subtasks]
+    }
+
+    /// `[x, y]`: the tile's column and row.
+    fn state_features(&self, state: usize) -> Vec<u32> {
+        let width = self.maze.width();
+        [state % width, state / width]
+            .map(|value| u32::try_from(value).unwrap_or(u32::MAX))
+            .to_vec()
+    }
+}
+
+impl std::fmt::Debug for MazeEnv {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MazeEnv")
+            .field("width", &self.maze.width())
+            .field("height", &self.maze.height())
+            .field("spec", &self.spec)
+            .field("position", &self.position())
+            .field("steps", &self.steps)
+            .field("last_event", &self.last_event())
+            .finish_non_exhaustive()
+    }
+}
