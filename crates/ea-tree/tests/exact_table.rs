@@ -3,6 +3,7 @@
 //! Identical `(s, a)` samples merge into one cluster, so the table to compare with holds, per
 //! `(s, a)`, the *mean* of the inserted Q1 and Q2 and how many samples were inserted; a pair
 //! never inserted has no entry (the tree says "no prior experience").
+#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
 
 mod common;
 
@@ -90,11 +91,11 @@ proptest! {
         // Bit-identical trees, and a table lookup: one cluster per visited pair.
         prop_assert_eq!(&sorted, &from_shuffled);
         prop_assert_eq!(sorted.len(), visited.len());
-        let answers = sorted.answer_table(features.iter().map(|f| f.as_slice()), 4);
-        for state_id in 0..30 {
+        let answers = sorted.answer_table(features.iter().map(<[u32; 2]>::as_slice), 4);
+        for (state_id, state) in features.iter().enumerate() {
             for action in 0..4 {
                 let answer = answers.get(state_id, action);
-                prop_assert_eq!(answer, sorted.lookup(&features[state_id], action));
+                prop_assert_eq!(answer, sorted.lookup(state, action));
                 prop_assert_eq!(
                     answer.map(|a| (a.q1, a.q2, a.count)),
                     visited.get(&(state_id, action)).map(|&(q1, q2)| (q1, q2, 1))

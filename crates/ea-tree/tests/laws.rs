@@ -1,5 +1,6 @@
 //! Laws of the tree for any thresholds: centres are means, counts are member counts,
 //! re-inserting a sample adds no cluster, clusters never outnumber samples.
+#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
 
 mod common;
 

@@ -1,5 +1,6 @@
 //! Save/load: lossless round trips, atomic saves, and typed errors (never a panic) for
 //! truncated, corrupt and inconsistent input.
+#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
 
 mod common;
 

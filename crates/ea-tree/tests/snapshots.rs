@@ -1,4 +1,5 @@
 //! Snapshots of the text dump and the file format of small hand-built trees.
+#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
 
 use ea_tree::{EaTree, EaTreeConfig, Sample};
 

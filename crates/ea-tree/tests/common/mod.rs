@@ -1,5 +1,5 @@
 //! Strategies and helpers shared by the integration tests.
-#![allow(dead_code, unreachable_pub)]
+#![allow(dead_code, unreachable_pub, clippy::unwrap_used)]
 
 use ea_tree::{EaTree, EaTreeConfig, Sample, Similarity};
 use proptest::prelude::*;
