@@ -11,7 +11,7 @@
 //! faster than testing every cluster in turn, and only that question: everything else (the
 //! action tests, which edge to follow) is done as in the literal walk.
 //!
-//! # `ExactState` (τₛ = 1, similarity with [`exact_at_one`](crate::SimilarityProperties))
+//! # `ExactState` (τₛ = 1, similarity with [`state_exact_at_one`](crate::SimilarityProperties))
 //! A state test passes exactly when the cluster is *pure* with the query's state (every
 //! member had it). A hash map gives, for each state, the first pure cluster of the root
 //! chain. Pure clusters stay pure (at τₛ = 1 only identical states merge) and mixed ones
@@ -19,6 +19,19 @@
 //! sample only enters the "action differs" child of a cluster of its own state, so those
 //! chains hold clusters of one state and the rest of the walk is at most as long as the
 //! number of clusters holding the query's state (≤ the number of actions at τₐ = 1).
+//!
+//! # `ExactPair` (τₛ = τₐ = 1, similarity exact at one for states and actions)
+//! The `ExactState` index, plus, for lookups, a hash map from `(s, a)` to the cluster where
+//! the walk for `(s, a)` ends, for every pair whose walk ends at a cluster. A walk that
+//! ends at a cluster ends at one that is pure in both state and action, so the keys to
+//! consider are those of the pure clusters; the map is filled by walking for each of them
+//! (on load) and kept exact on insert: a new cluster for `(s, a)` is only ever opened
+//! where the walk for `(s, a)` fell off the tree, and afterwards that walk ends at it, while
+//! every other walk through the same spot still falls off (the new cluster has no children).
+//! Merges change no centre at τ = 1 (only identical samples merge). A pair missing from the
+//! map therefore has no prior experience. Keys are stored inline (no pointer to chase) for
+//! states of up to [`PairKey::MAX_FEATURES`] features and actions that fit a `u32`; other
+//! queries take the `ExactState` walk.
 //!
 //! # `SharedTokens` (0 < τₛ, similarity [`bounded_by_shared_tokens`](crate::SimilarityProperties))
 //! A cluster whose centre carries only `k` of the query's `d` tokens has state similarity
@@ -39,8 +52,10 @@ use crate::encoding::Token;
 pub enum IndexKind {
     /// No index: every walk is the literal walk (τₛ = 0, or a similarity without guarantees).
     Literal,
-    /// Hash map from a state to its cluster on the root chain (τₛ = 1).
+    /// Hash map from a state to its cluster on the root chain (τₛ = 1, τₐ < 1).
     ExactState,
+    /// Hash map from `(s, a)` to its cluster, over the `ExactState` index (τₛ = τₐ = 1).
+    ExactPair,
     /// Per-chain posting lists of state tokens (0 < τₛ < 1).
     SharedTokens,
 }
@@ -79,6 +94,39 @@ pub(crate) struct ExactStateIndex {
     first_on_root_chain: HashMap<Box<[u32]>, ClusterId>,
     /// Last cluster of the root chain.
     root_chain_tail: Option<ClusterId>,
+    /// For [`IndexKind::ExactPair`]: where the walk for each `(s, a)` ends at a cluster.
+    pairs: Option<HashMap<PairKey, ClusterId>>,
+}
+
+/// A `(state, action)` pair stored inline: the state's bins followed by the action.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct PairKey {
+    len: u32,
+    // Unused words stay 0, so equal pairs are equal keys.
+    words: [u32; PairKey::MAX_FEATURES + 1],
+}
+
+impl PairKey {
+    /// Most state features an inline key holds.
+    pub(crate) const MAX_FEATURES: usize = 7;
+
+    /// The key of `(state, action)`, if it fits inline.
+    pub(crate) fn new(state: &[u32], action: usize) -> Option<Self> {
+        if state.len() > Self::MAX_FEATURES {
+            return None;
+        }
+        let mut words = [0; Self::MAX_FEATURES + 1];
+        words[..state.len()].copy_from_slice(state);
+        words[state.len()] = u32::try_from(action).ok()?;
+        let len = u32::try_from(state.len() + 1).ok()?;
+        Some(Self { len, words })
+    }
+}
+
+impl std::hash::Hash for PairKey {
+    fn hash<H: std::hash::Hasher>(&self, hasher: &mut H) {
+        self.words[..self.len as usize].hash(hasher);
+    }
 }
 
 /// Data of the [`IndexKind::SharedTokens`] index.
@@ -109,6 +157,10 @@ impl WalkIndex {
         match kind {
             IndexKind::Literal => Self::Literal,
             IndexKind::ExactState => Self::ExactState(ExactStateIndex::default()),
+            IndexKind::ExactPair => Self::ExactState(ExactStateIndex {
+                pairs: Some(HashMap::new()),
+                ..ExactStateIndex::default()
+            }),
             IndexKind::SharedTokens => Self::SharedTokens(SharedTokenIndex::default()),
         }
     }
@@ -116,7 +168,9 @@ impl WalkIndex {
     /// The index of an existing (validated) tree, replaying cluster creation in id order.
     ///
     /// Parents always have smaller ids than their children, so replaying in id order
-    /// reproduces the index that inserting the same clusters one by one maintained.
+    /// reproduces the index that inserting the same clusters one by one maintained. The
+    /// `(s, a)` map of [`IndexKind::ExactPair`] is left empty: it needs walks, which the tree
+    /// runs afterwards (see `EaTree::rebuild_index`).
     pub(crate) fn rebuild(kind: IndexKind, clusters: &[Cluster]) -> Self {
         let mut vacancies = vec![Vacancy::EmptyTree; clusters.len()];
         for (parent, cluster) in (0_u32..).zip(clusters) {
@@ -138,6 +192,7 @@ impl WalkIndex {
     pub(crate) fn kind(&self) -> IndexKind {
         match self {
             Self::Literal => IndexKind::Literal,
+            Self::ExactState(index) if index.pairs.is_some() => IndexKind::ExactPair,
             Self::ExactState(_) => IndexKind::ExactState,
             Self::SharedTokens(_) => IndexKind::SharedTokens,
         }
@@ -239,6 +294,22 @@ impl ExactStateIndex {
     /// The last cluster of the root chain (`None` only for an empty tree).
     pub(crate) fn root_chain_tail(&self) -> Option<ClusterId> {
         self.root_chain_tail
+    }
+
+    /// With an `(s, a)` map: `Some(answer)` for a query it covers (`Some(None)`: no prior
+    /// experience), `None` when the query does not fit an inline key or there is no map.
+    pub(crate) fn pair(&self, state: &[u32], action: usize) -> Option<Option<ClusterId>> {
+        let pairs = self.pairs.as_ref()?;
+        let key = PairKey::new(state, action)?;
+        Some(pairs.get(&key).copied())
+    }
+
+    /// Records that the walk for `(state, action)` now ends at `id` (no-op without a map or
+    /// for a pair that does not fit a key).
+    pub(crate) fn set_pair(&mut self, state: &[u32], action: usize, id: ClusterId) {
+        if let (Some(pairs), Some(key)) = (self.pairs.as_mut(), PairKey::new(state, action)) {
+            pairs.insert(key, id);
+        }
     }
 }
 

@@ -210,13 +210,15 @@ impl<S: Similarity> EaTree<S> {
             ));
         }
         let kind = index_kind(&file.config, &similarity);
-        Ok(Self {
+        let mut tree = Self {
             config: file.config,
             similarity,
-            index: WalkIndex::rebuild(kind, &clusters),
+            index: WalkIndex::empty(kind),
             clusters,
             samples_seen: file.samples_seen,
-        })
+        };
+        tree.rebuild_index();
+        Ok(tree)
     }
 }
 

@@ -30,8 +30,12 @@ pub trait Similarity {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SimilarityProperties {
     /// `state_similarity(s, c) >= 1` exactly when every member of `c` had the state `s`.
-    /// Lets the tree answer at `τₛ = 1` through an exact hash index.
-    pub exact_at_one: bool,
+    /// Lets the tree find, at `τₛ = 1`, a state's cluster through a hash map.
+    pub state_exact_at_one: bool,
+    /// `action_similarity(a, c) >= 1` exactly when every member of `c` took the action `a`.
+    /// With `state_exact_at_one`, lets the tree answer at `τₛ = τₐ = 1` through a hash map
+    /// from `(s, a)` to its cluster.
+    pub action_exact_at_one: bool,
     /// `state_similarity(s, c) <= k / |s|`, where `k` counts the tokens of `s` carried by at
     /// least one member of `c` (and `<= 0` for an empty `s`). Lets the tree skip, below
     /// `τₛ = 1`, the clusters that share too few tokens with the query.
@@ -41,7 +45,8 @@ pub struct SimilarityProperties {
 impl SimilarityProperties {
     /// No guarantee: lookups take the literal walk.
     pub const NONE: Self = Self {
-        exact_at_one: false,
+        state_exact_at_one: false,
+        action_exact_at_one: false,
         bounded_by_shared_tokens: false,
     };
 }
@@ -87,11 +92,13 @@ impl Similarity for WeightedJaccard {
     }
 
     fn properties(&self) -> SimilarityProperties {
-        // exact_at_one: m = n·d = T exactly when all n members carry all d query tokens
-        // and nothing else. Bounded: m ≤ n·k and the denominator is ≥ n·d, so the
-        // similarity is ≤ k/d (and 0 for d = 0 against a non-empty centre).
+        // State exact at one: 2m = n·d + T with m ≤ n·d and m ≤ T, so m = n·d = T: all n
+        // members carry all d query tokens and nothing else. Action exact at one:
+        // n_a = 2n − n_a, so n_a = n. Bounded: m ≤ n·k and the denominator is ≥ n·d, so
+        // the similarity is ≤ k/d (and 0 for d = 0 against a non-empty centre).
         SimilarityProperties {
-            exact_at_one: true,
+            state_exact_at_one: true,
+            action_exact_at_one: true,
             bounded_by_shared_tokens: true,
         }
     }

@@ -256,6 +256,11 @@ impl<S: Similarity> EaTree<S> {
         if state.len() > MAX_FEATURES {
             return None;
         }
+        if let WalkIndex::ExactState(index) = &self.index
+            && let Some(found) = index.pair(state, action)
+        {
+            return found.map(|id| self.answer(id));
+        }
         match self.walk_indexed(state, action) {
             WalkEnd::Found(id) => Some(self.answer(id)),
             WalkEnd::Vacant(_) => None,
@@ -288,6 +293,34 @@ impl<S: Similarity> EaTree<S> {
             };
         }
         visited
+    }
+
+    /// Derives the lookup index from the clusters (after a load).
+    pub(crate) fn rebuild_index(&mut self) {
+        self.index = WalkIndex::rebuild(index_kind(&self.config, &self.similarity), &self.clusters);
+        if self.index.kind() != IndexKind::ExactPair {
+            return;
+        }
+        // A walk that ends at a cluster ends at one pure in state and action, so walking
+        // for the key of every such cluster finds every pair with prior experience.
+        let mut found = Vec::new();
+        for cluster in &self.clusters {
+            let (Some(state), [only]) = (cluster.pure_state(), cluster.actions.as_slice()) else {
+                continue;
+            };
+            if only.count != cluster.count {
+                continue;
+            }
+            let state: Vec<u32> = state.collect();
+            if let WalkEnd::Found(id) = self.walk_indexed(&state, only.action) {
+                found.push((state, only.action, id));
+            }
+        }
+        if let WalkIndex::ExactState(index) = &mut self.index {
+            for (state, action, id) in found {
+                index.set_pair(&state, action, id);
+            }
+        }
     }
 
     fn answer(&self, id: ClusterId) -> Answer {
@@ -475,6 +508,10 @@ impl<S: Similarity> EaTree<S> {
                     }
                 }
                 self.index.on_new_cluster(id, vacancy, &cluster);
+                if let WalkIndex::ExactState(index) = &mut self.index {
+                    // The walk for this pair fell off here; from now on it ends at `id`.
+                    index.set_pair(sample.state, sample.action, id);
+                }
                 self.clusters.push(cluster);
                 Insertion {
                     cluster: id,
@@ -498,8 +535,12 @@ enum Step {
 /// The index a tree with these thresholds and similarity can use.
 pub(crate) fn index_kind<S: Similarity>(config: &EaTreeConfig, similarity: &S) -> IndexKind {
     let properties = similarity.properties();
-    if config.state_threshold >= 1.0 && properties.exact_at_one {
-        IndexKind::ExactState
+    if config.state_threshold >= 1.0 && properties.state_exact_at_one {
+        if config.action_threshold >= 1.0 && properties.action_exact_at_one {
+            IndexKind::ExactPair
+        } else {
+            IndexKind::ExactState
+        }
     } else if config.state_threshold > 0.0 && properties.bounded_by_shared_tokens {
         IndexKind::SharedTokens
     } else {
@@ -586,11 +627,9 @@ mod tests {
             EaTreeConfig::new(0.0, 0.5).unwrap(),
         ] {
             let tree = grid_tree(config);
-            assert_eq!(
-                tree.index,
-                WalkIndex::rebuild(tree.index_kind(), &tree.clusters),
-                "{config:?}"
-            );
+            let mut rebuilt = tree.clone();
+            rebuilt.rebuild_index();
+            assert_eq!(tree.index, rebuilt.index, "{config:?}");
         }
     }
 
@@ -598,8 +637,10 @@ mod tests {
     fn index_kind_follows_thresholds() {
         assert_eq!(
             grid_tree(EaTreeConfig::EXACT).index_kind(),
-            IndexKind::ExactState
+            IndexKind::ExactPair
         );
+        let exact_state = EaTreeConfig::new(1.0, 0.5).unwrap();
+        assert_eq!(grid_tree(exact_state).index_kind(), IndexKind::ExactState);
         let shared = EaTreeConfig::new(0.5, 1.0).unwrap();
         assert_eq!(grid_tree(shared).index_kind(), IndexKind::SharedTokens);
         let literal = EaTreeConfig::new(0.0, 1.0).unwrap();

@@ -42,7 +42,7 @@ proptest! {
         let table = mean_table(&data);
         for order in [&data, &shuffled] {
             let tree = build(EaTreeConfig::EXACT, order);
-            prop_assert_eq!(tree.index_kind(), IndexKind::ExactState);
+            prop_assert_eq!(tree.index_kind(), IndexKind::ExactPair);
             prop_assert_eq!(tree.len(), table.len());
             prop_assert_eq!(tree.samples_seen(), data.len() as u64);
             for state in all_states(features, 5) {

@@ -130,7 +130,7 @@ impl Similarity for PlainJaccard {
 #[test]
 fn every_index_kind_is_reached() {
     let kinds = [
-        (EaTreeConfig::EXACT, IndexKind::ExactState),
+        (EaTreeConfig::EXACT, IndexKind::ExactPair),
         (EaTreeConfig::new(1.0, 0.0).unwrap(), IndexKind::ExactState),
         (
             EaTreeConfig::new(0.5, 1.0).unwrap(),
@@ -169,4 +169,111 @@ fn the_index_skips_the_degenerate_chain() {
     let answer = tree.lookup(&[29, 29], 3).unwrap();
     assert_eq!((answer.q1, answer.q2, answer.count), (29.0, 29.0, 1));
     assert_eq!(tree.lookup_literal(&[29, 29], 3), Some(answer));
+}
+
+/// One cluster of an arbitrary tree: its members and where it hangs.
+#[derive(Debug, Clone)]
+struct ArbitraryCluster {
+    members: Vec<(Vec<u32>, usize)>,
+    q: (f64, f64),
+    /// Which earlier cluster (modulo the clusters with a free child) and which child.
+    parent: (usize, bool),
+}
+
+/// The JSON of a structurally valid tree of any shape, whose centres are means of
+/// arbitrary members: the kind of tree a loaded file may hold, not only what inserts build.
+fn arbitrary_tree_json(config: EaTreeConfig, clusters: &[ArbitraryCluster]) -> String {
+    let mut links: Vec<[Option<usize>; 2]> = vec![[None, None]; clusters.len()];
+    for (i, cluster) in clusters.iter().enumerate().skip(1) {
+        let free: Vec<(usize, usize)> = (0..i)
+            .flat_map(|p| (0..2).map(move |side| (p, side)))
+            .filter(|&(p, side)| links[p][side].is_none())
+            .collect();
+        let preferred = usize::from(cluster.parent.1);
+        let (p, _) = free[cluster.parent.0 % free.len()];
+        let side = if links[p][preferred].is_none() {
+            preferred
+        } else {
+            1 - preferred
+        };
+        links[p][side] = Some(i);
+    }
+    let records: Vec<String> = clusters
+        .iter()
+        .zip(&links)
+        .map(|(cluster, link)| {
+            let mut tokens = std::collections::BTreeMap::new();
+            let mut actions = std::collections::BTreeMap::new();
+            for (state, action) in &cluster.members {
+                for (feature, bin) in state.iter().enumerate() {
+                    *tokens.entry((feature, *bin)).or_insert(0_u64) += 1;
+                }
+                *actions.entry(*action).or_insert(0_u64) += 1;
+            }
+            let state: Vec<[u64; 3]> = tokens
+                .iter()
+                .map(|(&(f, b), &c)| [f as u64, u64::from(b), c])
+                .collect();
+            let actions: Vec<[u64; 2]> = actions.iter().map(|(&a, &c)| [a as u64, c]).collect();
+            serde_json::json!({
+                "count": cluster.members.len(),
+                "state": state,
+                "actions": actions,
+                "q1": cluster.q.0,
+                "q2": cluster.q.1,
+                "state_differs": link[0],
+                "action_differs": link[1],
+            })
+            .to_string()
+        })
+        .collect();
+    let samples: usize = clusters.iter().map(|c| c.members.len()).sum();
+    format!(
+        r#"{{"format":"ea-tree","version":1,"similarity":"weighted-jaccard","config":{},"samples_seen":{},"clusters":[{}]}}"#,
+        serde_json::to_string(&config).unwrap(),
+        samples,
+        records.join(",")
+    )
+}
+
+fn arbitrary_cluster() -> impl Strategy<Value = ArbitraryCluster> {
+    (
+        // Mostly pure clusters (one distinct member), so that exact thresholds match often.
+        prop_oneof![
+            2 => (prop::collection::vec(0..3_u32, 1..=3), 0..3_usize, 1..3_usize)
+                .prop_map(|(s, a, n)| vec![(s, a); n]),
+            1 => prop::collection::vec((prop::collection::vec(0..3_u32, 1..=3), 0..3_usize), 1..4),
+        ],
+        (common::q_value(), common::q_value()),
+        (any::<usize>(), any::<bool>()),
+    )
+        .prop_map(|(members, q, parent)| ArbitraryCluster { members, q, parent })
+}
+
+proptest! {
+    #[test]
+    fn indexed_walk_equals_literal_walk_on_arbitrary_loaded_trees(
+        config in config(),
+        clusters in prop::collection::vec(arbitrary_cluster(), 1..40),
+        more in samples(2, 3, 3, 0..20),
+    ) {
+        let json = arbitrary_tree_json(config, &clusters);
+        let mut tree: EaTree = EaTree::from_json(&json).unwrap();
+        let mut literal = tree.clone();
+        let queries = queries(3, 3);
+        for state in &queries {
+            for action in 0..=3 {
+                prop_assert_eq!(tree.lookup(state, action), tree.lookup_literal(state, action));
+            }
+        }
+        // Inserting into a loaded tree keeps the two walks in step.
+        for s in &more {
+            prop_assert_eq!(tree.insert(s.as_sample()).unwrap(), literal.insert_literal(s.as_sample()).unwrap());
+        }
+        for state in &queries {
+            for action in 0..=3 {
+                prop_assert_eq!(tree.lookup(state, action), tree.lookup_literal(state, action));
+            }
+        }
+    }
 }

@@ -74,6 +74,6 @@ fn stats_of_an_exact_tree() {
     insta::assert_snapshot!(format!(
         "samples={} clusters={} depth={} longest_chain={} index={:?}",
         stats.samples_seen, stats.clusters, stats.depth, stats.longest_chain, stats.index
-    ), @"samples=5 clusters=4 depth=3 longest_chain=3 index=ExactState");
+    ), @"samples=5 clusters=4 depth=3 longest_chain=3 index=ExactPair");
     assert!(stats.cluster_bytes >= 4 * 96 && stats.index_bytes > 0);
 }

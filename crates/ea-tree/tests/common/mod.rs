@@ -94,8 +94,13 @@ pub fn threshold() -> impl Strategy<Value = f64> {
     ]
 }
 
+/// Thresholds, with the exact ones (each with its own index) drawn often.
 pub fn config() -> impl Strategy<Value = EaTreeConfig> {
-    (threshold(), threshold()).prop_map(|(s, a)| EaTreeConfig::new(s, a).unwrap())
+    prop_oneof![
+        1 => Just(EaTreeConfig::EXACT),
+        1 => threshold().prop_map(|a| EaTreeConfig::new(1.0, a).unwrap()),
+        4 => (threshold(), threshold()).prop_map(|(s, a)| EaTreeConfig::new(s, a).unwrap()),
+    ]
 }
 
 /// Every state with `features` features and bins in `0..bins`.
