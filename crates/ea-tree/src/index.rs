@@ -15,10 +15,10 @@
 //! A state test passes exactly when the cluster is *pure* with the query's state (every
 //! member had it). A hash map gives, for each state, the first pure cluster of the root
 //! chain. Pure clusters stay pure (at τₛ = 1 only identical states merge) and mixed ones
-//! never match, so the map only grows. Other chains are walked literally: at τₛ = 1 a
-//! sample only enters the "action differs" child of a cluster of its own state, so those
-//! chains hold clusters of one state and the rest of the walk is at most as long as the
-//! number of clusters holding the query's state (≤ the number of actions at τₐ = 1).
+//! never match, so the map only grows. Other chains are walked literally. In a tree built
+//! by inserts at τₛ = 1 a sample only enters the "action differs" child of a cluster of its
+//! own state, so those chains hold clusters of one state and the rest of the walk is at
+//! most as long as the number of clusters holding the query's state.
 //!
 //! # `ExactPair` (τₛ = τₐ = 1, similarity exact at one for states and actions)
 //! The `ExactState` index, plus, for lookups, a hash map from `(s, a)` to the cluster where
@@ -30,8 +30,8 @@
 //! every other walk through the same spot still falls off (the new cluster has no children).
 //! Merges change no centre at τ = 1 (only identical samples merge). A pair missing from the
 //! map therefore has no prior experience. Keys are stored inline (no pointer to chase) for
-//! states of up to [`PairKey::MAX_FEATURES`] features and actions that fit a `u32`; other
-//! queries take the `ExactState` walk.
+//! states of up to 7 features and actions that fit a `u32`; other queries take the
+//! `ExactState` walk.
 //!
 //! # `SharedTokens` (0 < τₛ, similarity [`bounded_by_shared_tokens`](crate::SimilarityProperties))
 //! A cluster whose centre carries only `k` of the query's `d` tokens has state similarity
@@ -265,6 +265,9 @@ impl WalkIndex {
                         .keys()
                         .map(|k| size_of_val::<[u32]>(k))
                         .sum::<usize>()
+                    + index.pairs.as_ref().map_or(0, |pairs| {
+                        hash_map_heap_bytes::<PairKey, ClusterId>(pairs.capacity())
+                    })
             }
             Self::SharedTokens(index) => {
                 index.places.capacity() * size_of::<ChainPlace>()

@@ -648,6 +648,24 @@ mod tests {
     }
 
     #[test]
+    fn index_bytes_count_every_map() {
+        let pair = grid_tree(EaTreeConfig::EXACT).stats();
+        let state = grid_tree(EaTreeConfig::new(1.0, 0.5).unwrap()).stats();
+        assert_eq!(pair.cluster_bytes, state.cluster_bytes);
+        // The (s, a) map holds 75 inline keys of 36 bytes plus a 4-byte id.
+        assert!(
+            pair.index_bytes >= state.index_bytes + 75 * 40,
+            "{pair:?} {state:?}"
+        );
+        assert_eq!(
+            grid_tree(EaTreeConfig::new(0.0, 1.0).unwrap())
+                .stats()
+                .index_bytes,
+            0
+        );
+    }
+
+    #[test]
     fn exact_tree_root_chain_is_one_cluster_per_state() {
         let tree = grid_tree(EaTreeConfig::EXACT);
         assert_eq!(tree.len(), 75);
