@@ -36,11 +36,14 @@
 //! that chain holds one cluster per distinct state (900 for a 30 × 30 maze) and a literal walk
 //! costs O(#states) similarity tests: the tree is a linked list. Below 1 it is the same
 //! whenever states rarely resemble each other. We keep the paper's answers and make them
-//! fast: [`EaTree::lookup`] and [`EaTree::insert`] walk through an index ([`IndexKind`]) that
-//! jumps straight to the first cluster of a chain whose state test can pass (a hash map at
-//! `τₛ = 1`; per-chain token posting lists below 1). It ends every walk exactly where the
-//! literal walk ends (the argument is in the [`index`] module; property tests check it on
-//! random trees and thresholds). [`EaTree::lookup_literal`] and [`EaTree::insert_literal`]
+//! fast: [`EaTree::lookup`] and [`EaTree::insert`] go through an index ([`IndexKind`]) that
+//! jumps straight to the first cluster of a chain whose state test can pass: at
+//! `τₛ = τₐ = 1` a hash map from `(s, a)` to its cluster answers a lookup in one probe; at
+//! `τₛ = 1` a hash map from a state to its cluster on the root chain; below 1, per-chain
+//! posting lists of state tokens skip the clusters sharing too few tokens with the query. It
+//! ends every walk exactly where the literal walk ends (the argument is in the [`index`]
+//! module; property tests check it on random trees, loaded trees of any shape, and random
+//! thresholds). [`EaTree::lookup_literal`] and [`EaTree::insert_literal`]
 //! keep the literal walk. For the fastest reads of a finished tree,
 //! [`EaTree::answer_table`] answers every `(state, action)` once.
 //!
