@@ -40,7 +40,8 @@ impl<S: Similarity> EaTree<S> {
     /// Bulk mode: inserts one sample per entry in ascending `(state_id, action)` order,
     /// whatever order the entries come in, so the tree is a function of the table alone.
     ///
-    /// Every entry is checked before the first insert.
+    /// Every entry is checked before the first insert. Spare capacity is released at the
+    /// end (see [`shrink_to_fit`](Self::shrink_to_fit)).
     ///
     /// # Errors
     /// [`EaTreeError::DuplicateTableEntry`] if a `(state_id, action)` pair repeats,
@@ -75,6 +76,8 @@ impl<S: Similarity> EaTree<S> {
         for entry in &entries {
             self.insert(entry.sample())?;
         }
+        // A bulk-built tree is then mostly read: drop the slack of doubling growth.
+        self.shrink_to_fit();
         Ok(())
     }
 

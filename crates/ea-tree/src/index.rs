@@ -254,6 +254,26 @@ impl WalkIndex {
         }
     }
 
+    /// Releases spare capacity.
+    pub(crate) fn shrink_to_fit(&mut self) {
+        match self {
+            Self::Literal => {}
+            Self::ExactState(index) => {
+                index.first_on_root_chain.shrink_to_fit();
+                if let Some(pairs) = index.pairs.as_mut() {
+                    pairs.shrink_to_fit();
+                }
+            }
+            Self::SharedTokens(index) => {
+                index.places.shrink_to_fit();
+                index.chains.shrink_to_fit();
+                index.chains.iter_mut().for_each(Vec::shrink_to_fit);
+                index.postings.shrink_to_fit();
+                index.postings.values_mut().for_each(Vec::shrink_to_fit);
+            }
+        }
+    }
+
     /// Estimated heap bytes of the index.
     pub(crate) fn heap_bytes(&self) -> usize {
         match self {

@@ -218,6 +218,7 @@ impl<S: Similarity> EaTree<S> {
             samples_seen: file.samples_seen,
         };
         tree.rebuild_index();
+        tree.index.shrink_to_fit();
         Ok(tree)
     }
 }

@@ -295,6 +295,17 @@ impl<S: Similarity> EaTree<S> {
         visited
     }
 
+    /// Releases spare capacity of the clusters and the index (done after a bulk build;
+    /// useful after streaming, before a tree is only read).
+    pub fn shrink_to_fit(&mut self) {
+        self.clusters.shrink_to_fit();
+        for cluster in &mut self.clusters {
+            cluster.state_tokens.shrink_to_fit();
+            cluster.actions.shrink_to_fit();
+        }
+        self.index.shrink_to_fit();
+    }
+
     /// Derives the lookup index from the clusters (after a load).
     pub(crate) fn rebuild_index(&mut self) {
         self.index = WalkIndex::rebuild(index_kind(&self.config, &self.similarity), &self.clusters);
