@@ -61,15 +61,47 @@ pub trait Learner {
         rng: &mut R,
     );
 
-    /// The first estimator `Q1` (the only one for a single-estimator learner).
-    fn q1(&self) -> &QTable;
+    /// `Q1(state, ·)`: the first estimator's values in `state`, one per action
+    /// (the only estimator of a single-estimator learner).
+    ///
+    /// # Panics
+    /// If `state >= n_states()`.
+    fn q1_row(&self, state: usize) -> &[f64];
 
-    /// The second estimator `Q2` (the same table as [`q1`](Learner::q1) for a
+    /// `Q2(state, ·)` (the same values as [`q1_row`](Learner::q1_row) for a
     /// single-estimator learner).
-    fn q2(&self) -> &QTable;
+    ///
+    /// # Panics
+    /// If `state >= n_states()`.
+    fn q2_row(&self, state: usize) -> &[f64];
 
-    /// How many times each state–action pair has been updated, row-major like
-    /// [`QTable::as_slice`]: the count of `(s, a)` is at `s * n_actions() + a`.
+    /// `Q1(state, action)`.
+    ///
+    /// # Panics
+    /// If a state or the action is out of range.
+    fn q1(&self, state: usize, action: usize) -> f64 {
+        self.q1_row(state)[action]
+    }
+
+    /// `Q2(state, action)`.
+    ///
+    /// # Panics
+    /// If a state or the action is out of range.
+    fn q2(&self, state: usize, action: usize) -> f64 {
+        self.q2_row(state)[action]
+    }
+
+    /// A copy of the whole first estimator as a [`QTable`].
+    fn q1_table(&self) -> QTable {
+        QTable::from_rows(self.n_states(), self.n_actions(), |s| self.q1_row(s))
+    }
+
+    /// A copy of the whole second estimator as a [`QTable`].
+    fn q2_table(&self) -> QTable {
+        QTable::from_rows(self.n_states(), self.n_actions(), |s| self.q2_row(s))
+    }
+
+    /// How many times each state–action pair has been updated, row-major: the count of `(s, a)` is at `s * n_actions() + a`.
     /// Counts saturate at `u32::MAX`.
     fn update_counts(&self) -> &[u32];
 
@@ -90,18 +122,19 @@ pub trait Learner {
         Self: Sized,
     {
         let n_actions = self.n_actions();
-        let q1 = self.q1().as_slice();
-        let q2 = self.q2().as_slice();
         self.update_counts()
             .iter()
             .enumerate()
             .filter(|(_, count)| **count > 0)
-            .map(move |(index, &updates)| ExperienceSample {
-                state: index / n_actions,
-                action: index % n_actions,
-                q1: q1[index],
-                q2: q2[index],
-                updates,
+            .map(move |(index, &updates)| {
+                let (state, action) = (index / n_actions, index % n_actions);
+                ExperienceSample {
+                    state,
+                    action,
+                    q1: self.q1(state, action),
+                    q2: self.q2(state, action),
+                    updates,
+                }
             })
     }
 }

@@ -28,8 +28,9 @@
 //! # Pieces
 //!
 //! * [`Environment`] and [`Step`]: a discrete episodic task in Gymnasium's shape.
-//! * [`Learner`]: [`DoubleQ`] and [`QLearning`] over dense [`QTable`]s, with
-//!   validated, serialisable [`DoubleQParams`] / [`QLearningParams`].
+//! * [`Learner`]: [`DoubleQ`] and [`QLearning`], with validated, serialisable
+//!   [`DoubleQParams`] / [`QLearningParams`]; estimators readable per pair, per
+//!   row, or as dense [`QTable`]s (with a random tie-breaking argmax).
 //! * [`ExplorationPolicy`]: an open trait; [`Greedy`], [`EpsilonGreedy`] and
 //!   [`Softmax`] built in (also as one serialisable [`BuiltinPolicy`]).
 //! * [`RewardSignal`]: what the learner learns from ([`TaskReward`],

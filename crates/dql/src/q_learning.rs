@@ -61,7 +61,7 @@ impl QLearningParams {
 /// bootstrap term on a terminated step.
 ///
 /// It has the same interface as [`DoubleQ`](crate::DoubleQ); [`Learner::q1`] and
-/// [`Learner::q2`] both return its single table. Its update draws nothing from the
+/// [`Learner::q2`] (and their row and table forms) both read its single table. Its update draws nothing from the
 /// RNG. Its `max` over noisy estimates is biased upwards (the maximisation bias
 /// double Q removes).
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +97,12 @@ impl QLearning {
     #[must_use]
     pub fn params(&self) -> &QLearningParams {
         &self.params
+    }
+
+    /// The table.
+    #[must_use]
+    pub fn q(&self) -> &QTable {
+        &self.q
     }
 
     /// Mutable access to the table. Keep the values finite.
@@ -149,13 +155,13 @@ impl Learner for QLearning {
     }
 
     #[inline]
-    fn q1(&self) -> &QTable {
-        &self.q
+    fn q1_row(&self, state: usize) -> &[f64] {
+        self.q.row(state)
     }
 
     #[inline]
-    fn q2(&self) -> &QTable {
-        &self.q
+    fn q2_row(&self, state: usize) -> &[f64] {
+        self.q.row(state)
     }
 
     #[inline]

@@ -191,6 +191,26 @@ impl QTable {
         })
     }
 
+    /// A table assembled row by row from `row(s)` (each of length `n_actions`),
+    /// for learners that store their estimators in another layout. The shape is
+    /// the learner's, hence valid.
+    pub(crate) fn from_rows<'a>(
+        n_states: usize,
+        n_actions: usize,
+        row: impl Fn(usize) -> &'a [f64],
+    ) -> Self {
+        let mut values = Vec::with_capacity(n_states * n_actions);
+        for state in 0..n_states {
+            values.extend_from_slice(row(state));
+        }
+        debug_assert_eq!(values.len(), n_states * n_actions);
+        Self {
+            n_states,
+            n_actions,
+            values,
+        }
+    }
+
     /// Number of states (rows).
     #[must_use]
     #[inline]
@@ -305,14 +325,17 @@ pub fn argmax_random_tie<R: Rng + ?Sized>(values: &[f64], rng: &mut R) -> usize 
     let mut best = f64::NEG_INFINITY;
     let mut best_index = 0;
     let mut ties = 0_usize;
+    // Written as selects rather than branches: on learned values the comparisons
+    // are unpredictable, and conditional moves avoid the mispredictions.
     for (index, &value) in values.iter().enumerate() {
-        if value > best {
-            best = value;
-            best_index = index;
-            ties = 1;
-        } else if value == best {
-            ties += 1;
-        }
+        let better = value > best;
+        ties = if better {
+            1
+        } else {
+            ties + usize::from(value == best)
+        };
+        best_index = if better { index } else { best_index };
+        best = if better { value } else { best };
     }
     if ties <= 1 {
         return best_index;

@@ -59,8 +59,8 @@ fn double_q_reaches_value_iteration_q_star() {
         let mut learner = DoubleQ::new(6, 4, params, &mut rng).unwrap();
         train(&mut learner, &mut env, &mut rng, episodes);
         let live = env.live_states();
-        let e1 = max_error(learner.q1(), &optimal, &live);
-        let e2 = max_error(learner.q2(), &optimal, &live);
+        let e1 = max_error(&learner.q1_table(), &optimal, &live);
+        let e2 = max_error(&learner.q2_table(), &optimal, &live);
         assert!(
             e1 < TOLERANCE && e2 < TOLERANCE,
             "cap {cap}: errors {e1}, {e2}"
@@ -80,7 +80,7 @@ fn q_learning_reaches_value_iteration_q_star() {
         };
         let mut learner = QLearning::new(6, 4, params, &mut rng).unwrap();
         train(&mut learner, &mut env, &mut rng, episodes);
-        let error = max_error(learner.q1(), &optimal, &env.live_states());
+        let error = max_error(&learner.q1_table(), &optimal, &env.live_states());
         assert!(error < TOLERANCE, "cap {cap}: error {error}");
     }
 }

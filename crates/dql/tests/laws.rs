@@ -89,10 +89,10 @@ fn double_q(case: &Case, rng: &mut ChaCha8Rng) -> DoubleQ {
     if case.coarse {
         for s in 0..case.n_states {
             for a in 0..case.n_actions {
-                let q1 = (learner.q1().get(s, a) / 4.0).round();
-                let q2 = (learner.q2().get(s, a) / 4.0).round();
-                learner.q1_mut().set(s, a, q1);
-                learner.q2_mut().set(s, a, q2);
+                let q1 = (learner.q1(s, a) / 4.0).round();
+                let q2 = (learner.q2(s, a) / 4.0).round();
+                learner.q1_row_mut(s)[a] = q1;
+                learner.q2_row_mut(s)[a] = q2;
             }
         }
     }
@@ -126,17 +126,17 @@ proptest! {
         let mut dq = double_q(&case, &mut rng);
         let mut q = q_learning(&case, &mut rng);
         let (s, a) = (case.state, case.action);
-        let (q1_before, q2_before) = (dq.q1().get(s, a), dq.q2().get(s, a));
+        let (q1_before, q2_before) = (dq.q1(s, a), dq.q2(s, a));
         dq.update(s, a, case.reward, case.next_state, case.terminated, &mut rng);
         q.update(s, a, case.reward, case.next_state, case.terminated, &mut rng);
-        let (q1, q2) = (dq.q1().get(s, a), dq.q2().get(s, a));
+        let (q1, q2) = (dq.q1(s, a), dq.q2(s, a));
         // Exactly one of the two tables holds the reward, the other is untouched.
         prop_assert!(
             (q1 == case.reward && q2.to_bits() == q2_before.to_bits())
                 || (q2 == case.reward && q1.to_bits() == q1_before.to_bits()),
             "q1 {q1_before} -> {q1}, q2 {q2_before} -> {q2}, reward {}", case.reward
         );
-        prop_assert_eq!(q.q1().get(s, a), case.reward);
+        prop_assert_eq!(q.q1(s, a), case.reward);
     }
 
     /// The whole double-Q update against an independent reference model: one
@@ -152,9 +152,9 @@ proptest! {
 
         let first = reference_rng.random::<f64>() < case.xi;
         let (updated_before, other_before) = if first {
-            (before.q1(), before.q2())
+            (before.q1_table(), before.q2_table())
         } else {
-            (before.q2(), before.q1())
+            (before.q2_table(), before.q1_table())
         };
         let target = if case.terminated {
             case.reward
@@ -165,9 +165,9 @@ proptest! {
         let old = updated_before.get(case.state, case.action);
         let expected = (1.0 - case.alpha) * old + case.alpha * target;
         let (updated_after, other_after) = if first {
-            (learner.q1(), learner.q2())
+            (learner.q1_table(), learner.q2_table())
         } else {
-            (learner.q2(), learner.q1())
+            (learner.q2_table(), learner.q1_table())
         };
         prop_assert_eq!(other_after, other_before);
         let changed = changed_cells(updated_before.as_slice(), updated_after.as_slice());
@@ -188,13 +188,13 @@ proptest! {
         let mut learner = q_learning(&case, &mut rng);
         let before = learner.clone();
         learner.update(case.state, case.action, case.reward, case.next_state, case.terminated, &mut rng);
-        let bootstrap = if case.terminated { 0.0 } else { before.q1().max(case.next_state) };
-        let old = before.q1().get(case.state, case.action);
+        let bootstrap = if case.terminated { 0.0 } else { before.q().max(case.next_state) };
+        let old = before.q1(case.state, case.action);
         let expected = (1.0 - case.alpha) * old + case.alpha * (case.reward + case.gamma * bootstrap);
         let cell = case.state * case.n_actions + case.action;
-        let changed = changed_cells(before.q1().as_slice(), learner.q1().as_slice());
+        let changed = changed_cells(before.q().as_slice(), learner.q().as_slice());
         prop_assert!(changed.is_empty() || changed == vec![cell]);
-        prop_assert_eq!(learner.q1().get(case.state, case.action).to_bits(), expected.to_bits());
+        prop_assert_eq!(learner.q1(case.state, case.action).to_bits(), expected.to_bits());
         prop_assert_eq!(learner.update_count(case.state, case.action), 1);
     }
 
@@ -223,7 +223,7 @@ proptest! {
         let mut values = vec![0.0; case.n_actions];
         learner.action_values(case.state, &mut values);
         for (a, &value) in values.iter().enumerate() {
-            let mean = 0.5 * (learner.q1().get(case.state, a) + learner.q2().get(case.state, a));
+            let mean = 0.5 * (learner.q1(case.state, a) + learner.q2(case.state, a));
             prop_assert_eq!(value, mean);
         }
     }

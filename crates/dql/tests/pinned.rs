@@ -56,8 +56,8 @@ fn train<L: Learner, P: ExplorationPolicy>(
         )
         .unwrap();
     }
-    write_table(&mut out, "Q1", learner.q1());
-    write_table(&mut out, "Q2", learner.q2());
+    write_table(&mut out, "Q1", &learner.q1_table());
+    write_table(&mut out, "Q2", &learner.q2_table());
     out
 }
 
