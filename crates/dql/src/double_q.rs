@@ -129,7 +129,11 @@ impl DoubleQParams {
 /// `Q2(s, ·)`, so everything a step reads about one state shares cache lines
 /// (about 20 % faster than two separate tables on Task I's 900 × 4). Read the
 /// estimators with [`Learner::q1_row`], [`Learner::q1`] or [`Learner::q1_table`].
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serialisable (parameters, both tables and the update counts), so a trained
+/// learner can be saved and resumed; deserialising validates everything.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "DoubleQRepr", into = "DoubleQRepr")]
 pub struct DoubleQ {
     params: DoubleQParams,
     n_states: usize,
@@ -164,21 +168,15 @@ impl DoubleQ {
     ///
     /// # Errors
     /// [`DqlError::InvalidParameter`] for a bad parameter;
-    /// [`DqlError::ShapeMismatch`] when the tables' shapes differ.
+    /// [`DqlError::TableShapeMismatch`] when the tables' shapes differ.
     pub fn from_tables(params: DoubleQParams, q1: &QTable, q2: &QTable) -> Result<Self, DqlError> {
         params.validate()?;
-        if q1.n_states() != q2.n_states() {
-            return Err(DqlError::ShapeMismatch {
-                what: "Q1/Q2 state count",
-                environment: q1.n_states(),
-                learner: q2.n_states(),
-            });
-        }
-        if q1.n_actions() != q2.n_actions() {
-            return Err(DqlError::ShapeMismatch {
-                what: "Q1/Q2 action count",
-                environment: q1.n_actions(),
-                learner: q2.n_actions(),
+        if (q1.n_states(), q1.n_actions()) != (q2.n_states(), q2.n_actions()) {
+            return Err(DqlError::TableShapeMismatch {
+                first_states: q1.n_states(),
+                first_actions: q1.n_actions(),
+                second_states: q2.n_states(),
+                second_actions: q2.n_actions(),
             });
         }
         let (n_states, n_actions) = (q1.n_states(), q1.n_actions());
@@ -231,6 +229,41 @@ impl DoubleQ {
     fn block(&self, state: usize) -> &[f64] {
         let width = 2 * self.n_actions;
         &self.values[width * state..width * state + width]
+    }
+}
+
+/// The serialised form of a [`DoubleQ`].
+#[derive(Serialize, Deserialize)]
+struct DoubleQRepr {
+    params: DoubleQParams,
+    q1: QTable,
+    q2: QTable,
+    update_counts: Vec<u32>,
+}
+
+impl TryFrom<DoubleQRepr> for DoubleQ {
+    type Error = DqlError;
+    fn try_from(repr: DoubleQRepr) -> Result<Self, DqlError> {
+        let mut learner = Self::from_tables(repr.params, &repr.q1, &repr.q2)?;
+        if repr.update_counts.len() != learner.update_counts.len() {
+            return Err(DqlError::UpdateCountLength {
+                len: repr.update_counts.len(),
+                cells: learner.update_counts.len(),
+            });
+        }
+        learner.update_counts = repr.update_counts;
+        Ok(learner)
+    }
+}
+
+impl From<DoubleQ> for DoubleQRepr {
+    fn from(learner: DoubleQ) -> Self {
+        Self {
+            params: learner.params,
+            q1: learner.q1_table(),
+            q2: learner.q2_table(),
+            update_counts: learner.update_counts,
+        }
     }
 }
 

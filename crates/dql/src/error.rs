@@ -64,6 +64,30 @@ pub enum DqlError {
         learner: usize,
     },
 
+    /// Two tables that must have the same shape do not (e.g. `Q1` and `Q2`).
+    #[error(
+        "table shapes differ: {first_states} x {first_actions} versus {second_states} x {second_actions}"
+    )]
+    TableShapeMismatch {
+        /// States of the first table.
+        first_states: usize,
+        /// Actions of the first table.
+        first_actions: usize,
+        /// States of the second table.
+        second_states: usize,
+        /// Actions of the second table.
+        second_actions: usize,
+    },
+
+    /// Saved update counts do not have one entry per state–action pair.
+    #[error("{len} update counts for a table with {cells} cells")]
+    UpdateCountLength {
+        /// Number of counts supplied.
+        len: usize,
+        /// Number of state–action pairs.
+        cells: usize,
+    },
+
     /// The environment returned a state index outside `0..n_states`.
     #[error("environment returned state {state} at step {step}, but it has only {n_states} states")]
     StateOutOfRange {

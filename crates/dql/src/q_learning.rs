@@ -64,7 +64,10 @@ impl QLearningParams {
 /// [`Learner::q2`] (and their row and table forms) both read its single table. Its update draws nothing from the
 /// RNG. Its `max` over noisy estimates is biased upwards (the maximisation bias
 /// double Q removes).
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serialisable (parameters, table, update counts); deserialising validates.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "QLearningRepr", into = "QLearningRepr")]
 pub struct QLearning {
     params: QLearningParams,
     q: QTable,
@@ -113,6 +116,43 @@ impl QLearning {
     /// Sets every update count back to 0 (the table is kept).
     pub fn clear_update_counts(&mut self) {
         self.update_counts.fill(0);
+    }
+}
+
+/// The serialised form of a [`QLearning`].
+#[derive(Serialize, Deserialize)]
+struct QLearningRepr {
+    params: QLearningParams,
+    q: QTable,
+    update_counts: Vec<u32>,
+}
+
+impl TryFrom<QLearningRepr> for QLearning {
+    type Error = DqlError;
+    fn try_from(repr: QLearningRepr) -> Result<Self, DqlError> {
+        repr.params.validate()?;
+        let cells = repr.q.as_slice().len();
+        if repr.update_counts.len() != cells {
+            return Err(DqlError::UpdateCountLength {
+                len: repr.update_counts.len(),
+                cells,
+            });
+        }
+        Ok(Self {
+            params: repr.params,
+            q: repr.q,
+            update_counts: repr.update_counts,
+        })
+    }
+}
+
+impl From<QLearning> for QLearningRepr {
+    fn from(learner: QLearning) -> Self {
+        Self {
+            params: learner.params,
+            q: learner.q,
+            update_counts: learner.update_counts,
+        }
     }
 }
 
