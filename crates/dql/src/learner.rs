@@ -1,12 +1,13 @@
 //! The interface the episode driver and exploration policies see a learner through.
 
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 
 use crate::table::QTable;
 
 /// One visited state–action pair with its final estimates: the experience sample
 /// `(s, a, Q1(s, a), Q2(s, a))` of the paper's Sec. IV.B, plus how often it was updated.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ExperienceSample {
     /// State index.
     pub state: usize,
