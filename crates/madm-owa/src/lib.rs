@@ -27,8 +27,10 @@
 //! * **Eq. 15's support `S(x, y) = x·y / |x − y|²` is degenerate:** it divides by zero on ties
 //!   (ties are adjacent after sorting, hence always visible), is negative for values of opposite
 //!   sign and is unbounded. The default [`Support::Paper`] is
-//!   `max(0, x·y) / (|x − y|² + ε)` with `ε = `[`DEFAULT_EPSILON`]` = 1e-9`; `ε = 0` keeps the
+//!   `max(0, x·y) / (|x − y|² + ε)` with `ε` = [`DEFAULT_EPSILON`] (`1e-9`); `ε = 0` keeps the
 //!   literal form. [`Support::Distance`] (`1 − |x − y| / range`) is a bounded alternative.
+//!   With a small `ε` an exact tie between two non-zero attributes gets a support of about
+//!   `x²/ε` and dominates its row's weights (the limit the literal formula points to).
 //! * **Fallback:** when a row's total support is 0 or not finite (no supporting pair, the
 //!   literal `ε = 0` on a tie, or products overflowing for attributes beyond about `1e154`),
 //!   its weights are uniform. Weights are therefore always valid (in `[0, 1]`, summing to 1).

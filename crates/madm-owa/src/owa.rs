@@ -132,8 +132,9 @@ pub(crate) fn orness_unchecked(weights: &[f64]) -> f64 {
 }
 
 /// Sorts finite values in descending order, in place (insertion sort: the rows we sort have a
-/// handful of elements, where it beats the general-purpose sort).
-#[inline]
+/// handful of elements, where it beats the general-purpose sort; inlined so that fixed-size
+/// rows unroll).
+#[inline(always)]
 pub(crate) fn sort_descending(values: &mut [f64]) {
     for i in 1..values.len() {
         let v = values[i];

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{MadmError, check_finite, check_len, check_non_empty};
-use crate::visibility::is_visible;
+use crate::visibility::sees;
 
 /// Default `ε` of [`Support::Paper`]: small enough that it changes the weights of the paper's
 /// worked example by less than `1e-6`, large enough that a tie between attributes `x` of order 1
@@ -79,7 +79,7 @@ impl Support {
 /// For the MADM decision `series` is one row of attributes sorted in descending order (the
 /// weights then attach to sorted positions, as OWA weights do); the function itself weights
 /// the positions as given. Every pair `(i, k)` that sees each other in the natural visibility
-/// graph ([`is_visible`]) adds `S(y_i, y_k)` to the support of both `i` and `k`; the weights are
+/// graph ([`is_visible`](crate::is_visible)) adds `S(y_i, y_k)` to the support of both `i` and `k`; the weights are
 /// the supports divided by their total.
 ///
 /// **Fallback:** when the total support is 0 (no visible pair supports another, e.g. a single
@@ -126,37 +126,11 @@ pub fn visibility_weights_into(
 /// same length, `support` valid.
 pub(crate) fn visibility_weights_unchecked(series: &[f64], support: Support, out: &mut [f64]) {
     out.fill(0.0);
-    let n = series.len();
-    // Distance support works on halved values: halving is exact (barring subnormals) and makes
-    // `max - min` immune to overflow.
-    let half_range = match support {
-        Support::Distance => {
-            let (lo, hi) = series
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| {
-                    (lo.min(y), hi.max(y))
-                });
-            0.5 * hi - 0.5 * lo
-        }
-        Support::Paper { .. } => 0.0,
-    };
-    let mut total = 0.0;
-    for i in 0..n {
-        for k in (i + 1)..n {
-            if !is_visible(series, i, k) {
-                continue;
-            }
-            let s = match support {
-                Support::Paper { epsilon } => paper_support(series[i], series[k], epsilon),
-                Support::Distance => distance_support(series[i], series[k], half_range),
-            };
-            out[i] += s;
-            out[k] += s;
-            total += 2.0 * s;
-        }
-    }
-    // `total > 0.0` is false for NaN as well, so every non-finite support ends up here.
-    if total > 0.0 && total.is_finite() {
+    let total = for_each_visible_support(series, support, |i, k, s| {
+        out[i] += s;
+        out[k] += s;
+    });
+    if total_is_usable(total) {
         for w in out.iter_mut() {
             *w /= total;
         }
@@ -165,20 +139,110 @@ pub(crate) fn visibility_weights_unchecked(series: &[f64], support: Support, out
     }
 }
 
-/// `max(0, x·y) / (|x − y|² + ε)`; may be infinite or NaN on overflow (the caller falls back).
-#[inline]
-fn paper_support(x: f64, y: f64, epsilon: f64) -> f64 {
-    let product = x * y;
-    if product > 0.0 {
-        let gap = x - y;
-        product / (gap * gap + epsilon)
+/// The OWA aggregate of the finite, non-empty, descending `sorted` with its own visibility
+/// weights, without materialising the weights: `Σ_k y_k·support_k / total`, one division per
+/// row. Equal to aggregating with [`visibility_weights_unchecked`] up to rounding, and like it
+/// clamped to `[min, max]`; falls back to that slower path (writing the weights into `scratch`,
+/// as long as `sorted`) if the fused sum overflows. Always inlined, so that callers passing
+/// fixed-size arrays get a fully unrolled loop.
+#[inline(always)]
+pub(crate) fn visibility_owa_sorted_unchecked(
+    sorted: &[f64],
+    support: Support,
+    scratch: &mut [f64],
+) -> f64 {
+    let mut weighted = 0.0;
+    let total = for_each_visible_support(sorted, support, |i, k, s| {
+        // Overflows to infinity only for values near f64::MAX; then the slow path below runs.
+        weighted += s * (sorted[i] + sorted[k]);
+    });
+    let (max, min) = (sorted[0], sorted[sorted.len() - 1]);
+    let value = if total_is_usable(total) {
+        weighted / total
     } else {
-        0.0
+        // Uniform weights: the mean, computed without overflow.
+        #[allow(clippy::cast_precision_loss)] // lengths are far below 2^53
+        let n = sorted.len() as f64;
+        sorted.iter().map(|y| y / n).sum()
+    };
+    if value.is_finite() {
+        value.max(min).min(max)
+    } else {
+        // Only for products beyond f64's range: normalise first, then multiply.
+        visibility_weights_unchecked(sorted, support, scratch);
+        crate::owa::dot_clamped(sorted, scratch)
     }
 }
 
-/// `1 − |x − y| / range`, computed on halved values; 1 when the range is 0. Always in `[0, 1]`.
+/// Calls `visit(i, k, S(y_i, y_k))` for every visible pair `i < k` of `series` and returns the
+/// total support `2 Σ S` (each pair supports both ends). The support is chosen outside the
+/// loop, so each support gets its own loop.
+#[inline(always)]
+fn for_each_visible_support(
+    series: &[f64],
+    support: Support,
+    visit: impl FnMut(usize, usize, f64),
+) -> f64 {
+    match support {
+        Support::Paper { epsilon } => {
+            for_each_visible_pair(series, visit, |x, y| paper_support(x, y, epsilon))
+        }
+        Support::Distance => {
+            // Distance support works on halved values: halving is exact (barring subnormals)
+            // and makes `max - min` immune to overflow.
+            let (lo, hi) = series
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| {
+                    (lo.min(y), hi.max(y))
+                });
+            let half_range = 0.5 * hi - 0.5 * lo;
+            for_each_visible_pair(series, visit, |x, y| distance_support(x, y, half_range))
+        }
+    }
+}
+
+/// The loop of [`for_each_visible_support`] for one support function.
+#[inline(always)]
+fn for_each_visible_pair(
+    series: &[f64],
+    mut visit: impl FnMut(usize, usize, f64),
+    support: impl Fn(f64, f64) -> f64,
+) -> f64 {
+    let n = series.len();
+    let mut pair_total = 0.0;
+    for i in 0..n {
+        for k in (i + 1)..n {
+            if sees(series, i, k) {
+                let s = support(series[i], series[k]);
+                visit(i, k, s);
+                pair_total += s;
+            }
+        }
+    }
+    // Doubling is exact: the same bits as summing `2 s` pair by pair.
+    2.0 * pair_total
+}
+
+/// `true` when a total support can normalise: positive and finite. (`total > 0.0` is false
+/// for NaN as well, so every non-finite support ends up in the uniform fallback.)
 #[inline]
+fn total_is_usable(total: f64) -> bool {
+    total > 0.0 && total.is_finite()
+}
+
+/// `max(0, x·y) / (|x − y|² + ε)`; may be infinite or NaN on overflow (the caller falls back).
+#[inline(always)]
+fn paper_support(x: f64, y: f64, epsilon: f64) -> f64 {
+    let product = x * y;
+    let gap = x - y;
+    // Divide unconditionally and select afterwards: branch-free, and the NaN of a discarded
+    // 0/0 (a tie at 0 with ε = 0) never escapes.
+    let support = product / (gap * gap + epsilon);
+    if product > 0.0 { support } else { 0.0 }
+}
+
+/// `1 − |x − y| / range`, computed on halved values; 1 when the range is 0. Always in `[0, 1]`.
+#[inline(always)]
 fn distance_support(x: f64, y: f64, half_range: f64) -> f64 {
     if half_range > 0.0 {
         // |x/2 - y/2| <= half_range because rounding is monotone and x, y lie in [min, max].

@@ -31,6 +31,13 @@ pub fn is_visible(series: &[f64], i: usize, k: usize) -> bool {
     if a == b || b >= series.len() {
         return false;
     }
+    sees(series, a, b)
+}
+
+/// [`is_visible`] for `a < b < series.len()`. Inlined into the weight loops so that, for the
+/// fixed row lengths of the decider, the whole check unrolls.
+#[inline(always)]
+pub(crate) fn sees(series: &[f64], a: usize, b: usize) -> bool {
     let (y_a, y_b) = (series[a], series[b]);
     #[allow(clippy::cast_precision_loss)] // positions are far below 2^53
     let span = (b - a) as f64;
@@ -45,7 +52,7 @@ pub fn is_visible(series: &[f64], i: usize, k: usize) -> bool {
 const SCALE: f64 = f64::from_bits(0x3BF0_0000_0000_0000);
 
 /// `y_f < y_b + (y_a - y_b) * to_b / span`, multiplied out and safe from overflow.
-#[inline]
+#[inline(always)]
 fn strictly_below_line(y_f: f64, y_a: f64, y_b: f64, span: f64, to_b: f64) -> bool {
     let lhs = (y_f - y_b) * span;
     let rhs = (y_a - y_b) * to_b;

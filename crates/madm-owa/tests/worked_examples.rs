@@ -331,6 +331,23 @@ fn overflowing_products_fall_back_to_uniform() {
 }
 
 #[test]
+fn decider_survives_supports_whose_products_with_values_overflow() {
+    // The tie's support is about 1e289 (finite), but support x value overflows: the decider
+    // must take its normalise-first path and still agree with the standalone weights.
+    let row = [1e140, 5e139, 1e140];
+    let mut d = MadmDecider::default();
+    let mut out = [0.0];
+    d.evaluate(&row, 1, 3, &mut out).unwrap();
+    let standalone = OwaWeights::visibility_of_values(&row, Support::default())
+        .unwrap()
+        .aggregate(&row)
+        .unwrap();
+    assert!(out[0].is_finite());
+    assert_close(out[0] / 1e140, 1.0, 1e-9);
+    assert_eq!(out[0], standalone);
+}
+
+#[test]
 fn owa_of_values_near_f64_max_stays_finite() {
     let v = owa(&[f64::MAX, f64::MAX, f64::MAX], &[0.2, 0.3, 0.5]).unwrap();
     assert_eq!(v, f64::MAX);
