@@ -1,0 +1,205 @@
+//! The EA-MADM action policy (Sec. IV.C, Algorithm 2): ε-greedy whose exploitation step is a
+//! multi-attribute decision over the sub-tasks' prior experience and the source task's own
+//! values.
+
+use dql::{DqlError, EpsilonGreedy, ExplorationPolicy, Schedule, argmax_random_tie};
+use madm_owa::{MadmDecider, MadmError, Weighting};
+use rand::{Rng, RngExt};
+
+use crate::prior::PriorTable;
+
+/// The EA-MADM policy of the source task (Algorithm 2, lines 16–22).
+///
+/// With probability ε (a per-episode [`Schedule`]) it takes a uniformly random action.
+/// Otherwise it builds the decision matrix of Eq. 13 for the current state, one row per
+/// action `a_j`:
+///
+/// ```text
+/// ( Q⁽¹⁾(s, a_j), …, Q⁽ᵐ⁾(s, a_j), Q(s, a_j) )
+/// ```
+///
+/// where `Q⁽ᵏ⁾` is sub-task `k`'s prior experience (a [`PriorTable`] answer: the EA tree's
+/// cluster mean `(Q1 + Q2) / 2`) and `Q` is the source task's own `(Q1 + Q2) / 2` (the
+/// action values the episode driver passes in, Algorithm 2 line 20). Each row is valued by
+/// the visibility-weighted OWA of Eq. 14–16 ([`MadmDecider`] with the configured
+/// [`Weighting`]); the action with the largest value wins, ties uniformly at random.
+///
+/// # No prior experience
+///
+/// When sub-task `k` has no experience of `(s, a_j)` (its tree has no matching cluster, or
+/// its learner never tried `a_j` in `s`), that sub-task **abstains** for that row: the row is
+/// aggregated over the attributes that exist, at least the source task's own value. With no
+/// experience at all the decision is the plain greedy choice on the source task's own values.
+/// Inventing a value instead would not be neutral: 0 claims "harmless" in the "do not hit"
+/// sub-task, and copying the source task's value creates an exact tie, which the paper's
+/// support `x·y/|x − y|²` rewards with a near-infinite weight.
+///
+/// Draws: one `f64` per step (against ε), then one action index when exploring, or one
+/// tie-break index only on a tie. After construction nothing is allocated.
+#[derive(Debug, Clone)]
+pub struct EaMadmPolicy {
+    prior: PriorTable,
+    schedule: Schedule,
+    epsilon: f64,
+    decider: MadmDecider,
+    /// The decision matrix of a complete state, `n_actions × (m + 1)`.
+    matrix: Vec<f64>,
+    /// One row with the attributes present, for states with missing experience.
+    row: Vec<f64>,
+    /// `Eq(a_j)` of the last decision.
+    values: Vec<f64>,
+}
+
+/// Why an [`EaMadmPolicy`] cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PolicyError {
+    /// The ε schedule is invalid.
+    #[error(transparent)]
+    Epsilon(#[from] DqlError),
+    /// The weighting is invalid, or gives fixed weights (`given`), which cannot follow rows
+    /// whose length changes when a sub-task has no experience.
+    #[error(transparent)]
+    Weighting(#[from] MadmError),
+}
+
+impl EaMadmPolicy {
+    /// The policy deciding on `prior` with `weighting`, exploring with `epsilon`.
+    ///
+    /// # Errors
+    /// [`PolicyError::Epsilon`] for an invalid schedule (named `epsilon.*`),
+    /// [`PolicyError::Weighting`] for an invalid or fixed-length (`given`) weighting.
+    pub fn new(
+        prior: PriorTable,
+        epsilon: Schedule,
+        weighting: Weighting,
+    ) -> Result<Self, PolicyError> {
+        EpsilonGreedy::new(epsilon)?;
+        if let Weighting::Given { weights } = &weighting {
+            return Err(PolicyError::Weighting(MadmError::LengthMismatch {
+                what: "given weights (EA-MADM rows vary in length; use visibility, uniform or maximum_entropy)",
+                expected: prior.n_subtasks() + 1,
+                found: weights.len(),
+            }));
+        }
+        let decider = MadmDecider::new(weighting)?;
+        let cols = prior.n_subtasks() + 1;
+        let n_actions = prior.n_actions();
+        Ok(Self {
+            matrix: vec![0.0; n_actions * cols],
+            row: vec![0.0; cols],
+            values: vec![0.0; n_actions],
+            epsilon: epsilon.start(),
+            schedule: epsilon,
+            decider,
+            prior,
+        })
+    }
+
+    /// The prior experience decided on.
+    #[must_use]
+    pub fn prior(&self) -> &PriorTable {
+        &self.prior
+    }
+
+    /// The ε in force (set at the start of each episode).
+    #[must_use]
+    pub fn epsilon(&self) -> f64 {
+        self.epsilon
+    }
+
+    /// The same policy without exploration (ε = 0 in every episode): the trained agent's
+    /// greedy behaviour, used for the evaluation episode.
+    #[must_use]
+    pub fn without_exploration(mut self) -> Self {
+        self.schedule = Schedule::Constant(0.0);
+        self.epsilon = 0.0;
+        self
+    }
+
+    /// `Eq(a_j)` for every action in `state`, given the source task's own values there.
+    ///
+    /// # Panics
+    /// If `state` is out of range or `own_values` does not have one value per action.
+    pub fn evaluations(&mut self, state: usize, own_values: &[f64]) -> &[f64] {
+        self.evaluate(state, own_values);
+        &self.values
+    }
+
+    /// The exploitation step: the action with the largest `Eq(a_j)`, ties at random.
+    ///
+    /// # Panics
+    /// As [`evaluations`](Self::evaluations).
+    pub fn decide<R: Rng + ?Sized>(
+        &mut self,
+        state: usize,
+        own_values: &[f64],
+        rng: &mut R,
+    ) -> usize {
+        self.evaluate(state, own_values);
+        argmax_random_tie(&self.values, rng)
+    }
+
+    fn evaluate(&mut self, state: usize, own_values: &[f64]) {
+        let n_actions = self.prior.n_actions();
+        assert_eq!(own_values.len(), n_actions, "one own value per action");
+        let m = self.prior.n_subtasks();
+        let cols = m + 1;
+        if m == 0 {
+            // No sub-tasks: each row is the own value alone, and the OWA of one value is it.
+            self.values.copy_from_slice(own_values);
+            return;
+        }
+        let (answers, present) = self.prior.state_block(state);
+        if self.prior.is_complete(state) {
+            for ((row, answers), &own) in self
+                .matrix
+                .chunks_exact_mut(cols)
+                .zip(answers.chunks_exact(m))
+                .zip(own_values)
+            {
+                row[..m].copy_from_slice(&answers[..m]);
+                row[m] = own;
+            }
+            self.decider
+                .evaluate(&self.matrix, n_actions, cols, &mut self.values)
+                .expect("the matrix has the decider's shape and finite entries");
+        } else {
+            for (action, &own) in own_values.iter().enumerate() {
+                let mut len = 0;
+                for k in 0..m {
+                    let at = action * m + k;
+                    if present[at] {
+                        self.row[len] = answers[at];
+                        len += 1;
+                    }
+                }
+                self.row[len] = own;
+                len += 1;
+                self.decider
+                    .evaluate(&self.row[..len], 1, len, &mut self.values[action..=action])
+                    .expect("the row has finite entries and a non-fixed weighting");
+            }
+        }
+    }
+}
+
+impl ExplorationPolicy for EaMadmPolicy {
+    fn begin_episode(&mut self, episode: u64) {
+        self.epsilon = self.schedule.value(episode);
+    }
+
+    #[inline]
+    fn select<R: Rng + ?Sized>(
+        &mut self,
+        state: usize,
+        action_values: &[f64],
+        rng: &mut R,
+    ) -> usize {
+        if rng.random::<f64>() < self.epsilon {
+            rng.random_range(0..action_values.len())
+        } else {
+            self.decide(state, action_values, rng)
+        }
+    }
+}

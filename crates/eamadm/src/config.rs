@@ -1,0 +1,762 @@
+//! Experiment configs: the task, the methods and their parameters, episodes and seeds, as TOML.
+//!
+//! An [`ExperimentConfig`] is plain serde data. Every table rejects unknown keys, and
+//! [`ExperimentConfig::validate`] rejects out-of-range values with a [`ConfigError`] naming the
+//! field by its path (`methods[2].epsilon.factor`). The paper's settings are named constructors,
+//! [`ExperimentConfig::paper_task1`], [`paper_task2`](ExperimentConfig::paper_task2) and
+//! [`paper_robot`](ExperimentConfig::paper_robot), and the same values ship as TOML files
+//! ([`PAPER_TASK1_TOML`], …; `crates/eamadm/configs/` in the repository).
+//!
+//! ```toml
+//! name = "task1"
+//! episodes = 200
+//! seeds = 10
+//! base_seed = 0
+//!
+//! [task]
+//! kind = "maze"          # or "maze_file" (path, rewards), "maze_text" (map, rewards), "robot"
+//! preset = "task1"
+//!
+//! [learner]              # double Q (Eq. 9), Table 1
+//! alpha = 0.1
+//! gamma = 0.95
+//!
+//! [[methods]]
+//! label = "epsilon-decreasing"
+//! kind = "epsilon_greedy"
+//! epsilon = { exponential = { start = 0.95, factor = 0.95, floor = 0.0 } }
+//! ```
+
+use std::collections::HashSet;
+use std::io;
+use std::path::PathBuf;
+
+use dql::{DoubleQParams, DqlError, EpsilonGreedy, Schedule, Softmax};
+use ea_tree::EaTreeConfig;
+use madm_owa::{Support, Weighting};
+use mazes::Preset;
+use reward_std::Standardisation;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::strict;
+
+/// The paper's Task I (Sec. VI.A, Table 1) as TOML; parses to [`ExperimentConfig::paper_task1`].
+pub const PAPER_TASK1_TOML: &str = include_str!("../configs/task1.toml");
+/// The paper's Task II (Sec. VI.A) as TOML; parses to [`ExperimentConfig::paper_task2`].
+pub const PAPER_TASK2_TOML: &str = include_str!("../configs/task2.toml");
+
+/// Most episodes (or pre-training episodes) a run may have: far beyond any experiment here,
+/// small enough that cumulative step counts cannot overflow.
+pub const MAX_EPISODES: u64 = 10_000_000;
+/// Most seeds one config may ask for.
+pub const MAX_SEEDS: u32 = 100_000;
+
+/// One experiment: a task, the methods compared on it, and how long and how often they run.
+///
+/// Runs are pure functions of `(config, method, seed)`; seed `i` of the experiment is
+/// `base_seed + i` for `i` in `0..seeds`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentConfig {
+    /// Name of the experiment, copied into every [`RunRecord`](crate::RunRecord) (the paper
+    /// presets use `task1`, `task2`, `robot`). Letters, digits, `-`, `_` and `.` only.
+    pub name: String,
+    /// The task every method runs on.
+    pub task: TaskConfig,
+    /// Training episodes of the source task (200 in the paper).
+    pub episodes: u64,
+    /// Number of seeds per method.
+    pub seeds: u32,
+    /// Seed of the first run; run `i` uses `base_seed + i`.
+    #[serde(default)]
+    pub base_seed: u64,
+    /// Double-Q parameters of every learner (source tasks and sub-tasks): Table 1's α, γ.
+    #[serde(with = "strict::learner")]
+    pub learner: DoubleQParams,
+    /// Which training episodes keep their trajectory (the greedy evaluation always does).
+    #[serde(default)]
+    pub trajectories: TrajectoryConfig,
+    /// The methods compared, in report order. Labels must be unique.
+    pub methods: Vec<MethodSpec>,
+}
+
+/// The task: a maze (preset, map file or inline map) or the wheeled robot.
+///
+/// TOML: `kind = "maze"` with `preset = "task1" | "task2"`; `kind = "maze_file"` with `path`
+/// (a text map, see [`mazes::Maze::parse`]) and `rewards = "task1" | "task2"` (whose rewards
+/// and sub-tasks to use); `kind = "maze_text"` with the map inline in `map`. Every kind takes
+/// an optional `step_cap` overriding the task's own (2000 for the mazes).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[non_exhaustive]
+pub enum TaskConfig {
+    /// One of the paper's mazes: layout, rewards, sub-tasks and step cap of the preset.
+    Maze {
+        /// `"task1"` or `"task2"`.
+        preset: Preset,
+        /// Episode step cap; the preset's (2000) when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        step_cap: Option<u32>,
+    },
+    /// A maze read from a text map file, with a preset's rewards and sub-tasks.
+    MazeFile {
+        /// Path of the map (relative paths are relative to the process's current folder).
+        path: PathBuf,
+        /// Whose rewards, sub-tasks and step cap to use: `"task1"` or `"task2"`.
+        rewards: Preset,
+        /// Episode step cap; the preset's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        step_cap: Option<u32>,
+    },
+    /// A maze given inline as a text map (handy for tests and examples).
+    MazeText {
+        /// The map, one line per row (see [`mazes::Maze::parse`]).
+        map: String,
+        /// Whose rewards, sub-tasks and step cap to use: `"task1"` or `"task2"`.
+        rewards: Preset,
+        /// Episode step cap; the preset's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        step_cap: Option<u32>,
+    },
+}
+
+impl TaskConfig {
+    /// The step cap override, if any.
+    #[must_use]
+    pub fn step_cap(&self) -> Option<u32> {
+        match self {
+            Self::Maze { step_cap, .. }
+            | Self::MazeFile { step_cap, .. }
+            | Self::MazeText { step_cap, .. } => *step_cap,
+        }
+    }
+}
+
+/// Which training episodes keep their trajectory in the run record. The greedy evaluation
+/// episode after training always keeps its own.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrajectoryConfig {
+    /// Keep the first training episode's trajectory.
+    #[serde(default = "yes")]
+    pub first: bool,
+    /// Keep the last training episode's trajectory.
+    #[serde(default = "yes")]
+    pub last: bool,
+    /// Keep these training episodes' trajectories too (0-based; each below `episodes`).
+    #[serde(default)]
+    pub episodes: Vec<u64>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for TrajectoryConfig {
+    /// First and last episode.
+    fn default() -> Self {
+        Self {
+            first: true,
+            last: true,
+            episodes: Vec::new(),
+        }
+    }
+}
+
+impl TrajectoryConfig {
+    /// Whether episode `episode` of `episodes` keeps its trajectory.
+    #[must_use]
+    pub fn keeps(&self, episode: u64, episodes: u64) -> bool {
+        (self.first && episode == 0)
+            || (self.last && episode + 1 == episodes)
+            || self.episodes.contains(&episode)
+    }
+}
+
+/// A method under a label: the label names it in results, files and the command line.
+///
+/// TOML: the label and the method's fields side by side, e.g.
+/// `{ label = "softmax", kind = "softmax", temperature = { constant = 0.1 } }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "MethodRepr", into = "MethodRepr")]
+pub struct MethodSpec {
+    /// Unique within a config; letters, digits, `-`, `_` and `.` only (used in file names).
+    pub label: String,
+    /// The method and its parameters.
+    pub method: Method,
+}
+
+/// The methods: EA-MADM (Algorithm 2) and the paper's competitors, each a double-Q learner.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Method {
+    /// EA-MADM (Sec. V, Algorithm 2), with its switches (the ablations flip one each).
+    EaMadm(EaMadmConfig),
+    /// Plain double Q on the task reward with ε-greedy exploration (ε-decreasing with an
+    /// exponential schedule). TOML `kind = "epsilon_greedy"`.
+    EpsilonGreedy {
+        /// The exploring rate ε per episode.
+        epsilon: Schedule,
+    },
+    /// Plain double Q on the task reward with softmax exploration. TOML `kind = "softmax"`.
+    Softmax {
+        /// The temperature T per episode.
+        temperature: Schedule,
+    },
+}
+
+/// EA-MADM's parameters (TOML `kind = "ea_madm"`). Every field but `epsilon` has a default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EaMadmConfig {
+    /// The exploring rate ε per episode of the source task (Algorithm 2, line 17).
+    #[serde(with = "strict::schedule")]
+    pub epsilon: Schedule,
+    /// OWA weights of the decision (Eq. 14–15): visibility with the paper's support
+    /// (default), visibility with the distance support, or uniform.
+    #[serde(default = "strict::weighting::default", with = "strict::weighting")]
+    pub weighting: Weighting,
+    /// The source task's learning signal (Eq. 10–12): `"running"` (default, our repair) or
+    /// `"cross_sectional"` (the literal equations, identically 0).
+    #[serde(default)]
+    pub standardisation: Standardisation,
+    /// Where the sub-tasks' experience is kept: an EA tree (default, exact thresholds) or
+    /// the plain sub-task tables.
+    #[serde(default)]
+    pub storage: Storage,
+    /// How the sub-tasks are trained before the source task starts.
+    #[serde(default)]
+    pub pretrain: PretrainConfig,
+}
+
+/// Where the trained sub-tasks' experience is stored and looked up from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(from = "StorageRepr", into = "StorageRepr")]
+pub enum Storage {
+    /// One experience-aggregation tree per sub-task (Sec. IV.B), with these thresholds:
+    /// `{ kind = "tree", state_threshold = 1.0, action_threshold = 1.0 }`.
+    Tree(EaTreeConfig),
+    /// The sub-tasks' own Q tables, read directly (the "no tree" ablation): `{ kind = "table" }`.
+    Table,
+}
+
+/// The serialised form of [`Storage`] (an empty struct variant rejects extra keys; a unit
+/// variant would not).
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum StorageRepr {
+    Tree(EaTreeConfig),
+    Table {},
+}
+
+impl From<StorageRepr> for Storage {
+    fn from(repr: StorageRepr) -> Self {
+        match repr {
+            StorageRepr::Tree(config) => Self::Tree(config),
+            StorageRepr::Table {} => Self::Table,
+        }
+    }
+}
+
+impl From<Storage> for StorageRepr {
+    fn from(storage: Storage) -> Self {
+        match storage {
+            Storage::Tree(config) => Self::Tree(config),
+            Storage::Table => Self::Table {},
+        }
+    }
+}
+
+impl Default for Storage {
+    /// A tree with exact thresholds (`τₛ = τₐ = 1`).
+    fn default() -> Self {
+        Self::Tree(EaTreeConfig::EXACT)
+    }
+}
+
+/// Sub-task pre-training: each sub-task's own double-Q learner, on its own reward, with an
+/// ε-greedy policy on its own values.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PretrainConfig {
+    /// Episodes per sub-task.
+    pub episodes: u64,
+    /// The sub-task learners' exploring rate per episode.
+    #[serde(with = "strict::schedule")]
+    pub epsilon: Schedule,
+}
+
+impl Default for PretrainConfig {
+    /// 200 episodes of ε-decreasing (0.95, × 0.95 per episode): Table 1's schedule for as
+    /// long as the source task trains.
+    fn default() -> Self {
+        Self {
+            episodes: 200,
+            epsilon: table1_epsilon_decreasing(),
+        }
+    }
+}
+
+/// Table 1's ε schedule: 0.95 in episode 0, × 0.95 per episode, no floor.
+#[must_use]
+pub fn table1_epsilon_decreasing() -> Schedule {
+    Schedule::Exponential {
+        start: 0.95,
+        factor: 0.95,
+        floor: 0.0,
+    }
+}
+
+/// Table 1's temperature schedule: 0.1 in episode 0, × 0.95 per episode, at least 0.01.
+#[must_use]
+pub fn table1_temperature() -> Schedule {
+    Schedule::Exponential {
+        start: 0.1,
+        factor: 0.95,
+        floor: 0.01,
+    }
+}
+
+/// The serialised form of a [`MethodSpec`]: label and fields side by side, tagged by `kind`.
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum MethodRepr {
+    EaMadm {
+        label: String,
+        #[serde(with = "strict::schedule")]
+        epsilon: Schedule,
+        #[serde(default = "strict::weighting::default", with = "strict::weighting")]
+        weighting: Weighting,
+        #[serde(default)]
+        standardisation: Standardisation,
+        #[serde(default)]
+        storage: Storage,
+        #[serde(default)]
+        pretrain: PretrainConfig,
+    },
+    EpsilonGreedy {
+        label: String,
+        #[serde(with = "strict::schedule")]
+        epsilon: Schedule,
+    },
+    Softmax {
+        label: String,
+        #[serde(with = "strict::schedule")]
+        temperature: Schedule,
+    },
+}
+
+impl From<MethodRepr> for MethodSpec {
+    fn from(repr: MethodRepr) -> Self {
+        match repr {
+            MethodRepr::EaMadm {
+                label,
+                epsilon,
+                weighting,
+                standardisation,
+                storage,
+                pretrain,
+            } => Self {
+                label,
+                method: Method::EaMadm(EaMadmConfig {
+                    epsilon,
+                    weighting,
+                    standardisation,
+                    storage,
+                    pretrain,
+                }),
+            },
+            MethodRepr::EpsilonGreedy { label, epsilon } => Self {
+                label,
+                method: Method::EpsilonGreedy { epsilon },
+            },
+            MethodRepr::Softmax { label, temperature } => Self {
+                label,
+                method: Method::Softmax { temperature },
+            },
+        }
+    }
+}
+
+impl From<MethodSpec> for MethodRepr {
+    fn from(spec: MethodSpec) -> Self {
+        let label = spec.label;
+        match spec.method {
+            Method::EaMadm(config) => Self::EaMadm {
+                label,
+                epsilon: config.epsilon,
+                weighting: config.weighting,
+                standardisation: config.standardisation,
+                storage: config.storage,
+                pretrain: config.pretrain,
+            },
+            Method::EpsilonGreedy { epsilon } => Self::EpsilonGreedy { label, epsilon },
+            Method::Softmax { temperature } => Self::Softmax { label, temperature },
+        }
+    }
+}
+
+/// A config that cannot be used. Every variant names the field (a path such as
+/// `methods[2].epsilon.factor`) or, for TOML syntax and unknown keys, the line and the key.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ConfigError {
+    /// Not TOML, a missing or mistyped field, or an unknown key (the message names the key and
+    /// shows the line).
+    #[error("experiment config: {0}")]
+    Toml(#[from] toml::de::Error),
+    /// A value outside its range.
+    #[error("experiment config: `{field}` = {value}: expected {expected}")]
+    Invalid {
+        /// Path of the field, e.g. `methods[2].epsilon.factor`.
+        field: String,
+        /// The value found, as written.
+        value: String,
+        /// What the field must be, in words.
+        expected: String,
+    },
+    /// A file the config names cannot be read.
+    #[error("experiment config: `{field}`: cannot read {}: {source}", path.display())]
+    Read {
+        /// The field naming the file, e.g. `task.path`.
+        field: String,
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: io::Error,
+    },
+    /// A maze map that does not parse.
+    #[error("experiment config: `{field}`: {source}")]
+    Maze {
+        /// The field holding or naming the map (`task.map` or `task.path`).
+        field: String,
+        /// The parse error (with line and column).
+        #[source]
+        source: mazes::ParseError,
+    },
+}
+
+impl ConfigError {
+    /// The path of the offending field, when the error is about one field.
+    #[must_use]
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            Self::Invalid { field, .. } | Self::Read { field, .. } | Self::Maze { field, .. } => {
+                Some(field)
+            }
+            Self::Toml(_) => None,
+        }
+    }
+
+    pub(crate) fn invalid(
+        field: impl Into<String>,
+        value: impl std::fmt::Display,
+        expected: impl Into<String>,
+    ) -> Self {
+        Self::Invalid {
+            field: field.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+
+    /// A `dql` parameter error, re-addressed under `prefix` (`methods[1]` + `epsilon.factor`).
+    fn from_dql(prefix: &str, error: DqlError) -> Self {
+        match error {
+            DqlError::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => Self::invalid(join(prefix, &name), value, expected),
+            other => Self::invalid(prefix, "(see message)", other.to_string()),
+        }
+    }
+}
+
+fn join(prefix: &str, name: &str) -> String {
+    if prefix.is_empty() {
+        name.to_owned()
+    } else {
+        format!("{prefix}.{name}")
+    }
+}
+
+impl ExperimentConfig {
+    /// Parses and validates a TOML config.
+    ///
+    /// # Errors
+    /// [`ConfigError::Toml`] for bad TOML, a missing, mistyped or unknown key;
+    /// [`ConfigError::Invalid`] for a value out of range (see [`validate`](Self::validate)).
+    pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
+        let config: Self = toml::from_str(text)?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// The config as TOML (parses back to an equal config).
+    ///
+    /// # Errors
+    /// Only if a value cannot be written as TOML (never for a validated config).
+    pub fn to_toml_string(&self) -> Result<String, toml::ser::Error> {
+        toml::to_string(self)
+    }
+
+    /// Checks every value that serde cannot: counts at least 1, schedules, the learner's α, γ,
+    /// ξ and initialisation, OWA weighting parameters, tree thresholds, unique labels, kept
+    /// trajectory episodes. Files named by the task are read only when the task is loaded
+    /// ([`Experiment::new`](crate::Experiment::new)).
+    ///
+    /// # Errors
+    /// The first problem found, as [`ConfigError::Invalid`] naming the field's path.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_label("name", &self.name)?;
+        if self.episodes == 0 || self.episodes > MAX_EPISODES {
+            return Err(ConfigError::invalid(
+                "episodes",
+                self.episodes,
+                format!("an episode count in 1..={MAX_EPISODES}"),
+            ));
+        }
+        if self.seeds == 0 || self.seeds > MAX_SEEDS {
+            return Err(ConfigError::invalid(
+                "seeds",
+                self.seeds,
+                format!("a seed count in 1..={MAX_SEEDS}"),
+            ));
+        }
+        if self.base_seed.checked_add(u64::from(self.seeds)).is_none() {
+            return Err(ConfigError::invalid(
+                "base_seed",
+                self.base_seed,
+                "a base seed such that base_seed + seeds fits in 64 bits",
+            ));
+        }
+        if self.task.step_cap() == Some(0) {
+            return Err(ConfigError::invalid("task.step_cap", 0, "at least 1 step"));
+        }
+        self.learner
+            .validate()
+            .map_err(|error| ConfigError::from_dql("learner", error))?;
+        for (index, &episode) in self.trajectories.episodes.iter().enumerate() {
+            if episode >= self.episodes {
+                return Err(ConfigError::invalid(
+                    format!("trajectories.episodes[{index}]"),
+                    episode,
+                    format!("an episode index below episodes = {}", self.episodes),
+                ));
+            }
+        }
+        if self.methods.is_empty() {
+            return Err(ConfigError::invalid("methods", "[]", "at least one method"));
+        }
+        let mut labels = HashSet::new();
+        for (index, spec) in self.methods.iter().enumerate() {
+            let path = format!("methods[{index}]");
+            spec.validate(&path)?;
+            if !labels.insert(spec.label.as_str()) {
+                return Err(ConfigError::invalid(
+                    format!("{path}.label"),
+                    format!("{:?}", spec.label),
+                    "a label no other method of the config has",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The seeds of the experiment: `base_seed, base_seed + 1, …` (`seeds` of them).
+    pub fn seed_values(&self) -> impl Iterator<Item = u64> + use<> {
+        let base = self.base_seed;
+        (0..u64::from(self.seeds)).map(move |i| base + i)
+    }
+
+    /// The method with this label.
+    #[must_use]
+    pub fn method(&self, label: &str) -> Option<&MethodSpec> {
+        self.methods.iter().find(|spec| spec.label == label)
+    }
+
+    /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, 10 seeds,
+    /// α = 0.1, γ = 0.95, and [`paper_methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
+    #[must_use]
+    pub fn paper_task1() -> Self {
+        Self::paper_maze("task1", Preset::TaskI)
+    }
+
+    /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise
+    /// as [`paper_task1`](Self::paper_task1). Equal to [`PAPER_TASK2_TOML`] parsed.
+    #[must_use]
+    pub fn paper_task2() -> Self {
+        Self::paper_maze("task2", Preset::TaskII)
+    }
+
+    fn paper_maze(name: &str, preset: Preset) -> Self {
+        Self {
+            name: name.to_owned(),
+            task: TaskConfig::Maze {
+                preset,
+                step_cap: None,
+            },
+            episodes: 200,
+            seeds: 10,
+            base_seed: 0,
+            learner: table1_learner(),
+            trajectories: TrajectoryConfig::default(),
+            methods: paper_methods(),
+        }
+    }
+}
+
+/// Table 1's learner: α = 0.1, γ = 0.95 (ξ = 0.5, zero initialisation).
+#[must_use]
+pub fn table1_learner() -> DoubleQParams {
+    DoubleQParams {
+        alpha: 0.1,
+        gamma: 0.95,
+        ..DoubleQParams::default()
+    }
+}
+
+/// The methods of every paper preset, in report order: `ea-madm`, `epsilon-greedy`
+/// (constant ε = 0.1), `epsilon-decreasing` and `softmax` (Table 1's schedules), then the
+/// ablations, each EA-MADM with one switch flipped: `ea-madm-table` (sub-task tables instead
+/// of trees), `ea-madm-uniform` (uniform instead of visibility weights), `ea-madm-literal`
+/// (the literal, identically zero, standardisation) and `ea-madm-distance` (the distance
+/// support instead of the paper's).
+#[must_use]
+pub fn paper_methods() -> Vec<MethodSpec> {
+    let ea_madm = EaMadmConfig {
+        epsilon: table1_epsilon_decreasing(),
+        weighting: Weighting::default(),
+        standardisation: Standardisation::Running,
+        storage: Storage::default(),
+        pretrain: PretrainConfig::default(),
+    };
+    let variant = |label: &str, change: &dyn Fn(&mut EaMadmConfig)| {
+        let mut config = ea_madm.clone();
+        change(&mut config);
+        MethodSpec {
+            label: label.to_owned(),
+            method: Method::EaMadm(config),
+        }
+    };
+    vec![
+        variant("ea-madm", &|_| {}),
+        MethodSpec {
+            label: "epsilon-greedy".to_owned(),
+            method: Method::EpsilonGreedy {
+                epsilon: Schedule::Constant(0.1),
+            },
+        },
+        MethodSpec {
+            label: "epsilon-decreasing".to_owned(),
+            method: Method::EpsilonGreedy {
+                epsilon: table1_epsilon_decreasing(),
+            },
+        },
+        MethodSpec {
+            label: "softmax".to_owned(),
+            method: Method::Softmax {
+                temperature: table1_temperature(),
+            },
+        },
+        variant("ea-madm-table", &|c| c.storage = Storage::Table),
+        variant("ea-madm-uniform", &|c| c.weighting = Weighting::Uniform),
+        variant("ea-madm-literal", &|c| {
+            c.standardisation = Standardisation::CrossSectional;
+        }),
+        variant("ea-madm-distance", &|c| {
+            c.weighting = Weighting::Visibility {
+                support: Support::Distance,
+            };
+        }),
+    ]
+}
+
+impl MethodSpec {
+    /// Checks the label and the method's parameters; `path` prefixes field names in errors.
+    ///
+    /// # Errors
+    /// [`ConfigError::Invalid`] naming the first bad field.
+    pub fn validate(&self, path: &str) -> Result<(), ConfigError> {
+        check_label(&join(path, "label"), &self.label)?;
+        match &self.method {
+            Method::EpsilonGreedy { epsilon } => {
+                EpsilonGreedy::new(*epsilon).map_err(|e| ConfigError::from_dql(path, e))?;
+            }
+            Method::Softmax { temperature } => {
+                Softmax::new(*temperature).map_err(|e| ConfigError::from_dql(path, e))?;
+            }
+            Method::EaMadm(config) => config.validate(path)?,
+        }
+        Ok(())
+    }
+}
+
+impl EaMadmConfig {
+    /// Checks ε, the weighting, the tree thresholds and the pre-training; `path` prefixes
+    /// field names in errors.
+    ///
+    /// # Errors
+    /// [`ConfigError::Invalid`] naming the first bad field.
+    pub fn validate(&self, path: &str) -> Result<(), ConfigError> {
+        EpsilonGreedy::new(self.epsilon).map_err(|e| ConfigError::from_dql(path, e))?;
+        if let Err(error) = self.weighting.validate() {
+            let field = match &self.weighting {
+                Weighting::Visibility { .. } => "weighting.support.epsilon",
+                Weighting::MaximumEntropy { .. } => "weighting.orness",
+                _ => "weighting",
+            };
+            return Err(ConfigError::invalid(
+                join(path, field),
+                "(see message)",
+                error.to_string(),
+            ));
+        }
+        if let Storage::Tree(tree) = &self.storage {
+            for (name, value) in [
+                ("state_threshold", tree.state_threshold),
+                ("action_threshold", tree.action_threshold),
+            ] {
+                if !(0.0..=1.0).contains(&value) {
+                    return Err(ConfigError::invalid(
+                        join(path, &format!("storage.{name}")),
+                        value,
+                        "a similarity threshold in [0, 1]",
+                    ));
+                }
+            }
+        }
+        let pretrain = join(path, "pretrain");
+        if self.pretrain.episodes == 0 || self.pretrain.episodes > MAX_EPISODES {
+            return Err(ConfigError::invalid(
+                join(&pretrain, "episodes"),
+                self.pretrain.episodes,
+                format!("an episode count in 1..={MAX_EPISODES}"),
+            ));
+        }
+        EpsilonGreedy::new(self.pretrain.epsilon)
+            .map_err(|e| ConfigError::from_dql(&pretrain, e))?;
+        Ok(())
+    }
+}
+
+/// Labels and names go into file names: non-empty, at most 64 of `[A-Za-z0-9._-]`.
+fn check_label(field: &str, label: &str) -> Result<(), ConfigError> {
+    let ok = !label.is_empty()
+        && label.len() <= 64
+        && label
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(ConfigError::invalid(
+            field,
+            format!("{label:?}"),
+            "1 to 64 characters from letters, digits, '-', '_' and '.'",
+        ))
+    }
+}

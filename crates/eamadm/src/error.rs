@@ -1,0 +1,43 @@
+//! Errors of a run.
+
+use dql::DqlError;
+use ea_tree::EaTreeError;
+use reward_std::RewardStdError;
+use thiserror::Error;
+
+use crate::agent::PolicyError;
+use crate::config::ConfigError;
+
+/// A run that could not complete, with the method and seed it belongs to.
+#[derive(Debug, Error)]
+#[error("method `{method}`, seed {seed}: {source}")]
+pub struct RunError {
+    /// The method's label.
+    pub method: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// What went wrong.
+    #[source]
+    pub source: RunFailure,
+}
+
+/// What went wrong in a run.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum RunFailure {
+    /// The config or the task cannot be used.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// Invalid learning parameters, or an environment that broke its contract.
+    #[error("learning: {0}")]
+    Learning(#[from] DqlError),
+    /// An experience tree could not be built.
+    #[error("experience tree: {0}")]
+    Tree(#[from] EaTreeError),
+    /// The EA-MADM policy could not be built.
+    #[error("EA-MADM policy: {0}")]
+    Policy(#[from] PolicyError),
+    /// The reward standardisation could not be set up.
+    #[error("reward standardisation: {0}")]
+    Standardisation(#[from] RewardStdError),
+}

@@ -1,0 +1,109 @@
+//! What one run produces: the per-episode curve, kept trajectories, the greedy evaluation and
+//! the sub-tasks' pre-training, as serde data.
+
+use serde::{Deserialize, Serialize};
+
+/// Everything one run (one method, one seed) produced. A pure function of
+/// `(config, method, seed)`: the same inputs give a bit-identical record.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// The experiment's name ([`ExperimentConfig::name`](crate::ExperimentConfig::name)).
+    pub experiment: String,
+    /// The method's label.
+    pub method: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// Length of the task's optimal route in steps, when known: the BFS shortest path for a
+    /// maze. Curves are compared with it.
+    pub optimum_steps: Option<u64>,
+    /// Sub-task pre-training (EA-MADM only; empty for the competitors), in sub-task order.
+    pub subtasks: Vec<SubtaskRecord>,
+    /// Environment steps spent on sub-task pre-training (0 for the competitors). The paper
+    /// does not count them; every cumulative count here does.
+    pub pretrain_env_steps: u64,
+    /// One record per training episode of the source task, in order.
+    pub episodes: Vec<EpisodeRecord>,
+    /// Environment steps of the whole run: pre-training plus training (not the evaluation).
+    pub total_env_steps: u64,
+    /// Trajectories of the training episodes the config keeps.
+    pub trajectories: Vec<TrajectoryRecord>,
+    /// The greedy evaluation episode after training (no exploration, no learning).
+    pub evaluation: EpisodeRecord,
+    /// The evaluation episode's trajectory.
+    pub evaluation_trajectory: TrajectoryRecord,
+}
+
+/// One episode of the source task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeRecord {
+    /// 0-based episode index (for the evaluation: the number of training episodes).
+    pub episode: u64,
+    /// Environment steps of this episode.
+    pub steps: u64,
+    /// Sum of the task's own rewards (what the paper's reward curves plot).
+    pub task_return: f64,
+    /// Sum of the rewards the learner learned from (the standardised signal for EA-MADM,
+    /// equal to `task_return` for the competitors; 0 without learning).
+    pub learning_return: f64,
+    /// The episode ended inside the task (target reached, obstacle hit, target lost).
+    pub terminated: bool,
+    /// The episode was cut by the step cap.
+    pub truncated: bool,
+    /// The target was reached.
+    pub reached: bool,
+    /// Collisions in the episode: bumps for a maze (the agent stays), hits for the robot.
+    pub collisions: u64,
+    /// Environment steps consumed so far in this run, this episode included, *including
+    /// sub-task pre-training*. For the evaluation: the run's total (training) steps.
+    pub env_steps: u64,
+    /// The robot task's per-episode metrics (Sec. VI.B); `None` for mazes.
+    pub robot: Option<RobotEpisodeMetrics>,
+}
+
+/// The robot task's metrics of one episode (Sec. VI.B, Fig. 13–15).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RobotEpisodeMetrics {
+    /// Duration of the episode in seconds.
+    pub time: f64,
+    /// Return divided by the episode's duration (reward per second).
+    pub average_reward: f64,
+    /// Time to reach the target in seconds; `None` when it was not reached.
+    pub time_to_reach: Option<f64>,
+    /// Time spent stalled in front of an obstacle, in seconds.
+    pub retention_time: f64,
+}
+
+/// The states, actions and positions of one episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryRecord {
+    /// The episode (for the evaluation: the number of training episodes).
+    pub episode: u64,
+    /// `true` for the greedy evaluation episode.
+    pub greedy: bool,
+    /// Visited states, starting with the initial one (`actions.len() + 1` entries).
+    pub states: Vec<usize>,
+    /// Chosen actions.
+    pub actions: Vec<usize>,
+    /// Positions along the episode, one per state: tile `[x, y]` for a maze (column, row from
+    /// the top), `[x, y]` in metres for the robot.
+    pub positions: Vec<[f64; 2]>,
+}
+
+/// The pre-training of one sub-task of an EA-MADM run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SubtaskRecord {
+    /// The sub-task's name (e.g. `reach the target faster`).
+    pub name: String,
+    /// Pre-training episodes.
+    pub episodes: u64,
+    /// Environment steps they consumed.
+    pub env_steps: u64,
+    /// Steps of the last pre-training episode.
+    pub last_episode_steps: u64,
+    /// State–action pairs the sub-task's learner updated at least once (its experience).
+    pub visited_pairs: u64,
+    /// Clusters of its EA tree (`None` with table storage).
+    pub clusters: Option<u64>,
+    /// State–action pairs of the task for which the source task finds prior experience.
+    pub answered_pairs: u64,
+}

@@ -1,0 +1,237 @@
+//! Results as files: the full record as JSON, and tidy CSV tables (one row per run and
+//! episode, or per trajectory step) that a pandas or R user opens directly.
+
+use std::io::{Read, Write};
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::record::{RunRecord, TrajectoryRecord};
+
+/// Writing or reading results failed.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ResultsError {
+    /// JSON (de)serialisation or the underlying I/O failed.
+    #[error("results JSON: {0}")]
+    Json(#[from] serde_json::Error),
+    /// CSV writing or the underlying I/O failed.
+    #[error("results CSV: {0}")]
+    Csv(#[from] csv::Error),
+}
+
+/// Writes `records` as one pretty-printed JSON array (the full record: curves, trajectories,
+/// evaluations, pre-training).
+///
+/// # Errors
+/// [`ResultsError::Json`] when writing fails.
+pub fn write_json<W: Write>(records: &[RunRecord], writer: W) -> Result<(), ResultsError> {
+    serde_json::to_writer_pretty(writer, records)?;
+    Ok(())
+}
+
+/// Reads records written by [`write_json`].
+///
+/// # Errors
+/// [`ResultsError::Json`] for unreadable or malformed input.
+pub fn read_json<R: Read>(reader: R) -> Result<Vec<RunRecord>, ResultsError> {
+    Ok(serde_json::from_reader(reader)?)
+}
+
+/// One row of the curves table: one episode of one run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CurveRow {
+    /// The experiment's name.
+    pub experiment: String,
+    /// The method's label.
+    pub method: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// 0-based training episode.
+    pub episode: u64,
+    /// Steps of the episode.
+    pub steps: u64,
+    /// Task return of the episode.
+    pub task_return: f64,
+    /// Sum of the learning signal.
+    pub learning_return: f64,
+    /// Ended inside the task.
+    pub terminated: bool,
+    /// Cut by the step cap.
+    pub truncated: bool,
+    /// Reached the target.
+    pub reached: bool,
+    /// Collisions in the episode.
+    pub collisions: u64,
+    /// Cumulative environment steps of the run, pre-training included.
+    pub env_steps: u64,
+    /// The optimal route length (BFS for mazes); empty when unknown.
+    pub optimum_steps: Option<u64>,
+    /// Robot: episode duration in seconds (empty for mazes).
+    pub time: Option<f64>,
+    /// Robot: return per second.
+    pub average_reward: Option<f64>,
+    /// Robot: time to reach the target (empty when not reached).
+    pub time_to_reach: Option<f64>,
+    /// Robot: retention time in seconds.
+    pub retention_time: Option<f64>,
+}
+
+/// The curve rows of one run, episode by episode.
+pub fn curve_rows(record: &RunRecord) -> impl Iterator<Item = CurveRow> + '_ {
+    record.episodes.iter().map(move |episode| CurveRow {
+        experiment: record.experiment.clone(),
+        method: record.method.clone(),
+        seed: record.seed,
+        episode: episode.episode,
+        steps: episode.steps,
+        task_return: episode.task_return,
+        learning_return: episode.learning_return,
+        terminated: episode.terminated,
+        truncated: episode.truncated,
+        reached: episode.reached,
+        collisions: episode.collisions,
+        env_steps: episode.env_steps,
+        optimum_steps: record.optimum_steps,
+        time: episode.robot.map(|r| r.time),
+        average_reward: episode.robot.map(|r| r.average_reward),
+        time_to_reach: episode.robot.and_then(|r| r.time_to_reach),
+        retention_time: episode.robot.map(|r| r.retention_time),
+    })
+}
+
+/// Writes the curves of `records` as CSV with a header: one row per (run, episode), columns
+/// as in [`CurveRow`] (empty cells for missing values).
+///
+/// # Errors
+/// [`ResultsError::Csv`] when writing fails.
+pub fn write_curves_csv<W: Write>(records: &[RunRecord], writer: W) -> Result<(), ResultsError> {
+    let mut csv = csv::Writer::from_writer(writer);
+    for record in records {
+        for row in curve_rows(record) {
+            csv.serialize(row)?;
+        }
+    }
+    if records.iter().all(|r| r.episodes.is_empty()) {
+        // No rows: still write the header, so the file opens as an empty table.
+        csv.write_record(CURVE_COLUMNS)?;
+    }
+    csv.flush().map_err(csv::Error::from)?;
+    Ok(())
+}
+
+/// The column names of the curves table, in order.
+pub const CURVE_COLUMNS: [&str; 17] = [
+    "experiment",
+    "method",
+    "seed",
+    "episode",
+    "steps",
+    "task_return",
+    "learning_return",
+    "terminated",
+    "truncated",
+    "reached",
+    "collisions",
+    "env_steps",
+    "optimum_steps",
+    "time",
+    "average_reward",
+    "time_to_reach",
+    "retention_time",
+];
+
+/// One row of the trajectories table: one step (state) of a kept trajectory.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryRow {
+    /// The experiment's name.
+    pub experiment: String,
+    /// The method's label.
+    pub method: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// The episode (for the evaluation: the number of training episodes).
+    pub episode: u64,
+    /// `true` for the greedy evaluation episode.
+    pub greedy: bool,
+    /// Time step within the episode (0 = the initial state).
+    pub t: u64,
+    /// The state at time `t`.
+    pub state: usize,
+    /// The action taken at time `t` (empty for the last state).
+    pub action: Option<usize>,
+    /// Position: tile column (maze) or metres (robot).
+    pub x: f64,
+    /// Position: tile row from the top (maze) or metres (robot).
+    pub y: f64,
+}
+
+/// Writes every kept trajectory of `records` (training episodes, then the evaluation, run by
+/// run) as CSV with a header, one row per visited state.
+///
+/// # Errors
+/// [`ResultsError::Csv`] when writing fails.
+pub fn write_trajectories_csv<W: Write>(
+    records: &[RunRecord],
+    writer: W,
+) -> Result<(), ResultsError> {
+    let mut csv = csv::Writer::from_writer(writer);
+    let mut wrote = false;
+    for record in records {
+        let all = record
+            .trajectories
+            .iter()
+            .chain(std::iter::once(&record.evaluation_trajectory));
+        for trajectory in all {
+            for row in trajectory_rows(record, trajectory) {
+                csv.serialize(row)?;
+                wrote = true;
+            }
+        }
+    }
+    if !wrote {
+        csv.write_record([
+            "experiment",
+            "method",
+            "seed",
+            "episode",
+            "greedy",
+            "t",
+            "state",
+            "action",
+            "x",
+            "y",
+        ])?;
+    }
+    csv.flush().map_err(csv::Error::from)?;
+    Ok(())
+}
+
+fn trajectory_rows<'a>(
+    record: &'a RunRecord,
+    trajectory: &'a TrajectoryRecord,
+) -> impl Iterator<Item = TrajectoryRow> + 'a {
+    trajectory
+        .states
+        .iter()
+        .enumerate()
+        .map(move |(t, &state)| {
+            let [x, y] = trajectory
+                .positions
+                .get(t)
+                .copied()
+                .unwrap_or([f64::NAN; 2]);
+            TrajectoryRow {
+                experiment: record.experiment.clone(),
+                method: record.method.clone(),
+                seed: record.seed,
+                episode: trajectory.episode,
+                greedy: trajectory.greedy,
+                t: t as u64,
+                state,
+                action: trajectory.actions.get(t).copied(),
+                x,
+                y,
+            }
+        })
+}

@@ -1,0 +1,233 @@
+//! Loading a task config into an environment, and what the runner needs from environments
+//! beyond [`dql::Environment`]: collisions, reaching the target, positions, robot metrics.
+
+use dql::{Environment, Step, Trajectory};
+use mazes::{Event, Maze, MazeEnv, Preset};
+
+use crate::config::{ConfigError, TaskConfig};
+use crate::record::RobotEpisodeMetrics;
+
+/// A loaded task: the environment every run of an experiment starts from (each run clones it).
+#[derive(Debug, Clone)]
+pub struct Task {
+    kind: TaskKind,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum TaskKind {
+    Maze(MazeEnv),
+}
+
+impl Task {
+    /// Builds the task a config names: generates a preset maze, reads a map file or parses an
+    /// inline map, and applies the step cap override.
+    ///
+    /// # Errors
+    /// [`ConfigError::Read`] for a file that cannot be read, [`ConfigError::Maze`] for a map
+    /// that does not parse (both naming the field), [`ConfigError::Invalid`] for a zero step
+    /// cap.
+    pub fn load(config: &TaskConfig) -> Result<Self, ConfigError> {
+        match config {
+            TaskConfig::Maze { preset, step_cap } => {
+                Self::from_maze(preset.maze(), *preset, *step_cap, "task.preset")
+            }
+            TaskConfig::MazeFile {
+                path,
+                rewards,
+                step_cap,
+            } => {
+                let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+                    field: "task.path".to_owned(),
+                    path: path.clone(),
+                    source,
+                })?;
+                let maze = Maze::parse(&text).map_err(|source| ConfigError::Maze {
+                    field: "task.path".to_owned(),
+                    source,
+                })?;
+                Self::from_maze(maze, *rewards, *step_cap, "task.rewards")
+            }
+            TaskConfig::MazeText {
+                map,
+                rewards,
+                step_cap,
+            } => {
+                let maze = Maze::parse(map).map_err(|source| ConfigError::Maze {
+                    field: "task.map".to_owned(),
+                    source,
+                })?;
+                Self::from_maze(maze, *rewards, *step_cap, "task.rewards")
+            }
+        }
+    }
+
+    fn from_maze(
+        maze: Maze,
+        rewards: Preset,
+        step_cap: Option<u32>,
+        field: &str,
+    ) -> Result<Self, ConfigError> {
+        let mut spec = rewards.task_spec();
+        if let Some(cap) = step_cap {
+            spec.step_cap = cap;
+        }
+        let env = MazeEnv::new(maze, spec)
+            .map_err(|error| ConfigError::invalid(field, "(see message)", error.to_string()))?;
+        Ok(Self {
+            kind: TaskKind::Maze(env),
+        })
+    }
+
+    pub(crate) fn kind(&self) -> &TaskKind {
+        &self.kind
+    }
+
+    /// Number of states.
+    #[must_use]
+    pub fn n_states(&self) -> usize {
+        match &self.kind {
+            TaskKind::Maze(env) => env.n_states(),
+        }
+    }
+
+    /// Number of actions.
+    #[must_use]
+    pub fn n_actions(&self) -> usize {
+        match &self.kind {
+            TaskKind::Maze(env) => env.n_actions(),
+        }
+    }
+
+    /// Names of the sub-tasks, in order.
+    #[must_use]
+    pub fn subtask_names(&self) -> Vec<String> {
+        match &self.kind {
+            TaskKind::Maze(env) => env.subtask_names(),
+        }
+    }
+
+    /// Length of the optimal route in steps, when known (the BFS shortest path of a maze).
+    #[must_use]
+    pub fn optimum_steps(&self) -> Option<u64> {
+        match &self.kind {
+            TaskKind::Maze(env) => u64::try_from(env.maze().shortest_path_len()).ok(),
+        }
+    }
+
+    /// The maze, for a maze task.
+    #[must_use]
+    pub fn maze(&self) -> Option<&Maze> {
+        match &self.kind {
+            TaskKind::Maze(env) => Some(env.maze()),
+        }
+    }
+
+    /// The maze environment, for a maze task.
+    #[must_use]
+    pub fn maze_env(&self) -> Option<&MazeEnv> {
+        match &self.kind {
+            TaskKind::Maze(env) => Some(env),
+        }
+    }
+}
+
+/// What the runner reads from a task's environment besides [`Environment`].
+pub(crate) trait TaskEnv: Environment + Clone + Send + Sync {
+    /// The last step was a collision (a bump, a hit).
+    fn collided(&self) -> bool;
+
+    /// The episode that just ended reached the target (`terminated` is the driver's flag).
+    fn reached(&self, terminated: bool) -> bool;
+
+    /// Positions along the episode that just ended, one per state of `trajectory`.
+    fn positions(&self, trajectory: &Trajectory) -> Vec<[f64; 2]>;
+
+    /// The robot metrics of the episode that just ended (`None` for mazes).
+    fn robot_metrics(&self) -> Option<RobotEpisodeMetrics> {
+        None
+    }
+}
+
+impl TaskEnv for MazeEnv {
+    #[inline]
+    fn collided(&self) -> bool {
+        self.last_event() == Some(Event::Bump)
+    }
+
+    fn reached(&self, terminated: bool) -> bool {
+        // Reaching the target is the maze's only terminal event.
+        terminated
+    }
+
+    fn positions(&self, trajectory: &Trajectory) -> Vec<[f64; 2]> {
+        let width = self.maze().width();
+        trajectory
+            .states
+            .iter()
+            .map(|&state| {
+                #[allow(clippy::cast_precision_loss)] // maze sides are far below 2^52
+                [(state % width) as f64, (state / width) as f64]
+            })
+            .collect()
+    }
+}
+
+/// An environment that counts the collisions of the current episode.
+#[derive(Debug, Clone)]
+pub(crate) struct Counting<E> {
+    pub(crate) inner: E,
+    collisions: u64,
+}
+
+impl<E: TaskEnv> Counting<E> {
+    pub(crate) fn new(inner: E) -> Self {
+        Self {
+            inner,
+            collisions: 0,
+        }
+    }
+
+    /// Collisions since the last `reset`.
+    pub(crate) fn collisions(&self) -> u64 {
+        self.collisions
+    }
+}
+
+impl<E: TaskEnv> Environment for Counting<E> {
+    fn n_states(&self) -> usize {
+        self.inner.n_states()
+    }
+
+    fn n_actions(&self) -> usize {
+        self.inner.n_actions()
+    }
+
+    fn n_subtasks(&self) -> usize {
+        self.inner.n_subtasks()
+    }
+
+    fn subtask_names(&self) -> Vec<String> {
+        self.inner.subtask_names()
+    }
+
+    fn reset(&mut self, seed: Option<u64>) -> usize {
+        self.collisions = 0;
+        self.inner.reset(seed)
+    }
+
+    #[inline]
+    fn step(&mut self, action: usize) -> Step {
+        let step = self.inner.step(action);
+        self.collisions += u64::from(self.inner.collided());
+        step
+    }
+
+    #[inline]
+    fn subtask_rewards(&self) -> &[f64] {
+        self.inner.subtask_rewards()
+    }
+
+    fn state_features(&self, state: usize) -> Vec<u32> {
+        self.inner.state_features(state)
+    }
+}
