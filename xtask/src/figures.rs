@@ -1,5 +1,5 @@
 //! SVG line charts of per-episode curves over seeds: for each named series, the mean over seeds
-//! as a line and its 95% confidence band (see [`crate::stats`]) as a translucent area; optional
+//! as a line and its 95% confidence band (see [`eamadm::summary`]) as a translucent area; optional
 //! dashed horizontal reference lines (e.g. the BFS optimum); a title, axis labels and a legend in
 //! its own panel to the right of the plot, so it never covers data.
 //!
@@ -27,7 +27,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
-use crate::stats::{self, BandPoint, StatsError};
+use eamadm::summary::{self as stats, BandPoint, StatsError};
 
 /// Bad chart input, or a failure to draw or write it.
 #[derive(Debug, Error)]

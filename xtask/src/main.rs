@@ -7,7 +7,7 @@
 //! Exit codes: 0 success, 1 the command failed (today: the experiment runner has not landed),
 //! 2 invalid arguments.
 //!
-//! Modules: [`cli`] parses, [`plan`] checks the arguments; [`stats`], [`figures`], [`report`],
+//! Modules: [`cli`] parses, [`plan`] checks the arguments; [`figures`], [`report`],
 //! [`resume`], [`progress`] and [`atomic`] are the building blocks of the outputs.
 
 use std::process::ExitCode;
@@ -40,11 +40,6 @@ mod report;
     expect(dead_code, reason = "used once the eamadm runner lands")
 )]
 mod resume;
-#[cfg_attr(
-    not(test),
-    expect(dead_code, reason = "used once the eamadm runner lands")
-)]
-mod stats;
 
 use cli::{Cli, Command};
 use plan::{DEFAULT_METHODS, ReproducePlan, Workspace};

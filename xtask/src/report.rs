@@ -3,7 +3,7 @@
 
 use thiserror::Error;
 
-use crate::stats::SeedSummary;
+use eamadm::summary::SeedSummary;
 
 /// A table row of the wrong length.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -165,7 +165,7 @@ pub(crate) fn format_mean_ci(summary: &SeedSummary) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stats::summarize;
+    use eamadm::summary::summarize;
 
     fn summary(mean: f64, half_width: Option<f64>) -> SeedSummary {
         SeedSummary {
