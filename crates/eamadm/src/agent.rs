@@ -203,3 +203,120 @@ impl ExplorationPolicy for EaMadmPolicy {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use madm_owa::Support;
+    use proptest::prelude::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn policy(prior: PriorTable, weighting: Weighting) -> EaMadmPolicy {
+        EaMadmPolicy::new(prior, Schedule::Constant(0.0), weighting).unwrap()
+    }
+
+    #[test]
+    fn without_experience_the_decision_is_greedy_on_the_own_values() {
+        let prior = PriorTable::from_fn(3, 4, 2, |_, _, _| None);
+        let mut policy = policy(prior, Weighting::default());
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let own = [0.5, -2.0, 3.0, 1.0];
+        assert_eq!(policy.evaluations(1, &own), own);
+        assert_eq!(policy.decide(1, &own, &mut rng), 2);
+    }
+
+    #[test]
+    fn a_complete_state_is_the_madm_decision_on_eq_13() {
+        let prior = PriorTable::from_fn(2, 3, 2, |k, s, a| Some((k + 2 * s + 3 * a) as f64 - 2.5));
+        let mut policy = policy(prior.clone(), Weighting::default());
+        let own = [0.7, -0.1, 0.3];
+        let mut matrix = Vec::new();
+        for (a, &own) in own.iter().enumerate() {
+            matrix.extend([
+                prior.get(1, a, 0).unwrap(),
+                prior.get(1, a, 1).unwrap(),
+                own,
+            ]);
+        }
+        let mut expected = [0.0; 3];
+        MadmDecider::new(Weighting::default())
+            .unwrap()
+            .evaluate(&matrix, 3, 3, &mut expected)
+            .unwrap();
+        assert_eq!(policy.evaluations(1, &own), expected);
+    }
+
+    #[test]
+    fn a_sub_task_without_experience_abstains() {
+        // Sub-task 1 knows nothing of action 0 in state 0.
+        let prior = PriorTable::from_fn(1, 2, 2, |k, _, a| {
+            (k == 0 || a == 1).then_some(if k == 0 { 4.0 } else { -100.0 })
+        });
+        assert!(!prior.is_complete(0));
+        let mut policy = policy(prior, Weighting::Uniform);
+        let values = policy.evaluations(0, &[1.0, 1.0]).to_vec();
+        // Action 0: mean of (4, 1); action 1: mean of (4, −100, 1).
+        assert_eq!(values[0], 2.5);
+        assert!((values[1] - (-95.0 / 3.0)).abs() < 1e-12, "{values:?}");
+    }
+
+    #[test]
+    fn exploration_follows_the_schedule() {
+        let prior = PriorTable::from_fn(1, 4, 1, |_, _, a| Some(if a == 3 { 1.0 } else { 0.0 }));
+        let schedule = Schedule::Exponential {
+            start: 1.0,
+            factor: 0.5,
+            floor: 0.0,
+        };
+        let mut policy = EaMadmPolicy::new(prior, schedule, Weighting::default()).unwrap();
+        policy.begin_episode(2);
+        assert_eq!(policy.epsilon(), 0.25);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let own = [0.0; 4];
+        let picks = (0..4000)
+            .filter(|_| policy.select(0, &own, &mut rng) != 3)
+            .count();
+        // Non-greedy picks: 0.25 × 3/4 of the steps.
+        assert!((600..900).contains(&picks), "{picks}");
+        let mut greedy = policy.without_exploration();
+        greedy.begin_episode(0);
+        assert!((0..100).all(|_| greedy.select(0, &own, &mut rng) == 3));
+    }
+
+    #[test]
+    fn fixed_weights_are_refused() {
+        let prior = PriorTable::from_fn(1, 2, 2, |_, _, _| Some(0.0));
+        let weights = madm_owa::OwaWeights::uniform(3).unwrap();
+        let error = EaMadmPolicy::new(prior, Schedule::Constant(0.1), Weighting::Given { weights })
+            .unwrap_err();
+        assert!(matches!(error, PolicyError::Weighting(_)));
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+
+        /// Every action's value lies between the smallest and the largest attribute of its
+        /// row (the attributes present), whichever weighting, and is finite.
+        #[test]
+        fn values_stay_within_their_rows(
+            answers in proptest::collection::vec(proptest::option::of(-200.0..200.0_f64), 4 * 3),
+            own in proptest::collection::vec(-50.0..50.0_f64, 4),
+            support in prop_oneof![Just(Support::default()), Just(Support::Distance)],
+        ) {
+            let prior = PriorTable::from_fn(1, 4, 3, |k, _, a| answers[a * 3 + k]);
+            let mut policy = policy(prior.clone(), Weighting::Visibility { support });
+            let values = policy.evaluations(0, &own).to_vec();
+            for (a, value) in values.iter().enumerate() {
+                let row: Vec<f64> = (0..3)
+                    .filter_map(|k| prior.get(0, a, k))
+                    .chain([own[a]])
+                    .collect();
+                let lo = row.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                prop_assert!(value.is_finite());
+                prop_assert!(*value >= lo - 1e-9 && *value <= hi + 1e-9, "{value} not in [{lo}, {hi}]");
+            }
+        }
+    }
+}

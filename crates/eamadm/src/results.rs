@@ -235,3 +235,104 @@ fn trajectory_rows<'a>(
             }
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::{EpisodeRecord, RobotEpisodeMetrics};
+
+    fn episode(episode: u64, robot: Option<RobotEpisodeMetrics>) -> EpisodeRecord {
+        EpisodeRecord {
+            episode,
+            steps: 10 + episode,
+            task_return: -1.5,
+            learning_return: 0.25,
+            terminated: true,
+            truncated: false,
+            reached: true,
+            collisions: 1,
+            env_steps: 100 + episode,
+            robot,
+        }
+    }
+
+    fn record() -> RunRecord {
+        let trajectory = TrajectoryRecord {
+            episode: 2,
+            greedy: true,
+            states: vec![0, 1],
+            actions: vec![3],
+            positions: vec![[0.0, 0.0], [1.0, 0.0]],
+        };
+        RunRecord {
+            experiment: "small".to_owned(),
+            method: "ea-madm".to_owned(),
+            seed: 7,
+            optimum_steps: Some(9),
+            subtasks: Vec::new(),
+            pretrain_env_steps: 80,
+            episodes: vec![
+                episode(0, None),
+                episode(
+                    1,
+                    Some(RobotEpisodeMetrics {
+                        time: 2.0,
+                        average_reward: 0.5,
+                        time_to_reach: None,
+                        retention_time: 0.4,
+                    }),
+                ),
+            ],
+            total_env_steps: 101,
+            trajectories: Vec::new(),
+            evaluation: episode(2, None),
+            evaluation_trajectory: trajectory,
+        }
+    }
+
+    #[test]
+    fn curves_csv_has_a_header_and_one_row_per_episode() {
+        let mut out = Vec::new();
+        write_curves_csv(&[record()], &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], CURVE_COLUMNS.join(","));
+        assert_eq!(
+            lines[1],
+            "small,ea-madm,7,0,10,-1.5,0.25,true,false,true,1,100,9,,,,"
+        );
+        assert_eq!(
+            lines[2],
+            "small,ea-madm,7,1,11,-1.5,0.25,true,false,true,1,101,9,2.0,0.5,,0.4"
+        );
+        assert_eq!(lines.len(), 3);
+
+        let mut empty = Vec::new();
+        write_curves_csv(&[], &mut empty).unwrap();
+        assert_eq!(
+            String::from_utf8(empty).unwrap().trim_end(),
+            CURVE_COLUMNS.join(",")
+        );
+    }
+
+    #[test]
+    fn trajectories_csv_lists_every_state() {
+        let mut out = Vec::new();
+        write_trajectories_csv(&[record()], &mut out).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "experiment,method,seed,episode,greedy,t,state,action,x,y\n\
+             small,ea-madm,7,2,true,0,0,3,0.0,0.0\n\
+             small,ea-madm,7,2,true,1,1,,1.0,0.0\n"
+        );
+    }
+
+    #[test]
+    fn json_round_trips() {
+        let records = vec![record()];
+        let mut out = Vec::new();
+        write_json(&records, &mut out).unwrap();
+        assert_eq!(read_json(out.as_slice()).unwrap(), records);
+        assert!(read_json(&b"[{\"experiment\": 1}]"[..]).is_err());
+    }
+}

@@ -59,3 +59,77 @@ impl RewardSignal for StandardisedReward {
         self.standardiser.push(subtask_rewards).unwrap_or(f64::NAN)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mazes::{Event, TaskSpec};
+    use proptest::prelude::*;
+
+    const STEP: Step = Step {
+        next_state: 0,
+        reward: 0.0,
+        terminated: false,
+        truncated: false,
+    };
+
+    /// The sub-task reward rows of every maze event, Task I and Task II.
+    fn maze_rows() -> Vec<[f64; 2]> {
+        [TaskSpec::task_i(), TaskSpec::task_ii()]
+            .iter()
+            .flat_map(|spec| {
+                Event::ALL.map(|event| {
+                    [
+                        spec.subtasks[0].reward.reward(event),
+                        spec.subtasks[1].reward.reward(event),
+                    ]
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn literal_signal_is_exactly_zero_on_every_maze_event() {
+        let mut signal = StandardisedReward::new(Standardisation::CrossSectional, 2).unwrap();
+        signal.begin_episode(2).unwrap();
+        for row in maze_rows() {
+            assert_eq!(signal.learning_reward(&STEP, &row), 0.0, "{row:?}");
+        }
+    }
+
+    #[test]
+    fn running_signal_is_not_zero() {
+        let mut signal = StandardisedReward::new(Standardisation::Running, 2).unwrap();
+        signal.begin_episode(2).unwrap();
+        let rewards: Vec<f64> = maze_rows()
+            .iter()
+            .map(|row| signal.learning_reward(&STEP, row))
+            .collect();
+        assert!(rewards.iter().any(|r| *r != 0.0), "{rewards:?}");
+        assert!(rewards.iter().all(|r| r.is_finite()));
+    }
+
+    #[test]
+    fn sub_task_count_must_match() {
+        let mut signal = StandardisedReward::new(Standardisation::Running, 3).unwrap();
+        assert!(matches!(
+            signal.begin_episode(2),
+            Err(DqlError::ShapeMismatch { .. })
+        ));
+        assert!(StandardisedReward::new(Standardisation::Running, 0).is_err());
+        // A contract breach mid-episode becomes NaN, which the driver rejects.
+        signal.begin_episode(3).unwrap();
+        assert!(signal.learning_reward(&STEP, &[1.0]).is_nan());
+    }
+
+    proptest! {
+        /// Eq. 12 is identically zero: whatever the sub-task rewards, the literal signal is 0
+        /// up to rounding.
+        #[test]
+        fn literal_signal_vanishes(rewards in proptest::collection::vec(-1e3..1e3_f64, 1..6)) {
+            let mut signal = StandardisedReward::new(Standardisation::CrossSectional, rewards.len()).unwrap();
+            signal.begin_episode(rewards.len()).unwrap();
+            prop_assert!(signal.learning_reward(&STEP, &rewards).abs() < 1e-12);
+        }
+    }
+}

@@ -1,6 +1,8 @@
 //! Experiment configs: the embedded TOML files equal the named constructors; unknown keys and
 //! out-of-range values are rejected with messages naming them.
 
+#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+
 use eamadm::config::{PAPER_TASK1_TOML, PAPER_TASK2_TOML};
 use eamadm::{ConfigError, Experiment, ExperimentConfig};
 
