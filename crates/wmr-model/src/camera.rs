@@ -7,7 +7,10 @@
 //!   over the obstacles: only the field of view decides, not occlusion);
 //! * the nearest obstacle whose *feature point* is in view and within `obstacle_range`. The
 //!   feature point is the obstacle's bottom centre: where the line of sight from the camera to
-//!   the obstacle's centre first meets its footprint on the floor. Walls are not obstacles here;
+//!   the obstacle's centre first meets its footprint on the floor. An obstacle is in view when
+//!   that line of sight is inside the horizontal field of view: one whose centre lies outside
+//!   it is not reported even if its edge shows, because the paper's feature-point method cannot
+//!   place it. Walls are not obstacles here;
 //! * for that obstacle, the image ratio δ of Eq. 5 and the angle between the robot's heading
 //!   and the line from the robot's centre to the feature point.
 //!

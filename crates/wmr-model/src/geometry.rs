@@ -83,7 +83,7 @@ impl Rect {
     pub fn distance_to(&self, point: &Point2<f64>) -> f64 {
         let dx = (self.min.x - point.x).max(point.x - self.max.x).max(0.0);
         let dy = (self.min.y - point.y).max(point.y - self.max.y).max(0.0);
-        dx.hypot(dy)
+        (dx * dx + dy * dy).sqrt()
     }
 
     /// The point of the rectangle nearest to `point` (`point` itself when inside).

@@ -166,3 +166,135 @@ fn unwind(nodes: &[Node], expanded: usize) -> Plan {
         expanded,
     }
 }
+
+/// A state → action table that, followed from the start, reaches the target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TabularPolicy {
+    /// The action of each state the run visits; `None` for states it never visits.
+    pub actions: Vec<Option<Action>>,
+    /// The run the table produces.
+    pub plan: Plan,
+}
+
+/// Depth-first search for a *deterministic tabular policy over the discrete state* that
+/// reaches the target without a hit and without losing the target, within `max_steps`.
+///
+/// Where [`shortest_plan`] proves the scenario physically solvable, this proves it solvable by
+/// a learner that sees only the state (distance bin, image bin, angle bin): the run may visit
+/// a state many times, and must take the same action each time. The search assigns an action
+/// the first time the run meets a state and backtracks on failure; `Stop` is never assigned
+/// (a deterministic policy that stops, stops forever). `None` when no table was found within
+/// `budget` node expansions.
+#[must_use]
+pub fn tabular_policy(
+    scenario: &Scenario,
+    max_steps: usize,
+    budget: usize,
+) -> Option<TabularPolicy> {
+    let robot = scenario.robot;
+    let mut search = TabularSearch {
+        world: scenario.world(),
+        camera: Camera::new(scenario.camera),
+        discretiser: crate::state::Discretiser::new(scenario.state, &scenario.camera),
+        moves: [
+            Action::Forward,
+            Action::LeftForward,
+            Action::RightForward,
+            Action::Backward,
+        ]
+        .map(|a| {
+            (
+                a,
+                robot.twist(scenario.actions.wheel_speeds(a, robot.max_wheel_speed)),
+            )
+        }),
+        target: scenario.target_point(),
+        reach_radius: scenario.target.reach_radius,
+        control_period: scenario.control_period,
+        body_radius: robot.body_radius,
+        max_steps,
+        budget,
+        expanded: 0,
+        policy: Vec::new(),
+        trail: Vec::new(),
+    };
+    search.policy = vec![None; search.discretiser.n_states()];
+    let start = scenario.start_pose();
+    if !search.descend(&start, 0) {
+        return None;
+    }
+    let mut poses = vec![start];
+    let mut actions = Vec::new();
+    for (action, pose) in &search.trail {
+        actions.push(*action);
+        poses.push(*pose);
+    }
+    Some(TabularPolicy {
+        actions: search.policy,
+        plan: Plan {
+            actions,
+            poses,
+            expanded: search.expanded,
+        },
+    })
+}
+
+struct TabularSearch {
+    world: crate::world::World,
+    camera: Camera,
+    discretiser: crate::state::Discretiser,
+    moves: [(Action, crate::kinematics::Twist); 4],
+    target: Point2<f64>,
+    reach_radius: f64,
+    control_period: f64,
+    body_radius: f64,
+    max_steps: usize,
+    budget: usize,
+    expanded: usize,
+    policy: Vec<Option<Action>>,
+    trail: Vec<(Action, Isometry2<f64>)>,
+}
+
+impl TabularSearch {
+    fn state(&self, pose: &Isometry2<f64>) -> usize {
+        let view = self.camera.observe(&self.world, pose, &self.target);
+        let distance = (self.target - Point2::from(pose.translation.vector)).norm();
+        self.discretiser
+            .index(self.discretiser.bins(distance, view.obstacle.as_ref()))
+    }
+
+    fn descend(&mut self, pose: &Isometry2<f64>, steps: usize) -> bool {
+        if self.expanded >= self.budget || steps >= self.max_steps {
+            return false;
+        }
+        self.expanded += 1;
+        let state = self.state(pose);
+        let assigned = self.policy[state];
+        for (action, twist) in self.moves {
+            if assigned.is_some_and(|a| a != action) {
+                continue;
+            }
+            if assigned.is_none() {
+                self.policy[state] = Some(action);
+            }
+            let motion = self
+                .world
+                .move_disc(pose, twist, self.control_period, self.body_radius);
+            if !motion.hit {
+                let centre = Point2::from(motion.pose.translation.vector);
+                let reached = (self.target - centre).norm() <= self.reach_radius;
+                if reached || self.camera.sees(&motion.pose, &self.target) {
+                    self.trail.push((action, motion.pose));
+                    if reached || self.descend(&motion.pose, steps + 1) {
+                        return true;
+                    }
+                    self.trail.pop();
+                }
+            }
+            if assigned.is_none() {
+                self.policy[state] = None;
+            }
+        }
+        false
+    }
+}

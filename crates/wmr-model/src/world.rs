@@ -47,6 +47,22 @@ impl Obstacle {
             Self::Rect(r) => r.centre(),
         }
     }
+
+    /// Radius of the smallest disc about [`centre`](Self::centre) that holds the footprint.
+    #[must_use]
+    pub fn bounding_radius(&self) -> f64 {
+        match self {
+            Self::Circle(c) => c.radius,
+            Self::Rect(r) => (r.max - r.min).norm() / 2.0,
+        }
+    }
+}
+
+/// A bounding disc, kept beside each obstacle to reject short rays cheaply.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+struct Bound {
+    centre: Point2<f64>,
+    radius: f64,
 }
 
 /// Where a body ended up after trying to move, and whether it hit something on the way.
@@ -71,18 +87,27 @@ const CONTACT_BISECTIONS: u32 = 40;
 pub struct World {
     arena: Rect,
     obstacles: Vec<Obstacle>,
+    bounds: Vec<Bound>,
 }
 
 impl World {
     /// A world with the arena `[0, width] × [0, height]` and the given obstacles.
     #[must_use]
     pub fn new(width: f64, height: f64, obstacles: Vec<Obstacle>) -> Self {
+        let bounds = obstacles
+            .iter()
+            .map(|o| Bound {
+                centre: o.centre(),
+                radius: o.bounding_radius(),
+            })
+            .collect();
         Self {
             arena: Rect {
                 min: Point2::origin(),
                 max: Point2::new(width, height),
             },
             obstacles,
+            bounds,
         }
     }
 
@@ -117,7 +142,12 @@ impl World {
             .arena
             .ray_exit_distance(origin, direction)
             .min(max_range);
-        for obstacle in &self.obstacles {
+        for (obstacle, bound) in self.obstacles.iter().zip(&self.bounds) {
+            // Obstacles wholly beyond the current nearest hit cannot be hit first.
+            let reach = nearest + bound.radius;
+            if (bound.centre - origin).norm_squared() > reach * reach {
+                continue;
+            }
             if let Some(t) = obstacle.ray_distance(origin, direction) {
                 nearest = nearest.min(t);
             }
