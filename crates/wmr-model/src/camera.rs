@@ -59,10 +59,11 @@ impl DeltaAxis {
 /// Camera mount and optics.
 ///
 /// Defaults describe an RGB-D camera of the Intel `RealSense` D435 class (depth field of view
-/// 87° × 58°) on top of the e-puck: 5 cm above the floor, 3 cm ahead of the centre. The e-puck's
-/// own camera (0.84 rad wide) cannot keep the target in view while the robot swerves round
-/// an obstacle that stands on the straight line to the target, and the paper's robot carries
-/// an RGB-D camera anyway.
+/// 87° × 58°) on top of the e-puck: 5 cm above the floor, 3 cm ahead of the centre. The paper's
+/// robot carries an RGB-D camera, and the wide view leaves room to sidestep obstacles without
+/// losing the target. The e-puck's own 0.84 rad camera also solves the default scenario, with
+/// little slack: the planner's route grows from 34 to 39 steps and a random policy loses the
+/// target after 9 steps on average instead of 17.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraParams {
