@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::action::Action;
 use crate::camera::Camera;
 use crate::scenario::Scenario;
+use crate::state::Discretiser;
 
 /// Search resolution and budget.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -64,9 +65,13 @@ struct Node {
     action: Action,
 }
 
+/// Largest visited grid [`shortest_plan`] allocates (one byte per cell).
+pub const MAX_GRID_CELLS: usize = 1 << 27;
+
 /// Searches `scenario` (assumed valid) for the shortest action sequence, breadth first. `None`
 /// when the search exhausts the reachable cells or the budget without reaching the target, or
-/// when `params` is not usable (non-positive cell, zero heading cells).
+/// when `params` is not usable (non-positive cell, zero heading cells, a grid of more than
+/// [`MAX_GRID_CELLS`] cells).
 #[must_use]
 pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan> {
     if !params.cell.is_finite() || params.cell <= 0.0 || params.heading_cells == 0 {
@@ -95,7 +100,11 @@ pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan
         cells_along(scenario.arena.height),
     );
     let nh = params.heading_cells as usize;
-    let mut visited = vec![false; nx.checked_mul(ny)?.checked_mul(nh)?];
+    let cells = nx.checked_mul(ny)?.checked_mul(nh)?;
+    if cells > MAX_GRID_CELLS {
+        return None;
+    }
+    let mut visited = vec![false; cells];
     let cell_of = |pose: &Isometry2<f64>| {
         let t = pose.translation.vector;
         let turn = std::f64::consts::TAU;
@@ -191,110 +200,103 @@ pub fn tabular_policy(
     max_steps: usize,
     budget: usize,
 ) -> Option<TabularPolicy> {
+    let world = scenario.world();
+    let camera = Camera::new(scenario.camera);
+    let discretiser = Discretiser::new(scenario.state, &scenario.camera);
     let robot = scenario.robot;
-    let mut search = TabularSearch {
-        world: scenario.world(),
-        camera: Camera::new(scenario.camera),
-        discretiser: crate::state::Discretiser::new(scenario.state, &scenario.camera),
-        moves: [
-            Action::Forward,
-            Action::LeftForward,
-            Action::RightForward,
-            Action::Backward,
-        ]
-        .map(|a| {
-            (
-                a,
-                robot.twist(scenario.actions.wheel_speeds(a, robot.max_wheel_speed)),
-            )
-        }),
-        target: scenario.target_point(),
-        reach_radius: scenario.target.reach_radius,
-        control_period: scenario.control_period,
-        body_radius: robot.body_radius,
-        max_steps,
-        budget,
-        expanded: 0,
-        policy: Vec::new(),
-        trail: Vec::new(),
+    let target = scenario.target_point();
+    let moves = [
+        Action::Forward,
+        Action::LeftForward,
+        Action::RightForward,
+        Action::Backward,
+    ]
+    .map(|a| {
+        (
+            a,
+            robot.twist(scenario.actions.wheel_speeds(a, robot.max_wheel_speed)),
+        )
+    });
+    let state_of = |pose: &Isometry2<f64>| {
+        let view = camera.observe(&world, pose, &target);
+        let distance = (target - Point2::from(pose.translation.vector)).norm();
+        discretiser.index(discretiser.bins(distance, view.obstacle.as_ref()))
     };
-    search.policy = vec![None; search.discretiser.n_states()];
+
+    let mut policy: Vec<Option<Action>> = vec![None; discretiser.n_states()];
+    // The depth-first search keeps its own stack (runs can be long): one frame per pose on the
+    // current run, and `trail[i]` is the move into `stack[i + 1]`.
     let start = scenario.start_pose();
-    if !search.descend(&start, 0) {
-        return None;
+    let start_state = state_of(&start);
+    let mut stack = vec![Frame {
+        pose: start,
+        state: start_state,
+        fresh: true,
+        next: 0,
+    }];
+    let mut trail: Vec<(Action, Isometry2<f64>)> = Vec::new();
+    let mut expanded = 1;
+    loop {
+        let depth = stack.len().checked_sub(1)?;
+        let frame = stack.last_mut()?;
+        if frame.next >= moves.len() || depth >= max_steps {
+            if frame.fresh {
+                policy[frame.state] = None;
+            }
+            stack.pop();
+            trail.pop();
+            continue;
+        }
+        let (action, twist) = moves[frame.next];
+        frame.next += 1;
+        if frame.fresh {
+            policy[frame.state] = Some(action);
+        } else if policy[frame.state] != Some(action) {
+            continue;
+        }
+        let pose = frame.pose;
+        let motion = world.move_disc(&pose, twist, scenario.control_period, robot.body_radius);
+        if motion.hit {
+            continue;
+        }
+        let centre = Point2::from(motion.pose.translation.vector);
+        if (target - centre).norm() <= scenario.target.reach_radius {
+            trail.push((action, motion.pose));
+            let mut poses = vec![start];
+            poses.extend(trail.iter().map(|(_, p)| *p));
+            return Some(TabularPolicy {
+                actions: policy,
+                plan: Plan {
+                    actions: trail.iter().map(|(a, _)| *a).collect(),
+                    poses,
+                    expanded,
+                },
+            });
+        }
+        if !camera.sees(&motion.pose, &target) || depth + 1 >= max_steps {
+            continue;
+        }
+        if expanded >= budget {
+            return None;
+        }
+        expanded += 1;
+        let state = state_of(&motion.pose);
+        stack.push(Frame {
+            pose: motion.pose,
+            state,
+            fresh: policy[state].is_none(),
+            next: 0,
+        });
+        trail.push((action, motion.pose));
     }
-    let mut poses = vec![start];
-    let mut actions = Vec::new();
-    for (action, pose) in &search.trail {
-        actions.push(*action);
-        poses.push(*pose);
-    }
-    Some(TabularPolicy {
-        actions: search.policy,
-        plan: Plan {
-            actions,
-            poses,
-            expanded: search.expanded,
-        },
-    })
 }
 
-struct TabularSearch {
-    world: crate::world::World,
-    camera: Camera,
-    discretiser: crate::state::Discretiser,
-    moves: [(Action, crate::kinematics::Twist); 4],
-    target: Point2<f64>,
-    reach_radius: f64,
-    control_period: f64,
-    body_radius: f64,
-    max_steps: usize,
-    budget: usize,
-    expanded: usize,
-    policy: Vec<Option<Action>>,
-    trail: Vec<(Action, Isometry2<f64>)>,
-}
-
-impl TabularSearch {
-    fn state(&self, pose: &Isometry2<f64>) -> usize {
-        let view = self.camera.observe(&self.world, pose, &self.target);
-        let distance = (self.target - Point2::from(pose.translation.vector)).norm();
-        self.discretiser
-            .index(self.discretiser.bins(distance, view.obstacle.as_ref()))
-    }
-
-    fn descend(&mut self, pose: &Isometry2<f64>, steps: usize) -> bool {
-        if self.expanded >= self.budget || steps >= self.max_steps {
-            return false;
-        }
-        self.expanded += 1;
-        let state = self.state(pose);
-        let assigned = self.policy[state];
-        for (action, twist) in self.moves {
-            if assigned.is_some_and(|a| a != action) {
-                continue;
-            }
-            if assigned.is_none() {
-                self.policy[state] = Some(action);
-            }
-            let motion = self
-                .world
-                .move_disc(pose, twist, self.control_period, self.body_radius);
-            if !motion.hit {
-                let centre = Point2::from(motion.pose.translation.vector);
-                let reached = (self.target - centre).norm() <= self.reach_radius;
-                if reached || self.camera.sees(&motion.pose, &self.target) {
-                    self.trail.push((action, motion.pose));
-                    if reached || self.descend(&motion.pose, steps + 1) {
-                        return true;
-                    }
-                    self.trail.pop();
-                }
-            }
-            if assigned.is_none() {
-                self.policy[state] = None;
-            }
-        }
-        false
-    }
+/// One pose on the current run of the tabular search.
+struct Frame {
+    pose: Isometry2<f64>,
+    state: usize,
+    /// This frame assigned its state's action (and undoes it when it backtracks).
+    fresh: bool,
+    /// Index of the next move to try.
+    next: usize,
 }

@@ -171,3 +171,36 @@ fn resets_with_the_same_seed_repeat_exactly() {
     reseeded.reset(Some(wmr_model::DEFAULT_SEED));
     assert_eq!(fresh.step(0), reseeded.step(0));
 }
+
+#[test]
+fn the_planner_refuses_unusable_resolutions() {
+    let scenario = Scenario::default_scenario();
+    for params in [
+        PlannerParams {
+            cell: 0.0,
+            ..PlannerParams::default()
+        },
+        PlannerParams {
+            cell: f64::NAN,
+            ..PlannerParams::default()
+        },
+        PlannerParams {
+            heading_cells: 0,
+            ..PlannerParams::default()
+        },
+        PlannerParams {
+            cell: 1e-6,
+            ..PlannerParams::default()
+        },
+    ] {
+        assert_eq!(shortest_plan(&scenario, &params), None);
+    }
+    // A tiny budget gives up rather than searching on.
+    let starved = PlannerParams {
+        max_expansions: 10,
+        ..PlannerParams::default()
+    };
+    assert_eq!(shortest_plan(&scenario, &starved), None);
+    assert_eq!(tabular_policy(&scenario, 200, 10), None);
+    assert_eq!(tabular_policy(&scenario, 20, 1_000_000), None);
+}
