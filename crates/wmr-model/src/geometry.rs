@@ -86,15 +86,6 @@ impl Rect {
         (dx * dx + dy * dy).sqrt()
     }
 
-    /// The point of the rectangle nearest to `point` (`point` itself when inside).
-    #[must_use]
-    pub fn nearest_point(&self, point: &Point2<f64>) -> Point2<f64> {
-        Point2::new(
-            point.x.clamp(self.min.x, self.max.x),
-            point.y.clamp(self.min.y, self.max.y),
-        )
-    }
-
     /// Distance along the ray `origin + t·direction` (`t ≥ 0`) to the first point of the
     /// rectangle, or `None` when the ray misses it. An origin inside gives 0. Slab method;
     /// a ray grazing an edge counts as a hit.

@@ -59,7 +59,7 @@ impl Obstacle {
 }
 
 /// A bounding disc, kept beside each obstacle to reject short rays cheaply.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Bound {
     centre: Point2<f64>,
     radius: f64,
@@ -82,8 +82,9 @@ pub const MAX_SUBSTEP: f64 = 0.002;
 /// `MAX_SUBSTEP / 2⁴⁰` of arc length.
 const CONTACT_BISECTIONS: u32 = 40;
 
-/// The walls and obstacles.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// The walls and obstacles (built from a [`Scenario`](crate::Scenario), which is the
+/// serialisable form).
+#[derive(Debug, Clone, PartialEq)]
 pub struct World {
     arena: Rect,
     obstacles: Vec<Obstacle>,
