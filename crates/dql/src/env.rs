@@ -30,6 +30,12 @@ impl Step {
 
 /// A discrete, episodic task: finitely many states and actions, indexed from 0.
 ///
+/// [`run_episode`](crate::run_episode) drives one episode of a learner on it;
+/// what the learner learns from is chosen by a [`RewardSignal`](crate::RewardSignal)
+/// ([`Step::reward`] for plain agents, one entry of
+/// [`subtask_rewards`](Environment::subtask_rewards) for a sub-task learner),
+/// while the episode's reported return is always the sum of [`Step::reward`].
+///
 /// # Contract
 ///
 /// * [`reset`](Environment::reset) starts an episode and returns its initial state.
