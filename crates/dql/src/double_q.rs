@@ -1,8 +1,9 @@
 //! Double Q-learning (van Hasselt 2010; the paper's Eq. 9 and Algorithm 1, corrected).
 
-use rand::{Rng, RngExt};
+use rand::Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::draw::Coin;
 use crate::error::{DqlError, check_param};
 use crate::learner::Learner;
 use crate::table::{Initialisation, QTable, argmax_random_tie};
@@ -112,8 +113,8 @@ impl DoubleQParams {
 
 /// Tabular double Q-learning: two estimators, one updated per step.
 ///
-/// With probability ξ the step updates `Q1`, otherwise `Q2` (one `f64` draw from
-/// the caller's RNG per update). Updating `Q1` (mirror image for `Q2`):
+/// With probability ξ the step updates `Q1`, otherwise `Q2` (one [`Coin`] flip,
+/// i.e. one `u32` from the caller's RNG, per update). Updating `Q1` (mirror image for `Q2`):
 ///
 /// ```text
 /// a*        = argmax_a' Q1(s', a')                  (ties at random)
@@ -140,6 +141,8 @@ pub struct DoubleQ {
     n_actions: usize,
     /// `[Q1(s, ·), Q2(s, ·)]` for s = 0, 1, …: `2 · n_actions` values per state.
     values: Vec<f64>,
+    /// Heads (update Q1) with probability ξ.
+    update_first: Coin,
     update_counts: Vec<u32>,
 }
 
@@ -186,6 +189,7 @@ impl DoubleQ {
             values.extend_from_slice(q2.row(state));
         }
         Ok(Self {
+            update_first: Coin::new(params.xi),
             params,
             n_states,
             n_actions,
@@ -310,7 +314,7 @@ impl Learner for DoubleQ {
         assert!(action < n, "action {action} out of range");
         // 0 updates Q1 (probability ξ), 1 updates Q2. An index rather than a
         // branch: the coin is unpredictable by design.
-        let updated = usize::from(rng.random::<f64>() >= self.params.xi);
+        let updated = usize::from(!self.update_first.flip(rng));
         let target = if terminated {
             reward
         } else {

@@ -113,6 +113,7 @@
 //! ```
 
 pub mod double_q;
+pub mod draw;
 pub mod env;
 pub mod episode;
 pub mod error;
@@ -124,6 +125,7 @@ pub mod schedule;
 pub mod table;
 
 pub use double_q::{BehaviourValues, DoubleQ, DoubleQParams};
+pub use draw::Coin;
 pub use env::{Environment, Step};
 pub use episode::{EpisodeOptions, EpisodeOutcome, Trajectory, run_episode};
 pub use error::DqlError;

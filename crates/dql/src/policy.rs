@@ -2,6 +2,8 @@
 //! Eq. 4, and the paper's competitors in Sec. VI).
 
 use rand::{Rng, RngExt};
+
+use crate::draw::Coin;
 use serde::{Deserialize, Serialize};
 
 use crate::error::DqlError;
@@ -57,8 +59,8 @@ impl ExplorationPolicy for Greedy {
 /// ε-greedy (Eq. 4): with probability ε a uniformly random action, otherwise the
 /// greedy one (ties at random). With an exponential schedule it is ε-decreasing.
 ///
-/// Each selection draws one `f64` (compared with ε), then either one uniform
-/// action index or, only on a tie, one tie-break index.
+/// Each selection flips one [`Coin`] (one `u32`) with probability ε, then draws
+/// either a uniform action index or, only on a tie, a tie-break index.
 ///
 /// Serialised as its schedule: `{"epsilon": {"constant": 0.1}}`; deserialising
 /// validates it.
@@ -67,6 +69,8 @@ impl ExplorationPolicy for Greedy {
 pub struct EpsilonGreedy {
     schedule: Schedule,
     epsilon: f64,
+    /// Heads with probability `epsilon`.
+    explore: Coin,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -102,6 +106,7 @@ impl EpsilonGreedy {
         Ok(Self {
             schedule,
             epsilon: schedule.start(),
+            explore: Coin::new(schedule.start()),
         })
     }
 
@@ -142,6 +147,7 @@ impl EpsilonGreedy {
 impl ExplorationPolicy for EpsilonGreedy {
     fn begin_episode(&mut self, episode: u64) {
         self.epsilon = self.schedule.value(episode);
+        self.explore = Coin::new(self.epsilon);
     }
 
     #[inline]
@@ -151,7 +157,7 @@ impl ExplorationPolicy for EpsilonGreedy {
         action_values: &[f64],
         rng: &mut R,
     ) -> usize {
-        if rng.random::<f64>() < self.epsilon {
+        if self.explore.flip(rng) {
             rng.random_range(0..action_values.len())
         } else {
             argmax_random_tie(action_values, rng)

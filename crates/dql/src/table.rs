@@ -312,8 +312,8 @@ pub fn max_value(values: &[f64]) -> f64 {
 /// The index of the largest value of `values`, ties broken uniformly at random.
 ///
 /// One pass finds the maximum and counts how many entries equal it; only when
-/// there is more than one does it draw (once, `rng.random_range(0..ties)`) which of
-/// the tied indices to return. A unique maximum therefore consumes no randomness.
+/// there is more than one does it draw (once, `rng.random_range(0..ties)`, which
+/// `rand` takes from one `u32`) which of the tied indices to return. A unique maximum therefore consumes no randomness.
 /// NaNs never win; if every value is NaN the result is 0.
 ///
 /// # Panics

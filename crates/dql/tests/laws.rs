@@ -3,11 +3,11 @@
 #![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
 
 use dql::{
-    DoubleQ, DoubleQParams, EpsilonGreedy, ExplorationPolicy, Greedy, Initialisation, Learner,
-    QLearning, QLearningParams, Schedule, Softmax, argmax_random_tie, max_value,
+    Coin, DoubleQ, DoubleQParams, EpsilonGreedy, ExplorationPolicy, Greedy, Initialisation,
+    Learner, QLearning, QLearningParams, Schedule, Softmax, argmax_random_tie, max_value,
 };
 use proptest::prelude::*;
-use rand::{RngExt, SeedableRng};
+use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// A double-Q learner with uniformly random tables (so cells are distinguishable)
@@ -140,7 +140,7 @@ proptest! {
     }
 
     /// The whole double-Q update against an independent reference model: one
-    /// `f64` draw picks the table (ξ), the updated table's argmax at s' (ties at
+    /// `u32` draw picks the table (ξ), the updated table's argmax at s' (ties at
     /// random, one draw only on a tie) picks the action the other table evaluates.
     #[test]
     fn double_q_update_touches_exactly_one_cell_of_one_table(case in case()) {
@@ -150,7 +150,8 @@ proptest! {
         let mut reference_rng = rng.clone();
         learner.update(case.state, case.action, case.reward, case.next_state, case.terminated, &mut rng);
 
-        let first = reference_rng.random::<f64>() < case.xi;
+        // The ξ coin: one u32 draw u, heads iff u < ⌈ξ·2³²⌉, i.e. iff u < ξ·2³².
+        let first = f64::from(reference_rng.next_u32()) < case.xi * 4_294_967_296.0;
         let (updated_before, other_before) = if first {
             (before.q1_table(), before.q2_table())
         } else {
@@ -225,6 +226,24 @@ proptest! {
         for (a, &value) in values.iter().enumerate() {
             let mean = 0.5 * (learner.q1(case.state, a) + learner.q2(case.state, a));
             prop_assert_eq!(value, mean);
+        }
+    }
+
+    /// A coin is heads exactly when its one `u32` draw `u` satisfies `u < p·2³²`.
+    #[test]
+    fn coin_is_heads_below_its_threshold(p in prop_oneof![0.0_f64..=1.0, Just(0.0), Just(1.0)], seed in any::<u64>()) {
+        let coin = Coin::new(p);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut reference = rng.clone();
+        for _ in 0..20 {
+            let expected = f64::from(reference.next_u32()) < p * 4_294_967_296.0;
+            prop_assert_eq!(coin.flip(&mut rng), expected);
+        }
+        if p == 0.0 {
+            prop_assert!(!(0..100).any(|_| coin.flip(&mut rng)));
+        }
+        if p == 1.0 {
+            prop_assert!((0..100).all(|_| coin.flip(&mut rng)));
         }
     }
 
@@ -443,4 +462,12 @@ fn policies_follow_their_schedules_per_episode() {
     assert!(softmax.temperature() > 0.01);
     epsilon.begin_episode(200);
     assert!((epsilon.epsilon() - 0.95 * 0.95_f64.powi(200)).abs() < 1e-15);
+}
+
+#[test]
+fn coins_clamp_their_probability() {
+    assert_eq!(Coin::new(f64::NAN), Coin::new(0.0));
+    assert_eq!(Coin::new(-1.0), Coin::new(0.0));
+    assert_eq!(Coin::new(2.0), Coin::new(1.0));
+    assert_ne!(Coin::new(0.5), Coin::new(1.0));
 }

@@ -1,0 +1,360 @@
+//! The obstacle-avoidance task as a `dql` environment.
+//!
+//! One step: hold the chosen action's wheel speeds for the control period (stopping at contact
+//! on a hit), read the eight sensors (with noise), look through the camera, compute the three
+//! sub-task rewards (Eq. 6–8) and the task reward, and discretise the new state.
+//!
+//! The episode *terminates* on a hit, on reaching the target (the robot's centre within the
+//! reach radius), or on losing the target from the camera's view, with that precedence when
+//! several happen on one step; it is *truncated* by the step cap.
+
+use dql::{Environment, Step};
+use nalgebra::{Isometry2, Point2};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::action::Action;
+use crate::camera::{Camera, CameraView};
+use crate::kinematics::Twist;
+use crate::metrics::{EpisodeMetrics, Outcome};
+use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES};
+use crate::scenario::{Scenario, ScenarioError};
+use crate::sensors::{DistanceSensors, SENSOR_COUNT};
+use crate::state::{Discretiser, StateBins};
+use crate::world::World;
+
+/// Seed of a fresh environment's random stream (sensor noise), as if reset with `Some(0)`.
+pub const DEFAULT_SEED: u64 = 0;
+
+/// Everything the robot senses from one pose, without noise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observation {
+    /// Noise-free proximity readings `C_1 … C_8` in `[0, 1]`.
+    pub proximities: [f64; SENSOR_COUNT],
+    /// What the camera sees.
+    pub view: CameraView,
+    /// Distance from the robot's centre to the target (m).
+    pub target_distance: f64,
+    /// Signed angle from the heading to the robot→target line (rad, in `(−π, π]`). Not part
+    /// of the state; for scripted controllers and plots.
+    pub target_bearing: f64,
+    /// The state's bins.
+    pub bins: StateBins,
+    /// The state index.
+    pub state: usize,
+}
+
+/// The robot among its obstacles, as a discrete episodic task with three sub-tasks.
+#[derive(Debug, Clone)]
+pub struct WmrEnv {
+    scenario: Scenario,
+    world: World,
+    sensors: DistanceSensors,
+    camera: Camera,
+    discretiser: Discretiser,
+    twists: [Twist; Action::COUNT],
+    target: Point2<f64>,
+    retention_progress: f64,
+    rng: ChaCha8Rng,
+    pose: Isometry2<f64>,
+    state: usize,
+    readings: [f64; SENSOR_COUNT],
+    view: CameraView,
+    subtask_rewards: [f64; SUBTASK_COUNT],
+    metrics: EpisodeMetrics,
+    path: Vec<Point2<f64>>,
+}
+
+impl Default for WmrEnv {
+    /// The environment of the embedded default scenario.
+    fn default() -> Self {
+        Self::new(Scenario::default_scenario()).expect("the embedded scenario is valid")
+    }
+}
+
+impl WmrEnv {
+    /// An environment for `scenario`, validated first, reset with [`DEFAULT_SEED`].
+    ///
+    /// # Errors
+    /// The scenario's first validation error.
+    pub fn new(scenario: Scenario) -> Result<Self, ScenarioError> {
+        scenario.validate()?;
+        let world = scenario.world();
+        let robot = scenario.robot;
+        let twists = Action::ALL.map(|action| {
+            robot.twist(scenario.actions.wheel_speeds(action, robot.max_wheel_speed))
+        });
+        let camera = Camera::new(scenario.camera);
+        let retention_progress = scenario.metrics.retention_progress
+            * robot.max_linear_speed()
+            * scenario.control_period;
+        let mut env = Self {
+            world,
+            sensors: DistanceSensors::new(scenario.sensors),
+            camera,
+            discretiser: Discretiser::new(scenario.state, &scenario.camera),
+            twists,
+            target: scenario.target_point(),
+            retention_progress,
+            rng: ChaCha8Rng::seed_from_u64(DEFAULT_SEED),
+            pose: scenario.start_pose(),
+            state: 0,
+            readings: [0.0; SENSOR_COUNT],
+            view: CameraView {
+                target_in_view: true,
+                obstacle: None,
+            },
+            subtask_rewards: [0.0; SUBTASK_COUNT],
+            metrics: EpisodeMetrics::default(),
+            path: Vec::with_capacity(scenario.step_cap as usize + 1),
+            scenario,
+        };
+        env.reset(Some(DEFAULT_SEED));
+        Ok(env)
+    }
+
+    /// The scenario.
+    #[must_use]
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// Walls and obstacles.
+    #[must_use]
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// The distance sensors.
+    #[must_use]
+    pub fn sensors(&self) -> &DistanceSensors {
+        &self.sensors
+    }
+
+    /// The state discretiser.
+    #[must_use]
+    pub fn discretiser(&self) -> &Discretiser {
+        &self.discretiser
+    }
+
+    /// The robot's current pose.
+    #[must_use]
+    pub fn pose(&self) -> &Isometry2<f64> {
+        &self.pose
+    }
+
+    /// The current state index.
+    #[must_use]
+    pub fn state(&self) -> usize {
+        self.state
+    }
+
+    /// The last (noisy) sensor readings.
+    #[must_use]
+    pub fn readings(&self) -> &[f64; SENSOR_COUNT] {
+        &self.readings
+    }
+
+    /// What the camera saw last.
+    #[must_use]
+    pub fn camera_view(&self) -> &CameraView {
+        &self.view
+    }
+
+    /// The current episode's metrics.
+    #[must_use]
+    pub fn metrics(&self) -> &EpisodeMetrics {
+        &self.metrics
+    }
+
+    /// The current episode's outcome so far.
+    #[must_use]
+    pub fn outcome(&self) -> Outcome {
+        self.metrics.outcome
+    }
+
+    /// Positions of the robot's centre this episode: the start, then one per step.
+    #[must_use]
+    pub fn path(&self) -> &[Point2<f64>] {
+        &self.path
+    }
+
+    /// What the robot would sense at `pose`, without noise (does not move the robot).
+    #[must_use]
+    pub fn observe(&self, pose: &Isometry2<f64>) -> Observation {
+        let proximities =
+            self.sensors
+                .proximities(&self.world, pose, self.scenario.robot.body_radius);
+        let view = self.camera.observe(&self.world, pose, &self.target);
+        let to_target =
+            pose.rotation.inverse() * (self.target - Point2::from(pose.translation.vector));
+        let target_distance = to_target.norm();
+        let bins = self
+            .discretiser
+            .bins(target_distance, view.obstacle.as_ref());
+        Observation {
+            proximities,
+            view,
+            target_distance,
+            target_bearing: to_target.y.atan2(to_target.x),
+            bins,
+            state: self.discretiser.index(bins),
+        }
+    }
+
+    fn target_distance(&self) -> f64 {
+        (self.target - Point2::from(self.pose.translation.vector)).norm()
+    }
+
+    /// Reads the sensors (with noise) and the camera at the current pose, and sets the state.
+    fn sense(&mut self) -> f64 {
+        self.readings =
+            self.sensors
+                .proximities(&self.world, &self.pose, self.scenario.robot.body_radius);
+        self.sensors.add_noise(&mut self.readings, &mut self.rng);
+        self.view = self.camera.observe(&self.world, &self.pose, &self.target);
+        let distance = self.target_distance();
+        self.state = self
+            .discretiser
+            .index(self.discretiser.bins(distance, self.view.obstacle.as_ref()));
+        distance
+    }
+
+    /// Applies `action` (see [`Environment::step`]).
+    pub fn step_action(&mut self, action: Action) -> Step {
+        let outcome = self.metrics.outcome;
+        if outcome.is_done() {
+            self.subtask_rewards = [0.0; SUBTASK_COUNT];
+            return Step {
+                next_state: self.state,
+                reward: 0.0,
+                terminated: outcome.is_terminal(),
+                truncated: outcome == Outcome::Truncated,
+            };
+        }
+        let dt = self.scenario.control_period;
+        let before = self.target_distance();
+        let from = Point2::from(self.pose.translation.vector);
+        let motion = self.world.move_disc(
+            &self.pose,
+            self.twists[action.index()],
+            dt,
+            self.scenario.robot.body_radius,
+        );
+        self.pose = motion.pose;
+        let to = Point2::from(self.pose.translation.vector);
+        self.path.push(to);
+        let distance = self.sense();
+
+        let reached = distance <= self.scenario.target.reach_radius;
+        let lost = !reached && !self.view.target_in_view;
+        let reward = &self.scenario.reward;
+        let inputs = RewardInputs {
+            target_distance: distance,
+            readings: &self.readings,
+            noise: self.scenario.sensors.noise,
+            rad: self
+                .view
+                .obstacle
+                .map_or(std::f64::consts::PI, |seen| seen.angle.abs()),
+            hit: motion.hit,
+            lost,
+        };
+        self.subtask_rewards = reward.subtasks(&inputs);
+        let reached = reached && !motion.hit;
+        let task_reward = reward.task(&self.subtask_rewards, reached);
+
+        let m = &mut self.metrics;
+        m.steps += 1;
+        #[allow(clippy::cast_precision_loss)] // step counts stay far below 2⁵³
+        let time = m.steps as f64 * dt;
+        m.time = time;
+        m.task_return += task_reward;
+        for (sum, r) in m.subtask_returns.iter_mut().zip(self.subtask_rewards) {
+            *sum += r;
+        }
+        m.path_length += (to - from).norm();
+        let obstacle_in_front = self
+            .view
+            .obstacle
+            .is_some_and(|seen| seen.distance <= self.scenario.metrics.retention_distance);
+        if obstacle_in_front && before - distance < self.retention_progress {
+            m.retention_steps += 1;
+            #[allow(clippy::cast_precision_loss)]
+            let retention = m.retention_steps as f64 * dt;
+            m.retention_time = retention;
+        }
+        m.outcome = if motion.hit {
+            Outcome::Hit
+        } else if reached {
+            m.time_to_reach = Some(time);
+            Outcome::Reached
+        } else if lost {
+            Outcome::LostTarget
+        } else if m.steps >= self.scenario.step_cap as usize {
+            Outcome::Truncated
+        } else {
+            Outcome::Running
+        };
+        Step {
+            next_state: self.state,
+            reward: task_reward,
+            terminated: m.outcome.is_terminal(),
+            truncated: m.outcome == Outcome::Truncated,
+        }
+    }
+}
+
+impl Environment for WmrEnv {
+    fn n_states(&self) -> usize {
+        self.discretiser.n_states()
+    }
+
+    fn n_actions(&self) -> usize {
+        Action::COUNT
+    }
+
+    fn n_subtasks(&self) -> usize {
+        SUBTASK_COUNT
+    }
+
+    fn subtask_names(&self) -> Vec<String> {
+        SUBTASK_NAMES.iter().map(|&name| name.to_owned()).collect()
+    }
+
+    /// Puts the robot at the start pose; `Some(seed)` re-seeds the sensor noise.
+    fn reset(&mut self, seed: Option<u64>) -> usize {
+        if let Some(seed) = seed {
+            self.rng = ChaCha8Rng::seed_from_u64(seed);
+        }
+        self.pose = self.scenario.start_pose();
+        self.metrics = EpisodeMetrics::default();
+        self.subtask_rewards = [0.0; SUBTASK_COUNT];
+        self.path.clear();
+        self.path.push(Point2::from(self.pose.translation.vector));
+        self.sense();
+        self.state
+    }
+
+    /// Applies action `action` (`0..5`, in [`Action::ALL`] order).
+    ///
+    /// # Panics
+    /// When `action` is not below 5 (a caller bug).
+    fn step(&mut self, action: usize) -> Step {
+        self.step_action(Action::ALL[action])
+    }
+
+    fn subtask_rewards(&self) -> &[f64] {
+        &self.subtask_rewards
+    }
+
+    fn state_features(&self, state: usize) -> Vec<u32> {
+        self.discretiser.features(state)
+    }
+}

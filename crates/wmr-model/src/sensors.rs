@@ -1,0 +1,192 @@
+//! The eight ray-cast distance sensors and their reading model.
+//!
+//! Sensor `i` sits on the rim of the body at heading `θ_i` (robot frame, 0 = forward,
+//! counter-clockwise positive) and looks outward along that heading. Its ray is cast against
+//! walls and obstacles up to `range`; the noise-free reading is the *proximity*
+//! `1 − distance / range`: 0 when nothing is within range, 1 at contact. The noisy reading adds
+//! `C_noise · ξ` with ξ an approximately standard normal draw (see [`standard_normalish`]) and
+//! clamps to `[0, 1]`, so an idle sensor reads a small positive noise floor, like a real IR
+//! sensor. These readings are the `C_n` of Eq. 6 and 7.
+
+use nalgebra::{Isometry2, Point2, Vector2};
+use rand::Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::world::World;
+
+/// Number of distance sensors (Table 2).
+pub const SENSOR_COUNT: usize = 8;
+
+/// The e-puck's sensor headings in degrees, numbered clockwise from the front right (ps0…ps7).
+pub const EPUCK_SENSOR_HEADINGS_DEG: [f64; SENSOR_COUNT] =
+    [-17.0, -46.0, -90.0, -151.5, 151.5, 90.0, 46.0, 17.0];
+
+/// Sensor layout and reading model.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SensorParams {
+    /// Headings of the eight sensors (rad, robot frame). Default: the e-puck's.
+    pub headings: [f64; SENSOR_COUNT],
+    /// Range of each sensor, measured from the body's rim (m). e-puck: about 0.07.
+    pub range: f64,
+    /// `C_noise`: standard deviation of the additive reading noise (proximity units), also the
+    /// constant of Eq. 6 and 7. Default 0.02, 2 % of full scale.
+    pub noise: f64,
+}
+
+impl Default for SensorParams {
+    fn default() -> Self {
+        Self {
+            headings: EPUCK_SENSOR_HEADINGS_DEG.map(f64::to_radians),
+            range: 0.07,
+            noise: 0.02,
+        }
+    }
+}
+
+/// The sensor ring with its ray directions precomputed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DistanceSensors {
+    params: SensorParams,
+    directions: [Vector2<f64>; SENSOR_COUNT],
+}
+
+impl DistanceSensors {
+    /// Sensors laid out by `params`.
+    #[must_use]
+    pub fn new(params: SensorParams) -> Self {
+        Self {
+            params,
+            directions: params.headings.map(|h| Vector2::new(h.cos(), h.sin())),
+        }
+    }
+
+    /// The layout and reading model.
+    #[must_use]
+    pub fn params(&self) -> &SensorParams {
+        &self.params
+    }
+
+    /// Distances (m) each sensor's ray travels from the rim before meeting a wall or an
+    /// obstacle, capped at the range. `body_radius` places the sensors on the rim.
+    #[must_use]
+    pub fn distances(
+        &self,
+        world: &World,
+        pose: &Isometry2<f64>,
+        body_radius: f64,
+    ) -> [f64; SENSOR_COUNT] {
+        let centre = Point2::from(pose.translation.vector);
+        self.directions.map(|local| {
+            let direction = pose.rotation * local;
+            world.ray_cast(
+                &(centre + direction * body_radius),
+                &direction,
+                self.params.range,
+            )
+        })
+    }
+
+    /// Noise-free proximity readings `1 − distance / range`, each in `[0, 1]`.
+    #[must_use]
+    pub fn proximities(
+        &self,
+        world: &World,
+        pose: &Isometry2<f64>,
+        body_radius: f64,
+    ) -> [f64; SENSOR_COUNT] {
+        let range = self.params.range;
+        self.distances(world, pose, body_radius)
+            .map(|d| (1.0 - d / range).clamp(0.0, 1.0))
+    }
+
+    /// Adds `C_noise · ξ` to each reading and clamps to `[0, 1]`.
+    pub fn add_noise<R: Rng + ?Sized>(&self, readings: &mut [f64; SENSOR_COUNT], rng: &mut R) {
+        if self.params.noise == 0.0 {
+            return;
+        }
+        for reading in readings.iter_mut() {
+            *reading = (*reading + self.params.noise * standard_normalish(rng)).clamp(0.0, 1.0);
+        }
+    }
+}
+
+/// An approximately standard normal draw from one `u64`: the Irwin–Hall sum of four 16-bit
+/// uniforms, centred and scaled to unit variance. Bounded by `±2√3 ≈ ±3.46`, symmetric, and
+/// cheap (no logarithm or trigonometry), which is all a sensor noise model needs.
+pub fn standard_normalish<R: Rng + ?Sized>(rng: &mut R) -> f64 {
+    let bits = rng.next_u64();
+    let mut sum = 0.0;
+    for k in 0..4 {
+        let chunk = (bits >> (16 * k)) & 0xFFFF;
+        // Each uniform is (chunk + ½) / 2¹⁶ ∈ (0, 1), mean ½, variance ≈ 1/12.
+        #[allow(clippy::cast_precision_loss)] // chunk < 2¹⁶ is exact in f64
+        let chunk = chunk as f64;
+        sum += (chunk + 0.5) / 65_536.0;
+    }
+    (sum - 2.0) * 3.0_f64.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::Obstacle;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn front_sensor_sees_a_wall_at_the_hand_computed_distance() {
+        // Robot at x = 0.9 facing +x in a 1 m arena: the ±17° sensors sit on the rim at
+        // x = 0.9 + R cos 17° and their rays reach x = 1 after (0.1 − R cos 17°) / cos 17°.
+        let world = World::new(1.0, 1.0, Vec::new());
+        let sensors = DistanceSensors::new(SensorParams {
+            range: 1.0,
+            ..SensorParams::default()
+        });
+        let pose = Isometry2::new(Vector2::new(0.9, 0.5), 0.0);
+        let d = sensors.distances(&world, &pose, 0.037);
+        let c = 17.0_f64.to_radians().cos();
+        let expected = (0.1 - 0.037 * c) / c;
+        assert!((d[0] - expected).abs() < 1e-12, "{}", d[0]);
+        assert!((d[7] - expected).abs() < 1e-12, "{}", d[7]);
+        // The ±90° sensors look at y = 0 and y = 1 from y = 0.5 ∓ R.
+        assert!((d[2] - (0.5 - 0.037)).abs() < 1e-12);
+        assert!((d[5] - (0.5 - 0.037)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn proximity_is_one_minus_relative_distance() {
+        // A cylinder of radius 0.01 straight to the right of the robot, 0.05 from the rim.
+        let world = World::new(
+            1.0,
+            1.0,
+            vec![Obstacle::Circle(crate::geometry::Circle::new(
+                Point2::new(0.5, 0.5 - 0.037 - 0.05 - 0.01),
+                0.01,
+            ))],
+        );
+        let sensors = DistanceSensors::new(SensorParams::default());
+        let pose = Isometry2::new(Vector2::new(0.5, 0.5), 0.0);
+        let p = sensors.proximities(&world, &pose, 0.037);
+        assert!((p[2] - (1.0 - 0.05 / 0.07)).abs() < 1e-12, "{}", p[2]);
+        for (i, value) in p.iter().enumerate() {
+            if i != 2 {
+                assert_eq!(*value, 0.0, "sensor {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn normalish_draws_have_unit_variance_and_zero_mean() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let n = 200_000;
+        let draws: Vec<f64> = (0..n).map(|_| standard_normalish(&mut rng)).collect();
+        #[allow(clippy::cast_precision_loss)]
+        let nf = n as f64;
+        let mean = draws.iter().sum::<f64>() / nf;
+        let var = draws.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / nf;
+        assert!(mean.abs() < 0.01, "{mean}");
+        assert!((var - 1.0).abs() < 0.02, "{var}");
+        assert!(draws.iter().all(|x| x.abs() <= 2.0 * 3.0_f64.sqrt()));
+    }
+}

@@ -1,0 +1,203 @@
+//! The discrete state of Sec. III.B: distance to the target × obstacle image position × angle.
+//!
+//! * distance to the target: `N_D` equal bins over `[0, distance_max]` (farther clamps into
+//!   the last bin);
+//! * the obstacle's image ratio δ (Eq. 5): `N_O` equal bins over the interval δ can take
+//!   (`[½, 1]` for the default vertical reading, see [`DeltaAxis`](crate::DeltaAxis));
+//! * the angle between the heading and the robot→obstacle line: `N_A` equal bins over the
+//!   horizontal field of view `[−fov/2, fov/2]` (clamped).
+//!
+//! When no obstacle is in view, image position and angle are both undefined, so each distance
+//! bin has a single "no obstacle" state rather than `N_A` copies of one: there are
+//! `N_D · (N_O · N_A + 1)` states, indexed `d · (N_O · N_A + 1) + o · N_A + a`, where the
+//! slot `N_O · N_A` means "no obstacle in view".
+
+use serde::{Deserialize, Serialize};
+
+use crate::camera::{CameraParams, ObstacleSighting};
+
+/// Bin counts and the distance scale of the state.
+///
+/// Defaults: `N_D = 10` bins of 10 cm (`distance_max = 1` m covers the default start, 0.76 m
+/// from the target, with room to back off); `N_O = 4` δ bins, which with the default camera
+/// split obstacle distances at about 12, 18 and 36 cm (δ − ½ is ∝ 1 / distance, so near
+/// obstacles get the fine bins); `N_A = 6` angle bins of 14.5°, an even count so that an
+/// obstacle is always either left or right of the heading. 10 · (4 · 6 + 1) = 250 states.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StateParams {
+    /// `N_D`: number of distance bins.
+    pub distance_bins: u32,
+    /// Distance covered by the distance bins (m).
+    pub distance_max: f64,
+    /// `N_O`: number of image-position (δ) bins.
+    pub image_bins: u32,
+    /// `N_A`: number of angle bins.
+    pub angle_bins: u32,
+}
+
+impl Default for StateParams {
+    fn default() -> Self {
+        Self {
+            distance_bins: 10,
+            distance_max: 1.0,
+            image_bins: 4,
+            angle_bins: 6,
+        }
+    }
+}
+
+/// A state's bins. `obstacle` is `None` when no obstacle is in view.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct StateBins {
+    /// Distance bin, `0..N_D`.
+    pub distance: u32,
+    /// `(image bin in 0..N_O, angle bin in 0..N_A)` of the obstacle in view.
+    pub obstacle: Option<(u32, u32)>,
+}
+
+/// Maps observations to state indices and back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Discretiser {
+    params: StateParams,
+    delta_range: (f64, f64),
+    half_fov: f64,
+}
+
+/// Bin of `x` among `bins` equal bins over `[lo, hi]`; values outside (and NaN) clamp to the
+/// end bins.
+#[must_use]
+pub fn uniform_bin(x: f64, lo: f64, hi: f64, bins: u32) -> u32 {
+    let fraction = (x - lo) / (hi - lo);
+    if fraction.is_nan() || fraction <= 0.0 {
+        return 0;
+    }
+    let scaled = fraction * f64::from(bins);
+    if scaled >= f64::from(bins - 1) {
+        bins - 1
+    } else {
+        // 0 ≤ scaled < bins − 1 < 2³²: the cast is exact after `floor`.
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let bin = scaled.floor() as u32;
+        bin
+    }
+}
+
+impl Discretiser {
+    /// A discretiser for `params` (bin counts ≥ 1, validated by the scenario) and `camera`.
+    #[must_use]
+    pub fn new(params: StateParams, camera: &CameraParams) -> Self {
+        Self {
+            params,
+            delta_range: camera.delta_axis.range(),
+            half_fov: camera.horizontal_fov / 2.0,
+        }
+    }
+
+    /// The bin counts and distance scale.
+    #[must_use]
+    pub fn params(&self) -> &StateParams {
+        &self.params
+    }
+
+    fn slots_per_distance(&self) -> usize {
+        self.params.image_bins as usize * self.params.angle_bins as usize + 1
+    }
+
+    /// Number of states, `N_D · (N_O · N_A + 1)`.
+    #[must_use]
+    pub fn n_states(&self) -> usize {
+        self.params.distance_bins as usize * self.slots_per_distance()
+    }
+
+    /// The bins of an observation: distance to the target and the obstacle in view, if any.
+    #[must_use]
+    pub fn bins(&self, target_distance: f64, obstacle: Option<&ObstacleSighting>) -> StateBins {
+        let p = &self.params;
+        StateBins {
+            distance: uniform_bin(target_distance, 0.0, p.distance_max, p.distance_bins),
+            obstacle: obstacle.map(|seen| {
+                let (lo, hi) = self.delta_range;
+                (
+                    uniform_bin(seen.delta, lo, hi, p.image_bins),
+                    uniform_bin(seen.angle, -self.half_fov, self.half_fov, p.angle_bins),
+                )
+            }),
+        }
+    }
+
+    /// The index of `bins`, in `0..n_states()` (bins must be in range).
+    #[must_use]
+    pub fn index(&self, bins: StateBins) -> usize {
+        let slot = match bins.obstacle {
+            Some((image, angle)) => {
+                image as usize * self.params.angle_bins as usize + angle as usize
+            }
+            None => self.slots_per_distance() - 1,
+        };
+        bins.distance as usize * self.slots_per_distance() + slot
+    }
+
+    /// The bins of state `index`, or `None` when it is out of range.
+    #[must_use]
+    pub fn bins_of(&self, index: usize) -> Option<StateBins> {
+        if index >= self.n_states() {
+            return None;
+        }
+        let slots = self.slots_per_distance();
+        let (distance, slot) = (index / slots, index % slots);
+        let angle_bins = self.params.angle_bins as usize;
+        let obstacle = (slot + 1 < slots).then(|| (slot / angle_bins, slot % angle_bins));
+        // Every quotient here is below a u32 bin count.
+        let to_u32 = |x: usize| u32::try_from(x).expect("bin below a u32 count");
+        Some(StateBins {
+            distance: to_u32(distance),
+            obstacle: obstacle.map(|(o, a)| (to_u32(o), to_u32(a))),
+        })
+    }
+
+    /// Features of state `index` for similarity measures: `[distance bin, image bin, angle
+    /// bin]`, where "no obstacle in view" is image bin `N_O` and angle bin `N_A`. Out-of-range
+    /// indices give an empty vector.
+    #[must_use]
+    pub fn features(&self, index: usize) -> Vec<u32> {
+        self.bins_of(index).map_or_else(Vec::new, |bins| {
+            let (image, angle) = bins
+                .obstacle
+                .unwrap_or((self.params.image_bins, self.params.angle_bins));
+            vec![bins.distance, image, angle]
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_bins_clamp_at_both_ends() {
+        assert_eq!(uniform_bin(-1.0, 0.0, 1.0, 4), 0);
+        assert_eq!(uniform_bin(0.0, 0.0, 1.0, 4), 0);
+        assert_eq!(uniform_bin(0.26, 0.0, 1.0, 4), 1);
+        assert_eq!(uniform_bin(0.99, 0.0, 1.0, 4), 3);
+        assert_eq!(uniform_bin(1.0, 0.0, 1.0, 4), 3);
+        assert_eq!(uniform_bin(7.0, 0.0, 1.0, 4), 3);
+        assert_eq!(uniform_bin(f64::NAN, 0.0, 1.0, 4), 0);
+        assert_eq!(uniform_bin(0.5, 0.0, 1.0, 1), 0);
+    }
+
+    #[test]
+    fn index_and_bins_are_inverse() {
+        let d = Discretiser::new(StateParams::default(), &CameraParams::default());
+        assert_eq!(d.n_states(), 250);
+        for index in 0..d.n_states() {
+            let bins = d.bins_of(index).expect("in range");
+            assert_eq!(d.index(bins), index);
+        }
+        assert_eq!(d.bins_of(250), None);
+        assert_eq!(d.features(24), vec![0, 4, 6]);
+        assert_eq!(d.features(25 + 7), vec![1, 1, 1]);
+        assert_eq!(d.features(24 + 25 * 9), vec![9, 4, 6]);
+        assert!(d.features(250).is_empty());
+    }
+}

@@ -1,0 +1,308 @@
+//! The arena: walls, obstacles, and the robot body moving among them.
+//!
+//! The arena is the rectangle `[0, width] × [0, height]` surrounded by walls. Obstacles are
+//! discs and axis-aligned rectangles, kept in one small flat list. The robot's body is a disc;
+//! it *overlaps* the world when its clearance (distance from its centre to the nearest wall or
+//! obstacle, minus its radius) is negative. Touching (clearance exactly 0) is not overlapping.
+
+use nalgebra::{Isometry2, Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::{Circle, Rect};
+use crate::kinematics::{Twist, integrate_arc};
+
+/// One obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Obstacle {
+    /// A cylinder.
+    Circle(Circle),
+    /// An axis-aligned box.
+    Rect(Rect),
+}
+
+impl Obstacle {
+    /// Distance from `point` to the obstacle's footprint (0 inside it).
+    #[must_use]
+    pub fn distance_to(&self, point: &Point2<f64>) -> f64 {
+        match self {
+            Self::Circle(c) => c.distance_to(point),
+            Self::Rect(r) => r.distance_to(point),
+        }
+    }
+
+    /// Distance along a ray (unit `direction`) to the footprint, `None` on a miss.
+    #[must_use]
+    pub fn ray_distance(&self, origin: &Point2<f64>, direction: &Vector2<f64>) -> Option<f64> {
+        match self {
+            Self::Circle(c) => c.ray_distance(origin, direction),
+            Self::Rect(r) => r.ray_distance(origin, direction),
+        }
+    }
+
+    /// Centre of the footprint.
+    #[must_use]
+    pub fn centre(&self) -> Point2<f64> {
+        match self {
+            Self::Circle(c) => c.centre,
+            Self::Rect(r) => r.centre(),
+        }
+    }
+
+    /// Radius of the smallest disc about [`centre`](Self::centre) that holds the footprint.
+    #[must_use]
+    pub fn bounding_radius(&self) -> f64 {
+        match self {
+            Self::Circle(c) => c.radius,
+            Self::Rect(r) => (r.max - r.min).norm() / 2.0,
+        }
+    }
+}
+
+/// A bounding disc, kept beside each obstacle to reject short rays cheaply.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Bound {
+    centre: Point2<f64>,
+    radius: f64,
+}
+
+/// Where a body ended up after trying to move, and whether it hit something on the way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Motion {
+    /// Final pose: the commanded one, or the last pose before contact on a hit.
+    pub pose: Isometry2<f64>,
+    /// The body would have overlapped a wall or an obstacle during the move.
+    pub hit: bool,
+}
+
+/// Sub-step length (m) used near obstacles. Between two checked poses `h` apart, a disc of
+/// radius `R` can graze an unseen corner by at most `h² / (8R)`: 0.014 mm for the e-puck.
+pub const MAX_SUBSTEP: f64 = 0.002;
+
+/// Bisection rounds that locate the contact on a hit: the contact is found to within
+/// `MAX_SUBSTEP / 2⁴⁰` of arc length.
+const CONTACT_BISECTIONS: u32 = 40;
+
+/// The walls and obstacles (built from a [`Scenario`](crate::Scenario), which is the
+/// serialisable form).
+#[derive(Debug, Clone, PartialEq)]
+pub struct World {
+    arena: Rect,
+    obstacles: Vec<Obstacle>,
+    bounds: Vec<Bound>,
+}
+
+impl World {
+    /// A world with the arena `[0, width] × [0, height]` and the given obstacles.
+    #[must_use]
+    pub fn new(width: f64, height: f64, obstacles: Vec<Obstacle>) -> Self {
+        let bounds = obstacles
+            .iter()
+            .map(|o| Bound {
+                centre: o.centre(),
+                radius: o.bounding_radius(),
+            })
+            .collect();
+        Self {
+            arena: Rect {
+                min: Point2::origin(),
+                max: Point2::new(width, height),
+            },
+            obstacles,
+            bounds,
+        }
+    }
+
+    /// The arena's rectangle (inside of the walls).
+    #[must_use]
+    pub fn arena(&self) -> &Rect {
+        &self.arena
+    }
+
+    /// The obstacles, in scenario order.
+    #[must_use]
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
+    }
+
+    /// Clearance of a disc of `radius` at `centre`: the distance to the nearest wall or
+    /// obstacle minus `radius`. Negative exactly when the disc overlaps something.
+    #[must_use]
+    pub fn clearance(&self, centre: &Point2<f64>, radius: f64) -> f64 {
+        let mut nearest = self.arena.inner_clearance(centre);
+        for obstacle in &self.obstacles {
+            nearest = nearest.min(obstacle.distance_to(centre));
+        }
+        nearest - radius
+    }
+
+    /// Distance along the ray from `origin` in the unit `direction` to the first wall or
+    /// obstacle, capped at `max_range`.
+    #[must_use]
+    pub fn ray_cast(&self, origin: &Point2<f64>, direction: &Vector2<f64>, max_range: f64) -> f64 {
+        let mut nearest = self
+            .arena
+            .ray_exit_distance(origin, direction)
+            .min(max_range);
+        for (obstacle, bound) in self.obstacles.iter().zip(&self.bounds) {
+            // Obstacles wholly beyond the current nearest hit cannot be hit first.
+            let reach = nearest + bound.radius;
+            if (bound.centre - origin).norm_squared() > reach * reach {
+                continue;
+            }
+            if let Some(t) = obstacle.ray_distance(origin, direction) {
+                nearest = nearest.min(t);
+            }
+        }
+        nearest
+    }
+
+    /// Moves a disc of `radius` from `pose` along the exact arc of `twist` for `duration`.
+    ///
+    /// If the disc would overlap a wall or an obstacle anywhere along the way (checked by
+    /// conservative advancement: free stretches are skipped by the current clearance,
+    /// stretches closer than [`MAX_SUBSTEP`] are sub-stepped), the motion stops at the last
+    /// pose found free before contact, and `hit` is set. The returned pose never overlaps
+    /// when `hit` is false, and never overlaps more than the start pose did when it is true.
+    #[must_use]
+    pub fn move_disc(
+        &self,
+        pose: &Isometry2<f64>,
+        twist: Twist,
+        duration: f64,
+        radius: f64,
+    ) -> Motion {
+        let centre_of = |p: &Isometry2<f64>| Point2::from(p.translation.vector);
+        let start_clearance = self.clearance(&centre_of(pose), radius);
+        if start_clearance < 0.0 {
+            return Motion {
+                pose: *pose,
+                hit: true,
+            };
+        }
+        let length = (twist.linear * duration).abs();
+        let end = integrate_arc(pose, twist, duration);
+        if length <= start_clearance && self.clearance(&centre_of(&end), radius) >= 0.0 {
+            // The centre moves at most `length` (an arc is never shorter than its chord).
+            return Motion {
+                pose: end,
+                hit: false,
+            };
+        }
+        let pose_at = |s: f64| integrate_arc(pose, twist, duration * (s / length));
+        let mut travelled = 0.0;
+        let mut clearance = start_clearance;
+        loop {
+            let remaining = length - travelled;
+            let advance = clearance.max(MAX_SUBSTEP).min(remaining);
+            let next = travelled + advance;
+            let next_pose = if advance >= remaining {
+                end
+            } else {
+                pose_at(next)
+            };
+            let next_clearance = self.clearance(&centre_of(&next_pose), radius);
+            if next_clearance < 0.0 {
+                // Contact lies in (travelled, next]: bisect, keeping the free end.
+                let (mut free, mut blocked) = (travelled, next);
+                for _ in 0..CONTACT_BISECTIONS {
+                    let mid = 0.5 * (free + blocked);
+                    if self.clearance(&centre_of(&pose_at(mid)), radius) < 0.0 {
+                        blocked = mid;
+                    } else {
+                        free = mid;
+                    }
+                }
+                let stop = if free > 0.0 { pose_at(free) } else { *pose };
+                return Motion {
+                    pose: stop,
+                    hit: true,
+                };
+            }
+            if advance >= remaining {
+                return Motion {
+                    pose: end,
+                    hit: false,
+                };
+            }
+            travelled = next;
+            clearance = next_clearance;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world() -> World {
+        World::new(
+            1.0,
+            1.0,
+            vec![
+                Obstacle::Circle(Circle::new(Point2::new(0.5, 0.5), 0.1)),
+                Obstacle::Rect(Rect::from_centre(Point2::new(0.8, 0.2), 0.1, 0.002)),
+            ],
+        )
+    }
+
+    #[test]
+    fn clearance_sees_walls_and_obstacles() {
+        let w = world();
+        assert!((w.clearance(&Point2::new(0.1, 0.5), 0.05) - 0.05).abs() < 1e-12);
+        assert!((w.clearance(&Point2::new(0.3, 0.5), 0.05) - 0.05).abs() < 1e-12);
+        assert!(w.clearance(&Point2::new(0.38, 0.5), 0.05) < 0.0);
+    }
+
+    #[test]
+    fn ray_cast_takes_the_nearest_surface() {
+        let w = world();
+        let t = w.ray_cast(&Point2::new(0.1, 0.5), &Vector2::x(), 10.0);
+        assert!((t - 0.3).abs() < 1e-12);
+        let t = w.ray_cast(&Point2::new(0.1, 0.5), &-Vector2::x(), 10.0);
+        assert!((t - 0.1).abs() < 1e-12);
+        let t = w.ray_cast(&Point2::new(0.1, 0.5), &Vector2::x(), 0.07);
+        assert_eq!(t, 0.07);
+    }
+
+    #[test]
+    fn a_fast_move_does_not_tunnel_through_a_thin_wall() {
+        let w = world();
+        // A 2 mm thick plate at y = 0.2 spanning x ∈ [0.75, 0.85]; drive up through it fast.
+        let start = Isometry2::new(Vector2::new(0.8, 0.1), std::f64::consts::FRAC_PI_2);
+        let twist = Twist {
+            linear: 2.0,
+            angular: 0.0,
+        };
+        let motion = w.move_disc(&start, twist, 0.1, 0.03);
+        assert!(motion.hit);
+        let y = motion.pose.translation.vector.y;
+        assert!((y - (0.199 - 0.03)).abs() < 1e-9, "{y}");
+        assert!(w.clearance(&Point2::from(motion.pose.translation.vector), 0.03) >= 0.0);
+    }
+
+    #[test]
+    fn free_moves_arrive_where_the_arc_says() {
+        let w = world();
+        let start = Isometry2::new(Vector2::new(0.2, 0.2), 0.0);
+        let twist = Twist {
+            linear: 0.1,
+            angular: 0.5,
+        };
+        let motion = w.move_disc(&start, twist, 0.2, 0.037);
+        assert!(!motion.hit);
+        assert_eq!(motion.pose, integrate_arc(&start, twist, 0.2));
+    }
+
+    #[test]
+    fn reversing_into_a_wall_is_a_hit() {
+        let w = world();
+        let start = Isometry2::new(Vector2::new(0.05, 0.7), 0.0);
+        let twist = Twist {
+            linear: -0.126,
+            angular: 0.0,
+        };
+        let motion = w.move_disc(&start, twist, 0.2, 0.037);
+        assert!(motion.hit);
+        assert!((motion.pose.translation.vector.x - 0.037).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,206 @@
+//! The embedded default scenario is valid, sized as documented, and solvable: by the planner,
+//! by a scripted controller, and by a deterministic table over the discrete state.
+
+use dql::Environment;
+use nalgebra::Vector2;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use wmr_model::{Action, Outcome, PlannerParams, Scenario, WmrEnv, shortest_plan, tabular_policy};
+
+#[test]
+fn default_scenario_is_valid_and_sized_as_documented() {
+    let scenario = Scenario::default_scenario();
+    scenario.validate().unwrap();
+    assert_eq!(scenario.obstacles.len(), 5);
+    let env = WmrEnv::default();
+    assert_eq!(env.n_states(), 250);
+    assert_eq!(env.n_actions(), 5);
+    assert_eq!(env.n_subtasks(), 3);
+    assert_eq!(
+        env.subtask_names(),
+        [
+            "reach_target_faster",
+            "avoid_obstacles",
+            "keep_target_in_view"
+        ]
+    );
+    // The start sees the target and no obstacle is closer than the planner's route needs.
+    assert!(env.camera_view().target_in_view);
+    assert_eq!(env.outcome(), Outcome::Running);
+}
+
+/// Replays `actions` from a fresh episode and returns the final outcome, checking the
+/// episode does not end early.
+fn replay(env: &mut WmrEnv, actions: &[Action]) -> Outcome {
+    env.reset(Some(11));
+    for (i, action) in actions.iter().enumerate() {
+        let step = env.step(action.index());
+        assert!(step.reward.is_finite());
+        let last = i + 1 == actions.len();
+        assert_eq!(step.done(), last, "step {i}: {:?}", env.outcome());
+    }
+    env.outcome()
+}
+
+#[test]
+fn the_planner_route_reaches_the_target_in_the_environment() {
+    let scenario = Scenario::default_scenario();
+    let plan = shortest_plan(&scenario, &PlannerParams::default()).expect("solvable");
+    assert_eq!(plan.actions.len(), 34);
+    let mut env = WmrEnv::default();
+    assert_eq!(replay(&mut env, &plan.actions), Outcome::Reached);
+    let metrics = env.metrics();
+    assert_eq!(metrics.steps, 34);
+    assert!((metrics.time_to_reach.expect("reached") - 34.0 * 0.2).abs() < 1e-9);
+    // The environment's poses are the planner's poses.
+    for (pose, planned) in env.path().iter().zip(&plan.poses) {
+        assert!((pose.coords - planned.translation.vector).norm() < 1e-12);
+    }
+    assert!(metrics.average_reward() > 0.0);
+}
+
+#[test]
+fn a_scripted_waypoint_controller_reaches_the_target() {
+    // Pass the first cylinder above, go through the gate, pass the last cylinder above. Steer
+    // towards the next waypoint whenever it is more than 10° off the heading.
+    let waypoints = [
+        Vector2::new(0.24, 0.57),
+        Vector2::new(0.36, 0.595),
+        Vector2::new(0.47, 0.535),
+        Vector2::new(0.60, 0.51),
+        Vector2::new(0.74, 0.55),
+        Vector2::new(0.90, 0.50),
+    ];
+    let tolerance = 10.0_f64.to_radians();
+    let mut env = WmrEnv::default();
+    env.reset(Some(3));
+    let mut next = 0;
+    loop {
+        let position = env.pose().translation.vector;
+        while next + 1 < waypoints.len()
+            && ((waypoints[next] - position).norm() < 0.03 || waypoints[next].x < position.x)
+        {
+            next += 1;
+        }
+        let local = env.pose().rotation.inverse() * (waypoints[next] - position);
+        let bearing = local.y.atan2(local.x);
+        let action = if bearing > tolerance {
+            Action::LeftForward
+        } else if bearing < -tolerance {
+            Action::RightForward
+        } else {
+            Action::Forward
+        };
+        if env.step(action.index()).done() {
+            break;
+        }
+    }
+    assert_eq!(env.outcome(), Outcome::Reached);
+    assert!(env.metrics().steps <= 40, "{}", env.metrics().steps);
+}
+
+#[test]
+fn a_deterministic_table_over_the_discrete_state_solves_the_task() {
+    let scenario = Scenario::default_scenario();
+    let table = tabular_policy(&scenario, 200, 1_000_000).expect("a table exists");
+    let mut env = WmrEnv::default();
+    env.reset(Some(5));
+    let mut steps = 0;
+    loop {
+        let action = table.actions[env.state()].expect("the run only visits tabled states");
+        steps += 1;
+        if env.step(action.index()).done() {
+            break;
+        }
+    }
+    assert_eq!(env.outcome(), Outcome::Reached);
+    assert_eq!(steps, table.plan.actions.len());
+}
+
+#[test]
+fn random_policy_episodes_are_short_and_well_formed() {
+    let mut env = WmrEnv::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut total_steps = 0;
+    for episode in 0..200 {
+        let state = env.reset(Some(episode));
+        assert!(state < env.n_states());
+        loop {
+            let step = env.step(rng.random_range(0..5));
+            assert!(step.next_state < env.n_states());
+            assert!(step.reward.is_finite());
+            assert!(env.subtask_rewards().iter().all(|r| r.is_finite()));
+            assert!(!(step.terminated && step.truncated));
+            if step.done() {
+                break;
+            }
+        }
+        assert!(env.outcome().is_done());
+        total_steps += env.metrics().steps;
+        // Stepping a finished episode is harmless.
+        let after = env.step(0);
+        assert_eq!(after.reward, 0.0);
+        assert!(after.done());
+    }
+    // A random walk loses the target or hits something within a few dozen steps.
+    let mean = total_steps as f64 / 200.0;
+    assert!((5.0..60.0).contains(&mean), "{mean}");
+}
+
+#[test]
+fn resets_with_the_same_seed_repeat_exactly() {
+    let mut env = WmrEnv::default();
+    let run = |env: &mut WmrEnv| {
+        env.reset(Some(99));
+        let mut rewards = Vec::new();
+        for action in [0, 0, 3, 0, 4, 1, 2, 0] {
+            let step = env.step(action);
+            rewards.push((step.reward, env.subtask_rewards().to_vec()));
+            if step.done() {
+                break;
+            }
+        }
+        rewards
+    };
+    let first = run(&mut env);
+    let second = run(&mut env);
+    assert_eq!(first, second);
+    // A fresh environment is reset with seed 0.
+    let mut fresh = WmrEnv::default();
+    let mut reseeded = WmrEnv::default();
+    reseeded.reset(Some(wmr_model::DEFAULT_SEED));
+    assert_eq!(fresh.step(0), reseeded.step(0));
+}
+
+#[test]
+fn the_planner_refuses_unusable_resolutions() {
+    let scenario = Scenario::default_scenario();
+    for params in [
+        PlannerParams {
+            cell: 0.0,
+            ..PlannerParams::default()
+        },
+        PlannerParams {
+            cell: f64::NAN,
+            ..PlannerParams::default()
+        },
+        PlannerParams {
+            heading_cells: 0,
+            ..PlannerParams::default()
+        },
+        PlannerParams {
+            cell: 1e-6,
+            ..PlannerParams::default()
+        },
+    ] {
+        assert_eq!(shortest_plan(&scenario, &params), None);
+    }
+    // A tiny budget gives up rather than searching on.
+    let starved = PlannerParams {
+        max_expansions: 10,
+        ..PlannerParams::default()
+    };
+    assert_eq!(shortest_plan(&scenario, &starved), None);
+    assert_eq!(tabular_policy(&scenario, 200, 10), None);
+    assert_eq!(tabular_policy(&scenario, 20, 1_000_000), None);
+}

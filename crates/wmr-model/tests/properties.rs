@@ -1,0 +1,368 @@
+//! Laws of the model, checked on random inputs.
+
+use dql::Environment;
+use nalgebra::{Isometry2, Point2, Vector2};
+use proptest::prelude::*;
+use wmr_model::world::MAX_SUBSTEP;
+use wmr_model::{
+    Camera, CameraParams, Circle, DeltaAxis, Discretiser, Obstacle, ObstacleSighting, ObstacleSpec,
+    Rect, Scenario, StateParams, Twist, WmrEnv, World, integrate_arc,
+};
+
+fn obstacle() -> impl Strategy<Value = Obstacle> {
+    prop_oneof![
+        (0.0..1.0, 0.0..1.0, 0.001..0.1)
+            .prop_map(|(x, y, r)| Obstacle::Circle(Circle::new(Point2::new(x, y), r))),
+        // Includes plates as thin as 1 mm, the hardest case for tunnelling.
+        (0.0..1.0, 0.0..1.0, 0.001..0.2, 0.001..0.2).prop_map(|(x, y, w, h)| {
+            Obstacle::Rect(Rect::from_centre(Point2::new(x, y), w, h))
+        }),
+    ]
+}
+
+fn world() -> impl Strategy<Value = World> {
+    prop::collection::vec(obstacle(), 0..6).prop_map(|obstacles| World::new(1.0, 1.0, obstacles))
+}
+
+fn centre(pose: &Isometry2<f64>) -> Point2<f64> {
+    Point2::from(pose.translation.vector)
+}
+
+proptest! {
+    /// The body is never left overlapping anything without a hit, and a move reported free
+    /// never passed through anything: anywhere along the arc the body penetrates by at most
+    /// half a sub-step (tunnelling through an obstacle would need a penetration of the whole
+    /// body radius).
+    #[test]
+    fn moves_never_overlap_silently_or_tunnel(
+        world in world(),
+        (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
+        radius in 0.01..0.05,
+        (linear, angular, duration) in (-2.0..2.0, -20.0..20.0, 0.0..0.5),
+    ) {
+        let start = Isometry2::new(Vector2::new(x, y), heading);
+        if world.clearance(&centre(&start), radius) < 0.0 {
+            return Ok(()); // only moves from a free pose are meaningful
+        }
+        let twist = Twist { linear, angular };
+        let motion = world.move_disc(&start, twist, duration, radius);
+        prop_assert!(world.clearance(&centre(&motion.pose), radius) >= 0.0);
+        if !motion.hit {
+            prop_assert_eq!(motion.pose, integrate_arc(&start, twist, duration));
+            for k in 0..=500 {
+                let t = duration * f64::from(k) / 500.0;
+                let clearance = world.clearance(&centre(&integrate_arc(&start, twist, t)), radius);
+                prop_assert!(clearance >= -MAX_SUBSTEP / 2.0, "t = {}: {}", t, clearance);
+            }
+        }
+    }
+
+    /// Straight moves (and the e-puck's gentle arcs) graze by at most h² / (8R).
+    #[test]
+    fn straight_moves_graze_at_most_the_sagitta(
+        world in world(),
+        (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
+        radius in 0.01..0.05,
+        linear in -2.0..2.0,
+    ) {
+        let start = Isometry2::new(Vector2::new(x, y), heading);
+        if world.clearance(&centre(&start), radius) < 0.0 {
+            return Ok(());
+        }
+        let twist = Twist { linear, angular: 0.0 };
+        let motion = world.move_disc(&start, twist, 0.2, radius);
+        if !motion.hit {
+            let bound = MAX_SUBSTEP * MAX_SUBSTEP / (8.0 * radius) + 1e-12;
+            for k in 0..=500 {
+                let t = 0.2 * f64::from(k) / 500.0;
+                let clearance = world.clearance(&centre(&integrate_arc(&start, twist, t)), radius);
+                prop_assert!(clearance >= -bound, "t = {}: {}", t, clearance);
+            }
+        }
+    }
+
+    /// In the default scenario, whatever the actions, the robot never overlaps anything, and
+    /// everything the environment returns is in range and finite.
+    #[test]
+    fn the_environment_never_leaves_the_robot_overlapping(
+        actions in prop::collection::vec(0usize..5, 1..120),
+        seed in any::<u64>(),
+    ) {
+        let mut env = WmrEnv::default();
+        env.reset(Some(seed));
+        let radius = env.scenario().robot.body_radius;
+        for action in actions {
+            let step = env.step(action);
+            prop_assert!(env.world().clearance(&centre(env.pose()), radius) >= 0.0);
+            prop_assert!(step.next_state < env.n_states());
+            prop_assert!(step.reward.is_finite());
+            prop_assert!(env.readings().iter().all(|c| (0.0..=1.0).contains(c)));
+            if step.done() {
+                break;
+            }
+        }
+    }
+
+    /// Bins always land in range, whatever the observation (even NaN and infinities), and
+    /// the index encodes them faithfully.
+    #[test]
+    fn discretisation_lands_in_range(
+        (distance_bins, image_bins, angle_bins) in (1u32..30, 1u32..30, 1u32..30),
+        distance_max in 0.01..5.0,
+        horizontal_fov in 0.01..3.1,
+        vertical in any::<bool>(),
+        distance in prop_oneof![-10.0..10.0, Just(f64::NAN), Just(f64::INFINITY)],
+        seen in prop::option::of((
+            prop_oneof![-2.0..3.0, Just(f64::NAN), Just(f64::NEG_INFINITY)],
+            prop_oneof![-4.0..4.0, Just(f64::NAN), Just(f64::INFINITY)],
+        )),
+    ) {
+        let params = StateParams { distance_bins, distance_max, image_bins, angle_bins };
+        let camera = CameraParams {
+            horizontal_fov,
+            delta_axis: if vertical { DeltaAxis::Vertical } else { DeltaAxis::Horizontal },
+            ..CameraParams::default()
+        };
+        let discretiser = Discretiser::new(params, &camera);
+        let sighting = seen.map(|(delta, angle)| ObstacleSighting {
+            index: 0,
+            feature: Point2::origin(),
+            distance: 0.1,
+            delta,
+            angle,
+        });
+        let bins = discretiser.bins(distance, sighting.as_ref());
+        prop_assert!(bins.distance < distance_bins);
+        if let Some((image, angle)) = bins.obstacle {
+            prop_assert!(image < image_bins && angle < angle_bins);
+        }
+        let index = discretiser.index(bins);
+        prop_assert!(index < discretiser.n_states());
+        prop_assert_eq!(discretiser.bins_of(index), Some(bins));
+        let features = discretiser.features(index);
+        prop_assert_eq!(features.len(), 3);
+        prop_assert!(features[0] < distance_bins);
+        prop_assert!(features[1] <= image_bins && features[2] <= angle_bins);
+    }
+
+    /// The camera's δ is always inside its axis' range and the angle inside the field of view.
+    #[test]
+    fn camera_readings_stay_in_the_image(
+        world in world(),
+        (x, y, heading) in (0.05..0.95, 0.05..0.95, -4.0..4.0),
+        horizontal_fov in 0.1..3.0,
+        vertical in any::<bool>(),
+    ) {
+        let camera = Camera::new(CameraParams {
+            horizontal_fov,
+            delta_axis: if vertical { DeltaAxis::Vertical } else { DeltaAxis::Horizontal },
+            ..CameraParams::default()
+        });
+        let pose = Isometry2::new(Vector2::new(x, y), heading);
+        if world.clearance(&centre(&pose), 0.037) < 0.0 {
+            return Ok(());
+        }
+        let view = camera.observe(&world, &pose, &Point2::new(0.5, 0.5));
+        if let Some(seen) = view.obstacle {
+            let (lo, hi) = camera.params().delta_axis.range();
+            prop_assert!((lo..=hi).contains(&seen.delta), "{}", seen.delta);
+            prop_assert!(seen.angle.abs() <= horizontal_fov / 2.0 + 1e-12);
+            prop_assert!(seen.distance >= 0.0 && seen.distance <= camera.params().obstacle_range);
+        }
+    }
+}
+
+/// A random scenario built round the default one: random arena, start, target and obstacles,
+/// the start heading pointed at the target so that most draws are valid.
+fn scenario() -> impl Strategy<Value = Scenario> {
+    (
+        (0.5..3.0, 0.5..3.0),
+        (0.0..1.0, 0.0..1.0, 0.0..1.0, 0.0..1.0, -0.5..0.5),
+        prop::collection::vec(
+            (0.0..1.0, 0.0..1.0, 0.005..0.2, 0.005..0.2, any::<bool>()),
+            0..6,
+        ),
+        (0.1..3.0, 0.1..3.0, 0.0..0.2, -5.0..5.0, 0.1..9.0),
+        (1u32..20, 1u32..20, 1u32..20),
+    )
+        .prop_map(
+            |((w, h), (sx, sy, tx, ty, turn), obstacles, (hfov, vfov, noise, k, p), bins)| {
+                let mut s = Scenario::default_scenario();
+                s.name = format!("random {w:.3}x{h:.3}");
+                s.arena.width = w;
+                s.arena.height = h;
+                s.start.x = 0.05 + sx * (w - 0.1);
+                s.start.y = 0.05 + sy * (h - 0.1);
+                s.target.x = 0.05 + tx * (w - 0.1);
+                s.target.y = 0.05 + ty * (h - 0.1);
+                s.start.heading = (s.target.y - s.start.y).atan2(s.target.x - s.start.x) + turn;
+                s.obstacles = obstacles
+                    .into_iter()
+                    .map(|(x, y, a, b, round)| {
+                        let (x, y) = (x * w, y * h);
+                        if round {
+                            ObstacleSpec::Circle {
+                                x,
+                                y,
+                                radius: a / 2.0,
+                            }
+                        } else {
+                            ObstacleSpec::Rectangle {
+                                x,
+                                y,
+                                width: a,
+                                height: b,
+                            }
+                        }
+                    })
+                    .collect();
+                s.camera.horizontal_fov = hfov;
+                s.camera.vertical_fov = vfov;
+                s.sensors.noise = noise;
+                s.reward.k = k;
+                s.reward.p = p;
+                (
+                    s.state.distance_bins,
+                    s.state.image_bins,
+                    s.state.angle_bins,
+                ) = bins;
+                s
+            },
+        )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Every scenario survives a TOML round trip exactly; valid ones stay valid.
+    #[test]
+    fn scenarios_survive_a_toml_round_trip(scenario in scenario()) {
+        let text = scenario.to_toml_string().unwrap();
+        let back: Scenario = toml::from_str(&text).unwrap();
+        prop_assert_eq!(&back, &scenario);
+        if scenario.validate().is_ok() {
+            prop_assert_eq!(Scenario::from_toml_str(&text).unwrap(), scenario);
+        }
+    }
+
+    /// Valid random scenarios give environments whose first steps are well formed.
+    #[test]
+    fn valid_scenarios_make_working_environments(scenario in scenario(), action in 0usize..5) {
+        if scenario.validate().is_err() {
+            return Ok(());
+        }
+        let mut env = WmrEnv::new(scenario).unwrap();
+        let step = env.step(action);
+        prop_assert!(step.next_state < env.n_states());
+        prop_assert!(step.reward.is_finite());
+    }
+}
+
+/// How a field may go wrong.
+#[derive(Debug, Clone, Copy)]
+enum Rule {
+    /// Any finite number is fine.
+    Finite,
+    /// Must be positive and finite.
+    Positive,
+    /// Must lie in (0, π).
+    Angle,
+}
+
+type Setter = fn(&mut Scenario, f64);
+
+/// Fields with their rules, and how to set them.
+const FIELDS: &[(&str, Rule, Setter)] = &[
+    ("control_period", Rule::Positive, |s, v| {
+        s.control_period = v;
+    }),
+    ("arena.width", Rule::Positive, |s, v| s.arena.width = v),
+    ("arena.height", Rule::Positive, |s, v| s.arena.height = v),
+    ("start.x", Rule::Finite, |s, v| s.start.x = v),
+    ("start.heading", Rule::Finite, |s, v| s.start.heading = v),
+    ("target.y", Rule::Finite, |s, v| s.target.y = v),
+    ("target.reach_radius", Rule::Positive, |s, v| {
+        s.target.reach_radius = v;
+    }),
+    ("obstacles[0].radius", Rule::Positive, |s, v| {
+        if let ObstacleSpec::Circle { radius, .. } = &mut s.obstacles[0] {
+            *radius = v;
+        }
+    }),
+    ("obstacles[1].width", Rule::Positive, |s, v| {
+        if let ObstacleSpec::Rectangle { width, .. } = &mut s.obstacles[1] {
+            *width = v;
+        }
+    }),
+    ("obstacles[2].y", Rule::Finite, |s, v| {
+        if let ObstacleSpec::Rectangle { y, .. } = &mut s.obstacles[2] {
+            *y = v;
+        }
+    }),
+    ("robot.wheel_radius", Rule::Positive, |s, v| {
+        s.robot.wheel_radius = v;
+    }),
+    ("robot.axle_length", Rule::Positive, |s, v| {
+        s.robot.axle_length = v;
+    }),
+    ("robot.body_radius", Rule::Positive, |s, v| {
+        s.robot.body_radius = v;
+    }),
+    ("robot.max_wheel_speed", Rule::Positive, |s, v| {
+        s.robot.max_wheel_speed = v;
+    }),
+    ("sensors.range", Rule::Positive, |s, v| s.sensors.range = v),
+    ("sensors.headings[3]", Rule::Finite, |s, v| {
+        s.sensors.headings[3] = v;
+    }),
+    ("camera.horizontal_fov", Rule::Angle, |s, v| {
+        s.camera.horizontal_fov = v;
+    }),
+    ("camera.vertical_fov", Rule::Angle, |s, v| {
+        s.camera.vertical_fov = v;
+    }),
+    ("camera.height", Rule::Positive, |s, v| s.camera.height = v),
+    ("camera.obstacle_range", Rule::Positive, |s, v| {
+        s.camera.obstacle_range = v;
+    }),
+    ("state.distance_max", Rule::Positive, |s, v| {
+        s.state.distance_max = v;
+    }),
+    ("reward.k", Rule::Finite, |s, v| s.reward.k = v),
+    ("reward.p", Rule::Positive, |s, v| s.reward.p = v),
+    ("reward.f", Rule::Finite, |s, v| s.reward.f = v),
+    ("reward.goal_bonus", Rule::Finite, |s, v| {
+        s.reward.goal_bonus = v;
+    }),
+    ("actions.left_forward.right", Rule::Finite, |s, v| {
+        s.actions.left_forward.right = v;
+    }),
+    ("metrics.retention_progress", Rule::Finite, |s, v| {
+        s.metrics.retention_progress = v;
+    }),
+];
+
+fn bad_value(rule: Rule) -> BoxedStrategy<f64> {
+    let non_finite = prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY)];
+    match rule {
+        Rule::Finite => non_finite.boxed(),
+        Rule::Positive => prop_oneof![non_finite, Just(0.0), -10.0..0.0].boxed(),
+        Rule::Angle => prop_oneof![non_finite, -1.0..=0.0, std::f64::consts::PI..10.0].boxed(),
+    }
+}
+
+proptest! {
+    /// Each bad value of each field is rejected with an error that names the field.
+    #[test]
+    fn invalid_scenarios_are_rejected_naming_the_field(
+        (field, value) in (0..FIELDS.len()).prop_flat_map(|i| (Just(i), bad_value(FIELDS[i].1))),
+    ) {
+        let (name, _, set) = FIELDS[field];
+        let mut scenario = Scenario::default_scenario();
+        set(&mut scenario, value);
+        let error = scenario.validate().expect_err("must be rejected");
+        let message = error.to_string();
+        prop_assert!(message.contains(name), "{}: {}", name, message);
+        prop_assert!(WmrEnv::new(scenario).is_err());
+    }
+}
