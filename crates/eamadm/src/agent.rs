@@ -2,7 +2,7 @@
 //! multi-attribute decision over the sub-tasks' prior experience and the source task's own
 //! values.
 
-use dql::{DqlError, EpsilonGreedy, ExplorationPolicy, Schedule, argmax_random_tie};
+use dql::{Coin, DqlError, EpsilonGreedy, ExplorationPolicy, Schedule, argmax_random_tie};
 use madm_owa::{MadmDecider, MadmError, Weighting};
 use rand::{Rng, RngExt};
 
@@ -34,13 +34,16 @@ use crate::prior::PriorTable;
 /// sub-task, and copying the source task's value creates an exact tie, which the paper's
 /// support `x·y/|x − y|²` rewards with a near-infinite weight.
 ///
-/// Draws: one `f64` per step (against ε), then one action index when exploring, or one
-/// tie-break index only on a tie. After construction nothing is allocated.
+/// Draws: one [`Coin`] flip per step (one `u32`, heads with probability ε, as
+/// [`EpsilonGreedy`] does), then one action index when exploring, or one tie-break index only
+/// on a tie. After construction nothing is allocated.
 #[derive(Debug, Clone)]
 pub struct EaMadmPolicy {
     prior: PriorTable,
     schedule: Schedule,
     epsilon: f64,
+    /// Heads (explore) with probability `epsilon`.
+    explore: Coin,
     decider: MadmDecider,
     /// The decision matrix of a complete state, `n_actions × (m + 1)`.
     matrix: Vec<f64>,
@@ -90,6 +93,7 @@ impl EaMadmPolicy {
             row: vec![0.0; cols],
             values: vec![0.0; n_actions],
             epsilon: epsilon.start(),
+            explore: Coin::new(epsilon.start()),
             schedule: epsilon,
             decider,
             prior,
@@ -114,6 +118,7 @@ impl EaMadmPolicy {
     pub fn without_exploration(mut self) -> Self {
         self.schedule = Schedule::Constant(0.0);
         self.epsilon = 0.0;
+        self.explore = Coin::new(0.0);
         self
     }
 
@@ -187,6 +192,7 @@ impl EaMadmPolicy {
 impl ExplorationPolicy for EaMadmPolicy {
     fn begin_episode(&mut self, episode: u64) {
         self.epsilon = self.schedule.value(episode);
+        self.explore = Coin::new(self.epsilon);
     }
 
     #[inline]
@@ -196,7 +202,7 @@ impl ExplorationPolicy for EaMadmPolicy {
         action_values: &[f64],
         rng: &mut R,
     ) -> usize {
-        if rng.random::<f64>() < self.epsilon {
+        if self.explore.flip(rng) {
             rng.random_range(0..action_values.len())
         } else {
             self.decide(state, action_values, rng)
