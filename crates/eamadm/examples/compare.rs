@@ -1,6 +1,6 @@
 //! Runs a paper preset for a few seeds and prints each method's final-window summary.
 //!
-//! `cargo run --release -p eamadm --example compare -- [task1|task2] [seeds] [episodes]`
+//! `cargo run --release -p eamadm --example compare -- [task1|task2|robot] [seeds] [episodes]`
 
 use eamadm::{DEFAULT_FINAL_WINDOW, Experiment, ExperimentConfig, summarise};
 
@@ -9,6 +9,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut config = match args.next().as_deref() {
         None | Some("task1") => ExperimentConfig::paper_task1(),
         Some("task2") => ExperimentConfig::paper_task2(),
+        Some("robot") => ExperimentConfig::paper_robot(),
         Some(other) => return Err(format!("unknown task {other:?}").into()),
     };
     if let Some(seeds) = args.next() {
@@ -46,6 +47,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             summary.evaluation_reached,
             summary.total_env_steps.mean,
         );
+        if let Some(robot) = summary.robot {
+            println!(
+                "{:<20} average reward {} per s, time to reach {}, retention {} s, reached {:.2}",
+                "",
+                ci(&robot.average_reward),
+                robot.time_to_reach.as_ref().map_or("-".to_owned(), ci),
+                ci(&robot.retention_time),
+                summary.final_reached.mean,
+            );
+        }
     }
     Ok(())
 }

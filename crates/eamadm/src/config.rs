@@ -45,6 +45,9 @@ use crate::strict;
 pub const PAPER_TASK1_TOML: &str = include_str!("../configs/task1.toml");
 /// The paper's Task II (Sec. VI.A) as TOML; parses to [`ExperimentConfig::paper_task2`].
 pub const PAPER_TASK2_TOML: &str = include_str!("../configs/task2.toml");
+/// The paper's robot experiment (Sec. VI.B, Table 2) as TOML; parses to
+/// [`ExperimentConfig::paper_robot`].
+pub const PAPER_ROBOT_TOML: &str = include_str!("../configs/robot.toml");
 
 /// Most episodes (or pre-training episodes) a run may have: far beyond any experiment here,
 /// small enough that cumulative step counts cannot overflow.
@@ -86,7 +89,10 @@ pub struct ExperimentConfig {
 /// TOML: `kind = "maze"` with `preset = "task1" | "task2"`; `kind = "maze_file"` with `path`
 /// (a text map, see [`mazes::Maze::parse`]) and `rewards = "task1" | "task2"` (whose rewards
 /// and sub-tasks to use); `kind = "maze_text"` with the map inline in `map`. Every kind takes
-/// an optional `step_cap` overriding the task's own (2000 for the mazes).
+/// an optional `step_cap` overriding the task's own (2000 for the mazes); `kind = "robot"` with
+/// `scenario = "default"` (the embedded analogue of the paper's Fig. 12) or the path of a
+/// scenario TOML file (see [`wmr_model::Scenario`]), whose own `step_cap` (500 by default) an
+/// optional `step_cap` here overrides.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 #[non_exhaustive]
@@ -119,7 +125,18 @@ pub enum TaskConfig {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         step_cap: Option<u32>,
     },
+    /// The wheeled robot among obstacles (Sec. VI.B), in a scenario.
+    Robot {
+        /// `"default"` for the embedded scenario, otherwise the path of a scenario TOML file.
+        scenario: String,
+        /// Episode step cap; the scenario's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        step_cap: Option<u32>,
+    },
 }
+
+/// The value of `task.scenario` naming the embedded default robot scenario.
+pub const DEFAULT_SCENARIO: &str = "default";
 
 impl TaskConfig {
     /// The step cap override, if any.
@@ -128,7 +145,8 @@ impl TaskConfig {
         match self {
             Self::Maze { step_cap, .. }
             | Self::MazeFile { step_cap, .. }
-            | Self::MazeText { step_cap, .. } => *step_cap,
+            | Self::MazeText { step_cap, .. }
+            | Self::Robot { step_cap, .. } => *step_cap,
         }
     }
 }
@@ -427,6 +445,15 @@ pub enum ConfigError {
         #[source]
         source: io::Error,
     },
+    /// A robot scenario that does not parse or is invalid.
+    #[error("experiment config: `{field}`: {source}")]
+    Scenario {
+        /// The field naming the scenario (`task.scenario`).
+        field: String,
+        /// The scenario's error (naming its own field).
+        #[source]
+        source: wmr_model::ScenarioError,
+    },
     /// A maze map that does not parse.
     #[error("experiment config: `{field}`: {source}")]
     Maze {
@@ -443,9 +470,10 @@ impl ConfigError {
     #[must_use]
     pub fn field(&self) -> Option<&str> {
         match self {
-            Self::Invalid { field, .. } | Self::Read { field, .. } | Self::Maze { field, .. } => {
-                Some(field)
-            }
+            Self::Invalid { field, .. }
+            | Self::Read { field, .. }
+            | Self::Maze { field, .. }
+            | Self::Scenario { field, .. } => Some(field),
             Self::Toml(_) => None,
         }
     }
@@ -590,6 +618,22 @@ impl ExperimentConfig {
     #[must_use]
     pub fn paper_task2() -> Self {
         Self::paper_maze("task2", Preset::TaskII)
+    }
+
+    /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
+    /// distance sensors, the analogue of Fig. 12), 200 episodes, 10 seeds, α = 0.1, γ = 0.95,
+    /// ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`paper_methods`]. Equal to
+    /// [`PAPER_ROBOT_TOML`] parsed.
+    #[must_use]
+    pub fn paper_robot() -> Self {
+        Self {
+            name: "robot".to_owned(),
+            task: TaskConfig::Robot {
+                scenario: DEFAULT_SCENARIO.to_owned(),
+                step_cap: None,
+            },
+            ..Self::paper_maze("robot", Preset::TaskI)
+        }
     }
 
     fn paper_maze(name: &str, preset: Preset) -> Self {

@@ -94,6 +94,7 @@ impl Experiment {
         let optimum = self.task.optimum_steps();
         match self.task.kind() {
             TaskKind::Maze(env) => run_on(env, &self.config, method, seed, optimum),
+            TaskKind::Robot(env) => run_on(env.as_ref(), &self.config, method, seed, optimum),
         }
         .map_err(fail)
     }

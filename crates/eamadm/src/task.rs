@@ -3,19 +3,23 @@
 
 use dql::{Environment, Step, Trajectory};
 use mazes::{Event, Maze, MazeEnv, Preset};
+use wmr_model::{Outcome, PlannerParams, Scenario, WmrEnv, shortest_plan};
 
-use crate::config::{ConfigError, TaskConfig};
+use crate::config::{ConfigError, DEFAULT_SCENARIO, TaskConfig};
 use crate::record::RobotEpisodeMetrics;
 
 /// A loaded task: the environment every run of an experiment starts from (each run clones it).
 #[derive(Debug, Clone)]
 pub struct Task {
     kind: TaskKind,
+    /// The optimal route's length, computed once at loading.
+    optimum_steps: Option<u64>,
 }
 
 #[derive(Debug, Clone)]
 pub(crate) enum TaskKind {
     Maze(MazeEnv),
+    Robot(Box<WmrEnv>),
 }
 
 impl Task {
@@ -58,6 +62,34 @@ impl Task {
                 })?;
                 Self::from_maze(maze, *rewards, *step_cap, "task.rewards")
             }
+            TaskConfig::Robot { scenario, step_cap } => {
+                let scenario_error = |source| ConfigError::Scenario {
+                    field: "task.scenario".to_owned(),
+                    source,
+                };
+                let mut scenario = if scenario == DEFAULT_SCENARIO {
+                    Scenario::default_scenario()
+                } else {
+                    let text =
+                        std::fs::read_to_string(scenario).map_err(|source| ConfigError::Read {
+                            field: "task.scenario".to_owned(),
+                            path: scenario.into(),
+                            source,
+                        })?;
+                    Scenario::from_toml_str(&text).map_err(scenario_error)?
+                };
+                if let Some(cap) = step_cap {
+                    scenario.step_cap = *cap;
+                }
+                // The shortest route the planner finds: the robot's analogue of a BFS optimum.
+                let optimum_steps = shortest_plan(&scenario, &PlannerParams::default())
+                    .map(|plan| plan.actions.len() as u64);
+                let env = WmrEnv::new(scenario).map_err(scenario_error)?;
+                Ok(Self {
+                    kind: TaskKind::Robot(Box::new(env)),
+                    optimum_steps,
+                })
+            }
         }
     }
 
@@ -74,6 +106,7 @@ impl Task {
         let env = MazeEnv::new(maze, spec)
             .map_err(|error| ConfigError::invalid(field, "(see message)", error.to_string()))?;
         Ok(Self {
+            optimum_steps: u64::try_from(env.maze().shortest_path_len()).ok(),
             kind: TaskKind::Maze(env),
         })
     }
@@ -87,6 +120,7 @@ impl Task {
     pub fn n_states(&self) -> usize {
         match &self.kind {
             TaskKind::Maze(env) => env.n_states(),
+            TaskKind::Robot(env) => env.n_states(),
         }
     }
 
@@ -95,6 +129,7 @@ impl Task {
     pub fn n_actions(&self) -> usize {
         match &self.kind {
             TaskKind::Maze(env) => env.n_actions(),
+            TaskKind::Robot(env) => env.n_actions(),
         }
     }
 
@@ -103,23 +138,22 @@ impl Task {
     pub fn subtask_names(&self) -> Vec<String> {
         match &self.kind {
             TaskKind::Maze(env) => env.subtask_names(),
+            TaskKind::Robot(env) => env.subtask_names(),
         }
     }
 
-    /// Length of the optimal route in steps, when known (the BFS shortest path of a maze).
+    /// Length of the optimal route in steps, when known: the BFS shortest path of a maze; for
+    /// the robot, the shortest route [`wmr_model::shortest_plan`] finds (with its default
+    /// resolution; `None` if it finds none).
     #[must_use]
     pub fn optimum_steps(&self) -> Option<u64> {
-        match &self.kind {
-            TaskKind::Maze(env) => u64::try_from(env.maze().shortest_path_len()).ok(),
-        }
+        self.optimum_steps
     }
 
     /// The maze, for a maze task.
     #[must_use]
     pub fn maze(&self) -> Option<&Maze> {
-        match &self.kind {
-            TaskKind::Maze(env) => Some(env.maze()),
-        }
+        self.maze_env().map(MazeEnv::maze)
     }
 
     /// The maze environment, for a maze task.
@@ -127,6 +161,22 @@ impl Task {
     pub fn maze_env(&self) -> Option<&MazeEnv> {
         match &self.kind {
             TaskKind::Maze(env) => Some(env),
+            TaskKind::Robot(_) => None,
+        }
+    }
+
+    /// The robot's scenario, for the robot task.
+    #[must_use]
+    pub fn scenario(&self) -> Option<&Scenario> {
+        self.robot_env().map(WmrEnv::scenario)
+    }
+
+    /// The robot environment, for the robot task.
+    #[must_use]
+    pub fn robot_env(&self) -> Option<&WmrEnv> {
+        match &self.kind {
+            TaskKind::Robot(env) => Some(env),
+            TaskKind::Maze(_) => None,
         }
     }
 }
@@ -169,6 +219,32 @@ impl TaskEnv for MazeEnv {
                 [(state % width) as f64, (state / width) as f64]
             })
             .collect()
+    }
+}
+
+impl TaskEnv for WmrEnv {
+    #[inline]
+    fn collided(&self) -> bool {
+        self.outcome() == Outcome::Hit
+    }
+
+    fn reached(&self, _terminated: bool) -> bool {
+        self.outcome() == Outcome::Reached
+    }
+
+    fn positions(&self, _trajectory: &Trajectory) -> Vec<[f64; 2]> {
+        // The environment records the robot's centre at the reset and after every step.
+        self.path().iter().map(|point| [point.x, point.y]).collect()
+    }
+
+    fn robot_metrics(&self) -> Option<RobotEpisodeMetrics> {
+        let metrics = self.metrics();
+        Some(RobotEpisodeMetrics {
+            time: metrics.time,
+            average_reward: metrics.average_reward(),
+            time_to_reach: metrics.time_to_reach,
+            retention_time: metrics.retention_time,
+        })
     }
 }
 

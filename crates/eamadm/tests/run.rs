@@ -237,3 +237,55 @@ fn summaries_group_runs_by_method() {
     assert_eq!(summaries[0].pretrain_env_steps.mean, 0.0);
     assert!(summaries[1].pretrain_env_steps.mean > 0.0);
 }
+
+#[test]
+fn robot_runs_carry_the_robot_metrics_and_paths_in_metres() {
+    let mut config = eamadm::ExperimentConfig::paper_robot();
+    config.episodes = 6;
+    config.seeds = 1;
+    config.task = eamadm::TaskConfig::Robot {
+        scenario: "default".to_owned(),
+        step_cap: Some(60),
+    };
+    for spec in &mut config.methods {
+        if let eamadm::Method::EaMadm(ea) = &mut spec.method {
+            ea.pretrain.episodes = 6;
+        }
+    }
+    let config = only(config, &["ea-madm", "softmax"]);
+    let experiment = Experiment::new(config).unwrap();
+    assert_eq!(experiment.task().n_actions(), 5);
+    assert_eq!(experiment.task().subtask_names().len(), 3);
+    let records = experiment.run_all().unwrap();
+    assert_eq!(records[0].subtasks.len(), 3);
+    let scenario = experiment.task().scenario().unwrap();
+    for record in &records {
+        for episode in record.episodes.iter().chain([&record.evaluation]) {
+            let robot = episode.robot.expect("robot metrics");
+            assert!(episode.steps <= 60);
+            let dt = scenario.control_period;
+            assert!(
+                (robot.time - dt * episode.steps as f64).abs() < 1e-9,
+                "{robot:?}"
+            );
+            assert!(robot.average_reward.is_finite());
+            assert_eq!(robot.time_to_reach.is_some(), episode.reached);
+        }
+        for trajectory in record
+            .trajectories
+            .iter()
+            .chain([&record.evaluation_trajectory])
+        {
+            assert_eq!(trajectory.positions.len(), trajectory.states.len());
+            let [x, y] = trajectory.positions[0];
+            assert!((x - scenario.start.x).abs() < 1e-12 && (y - scenario.start.y).abs() < 1e-12);
+            for [x, y] in &trajectory.positions {
+                assert!((0.0..=scenario.arena.width).contains(x), "{x}");
+                assert!((0.0..=scenario.arena.height).contains(y), "{y}");
+            }
+        }
+    }
+    // Pure function of (config, method, seed), robot noise included.
+    let (method, seed) = experiment.jobs()[0];
+    assert_eq!(experiment.run(method, seed).unwrap(), records[0]);
+}
