@@ -16,9 +16,20 @@ pub struct RunError {
     pub method: String,
     /// The run's seed.
     pub seed: u64,
-    /// What went wrong.
+    /// What went wrong (boxed: runs return `Result<RunRecord, RunError>` and the failure
+    /// is the rare path).
     #[source]
-    pub source: RunFailure,
+    pub source: Box<RunFailure>,
+}
+
+impl RunError {
+    pub(crate) fn new(method: &str, seed: u64, source: impl Into<RunFailure>) -> Self {
+        Self {
+            method: method.to_owned(),
+            seed,
+            source: Box::new(source.into()),
+        }
+    }
 }
 
 /// What went wrong in a run.
@@ -27,7 +38,7 @@ pub struct RunError {
 pub enum RunFailure {
     /// The config or the task cannot be used.
     #[error(transparent)]
-    Config(#[from] ConfigError),
+    Config(Box<ConfigError>),
     /// Invalid learning parameters, or an environment that broke its contract.
     #[error("learning: {0}")]
     Learning(#[from] DqlError),
@@ -40,4 +51,10 @@ pub enum RunFailure {
     /// The reward standardisation could not be set up.
     #[error("reward standardisation: {0}")]
     Standardisation(#[from] RewardStdError),
+}
+
+impl From<ConfigError> for RunFailure {
+    fn from(error: ConfigError) -> Self {
+        Self::Config(Box::new(error))
+    }
 }

@@ -82,18 +82,14 @@ impl Experiment {
     /// # Errors
     /// [`RunError`] naming the method and seed: an invalid method, or a failure of learning.
     pub fn run(&self, method: &MethodSpec, seed: u64) -> Result<RunRecord, RunError> {
-        let fail = |source: RunFailure| RunError {
-            method: method.label.clone(),
-            seed,
-            source,
-        };
+        let fail = |source: RunFailure| RunError::new(&method.label, seed, source);
         method
             .validate("method")
             .and_then(|()| check_method_fits(&self.task, method, "method"))
-            .map_err(|error| fail(error.into()))?;
+            .map_err(|error| fail(RunFailure::from(error)))?;
         let optimum = self.task.optimum_steps();
         match self.task.kind() {
-            TaskKind::Maze(env) => run_on(env, &self.config, method, seed, optimum),
+            TaskKind::Maze(env) => run_on(env.as_ref(), &self.config, method, seed, optimum),
             TaskKind::Robot(env) => run_on(env.as_ref(), &self.config, method, seed, optimum),
         }
         .map_err(fail)
@@ -140,11 +136,8 @@ pub fn run(
     method: &MethodSpec,
     seed: u64,
 ) -> Result<RunRecord, RunError> {
-    let experiment = Experiment::new(config.clone()).map_err(|error| RunError {
-        method: method.label.clone(),
-        seed,
-        source: error.into(),
-    })?;
+    let experiment = Experiment::new(config.clone())
+        .map_err(|error| RunError::new(&method.label, seed, error))?;
     experiment.run(method, seed)
 }
 
@@ -153,11 +146,8 @@ pub fn run(
 /// # Errors
 /// [`RunError`] for an invalid config, or the first failing run.
 pub fn run_all(config: &ExperimentConfig) -> Result<Vec<RunRecord>, RunError> {
-    let experiment = Experiment::new(config.clone()).map_err(|error| RunError {
-        method: String::new(),
-        seed: config.base_seed,
-        source: error.into(),
-    })?;
+    let experiment = Experiment::new(config.clone())
+        .map_err(|error| RunError::new("", config.base_seed, error))?;
     experiment.run_all()
 }
 

@@ -18,7 +18,7 @@ pub struct Task {
 
 #[derive(Debug, Clone)]
 pub(crate) enum TaskKind {
-    Maze(MazeEnv),
+    Maze(Box<MazeEnv>),
     Robot(Box<WmrEnv>),
 }
 
@@ -107,7 +107,7 @@ impl Task {
             .map_err(|error| ConfigError::invalid(field, "(see message)", error.to_string()))?;
         Ok(Self {
             optimum_steps: u64::try_from(env.maze().shortest_path_len()).ok(),
-            kind: TaskKind::Maze(env),
+            kind: TaskKind::Maze(Box::new(env)),
         })
     }
 
