@@ -147,7 +147,7 @@
 //!
 //! # Speed
 //!
-//! One training step on Task I costs about 40 ns with ε-greedy and about 110 ns with EA-MADM
+//! One training step on Task I costs about 40 ns with ε-greedy and about 100 ns with EA-MADM
 //! (`cargo bench -p eamadm`); the decision's rows are cached with the own value they were
 //! computed from, since the sub-tasks' experience is frozen. No step allocates.
 
