@@ -142,10 +142,10 @@ impl PriorTable {
         (&self.values[range.clone()], &self.present[range])
     }
 
-    /// Every action of `state` has an answer from every sub-task.
-    #[inline]
-    pub(crate) fn is_complete(&self, state: usize) -> bool {
-        self.complete[state]
+    /// Every action of `state` has an answer from every sub-task (`false` out of range).
+    #[must_use]
+    pub fn is_complete(&self, state: usize) -> bool {
+        self.complete.get(state).copied().unwrap_or(false)
     }
 }
 
