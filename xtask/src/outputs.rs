@@ -2,6 +2,7 @@
 //! record), and per experiment `<name>/curves.csv` (one tidy row per run and episode),
 //! `<name>/trajectories.csv` (one row per trajectory step) and the SVG figures.
 
+use std::fmt::Write as _;
 use std::path::Path;
 
 use eamadm::mazes::{self, Pos, SvgOptions, SvgTrajectory};
@@ -294,8 +295,18 @@ fn trajectory_figure(
                 .iter()
                 .map(|&[x, y]| Point2::new(x, y))
                 .collect();
+            let outcome = if r.evaluation.reached {
+                "reached the target"
+            } else {
+                "target not reached"
+            };
             (
-                format!("{} (seed {})", method_title(&r.method), r.seed),
+                format!(
+                    "{} (seed {}, greedy, {} steps, {outcome})",
+                    method_title(&r.method),
+                    r.seed,
+                    r.evaluation.steps
+                ),
                 points,
             )
         })
@@ -304,5 +315,68 @@ fn trajectory_figure(
         .iter()
         .map(|(label, points)| RenderedPath { points, label })
         .collect();
-    Some(wmr_model::render_svg(scenario, &rendered))
+    let arena = wmr_model::render_svg(scenario, &rendered);
+    let legend: Vec<(&str, &str)> = paths
+        .iter()
+        .enumerate()
+        .map(|(index, (label, _))| {
+            (
+                label.as_str(),
+                wmr_model::render::PATH_COLOURS[index % wmr_model::render::PATH_COLOURS.len()],
+            )
+        })
+        .collect();
+    Some(titled_with_legend(
+        &arena,
+        &format!("{}: greedy paths after training", planned.title),
+        &legend,
+    ))
+}
+
+/// Height of the title band and of one legend line, in pixels.
+const BAND_PX: u32 = 24;
+
+/// `inner` (an SVG document without a title or legend, such as `wmr_model::render_svg`'s)
+/// nested in a document with `title` above it and a legend of (label, colour) below.
+fn titled_with_legend(inner: &str, title: &str, legend: &[(&str, &str)]) -> String {
+    let attribute = |name: &str| -> u32 {
+        let pattern = format!("{name}=\"");
+        inner
+            .find(&pattern)
+            .and_then(|start| {
+                let rest = &inner[start + pattern.len()..];
+                rest[..rest.find('"')?].parse().ok()
+            })
+            .unwrap_or(520)
+    };
+    let (width, height) = (attribute("width"), attribute("height"));
+    let legend_top = BAND_PX + height + BAND_PX / 2;
+    let total = legend_top + BAND_PX * u32::try_from(legend.len()).unwrap_or(0) + BAND_PX / 2;
+    let escape = |text: &str| {
+        text.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{total}\" \
+         viewBox=\"0 0 {width} {total}\" font-family=\"sans-serif\">\n\
+         <rect width=\"{width}\" height=\"{total}\" fill=\"white\"/>\n\
+         <text x=\"{}\" y=\"17\" font-size=\"15\" text-anchor=\"middle\">{}</text>\n\
+         <svg x=\"0\" y=\"{BAND_PX}\"{}\n",
+        width / 2,
+        escape(title),
+        inner.strip_prefix("<svg").unwrap_or(inner),
+    );
+    for (index, (label, colour)) in legend.iter().enumerate() {
+        let y = legend_top + BAND_PX * u32::try_from(index).unwrap_or(0) + BAND_PX / 2;
+        let _ = writeln!(
+            svg,
+            "<line x1=\"12\" y1=\"{y}\" x2=\"40\" y2=\"{y}\" stroke=\"{colour}\" \
+             stroke-width=\"3\"/><text x=\"48\" y=\"{}\" font-size=\"13\">{}</text>",
+            y + 4,
+            escape(label)
+        );
+    }
+    svg.push_str("</svg>\n");
+    svg
 }
