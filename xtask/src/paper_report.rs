@@ -453,3 +453,118 @@ fn statement(
     }
     parts.join(" ")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::Task;
+    use crate::execute::run_experiments;
+    use crate::experiments::{plan_experiments, shorten};
+    use crate::progress::Progress;
+    use crate::resume::RunStore;
+
+    /// A tiny Task I run of three methods and two seeds.
+    fn tiny() -> (PlannedExperiment, Vec<RunRecord>) {
+        let mut planned = plan_experiments(&[Task::Task1], false, None, 2, true).unwrap();
+        let mut config = planned[0].config().clone();
+        shorten(&mut config, 6, Some(120), None);
+        planned[0].experiment = eamadm::Experiment::new(config).unwrap();
+        let methods: Vec<String> = ["ea-madm", "softmax", "ea-madm-table"]
+            .map(str::to_owned)
+            .to_vec();
+        let dir = tempfile::tempdir().unwrap();
+        let records = run_experiments(
+            &planned,
+            &methods,
+            &RunStore::new(dir.path()),
+            &Progress::hidden(),
+        )
+        .unwrap()
+        .remove(0)
+        .records;
+        (planned.remove(0), records)
+    }
+
+    #[test]
+    fn the_report_names_the_method_the_numbers_say_is_best() {
+        let (planned, records) = tiny();
+        let report = render_report(
+            &[ExperimentResults {
+                planned: &planned,
+                records: &records,
+            }],
+            true,
+        )
+        .unwrap();
+        let summary = summarise(&records, DEFAULT_FINAL_WINDOW).unwrap();
+        let best = best_method(&planned, &summary).unwrap();
+        let fewest = summary
+            .iter()
+            .map(|s| s.final_steps.mean)
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(best.final_steps.mean, fewest);
+        let ea = summary.iter().find(|s| s.method == "ea-madm").unwrap();
+        if best.method == "ea-madm" {
+            assert!(
+                report.contains("EA-MADM has the fewest final-window steps"),
+                "{report}"
+            );
+        } else {
+            assert!(
+                report.contains(&format!(
+                    "does not have the fewest final-window steps: {} does",
+                    method_title(&best.method)
+                )),
+                "{report}"
+            );
+        }
+        // The exact-tree ablation is recognised as identical, from the numbers.
+        assert_eq!(
+            summary
+                .iter()
+                .find(|s| s.method == "ea-madm-table")
+                .unwrap()
+                .final_steps,
+            ea.final_steps
+        );
+        assert!(
+            report.contains("`ea-madm-table` gives exactly EA-MADM's numbers"),
+            "{report}"
+        );
+        for section in [
+            "## Task I (`task1`)",
+            "Ablations (EA-MADM with one switch flipped)",
+            "## The paper's numbers beside ours",
+            "### Where and why ours differ",
+        ] {
+            assert!(report.contains(section), "missing {section:?} in\n{report}");
+        }
+        let comparison = &report[report.find("## The paper's numbers").unwrap()..];
+        let row: Vec<&str> = comparison
+            .lines()
+            .find(|line| line.starts_with("| Task I "))
+            .unwrap()
+            .split('|')
+            .map(str::trim)
+            .collect();
+        assert_eq!(row[1..4], ["Task I", "80", "155"]);
+    }
+
+    #[test]
+    fn paper_numbers_are_the_papers() {
+        assert_eq!(
+            paper_numbers(Preset::TaskI),
+            PaperNumbers {
+                steps: 80.0,
+                reward: 155.0
+            }
+        );
+        assert_eq!(
+            paper_numbers(Preset::TaskII),
+            PaperNumbers {
+                steps: 86.0,
+                reward: -71.0
+            }
+        );
+    }
+}

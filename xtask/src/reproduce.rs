@@ -72,3 +72,70 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
     );
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(config: Option<&str>, out: &str) -> ReproduceArgs {
+        ReproduceArgs {
+            seeds: Some(1),
+            tasks: vec![],
+            methods: vec!["epsilon-greedy".to_owned()],
+            config: config.map(Into::into),
+            out: Some(out.into()),
+            quick: true,
+        }
+    }
+
+    fn workspace() -> (tempfile::TempDir, Workspace) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("fixtures")).unwrap();
+        let root = dir.path().canonicalize().unwrap();
+        (
+            dir,
+            Workspace {
+                current_dir: root.clone(),
+                root,
+            },
+        )
+    }
+
+    #[test]
+    fn an_invalid_config_names_the_field_and_writes_nothing() {
+        let (_dir, ws) = workspace();
+        let text = eamadm::PAPER_TASK2_TOML.replace("gamma = 0.95", "gamma = 1.5");
+        std::fs::write(ws.root.join("bad.toml"), text).unwrap();
+        let failure = reproduce_paper(&args(Some("bad.toml"), "out"), &ws).unwrap_err();
+        assert_eq!(failure.exit_code, 2);
+        assert!(
+            failure.message.contains("`learner.gamma` = 1.5"),
+            "{}",
+            failure.message
+        );
+        assert!(!ws.root.join("out").exists());
+    }
+
+    #[test]
+    fn a_valid_config_runs_and_writes_every_output() {
+        let (_dir, ws) = workspace();
+        let mut config = eamadm::ExperimentConfig::paper_task1();
+        config.name = "mine".to_owned();
+        config.episodes = 3;
+        std::fs::write(ws.root.join("mine.toml"), config.to_toml_string().unwrap()).unwrap();
+        reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap();
+        for file in [
+            "REPORT.md",
+            "results.json",
+            "mine/curves.csv",
+            "mine/trajectories.csv",
+            "mine/steps.svg",
+            "mine/return.svg",
+            "mine/trajectories.svg",
+        ] {
+            assert!(ws.root.join("out").join(file).is_file(), "{file}");
+        }
+        let report = std::fs::read_to_string(ws.root.join("out/REPORT.md")).unwrap();
+        assert!(report.contains("## mine (`mine`)"), "{report}");
+    }
+}
