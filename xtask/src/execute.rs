@@ -6,6 +6,7 @@
 //! records are returned in job order, so the results do not depend on the number of threads,
 //! on completion order, or on which runs were resumed.
 
+use eamadm::config::{DEFAULT_SCENARIO, TaskConfig};
 use eamadm::{ExperimentConfig, MethodSpec, RunError, RunRecord};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -49,6 +50,10 @@ pub(crate) struct RunDescription {
     pub(crate) config: ExperimentConfig,
     /// The run's seed.
     pub(crate) seed: u64,
+    /// BLAKE3 of the file the task reads (a maze map or robot scenario named by path), whose
+    /// content the config does not hold; absent for the embedded presets.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) task_file_blake3: Option<String>,
 }
 
 impl RunDescription {
@@ -63,10 +68,24 @@ impl RunDescription {
         Self {
             results_format: RESULTS_FORMAT,
             crate_version: env!("CARGO_PKG_VERSION"),
+            task_file_blake3: task_file_digest(&config.task),
             config,
             seed,
         }
     }
+}
+
+/// The hash of the file `task` reads, if it names one (relative paths resolve as `eamadm`
+/// resolves them: against the current folder). An unreadable file hashes as absent; loading
+/// the task has already failed on it then.
+fn task_file_digest(task: &TaskConfig) -> Option<String> {
+    let path = match task {
+        TaskConfig::MazeFile { path, .. } => path.clone(),
+        TaskConfig::Robot { scenario, .. } if scenario != DEFAULT_SCENARIO => scenario.into(),
+        _ => return None,
+    };
+    let bytes = std::fs::read(path).ok()?;
+    Some(blake3::hash(&bytes).to_hex().to_string())
 }
 
 /// One run to do.
@@ -189,6 +208,32 @@ mod tests {
         let mut other = config.clone();
         other.episodes = 199;
         assert_ne!(key(&config, 2), key(&other, 2));
+    }
+
+    #[test]
+    fn the_key_follows_the_content_of_a_task_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let map = dir.path().join("maze.map");
+        std::fs::write(&map, "S..\n.#.\n..T\n").unwrap();
+        let mut config = ExperimentConfig::paper_task1();
+        config.task = TaskConfig::MazeFile {
+            path: map.clone(),
+            rewards: eamadm::mazes::Preset::TaskI,
+            step_cap: None,
+        };
+        let method = config.methods[1].clone();
+        let key = || RunKey::of(&RunDescription::new(&config, &method, 0)).unwrap();
+        let before = key();
+        std::fs::write(&map, "S.#\n...\n..T\n").unwrap();
+        assert_ne!(key(), before);
+        // The presets carry no file, so their keys do not change with this field.
+        let preset = RunDescription::new(&ExperimentConfig::paper_task1(), &method, 0);
+        assert_eq!(preset.task_file_blake3, None);
+        assert!(
+            !crate::resume::canonical_json(&preset)
+                .unwrap()
+                .contains("task_file")
+        );
     }
 
     #[test]
