@@ -198,6 +198,13 @@ impl LineChart {
         self
     }
 
+    #[cfg_attr(
+        not(test),
+        expect(
+            dead_code,
+            reason = "the figures of reproduce-paper use the default size and are written via outputs"
+        )
+    )]
     /// Sets the canvas size in pixels.
     pub(crate) fn with_size(mut self, width: u32, height: u32) -> Self {
         self.size = (width, height);
@@ -223,6 +230,13 @@ impl LineChart {
         Ok(svg)
     }
 
+    #[cfg_attr(
+        not(test),
+        expect(
+            dead_code,
+            reason = "the figures of reproduce-paper use the default size and are written via outputs"
+        )
+    )]
     /// Renders the chart and writes it to `path` atomically (creating parent folders).
     pub(crate) fn write_svg(&self, path: &Path) -> Result<(), FigureError> {
         let svg = self.render_svg()?;

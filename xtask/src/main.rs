@@ -4,11 +4,13 @@
 //!   [--out DIR] [--quick]` reruns the paper's experiments and writes curves, figures and a report.
 //! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/`.
 //!
-//! Exit codes: 0 success, 1 the command failed (today: the experiment runner has not landed),
-//! 2 invalid arguments.
+//! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
-//! Modules: [`cli`] parses, [`plan`] checks the arguments; [`figures`], [`report`],
-//! [`resume`], [`progress`] and [`atomic`] are the building blocks of the outputs.
+//! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
+//! configs; [`reproduce`] drives a run: [`execute`] runs (resuming via [`resume`], showing
+//! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`paper_report`] writes
+//! `REPORT.md` (with [`report`]'s tables). [`fixtures`] regenerates and checks `fixtures/`,
+//! showing differences with [`text_diff`]. Every file goes through [`atomic`].
 
 use std::process::ExitCode;
 
@@ -16,36 +18,21 @@ use clap::Parser as _;
 
 mod atomic;
 mod cli;
-// The experiment runner (crate `eamadm`) has not landed yet, so outside the tests nothing calls
-// these modules. `expect` (not `allow`) makes the compiler say when the wiring is done and the
-// attribute must go.
-#[cfg_attr(
-    not(test),
-    expect(dead_code, reason = "used once the eamadm runner lands")
-)]
+mod execute;
+mod experiments;
 mod figures;
+mod fixtures;
+mod outputs;
+mod paper_report;
 mod plan;
-#[cfg_attr(
-    not(test),
-    expect(dead_code, reason = "used once the eamadm runner lands")
-)]
 mod progress;
-#[cfg_attr(
-    not(test),
-    expect(dead_code, reason = "used once the eamadm runner lands")
-)]
 mod report;
-#[cfg_attr(
-    not(test),
-    expect(dead_code, reason = "used once the eamadm runner lands")
-)]
+mod reproduce;
 mod resume;
+mod text_diff;
 
 use cli::{Cli, Command};
-use plan::{DEFAULT_METHODS, ReproducePlan, Workspace};
-
-/// Exit code for arguments that cannot work (as clap uses for parse errors).
-const EXIT_INVALID_ARGUMENTS: u8 = 2;
+use plan::Workspace;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -56,33 +43,44 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    match cli.command {
-        Command::ReproducePaper(args) => {
-            match ReproducePlan::from_args(&args, &DEFAULT_METHODS, &workspace) {
-                Ok(plan) => {
-                    print!("{}", plan.describe());
-                    runner_not_landed()
-                }
-                Err(error) => {
-                    print_error(&error.to_string());
-                    ExitCode::from(EXIT_INVALID_ARGUMENTS)
-                }
-            }
-        }
-        Command::RegenFixtures(args) => {
-            print!("{}", plan::describe_regen_fixtures(args.check, &workspace));
-            runner_not_landed()
+    let outcome = match cli.command {
+        Command::ReproducePaper(args) => reproduce::reproduce_paper(&args, &workspace),
+        Command::RegenFixtures(args) => fixtures::regen_fixtures(args.check, &workspace),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            print_error(&failure.message);
+            ExitCode::from(failure.exit_code)
         }
     }
 }
 
-/// Says, honestly, that nothing ran, and fails.
-fn runner_not_landed() -> ExitCode {
-    print_error(
-        "not run: the experiment runner (crate `eamadm`) has not landed yet; \
-         nothing was trained and nothing was written",
-    );
-    ExitCode::FAILURE
+/// A command that failed: what to tell and the exit code.
+#[derive(Debug)]
+pub(crate) struct Failure {
+    /// The message, naming what went wrong.
+    pub(crate) message: String,
+    /// 1 for a failed command, 2 for arguments that cannot work.
+    pub(crate) exit_code: u8,
+}
+
+impl Failure {
+    /// Arguments (or a config) that cannot work: exit code 2.
+    pub(crate) fn invalid(error: impl std::fmt::Display) -> Self {
+        Self {
+            message: error.to_string(),
+            exit_code: 2,
+        }
+    }
+
+    /// A command that failed while running: exit code 1.
+    pub(crate) fn failed(error: impl std::fmt::Display) -> Self {
+        Self {
+            message: error.to_string(),
+            exit_code: 1,
+        }
+    }
 }
 
 #[expect(

@@ -208,7 +208,11 @@ impl ReproducePlan {
             .map(|t| format!("{} ({})", t.name(), t.description()))
             .collect();
         // Writing to a String cannot fail.
-        let _ = writeln!(text, "  tasks:    {}", tasks.join(", "));
+        if self.config.is_some() {
+            let _ = writeln!(text, "  tasks:    the one the config file names");
+        } else {
+            let _ = writeln!(text, "  tasks:    {}", tasks.join(", "));
+        }
         let _ = writeln!(text, "  methods:  {}", self.methods.join(", "));
         let _ = writeln!(
             text,

@@ -33,10 +33,6 @@ pub(crate) struct TaskProgress {
 
 impl Progress {
     /// Bars on stderr when stdout is a terminal, hidden otherwise.
-    #[cfg_attr(
-        test,
-        expect(dead_code, reason = "the runner calls it; tests use hidden bars")
-    )]
     pub(crate) fn for_stdout() -> Self {
         if std::io::stdout().is_terminal() {
             Self::with_target(ProgressDrawTarget::stderr())
@@ -88,11 +84,19 @@ impl TaskProgress {
         self.bar.finish();
     }
 
+    #[cfg_attr(
+        not(test),
+        expect(dead_code, reason = "only tests read the counts back")
+    )]
     /// Runs counted so far.
     pub(crate) fn done(&self) -> u64 {
         self.bar.position()
     }
 
+    #[cfg_attr(
+        not(test),
+        expect(dead_code, reason = "only tests read the counts back")
+    )]
     /// Whether [`TaskProgress::finish`] was called.
     pub(crate) fn is_finished(&self) -> bool {
         self.bar.is_finished()

@@ -140,8 +140,11 @@ fn decimals_for(value: f64, significant: i32) -> usize {
 /// Without an interval (a single seed) the mean keeps three significant digits and the text
 /// says why: `"80.1 (1 seed)"`. A zero-width interval (all seeds equal) prints `"80.1 ± 0"`.
 pub(crate) fn format_mean_ci(summary: &SeedSummary) -> String {
+    // A half-width that is rounding noise of equal values (e.g. every seed hit the step cap)
+    // prints as an exact zero.
+    let noise = 1e-9 * summary.mean.abs().max(1.0);
     match summary.ci95_half_width {
-        Some(half_width) if half_width > 0.0 => {
+        Some(half_width) if half_width > noise => {
             let decimals = decimals_for(half_width, 2);
             format!(
                 "{} ± {}",
@@ -186,6 +189,7 @@ mod tests {
             (15_321.0, Some(250.0), "15321 ± 250"),
             (-0.004, Some(0.3), "0.00 ± 0.30"),
             (80.1234, Some(0.0), "80.1 ± 0"),
+            (6.849_315_068_493_151, Some(1e-15), "6.85 ± 0"),
             (80.1234, None, "80.1 (1 seed)"),
             (0.0, None, "0 (1 seed)"),
         ];

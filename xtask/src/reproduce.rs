@@ -1,0 +1,141 @@
+//! `cargo xtask reproduce-paper`: check everything (arguments, config, tasks) before touching
+//! the output folder, run (resuming), then write the results, figures and `REPORT.md`.
+
+use std::time::Instant;
+
+use crate::Failure;
+use crate::cli::ReproduceArgs;
+use crate::execute::run_experiments;
+use crate::experiments::{load_config_file, plan_experiments};
+use crate::outputs::{write_experiment, write_results_json};
+use crate::paper_report::{ExperimentResults, render_report};
+use crate::plan::{DEFAULT_METHODS, QUICK_SEEDS, ReproducePlan, Workspace};
+use crate::progress::Progress;
+use crate::resume::RunStore;
+
+/// Runs the command.
+pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Result<(), Failure> {
+    // Everything is checked before the output folder is created: a bad config writes nothing.
+    let custom = match &args.config {
+        Some(path) => {
+            Some(load_config_file(&workspace.current_dir.join(path)).map_err(Failure::invalid)?)
+        }
+        None => None,
+    };
+    let known: Vec<&str> = match &custom {
+        Some(config) => config.methods.iter().map(|m| m.label.as_str()).collect(),
+        None => DEFAULT_METHODS.to_vec(),
+    };
+    let mut plan = ReproducePlan::from_args(args, &known, workspace).map_err(Failure::invalid)?;
+    if let (Some(config), None) = (&custom, args.seeds) {
+        plan.seeds = if plan.quick {
+            QUICK_SEEDS.min(config.seeds)
+        } else {
+            config.seeds
+        };
+    }
+    let experiments = plan_experiments(
+        &plan.tasks,
+        !args.tasks.is_empty(),
+        plan.config.as_deref(),
+        plan.seeds,
+        plan.quick,
+    )
+    .map_err(Failure::invalid)?;
+    print!("{}", plan.describe());
+
+    let started = Instant::now();
+    let store = RunStore::new(&plan.out);
+    let progress = Progress::for_stdout();
+    let grouped =
+        run_experiments(&experiments, &plan.methods, &store, &progress).map_err(Failure::failed)?;
+
+    let all: Vec<_> = grouped.iter().flat_map(|g| g.records.iter()).collect();
+    write_results_json(&plan.out, &all).map_err(Failure::failed)?;
+    let mut results = Vec::new();
+    for (planned, group) in experiments.iter().zip(&grouped) {
+        write_experiment(&plan.out, planned, &group.records).map_err(Failure::failed)?;
+        results.push(ExperimentResults {
+            planned,
+            records: &group.records,
+        });
+    }
+    let report = render_report(&results, plan.quick).map_err(Failure::failed)?;
+    crate::atomic::write_atomic(&plan.out.join("REPORT.md"), report.as_bytes())
+        .map_err(Failure::failed)?;
+    let resumed: usize = grouped.iter().map(|g| g.resumed).sum();
+    println!(
+        "done in {:.1} s: {} runs ({resumed} resumed from an earlier invocation)\nreport: {}",
+        started.elapsed().as_secs_f64(),
+        all.len(),
+        plan.out.join("REPORT.md").display()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(config: Option<&str>, out: &str) -> ReproduceArgs {
+        ReproduceArgs {
+            seeds: Some(1),
+            tasks: vec![],
+            methods: vec!["epsilon-greedy".to_owned()],
+            config: config.map(Into::into),
+            out: Some(out.into()),
+            quick: true,
+        }
+    }
+
+    fn workspace() -> (tempfile::TempDir, Workspace) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("fixtures")).unwrap();
+        let root = dir.path().canonicalize().unwrap();
+        (
+            dir,
+            Workspace {
+                current_dir: root.clone(),
+                root,
+            },
+        )
+    }
+
+    #[test]
+    fn an_invalid_config_names_the_field_and_writes_nothing() {
+        let (_dir, ws) = workspace();
+        let text = eamadm::PAPER_TASK2_TOML.replace("gamma = 0.95", "gamma = 1.5");
+        std::fs::write(ws.root.join("bad.toml"), text).unwrap();
+        let failure = reproduce_paper(&args(Some("bad.toml"), "out"), &ws).unwrap_err();
+        assert_eq!(failure.exit_code, 2);
+        assert!(
+            failure.message.contains("`learner.gamma` = 1.5"),
+            "{}",
+            failure.message
+        );
+        assert!(!ws.root.join("out").exists());
+    }
+
+    #[test]
+    fn a_valid_config_runs_and_writes_every_output() {
+        let (_dir, ws) = workspace();
+        let mut config = eamadm::ExperimentConfig::paper_task1();
+        config.name = "mine".to_owned();
+        config.episodes = 3;
+        std::fs::write(ws.root.join("mine.toml"), config.to_toml_string().unwrap()).unwrap();
+        reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap();
+        for file in [
+            "REPORT.md",
+            "results.json",
+            "mine/curves.csv",
+            "mine/trajectories.csv",
+            "mine/steps.svg",
+            "mine/return.svg",
+            "mine/trajectories.svg",
+        ] {
+            assert!(ws.root.join("out").join(file).is_file(), "{file}");
+        }
+        let report = std::fs::read_to_string(ws.root.join("out/REPORT.md")).unwrap();
+        assert!(report.contains("## mine (`mine`)"), "{report}");
+    }
+}
