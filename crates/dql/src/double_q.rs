@@ -29,8 +29,10 @@ pub enum BehaviourValues {
 ///
 /// The default is Table 1's α = 0.1, γ = 0.95, with ξ = 0.5 and zero
 /// initialisation. Missing `xi`, `init` and `behaviour` fields deserialise to
-/// their defaults. [`DoubleQ::new`] validates; so does [`validate`](Self::validate).
+/// their defaults; an unknown field is an error that names it. [`DoubleQ::new`] validates; so
+/// does [`validate`](Self::validate).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DoubleQParams {
     /// Learning rate α ∈ (0, 1].
     pub alpha: f64,

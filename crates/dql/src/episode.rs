@@ -10,9 +10,9 @@ use crate::learner::Learner;
 use crate::policy::ExplorationPolicy;
 use crate::reward_signal::RewardSignal;
 
-/// How to run one episode.
+/// How to run one episode. Every field has a default; an unknown field is an error that names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct EpisodeOptions {
     /// 0-based index of the episode, handed to the policy's per-episode hooks
     /// (so its schedules advance). Default 0.

@@ -319,8 +319,10 @@ impl ExplorationPolicy for Softmax {
 /// policy by name: `{"kind": "greedy"}`,
 /// `{"kind": "epsilon_greedy", "epsilon": {"constant": 0.1}}`,
 /// `{"kind": "softmax", "temperature": {"exponential": {"start": 0.1, "factor": 0.95, "floor": 0.01}}}`.
+///
+/// An unknown key is an error that names it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(from = "BuiltinPolicyRepr", into = "BuiltinPolicyRepr")]
 pub enum BuiltinPolicy {
     /// [`Greedy`].
     Greedy,
@@ -328,6 +330,37 @@ pub enum BuiltinPolicy {
     EpsilonGreedy(EpsilonGreedy),
     /// [`Softmax`].
     Softmax(Softmax),
+}
+
+/// The serialised form of a [`BuiltinPolicy`]: the same shape, but `Greedy` is an empty struct
+/// variant, which rejects extra keys (a unit variant of an internally tagged enum would not).
+/// The other variants' reprs reject unknown keys themselves.
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum BuiltinPolicyRepr {
+    Greedy {},
+    EpsilonGreedy(EpsilonGreedy),
+    Softmax(Softmax),
+}
+
+impl From<BuiltinPolicyRepr> for BuiltinPolicy {
+    fn from(repr: BuiltinPolicyRepr) -> Self {
+        match repr {
+            BuiltinPolicyRepr::Greedy {} => Self::Greedy,
+            BuiltinPolicyRepr::EpsilonGreedy(policy) => Self::EpsilonGreedy(policy),
+            BuiltinPolicyRepr::Softmax(policy) => Self::Softmax(policy),
+        }
+    }
+}
+
+impl From<BuiltinPolicy> for BuiltinPolicyRepr {
+    fn from(policy: BuiltinPolicy) -> Self {
+        match policy {
+            BuiltinPolicy::Greedy => Self::Greedy {},
+            BuiltinPolicy::EpsilonGreedy(policy) => Self::EpsilonGreedy(policy),
+            BuiltinPolicy::Softmax(policy) => Self::Softmax(policy),
+        }
+    }
 }
 
 impl ExplorationPolicy for BuiltinPolicy {

@@ -9,8 +9,10 @@ use crate::learner::Learner;
 use crate::table::{Initialisation, QTable};
 
 /// Hyper-parameters of [`QLearning`]. The default is Table 1's α = 0.1, γ = 0.95
-/// with zero initialisation; a missing `init` deserialises to zero.
+/// with zero initialisation; a missing `init` deserialises to zero, an unknown field is an error
+/// that names it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct QLearningParams {
     /// Learning rate α ∈ (0, 1].
     pub alpha: f64,

@@ -9,9 +9,10 @@ use crate::error::{DqlError, check_param};
 /// Schedules are values, not code paths: ε-decreasing is ε-greedy with an
 /// exponential schedule, annealed softmax is softmax with one.
 /// Serialised as `{"constant": 0.1}` or
-/// `{"exponential": {"start": 0.95, "factor": 0.95, "floor": 0.0}}`.
+/// `{"exponential": {"start": 0.95, "factor": 0.95, "floor": 0.0}}`; an unknown key is an
+/// error that names it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Schedule {
     /// The same value in every episode.
     Constant(f64),

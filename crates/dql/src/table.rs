@@ -9,9 +9,9 @@ use crate::error::{DqlError, check_param};
 ///
 /// Algorithm 1 says "arbitrarily" and Algorithm 2 "randomly"; both are offered.
 /// Serialised as `{"kind": "zero"}`, `{"kind": "constant", "value": 1.0}` or
-/// `{"kind": "uniform", "low": -0.01, "high": 0.01}`.
+/// `{"kind": "uniform", "low": -0.01, "high": 0.01}`; an unknown key is an error that names it.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(from = "InitialisationRepr", into = "InitialisationRepr")]
 pub enum Initialisation {
     /// Every value 0 (every greedy choice starts as a full tie).
     #[default]
@@ -28,6 +28,36 @@ pub enum Initialisation {
         /// Upper bound (exclusive; equal to `low` gives the constant `low`).
         high: f64,
     },
+}
+
+/// The serialised form of an [`Initialisation`]: the same shape, but `Zero` is an empty struct
+/// variant, which rejects extra keys (a unit variant of an internally tagged enum would not).
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum InitialisationRepr {
+    Zero {},
+    Constant { value: f64 },
+    Uniform { low: f64, high: f64 },
+}
+
+impl From<InitialisationRepr> for Initialisation {
+    fn from(repr: InitialisationRepr) -> Self {
+        match repr {
+            InitialisationRepr::Zero {} => Self::Zero,
+            InitialisationRepr::Constant { value } => Self::Constant { value },
+            InitialisationRepr::Uniform { low, high } => Self::Uniform { low, high },
+        }
+    }
+}
+
+impl From<Initialisation> for InitialisationRepr {
+    fn from(init: Initialisation) -> Self {
+        match init {
+            Initialisation::Zero => Self::Zero {},
+            Initialisation::Constant { value } => Self::Constant { value },
+            Initialisation::Uniform { low, high } => Self::Uniform { low, high },
+        }
+    }
 }
 
 impl Initialisation {

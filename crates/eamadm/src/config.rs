@@ -39,8 +39,6 @@ use reward_std::Standardisation;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::strict;
-
 /// The paper's Task I (Sec. VI.A, Table 1) as TOML; parses to [`ExperimentConfig::paper_task1`].
 pub const PAPER_TASK1_TOML: &str = include_str!("../configs/task1.toml");
 /// The paper's Task II (Sec. VI.A) as TOML; parses to [`ExperimentConfig::paper_task2`].
@@ -75,7 +73,6 @@ pub struct ExperimentConfig {
     #[serde(default)]
     pub base_seed: u64,
     /// Double-Q parameters of every learner (source tasks and sub-tasks): Table 1's α, γ.
-    #[serde(with = "strict::learner")]
     pub learner: DoubleQParams,
     /// Which training episodes keep their trajectory (the greedy evaluation always does).
     #[serde(default)]
@@ -229,11 +226,10 @@ pub enum Method {
 #[serde(deny_unknown_fields)]
 pub struct EaMadmConfig {
     /// The exploring rate ε per episode of the source task (Algorithm 2, line 17).
-    #[serde(with = "strict::schedule")]
     pub epsilon: Schedule,
     /// OWA weights of the decision (Eq. 14–15): visibility with the paper's support
     /// (default), visibility with the distance support, or uniform.
-    #[serde(default = "strict::weighting::default", with = "strict::weighting")]
+    #[serde(default)]
     pub weighting: Weighting,
     /// The source task's learning signal (Eq. 10–12): `"running"` (default, our repair) or
     /// `"cross_sectional"` (the literal equations, identically 0).
@@ -301,7 +297,6 @@ pub struct PretrainConfig {
     /// Episodes per sub-task.
     pub episodes: u64,
     /// The sub-task learners' exploring rate per episode.
-    #[serde(with = "strict::schedule")]
     pub epsilon: Schedule,
 }
 
@@ -342,9 +337,8 @@ pub fn table1_temperature() -> Schedule {
 enum MethodRepr {
     EaMadm {
         label: String,
-        #[serde(with = "strict::schedule")]
         epsilon: Schedule,
-        #[serde(default = "strict::weighting::default", with = "strict::weighting")]
+        #[serde(default)]
         weighting: Weighting,
         #[serde(default)]
         standardisation: Standardisation,
@@ -355,12 +349,10 @@ enum MethodRepr {
     },
     EpsilonGreedy {
         label: String,
-        #[serde(with = "strict::schedule")]
         epsilon: Schedule,
     },
     Softmax {
         label: String,
-        #[serde(with = "strict::schedule")]
         temperature: Schedule,
     },
 }

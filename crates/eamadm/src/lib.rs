@@ -168,7 +168,6 @@ pub mod results;
 mod rng;
 pub mod runner;
 pub mod signal;
-mod strict;
 pub mod summary;
 pub mod task;
 

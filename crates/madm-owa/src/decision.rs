@@ -23,8 +23,10 @@ use crate::weights::{OwaWeights, maximum_entropy_into};
 /// weighting = { kind = "given", weights = [0.4, 0.3, 0.2, 0.1] }
 /// weighting = { kind = "maximum_entropy", orness = 0.7 }
 /// ```
+///
+/// An unknown key is an error that names it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(from = "WeightingRepr", into = "WeightingRepr")]
 pub enum Weighting {
     /// Equal weights: every row is valued by the mean of its attributes.
     Uniform,
@@ -44,9 +46,48 @@ pub enum Weighting {
     /// its sorted attributes (Eq. 14–15). The support defaults to [`Support::default`].
     Visibility {
         /// The support function of Eq. 15.
+        support: Support,
+    },
+}
+
+/// The serialised form of a [`Weighting`]: the same shape, but `Uniform` is an empty struct
+/// variant, which rejects extra keys (a unit variant of an internally tagged enum would not).
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum WeightingRepr {
+    Uniform {},
+    Given {
+        weights: OwaWeights,
+    },
+    MaximumEntropy {
+        orness: f64,
+    },
+    Visibility {
         #[serde(default)]
         support: Support,
     },
+}
+
+impl From<WeightingRepr> for Weighting {
+    fn from(repr: WeightingRepr) -> Self {
+        match repr {
+            WeightingRepr::Uniform {} => Self::Uniform,
+            WeightingRepr::Given { weights } => Self::Given { weights },
+            WeightingRepr::MaximumEntropy { orness } => Self::MaximumEntropy { orness },
+            WeightingRepr::Visibility { support } => Self::Visibility { support },
+        }
+    }
+}
+
+impl From<Weighting> for WeightingRepr {
+    fn from(weighting: Weighting) -> Self {
+        match weighting {
+            Weighting::Uniform => Self::Uniform {},
+            Weighting::Given { weights } => Self::Given { weights },
+            Weighting::MaximumEntropy { orness } => Self::MaximumEntropy { orness },
+            Weighting::Visibility { support } => Self::Visibility { support },
+        }
+    }
 }
 
 impl Default for Weighting {

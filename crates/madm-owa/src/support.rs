@@ -18,9 +18,9 @@ pub const DEFAULT_EPSILON: f64 = 1e-9;
 /// weights fall back to uniform (see [`visibility_weights_into`]).
 ///
 /// Serialised with a `kind` tag, e.g. `{ kind = "paper", epsilon = 1e-9 }` or
-/// `{ kind = "distance" }` in TOML.
+/// `{ kind = "distance" }` in TOML; an unknown key is an error that names it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(from = "SupportRepr", into = "SupportRepr")]
 pub enum Support {
     /// The paper's support, repaired: `S(x, y) = max(0, x·y) / (|x − y|² + ε)`.
     ///
@@ -31,7 +31,6 @@ pub enum Support {
     /// Roughly scale-invariant while `ε` is small against the squared gaps.
     Paper {
         /// Added to the squared gap; finite and `≥ 0`. Defaults to [`DEFAULT_EPSILON`].
-        #[serde(default = "default_epsilon")]
         epsilon: f64,
     },
     /// A bounded support, as in Yager's power average: `S(x, y) = 1 − |x − y| / range`, where
@@ -41,8 +40,38 @@ pub enum Support {
     Distance,
 }
 
+/// The serialised form of a [`Support`]: the same shape, but `Distance` is an empty struct
+/// variant, which rejects extra keys (a unit variant of an internally tagged enum would not).
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum SupportRepr {
+    Paper {
+        #[serde(default = "default_epsilon")]
+        epsilon: f64,
+    },
+    Distance {},
+}
+
 fn default_epsilon() -> f64 {
     DEFAULT_EPSILON
+}
+
+impl From<SupportRepr> for Support {
+    fn from(repr: SupportRepr) -> Self {
+        match repr {
+            SupportRepr::Paper { epsilon } => Self::Paper { epsilon },
+            SupportRepr::Distance {} => Self::Distance,
+        }
+    }
+}
+
+impl From<Support> for SupportRepr {
+    fn from(support: Support) -> Self {
+        match support {
+            Support::Paper { epsilon } => Self::Paper { epsilon },
+            Support::Distance => Self::Distance {},
+        }
+    }
 }
 
 impl Default for Support {

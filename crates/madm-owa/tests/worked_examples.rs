@@ -644,3 +644,86 @@ fn weighting_round_trips_through_json() {
         r#"{"kind":"visibility","support":{"kind":"paper","epsilon":1e-9}}"#
     );
 }
+
+#[test]
+fn misspelt_keys_are_rejected_and_named_even_beside_field_less_kinds() {
+    #[derive(serde::Deserialize)]
+    struct Config {
+        weighting: Weighting,
+    }
+    let rejects = |text: &str, key: &str| {
+        let err = toml::from_str::<Config>(text)
+            .map(|c| c.weighting)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&format!("unknown field `{key}`")),
+            "{text}: {err}"
+        );
+    };
+    // Field-less kinds: plain unit variants would ignore the extra key.
+    rejects(
+        r#"weighting = { kind = "uniform", orness = 0.7 }"#,
+        "orness",
+    );
+    rejects(
+        r#"weighting = { kind = "visibility", support = { kind = "distance", epsilon = 0.1 } }"#,
+        "epsilon",
+    );
+    rejects(
+        r#"weighting = { kind = "visibility", suport = { kind = "distance" } }"#,
+        "suport",
+    );
+    rejects(
+        r#"weighting = { kind = "maximum_entropy", ornes = 0.7 }"#,
+        "ornes",
+    );
+    rejects(
+        r#"weighting = { kind = "given", weight = [1.0] }"#,
+        "weight",
+    );
+    rejects(
+        r#"weighting = { kind = "visibility", support = { kind = "paper", epsion = 1.0 } }"#,
+        "epsion",
+    );
+    let err = serde_json::from_str::<Support>(r#"{"kind":"distance","range":1.0}"#).unwrap_err();
+    assert!(err.to_string().contains("unknown field `range`"), "{err}");
+}
+
+#[test]
+fn serialised_forms_are_the_documented_ones() {
+    for (support, json) in [
+        (Support::default(), r#"{"kind":"paper","epsilon":1e-9}"#),
+        (Support::Distance, r#"{"kind":"distance"}"#),
+    ] {
+        assert_eq!(serde_json::to_string(&support).unwrap(), json);
+        assert_eq!(serde_json::from_str::<Support>(json).unwrap(), support);
+    }
+    for (weighting, json) in [
+        (Weighting::Uniform, r#"{"kind":"uniform"}"#),
+        (
+            Weighting::Visibility {
+                support: Support::Distance,
+            },
+            r#"{"kind":"visibility","support":{"kind":"distance"}}"#,
+        ),
+        (
+            Weighting::MaximumEntropy { orness: 0.25 },
+            r#"{"kind":"maximum_entropy","orness":0.25}"#,
+        ),
+        (
+            Weighting::Given {
+                weights: OwaWeights::new(vec![0.75, 0.25]).unwrap(),
+            },
+            r#"{"kind":"given","weights":[0.75,0.25]}"#,
+        ),
+    ] {
+        assert_eq!(serde_json::to_string(&weighting).unwrap(), json);
+        assert_eq!(serde_json::from_str::<Weighting>(json).unwrap(), weighting);
+    }
+    // TOML writes the same tables.
+    assert_eq!(
+        toml::to_string(&Weighting::Uniform).unwrap().trim(),
+        r#"kind = "uniform""#
+    );
+}
