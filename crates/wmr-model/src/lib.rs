@@ -128,7 +128,9 @@ pub use kinematics::{RobotParams, Twist, WheelSpeeds, integrate_arc};
 pub use metrics::{EpisodeMetrics, MetricsParams, Outcome};
 pub use planner::{Plan, PlannerParams, TabularPolicy, shortest_plan, tabular_policy};
 pub use render::{RenderedPath, render_svg};
-pub use reward::{RadPenalty, RewardInputs, RewardParams, SUBTASK_COUNT, SUBTASK_NAMES};
+pub use reward::{
+    RadPenalty, RewardInputs, RewardParams, SUBTASK_COUNT, SUBTASK_NAMES, TaskReward, TaskStep,
+};
 pub use scenario::{
     ArenaSpec, DEFAULT_SCENARIO_TOML, ObstacleSpec, Scenario, ScenarioError, StartSpec, TargetSpec,
 };
