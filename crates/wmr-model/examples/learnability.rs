@@ -11,7 +11,7 @@
 use dql::Environment;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use wmr_model::{Outcome, Scenario, TaskReward, WmrEnv};
+use wmr_model::{ObstacleSpec, Outcome, Scenario, TaskReward, WmrEnv};
 
 const WINDOW: usize = 500;
 
@@ -107,6 +107,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             variant(&|s| s.reward.task = TaskReward::SubtaskSum),
         ),
         ("first cylinder only", variant(&|s| s.obstacles.truncate(1))),
+        (
+            "one cylinder beside line",
+            variant(&|s| {
+                // 2.3 cm clearance from the straight route.
+                s.obstacles.truncate(1);
+                if let ObstacleSpec::Circle { y, .. } = &mut s.obstacles[0] {
+                    *y = 0.6;
+                }
+            }),
+        ),
         (
             "reach radius 0.1 m",
             variant(&|s| s.target.reach_radius = 0.1),
