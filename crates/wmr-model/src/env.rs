@@ -17,7 +17,7 @@ use crate::action::Action;
 use crate::camera::{Camera, CameraView};
 use crate::kinematics::Twist;
 use crate::metrics::{EpisodeMetrics, Outcome};
-use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES};
+use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES, TaskStep};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::sensors::{DistanceSensors, SENSOR_COUNT};
 use crate::state::{Discretiser, StateBins};
@@ -268,7 +268,15 @@ impl WmrEnv {
         };
         self.subtask_rewards = reward.subtasks(&inputs);
         let reached = reached && !motion.hit;
-        let task_reward = reward.task(&self.subtask_rewards, reached);
+        let task_reward = reward.task(
+            &self.subtask_rewards,
+            &TaskStep {
+                progress: before - distance,
+                hit: motion.hit,
+                reached,
+                lost,
+            },
+        );
 
         let m = &mut self.metrics;
         m.steps += 1;

@@ -18,16 +18,33 @@
 //! to the other terms), [`RadPenalty::Facing`] charges `f·(π − Rad)` instead, which penalises
 //! heading at an obstacle.
 //!
-//! The *task* reward, the one learning curves plot and the competitors learn from, is
-//! `r₁ + r₂ + r₃ + goal_bonus · [target reached]`: the paper evaluates "average reward" but
-//! does not define the task's reward apart from its decomposition, and the sum keeps every
-//! sub-task's signal at its own scale. With the defaults it is about +1 per step in free space
-//! (so ending an episode early never pays) and the goal bonus of +100 outweighs lingering near
-//! the target, whose discounted worth is about `2 / (1 − γ) = 40` at `γ = 0.95`. Because the
-//! per-step reward is positive, the *undiscounted* return grows with the episode's length;
-//! compare runs by Sec. VI.B's average reward (return per second) instead, which favours fast
-//! runs: about 20 per second for the planner's route in the default scenario, 8.5 for a
-//! dithering run that also reaches the target.
+//! The *task* reward, the one learning curves plot and the competitors learn from, is not
+//! defined by the paper for the robot: it gives the sub-task rewards (Eq. 6–8), lets the source
+//! task learn from their standardised values, and leaves the competitors' reward unstated.
+//! [`TaskReward`] selects it:
+//!
+//! * [`TaskReward::Progress`] (the default) is the paper's own reward for "reach the target
+//!   without hitting" in the mazes (Task I, Sec. VI.A), carried over: `+1` when the step brought
+//!   the robot closer to the target (by more than `min_progress`, default 0: strictly closer),
+//!   `−1` otherwise (a `stop`, a turn on the spot's worth of no progress, or a step away), and
+//!   on the terminal steps, instead: Eq. 7's `−100` on a hit, `+100` (`goal_bonus`) on reaching
+//!   the target, Eq. 8's `−10` when the target is lost. A step's reward then says which way the
+//!   target lies, idling costs (`stop` for ever is worth `−1 / (1 − γ) = −20` at `γ = 0.95`),
+//!   and only reaching pays a bonus: a run that never finishes must give back, in steps away,
+//!   most of what it gained in steps towards the target.
+//! * [`TaskReward::SubtaskSum`]: `r₁ + r₂ + r₃ + goal_bonus · [target reached]`, which keeps
+//!   every sub-task's signal at its own scale. It is *not* the default because it pays for
+//!   surviving rather than for finishing: Eq. 8's `+2` for keeping the target in view
+//!   dominates, so it is about `+1.2` per step in free space, and a step towards the target
+//!   earns only `2·k·0.025 = 0.05` more than a step away. In the default scenario, `stop` for
+//!   ever at the start is worth 23.8 (discounted, `γ = 0.95`), about as much as reaching the
+//!   target with a deterministic table over the states ([`tabular_policy`]'s 183-step run:
+//!   24.3; a 60-step table: 26.9) and two thirds of the planner's 34-step route (35.0), which no
+//!   table can follow (none within 50 steps was found). Under it no learner reached the
+//!   target in any training episode (10 seeds × 200 episodes). Under `Progress` the same four
+//!   are worth −20, 5.7, 13.2 and 34.7.
+//!
+//! Average reward (Sec. VI.B: return per second) favours fast runs under both schemes.
 //!
 //! A learner trained on `r₁` alone sees only negative rewards (`r₁ ≤ C_noise`) and shares the
 //! task's terminations, so ending the episode early (losing the target, say) is its optimum.
@@ -36,6 +53,8 @@
 
 use serde::{Deserialize, Serialize};
 
+#[cfg(doc)]
+use crate::planner::tabular_policy;
 use crate::sensors::SENSOR_COUNT;
 
 /// How `Rad` enters Eq. 7.
@@ -47,6 +66,66 @@ pub enum RadPenalty {
     Literal,
     /// Repaired: `−f·(π − Rad)`, largest when heading straight at the obstacle.
     Facing,
+}
+
+/// The task's own reward: what the competitors learn from and the learning curves plot.
+///
+/// In TOML: `task = { kind = "progress" }` (fields `closer`, `farther`, `min_progress` may be
+/// given) or `task = { kind = "subtask_sum" }` in the `[reward]` section.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TaskReward {
+    /// Task I's reward of the mazes (Sec. VI.A): `closer` when the step reduced the distance
+    /// to the target by more than `min_progress`, `farther` otherwise; on a hit, on reaching
+    /// and on losing the target, [`RewardParams::hit`], [`RewardParams::goal_bonus`] and
+    /// [`RewardParams::target_lost`] instead (in that precedence).
+    Progress {
+        /// Reward of a step that got closer. Default +1.
+        #[serde(default = "default_closer")]
+        closer: f64,
+        /// Reward of a step that did not (including `stop`). Default −1.
+        #[serde(default = "default_farther")]
+        farther: f64,
+        /// Distance (m) a step must gain to count as closer; non-negative. Default 0.
+        #[serde(default)]
+        min_progress: f64,
+    },
+    /// `r₁ + r₂ + r₃`, plus [`RewardParams::goal_bonus`] on reaching. Makes wandering optimal
+    /// in the default scenario (see the [module docs](self)).
+    SubtaskSum,
+}
+
+fn default_closer() -> f64 {
+    1.0
+}
+
+fn default_farther() -> f64 {
+    -1.0
+}
+
+impl Default for TaskReward {
+    /// `Progress { closer: 1, farther: −1, min_progress: 0 }`.
+    fn default() -> Self {
+        Self::Progress {
+            closer: default_closer(),
+            farther: default_farther(),
+            min_progress: 0.0,
+        }
+    }
+}
+
+/// What the task reward needs to know about one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TaskStep {
+    /// Distance to the target before the step minus the distance after it (m): positive when
+    /// the step got closer.
+    pub progress: f64,
+    /// The step hit a wall or an obstacle.
+    pub hit: bool,
+    /// The step reached the target (without a hit).
+    pub reached: bool,
+    /// The target left the field of view (and was not reached).
+    pub lost: bool,
 }
 
 /// Reward constants. `k`, `p`, `f` are the paper's; the rest are its fixed numbers, exposed.
@@ -66,10 +145,13 @@ pub struct RewardParams {
     pub target_kept: f64,
     /// Reward of Eq. 8 when the target is lost. Default −10.
     pub target_lost: f64,
-    /// Added to the task reward on the step that reaches the target. Default +100.
+    /// The task reward on the step that reaches the target (added to the sub-task sum under
+    /// [`TaskReward::SubtaskSum`]). Default +100.
     pub goal_bonus: f64,
     /// How `Rad` enters Eq. 7.
     pub rad_penalty: RadPenalty,
+    /// The task's own reward. Default [`TaskReward::Progress`] (+1 / −1).
+    pub task: TaskReward,
 }
 
 impl Default for RewardParams {
@@ -83,6 +165,7 @@ impl Default for RewardParams {
             target_lost: -10.0,
             goal_bonus: 100.0,
             rad_penalty: RadPenalty::Literal,
+            task: TaskReward::default(),
         }
     }
 }
@@ -162,10 +245,32 @@ impl RewardParams {
         [self.reach(inputs), self.avoid(inputs), self.view(inputs)]
     }
 
-    /// The task reward: the sum of the sub-task rewards, plus the goal bonus on reaching.
+    /// The task reward of one step, by [`RewardParams::task`]; `subtasks` are the step's
+    /// sub-task rewards (used by [`TaskReward::SubtaskSum`]).
     #[must_use]
-    pub fn task(&self, subtasks: &[f64; SUBTASK_COUNT], reached: bool) -> f64 {
-        subtasks.iter().sum::<f64>() + if reached { self.goal_bonus } else { 0.0 }
+    pub fn task(&self, subtasks: &[f64; SUBTASK_COUNT], step: &TaskStep) -> f64 {
+        match self.task {
+            TaskReward::SubtaskSum => {
+                subtasks.iter().sum::<f64>() + if step.reached { self.goal_bonus } else { 0.0 }
+            }
+            TaskReward::Progress {
+                closer,
+                farther,
+                min_progress,
+            } => {
+                if step.hit {
+                    self.hit
+                } else if step.reached {
+                    self.goal_bonus
+                } else if step.lost {
+                    self.target_lost
+                } else if step.progress > min_progress {
+                    closer
+                } else {
+                    farther
+                }
+            }
+        }
     }
 }
 
@@ -219,7 +324,17 @@ mod tests {
         let lost = RewardInputs { lost: true, ..i };
         assert_eq!(params.view(&lost), -10.0);
         let sub = params.subtasks(&i);
-        assert!((params.task(&sub, true) - (sub.iter().sum::<f64>() + 100.0)).abs() < 1e-12);
+        let sum = RewardParams {
+            task: TaskReward::SubtaskSum,
+            ..params
+        };
+        let reaching = TaskStep {
+            progress: 0.02,
+            hit: false,
+            reached: true,
+            lost: false,
+        };
+        assert!((sum.task(&sub, &reaching) - (sub.iter().sum::<f64>() + 100.0)).abs() < 1e-12);
     }
 
     #[test]
@@ -241,5 +356,76 @@ mod tests {
             ..params
         };
         assert!(repaired.avoid(&facing) < repaired.avoid(&away));
+    }
+
+    fn step(progress: f64) -> TaskStep {
+        TaskStep {
+            progress,
+            hit: false,
+            reached: false,
+            lost: false,
+        }
+    }
+
+    #[test]
+    fn progress_reward_is_task_one_with_the_robot_terminals() {
+        let params = RewardParams::default();
+        let sub = [-0.5, -0.3, 2.0]; // ignored by Progress
+        assert_eq!(params.task(&sub, &step(0.025)), 1.0);
+        assert_eq!(params.task(&sub, &step(1e-12)), 1.0); // strictly closer counts
+        assert_eq!(params.task(&sub, &step(0.0)), -1.0); // stop: no progress
+        assert_eq!(params.task(&sub, &step(-0.025)), -1.0);
+        let reached = TaskStep {
+            reached: true,
+            ..step(0.025)
+        };
+        assert_eq!(params.task(&sub, &reached), 100.0);
+        let lost = TaskStep {
+            lost: true,
+            ..step(0.025)
+        };
+        assert_eq!(params.task(&sub, &lost), -10.0);
+        let hit = TaskStep {
+            hit: true,
+            lost: true,
+            ..step(0.025)
+        };
+        assert_eq!(params.task(&sub, &hit), -100.0); // a hit outranks everything
+        let banded = RewardParams {
+            task: TaskReward::Progress {
+                closer: 1.0,
+                farther: -1.0,
+                min_progress: 0.01,
+            },
+            ..params
+        };
+        assert_eq!(banded.task(&sub, &step(0.005)), -1.0);
+        assert_eq!(banded.task(&sub, &step(0.02)), 1.0);
+    }
+
+    #[test]
+    fn subtask_sum_barely_tells_closer_from_farther() {
+        // One full-speed step (2.5 cm) towards or away from the target in free space: under
+        // SubtaskSum the two differ only through Eq. 6's k·D, by 2 · k · 0.025 = 0.05 on a
+        // reward of about +1.2; under Progress they differ by 2.
+        let readings = [0.0; SENSOR_COUNT];
+        let at = |target_distance| RewardInputs {
+            target_distance,
+            rad: std::f64::consts::PI,
+            ..inputs(&readings)
+        };
+        let sum = RewardParams {
+            task: TaskReward::SubtaskSum,
+            ..RewardParams::default()
+        };
+        let (closer, farther) = (at(0.475), at(0.525));
+        let gap = sum.task(&sum.subtasks(&closer), &step(0.025))
+            - sum.task(&sum.subtasks(&farther), &step(-0.025));
+        assert!((gap - 0.05).abs() < 1e-12, "{gap}");
+        assert!(sum.task(&sum.subtasks(&farther), &step(-0.025)) > 1.0);
+        let progress = RewardParams::default();
+        let gap = progress.task(&progress.subtasks(&closer), &step(0.025))
+            - progress.task(&progress.subtasks(&farther), &step(-0.025));
+        assert_eq!(gap, 2.0);
     }
 }

@@ -17,7 +17,7 @@ use crate::camera::{Camera, CameraParams};
 use crate::geometry::{Circle, Rect};
 use crate::kinematics::RobotParams;
 use crate::metrics::MetricsParams;
-use crate::reward::RewardParams;
+use crate::reward::{RewardParams, TaskReward};
 use crate::sensors::SensorParams;
 use crate::state::StateParams;
 use crate::world::{Obstacle, World};
@@ -428,6 +428,16 @@ impl Scenario {
         C::finite("reward.target_kept", reward.target_kept)?;
         C::finite("reward.target_lost", reward.target_lost)?;
         C::finite("reward.goal_bonus", reward.goal_bonus)?;
+        if let TaskReward::Progress {
+            closer,
+            farther,
+            min_progress,
+        } = reward.task
+        {
+            C::finite("reward.task.closer", closer)?;
+            C::finite("reward.task.farther", farther)?;
+            C::non_negative("reward.task.min_progress", min_progress)?;
+        }
         C::non_negative(
             "metrics.retention_distance",
             self.metrics.retention_distance,

@@ -5,7 +5,9 @@ use dql::Environment;
 use nalgebra::Vector2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use wmr_model::{Action, Outcome, PlannerParams, Scenario, WmrEnv, shortest_plan, tabular_policy};
+use wmr_model::{
+    Action, Outcome, PlannerParams, Scenario, TaskReward, WmrEnv, shortest_plan, tabular_policy,
+};
 
 #[test]
 fn default_scenario_is_valid_and_sized_as_documented() {
@@ -203,4 +205,57 @@ fn the_planner_refuses_unusable_resolutions() {
     assert_eq!(shortest_plan(&scenario, &starved), None);
     assert_eq!(tabular_policy(&scenario, 200, 10), None);
     assert_eq!(tabular_policy(&scenario, 20, 1_000_000), None);
+}
+
+/// Discounted return (γ = 0.95) of `actions` replayed from the start under `task`, and the
+/// outcome.
+fn discounted_return(task: TaskReward, actions: &[Action]) -> (f64, Outcome) {
+    let mut scenario = Scenario::default_scenario();
+    scenario.reward.task = task;
+    let mut env = WmrEnv::new(scenario).expect("the default scenario is valid");
+    env.reset(Some(3));
+    let mut rewards = Vec::new();
+    for action in actions {
+        let step = env.step(action.index());
+        rewards.push(step.reward);
+        if step.done() {
+            break;
+        }
+    }
+    let value = rewards.iter().rev().fold(0.0, |acc, r| r + 0.95 * acc);
+    (value, env.outcome())
+}
+
+#[test]
+fn the_subtask_sum_pays_about_as_much_for_standing_still_as_for_reaching() {
+    // Why TaskReward::Progress is the default. Three behaviours from the start: stop until the
+    // step cap, the planner's 34-step route (no table over the states can follow it), and the
+    // run of the first deterministic table the search finds within 200 steps.
+    let scenario = Scenario::default_scenario();
+    let plan = shortest_plan(&scenario, &PlannerParams::default()).expect("solvable");
+    let table = tabular_policy(&scenario, 200, 1_000_000).expect("a table exists");
+    let stop = vec![Action::Stop; 500];
+    let value = |task, actions: &[Action], outcome| {
+        let (value, reached) = discounted_return(task, actions);
+        assert_eq!(reached, outcome);
+        value
+    };
+    let sum = TaskReward::SubtaskSum;
+    let (stay, route, by_table) = (
+        value(sum, &stop, Outcome::Truncated),
+        value(sum, &plan.actions, Outcome::Reached),
+        value(sum, &table.plan.actions, Outcome::Reached),
+    );
+    // Standing still is worth two thirds of the best route and as much as the table's run.
+    assert!(stay > 20.0 && stay > 0.6 * route, "{stay} vs {route}");
+    assert!(stay > 0.95 * by_table, "{stay} vs {by_table}");
+
+    let progress = TaskReward::default();
+    let (stay, route, by_table) = (
+        value(progress, &stop, Outcome::Truncated),
+        value(progress, &plan.actions, Outcome::Reached),
+        value(progress, &table.plan.actions, Outcome::Reached),
+    );
+    assert!((stay + 20.0).abs() < 1e-3, "{stay}");
+    assert!(route > 30.0 && by_table > 0.0, "{route}, {by_table}");
 }

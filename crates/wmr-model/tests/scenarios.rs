@@ -2,7 +2,7 @@
 
 use wmr_model::{
     CameraParams, DEFAULT_SCENARIO_TOML, ObstacleSpec, RewardParams, RobotParams, Scenario,
-    ScenarioError, SensorParams, StateParams,
+    ScenarioError, SensorParams, StateParams, TaskReward,
 };
 
 const MINIMAL: &str = r#"
@@ -210,4 +210,34 @@ fn obstacle_specs_build_their_shapes() {
     assert_eq!(world.obstacles().len(), scenario.obstacles.len());
     let toml = scenario.to_toml_string().unwrap();
     assert!(toml.contains("shape = \"rectangle\""), "{toml}");
+}
+
+#[test]
+fn the_task_reward_is_chosen_in_the_reward_section() {
+    let sum = format!("{MINIMAL}\n[reward]\ntask = {{ kind = \"subtask_sum\" }}\n");
+    let scenario = Scenario::from_toml_str(&sum).unwrap();
+    assert_eq!(scenario.reward.task, TaskReward::SubtaskSum);
+    let banded =
+        format!("{MINIMAL}\n[reward]\ntask = {{ kind = \"progress\", min_progress = 0.005 }}\n");
+    let scenario = Scenario::from_toml_str(&banded).unwrap();
+    assert_eq!(
+        scenario.reward.task,
+        TaskReward::Progress {
+            closer: 1.0,
+            farther: -1.0,
+            min_progress: 0.005
+        }
+    );
+    // Round trip through TOML keeps the choice.
+    let again = Scenario::from_toml_str(&scenario.to_toml_string().unwrap()).unwrap();
+    assert_eq!(again.reward.task, scenario.reward.task);
+    let negative =
+        format!("{MINIMAL}\n[reward]\ntask = {{ kind = \"progress\", min_progress = -0.1 }}\n");
+    let error = error_of(&negative);
+    assert!(
+        error.to_string().contains("reward.task.min_progress"),
+        "{error}"
+    );
+    let unknown = format!("{MINIMAL}\n[reward]\ntask = {{ kind = \"progress\", closr = 2.0 }}\n");
+    assert!(matches!(error_of(&unknown), ScenarioError::Parse(_)));
 }
