@@ -142,6 +142,17 @@ impl EpsilonGreedy {
     pub fn schedule(&self) -> &Schedule {
         &self.schedule
     }
+
+    /// The exploration half of a step: with probability ε a uniformly random action
+    /// in `0..n_actions`, otherwise `None` (exploit). Policies that exploit by another
+    /// rule than the greedy argmax (EA-MADM's decision) reuse it, so their draws match
+    /// this policy's: one coin flip, then one action index when exploring.
+    #[inline]
+    pub fn explore_action<R: Rng + ?Sized>(&self, n_actions: usize, rng: &mut R) -> Option<usize> {
+        self.explore
+            .flip(rng)
+            .then(|| rng.random_range(0..n_actions))
+    }
 }
 
 impl ExplorationPolicy for EpsilonGreedy {
@@ -157,10 +168,9 @@ impl ExplorationPolicy for EpsilonGreedy {
         action_values: &[f64],
         rng: &mut R,
     ) -> usize {
-        if self.explore.flip(rng) {
-            rng.random_range(0..action_values.len())
-        } else {
-            argmax_random_tie(action_values, rng)
+        match self.explore_action(action_values.len(), rng) {
+            Some(action) => action,
+            None => argmax_random_tie(action_values, rng),
         }
     }
 }

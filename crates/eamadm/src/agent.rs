@@ -2,9 +2,9 @@
 //! multi-attribute decision over the sub-tasks' prior experience and the source task's own
 //! values.
 
-use dql::{Coin, DqlError, EpsilonGreedy, ExplorationPolicy, Schedule, argmax_random_tie};
+use dql::{DqlError, EpsilonGreedy, ExplorationPolicy, Schedule, argmax_random_tie};
 use madm_owa::{MadmDecider, MadmError, Weighting};
-use rand::{Rng, RngExt};
+use rand::Rng;
 
 use crate::prior::PriorTable;
 
@@ -38,16 +38,14 @@ use crate::prior::PriorTable;
 /// that changes (the prior experience is frozen), which gives the same values as evaluating
 /// the whole matrix at every step at about a third of the cost.
 ///
-/// Draws: one [`Coin`] flip per step (one `u32`, heads with probability ε, as
+/// Draws: one [`dql::Coin`] flip per step (one `u32`, heads with probability ε, as
 /// [`EpsilonGreedy`] does), then one action index when exploring, or one tie-break index only
 /// on a tie. After construction nothing is allocated.
 #[derive(Debug, Clone)]
 pub struct EaMadmPolicy {
     prior: PriorTable,
-    schedule: Schedule,
-    epsilon: f64,
-    /// Heads (explore) with probability `epsilon`.
-    explore: Coin,
+    /// The ε-greedy half: its schedule, ε and coin (the exploitation rule is ours).
+    exploration: EpsilonGreedy,
     decider: MadmDecider,
     /// One row of the decision matrix: the attributes present, then the own value.
     row: Vec<f64>,
@@ -85,7 +83,7 @@ impl EaMadmPolicy {
         epsilon: Schedule,
         weighting: Weighting,
     ) -> Result<Self, PolicyError> {
-        EpsilonGreedy::new(epsilon)?;
+        let exploration = EpsilonGreedy::new(epsilon)?;
         if let Weighting::Given { weights } = &weighting {
             return Err(PolicyError::Weighting(MadmError::LengthMismatch {
                 what: "given weights (EA-MADM rows vary in length; use visibility, uniform or maximum_entropy)",
@@ -101,9 +99,7 @@ impl EaMadmPolicy {
             row: vec![0.0; cols],
             cached_own: vec![NOT_COMPUTED; pairs],
             cached_value: vec![0.0; pairs],
-            epsilon: epsilon.start(),
-            explore: Coin::new(epsilon.start()),
-            schedule: epsilon,
+            exploration,
             decider,
             prior,
         })
@@ -118,16 +114,14 @@ impl EaMadmPolicy {
     /// The ε in force (set at the start of each episode).
     #[must_use]
     pub fn epsilon(&self) -> f64 {
-        self.epsilon
+        self.exploration.epsilon()
     }
 
     /// The same policy without exploration (ε = 0 in every episode): the trained agent's
     /// greedy behaviour, used for the evaluation episode.
     #[must_use]
     pub fn without_exploration(mut self) -> Self {
-        self.schedule = Schedule::Constant(0.0);
-        self.epsilon = 0.0;
-        self.explore = Coin::new(0.0);
+        self.exploration = EpsilonGreedy::constant(0.0).expect("ε = 0 is a valid exploration rate");
         self
     }
 
@@ -190,8 +184,7 @@ impl EaMadmPolicy {
 
 impl ExplorationPolicy for EaMadmPolicy {
     fn begin_episode(&mut self, episode: u64) {
-        self.epsilon = self.schedule.value(episode);
-        self.explore = Coin::new(self.epsilon);
+        self.exploration.begin_episode(episode);
     }
 
     #[inline]
@@ -201,10 +194,9 @@ impl ExplorationPolicy for EaMadmPolicy {
         action_values: &[f64],
         rng: &mut R,
     ) -> usize {
-        if self.explore.flip(rng) {
-            rng.random_range(0..action_values.len())
-        } else {
-            self.decide(state, action_values, rng)
+        match self.exploration.explore_action(action_values.len(), rng) {
+            Some(action) => action,
+            None => self.decide(state, action_values, rng),
         }
     }
 }
