@@ -15,19 +15,14 @@ pub(crate) const DEFAULT_SEEDS: u32 = 10;
 /// Seeds per task and method of a `--quick` run.
 pub(crate) const QUICK_SEEDS: u32 = 3;
 
-/// The method labels of the embedded default configs: the four methods, then the ablations
-/// (each EA-MADM with one switch flipped). To be replaced by the labels of the loaded config
-/// once the `eamadm` runner lands.
-pub(crate) const DEFAULT_METHODS: [&str; 8] = [
-    "ea-madm",
-    "epsilon-greedy",
-    "epsilon-decreasing",
-    "softmax",
-    "ea-madm-table",
-    "ea-madm-uniform",
-    "ea-madm-literal",
-    "ea-madm-distance",
-];
+/// The method labels of the embedded default configs, as [`eamadm::paper_methods`] defines
+/// them: the four methods, then the ablations (each EA-MADM with one switch flipped).
+pub(crate) fn default_methods() -> Vec<String> {
+    eamadm::paper_methods()
+        .into_iter()
+        .map(|method| method.label)
+        .collect()
+}
 
 /// Arguments that cannot work.
 #[derive(Debug, Error)]
@@ -127,7 +122,7 @@ impl ReproducePlan {
     /// exists, is a folder. Touches nothing on disk.
     pub(crate) fn from_args(
         args: &ReproduceArgs,
-        known_methods: &[&str],
+        known_methods: &[String],
         workspace: &Workspace,
     ) -> Result<Self, PlanError> {
         let tasks = if args.tasks.is_empty() {
@@ -141,13 +136,13 @@ impl ReproducePlan {
 
         let mut methods: Vec<String> = Vec::new();
         if args.methods.is_empty() {
-            methods.extend(known_methods.iter().map(|m| (*m).to_owned()));
+            methods.extend_from_slice(known_methods);
         }
         for method in &args.methods {
-            if !known_methods.contains(&method.as_str()) {
+            if !known_methods.contains(method) {
                 return Err(PlanError::UnknownMethod {
                     method: method.clone(),
-                    known: known_methods.iter().map(|m| (*m).to_owned()).collect(),
+                    known: known_methods.to_vec(),
                 });
             }
             if !methods.contains(method) {
@@ -333,9 +328,9 @@ mod tests {
     #[test]
     fn defaults() {
         let (_dir, ws) = workspace();
-        let plan = ReproducePlan::from_args(&args(), &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&args(), &default_methods(), &ws).unwrap();
         assert_eq!(plan.tasks, Task::ALL.to_vec());
-        assert_eq!(plan.methods, DEFAULT_METHODS.to_vec());
+        assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
         assert_eq!(plan.runs(), 3 * 8 * 10);
@@ -343,7 +338,7 @@ mod tests {
             quick: true,
             ..args()
         };
-        let plan = ReproducePlan::from_args(&quick, &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&quick, &default_methods(), &ws).unwrap();
         assert_eq!(plan.seeds, QUICK_SEEDS);
     }
 
@@ -357,7 +352,7 @@ mod tests {
             quick: true,
             ..args()
         };
-        let plan = ReproducePlan::from_args(&selected, &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&selected, &default_methods(), &ws).unwrap();
         assert_eq!(plan.tasks, vec![Task::Task1, Task::Robot]);
         assert_eq!(plan.methods, vec!["softmax", "ea-madm"]);
         assert_eq!(plan.seeds, 2);
@@ -371,7 +366,8 @@ mod tests {
             methods: vec!["ea-madm".into(), "sarsa".into()],
             ..args()
         };
-        let error = ReproducePlan::from_args(&bad, &["ea-madm", "softmax"], &ws).unwrap_err();
+        let error =
+            ReproducePlan::from_args(&bad, &["ea-madm".into(), "softmax".into()], &ws).unwrap_err();
         assert_eq!(
             error.to_string(),
             "--method \"sarsa\": unknown method; the methods are: ea-madm, softmax"
@@ -390,7 +386,7 @@ mod tests {
                 out: Some(out.into()),
                 ..args()
             };
-            let error = ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).unwrap_err();
+            let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
             assert!(
                 matches!(error, PlanError::OutInsideFixtures { .. }),
                 "{out}: {error}"
@@ -402,7 +398,7 @@ mod tests {
             out: Some("fixtures-results".into()),
             ..args()
         };
-        let plan = ReproducePlan::from_args(&fine, &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&fine, &default_methods(), &ws).unwrap();
         assert_eq!(plan.out, ws.root.join("fixtures-results"));
     }
 
@@ -415,7 +411,7 @@ mod tests {
             out: Some("sneaky/out".into()),
             ..args()
         };
-        let error = ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).unwrap_err();
+        let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
         assert!(
             matches!(error, PlanError::OutInsideFixtures { .. }),
             "{error}"
@@ -430,14 +426,14 @@ mod tests {
             out: Some("../results".into()),
             ..args()
         };
-        let plan = ReproducePlan::from_args(&relative, &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&relative, &default_methods(), &ws).unwrap();
         assert_eq!(plan.out, ws.root.join("results"));
         // From a sub-folder, `../fixtures` is still the fixtures.
         let bad = ReproduceArgs {
             out: Some("../fixtures".into()),
             ..args()
         };
-        assert!(ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).is_err());
+        assert!(ReproducePlan::from_args(&bad, &default_methods(), &ws).is_err());
     }
 
     #[test]
@@ -448,7 +444,7 @@ mod tests {
             out: Some("REPORT.md".into()),
             ..args()
         };
-        let error = ReproducePlan::from_args(&bad, &DEFAULT_METHODS, &ws).unwrap_err();
+        let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
         assert!(matches!(error, PlanError::OutNotAFolder { .. }), "{error}");
     }
 
@@ -459,7 +455,7 @@ mod tests {
             config: Some("nope.toml".into()),
             ..args()
         };
-        let error = ReproducePlan::from_args(&missing, &DEFAULT_METHODS, &ws).unwrap_err();
+        let error = ReproducePlan::from_args(&missing, &default_methods(), &ws).unwrap_err();
         assert!(
             error
                 .to_string()
@@ -471,7 +467,7 @@ mod tests {
             config: Some("mine.toml".into()),
             ..args()
         };
-        let plan = ReproducePlan::from_args(&present, &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&present, &default_methods(), &ws).unwrap();
         assert_eq!(plan.config, Some(ws.root.join("mine.toml")));
     }
 
@@ -481,7 +477,7 @@ mod tests {
             root: PathBuf::from("/nonexistent-ws"),
             current_dir: PathBuf::from("/nonexistent-ws"),
         };
-        let plan = ReproducePlan::from_args(&args(), &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&args(), &default_methods(), &ws).unwrap();
         insta::assert_snapshot!("reproduce_default", plan.describe());
         let quick = ReproduceArgs {
             quick: true,
@@ -490,7 +486,7 @@ mod tests {
             out: Some("results".into()),
             ..args()
         };
-        let plan = ReproducePlan::from_args(&quick, &DEFAULT_METHODS, &ws).unwrap();
+        let plan = ReproducePlan::from_args(&quick, &default_methods(), &ws).unwrap();
         insta::assert_snapshot!("reproduce_quick", plan.describe());
         insta::assert_snapshot!("regen_check", describe_regen_fixtures(true, &ws));
     }

@@ -9,7 +9,7 @@ use crate::execute::run_experiments;
 use crate::experiments::{load_config_file, plan_experiments};
 use crate::outputs::{write_experiment, write_results_json};
 use crate::paper_report::{ExperimentResults, render_report};
-use crate::plan::{DEFAULT_METHODS, QUICK_SEEDS, ReproducePlan, Workspace};
+use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
 use crate::resume::RunStore;
 
@@ -22,9 +22,9 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
         }
         None => None,
     };
-    let known: Vec<&str> = match &custom {
-        Some(config) => config.methods.iter().map(|m| m.label.as_str()).collect(),
-        None => DEFAULT_METHODS.to_vec(),
+    let known: Vec<String> = match &custom {
+        Some(config) => config.methods.iter().map(|m| m.label.clone()).collect(),
+        None => default_methods(),
     };
     let mut plan = ReproducePlan::from_args(args, &known, workspace).map_err(Failure::invalid)?;
     if let (Some(config), None) = (&custom, args.seeds) {
