@@ -198,8 +198,41 @@ impl TrajectoryConfig {
 pub struct MethodSpec {
     /// Unique within a config; letters, digits, `-`, `_` and `.` only (used in file names).
     pub label: String,
+    /// Why the method is in the experiment: one of the paper's methods, an ablation of
+    /// EA-MADM, or a control the paper does not run. TOML `role = "paper"` (default),
+    /// `"ablation"` or `"control"`. Reports group and judge methods by it.
+    pub role: Role,
     /// The method and its parameters.
     pub method: Method,
+}
+
+/// Why a method is in an experiment; reports group methods by it and test the paper's claims
+/// only on `Paper` methods (with ablations and controls explaining the result).
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Role {
+    /// EA-MADM as the paper describes it, or one of the paper's competitors.
+    #[default]
+    Paper,
+    /// EA-MADM with one of its switches flipped, to see what each part contributes.
+    Ablation,
+    /// A comparison the paper does not run (equal step budgets, equal reward information,
+    /// a sub-task alone, the tree's thresholds), marked so it is never mistaken for the paper's.
+    Control,
+}
+
+impl Role {
+    /// The TOML and CSV name: `paper`, `ablation` or `control`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Paper => "paper",
+            Self::Ablation => "ablation",
+            Self::Control => "control",
+        }
+    }
 }
 
 /// The methods: EA-MADM (Algorithm 2) and the paper's competitors, each a double-Q learner.
@@ -337,6 +370,8 @@ pub fn table1_temperature() -> Schedule {
 enum MethodRepr {
     EaMadm {
         label: String,
+        #[serde(default)]
+        role: Role,
         epsilon: Schedule,
         #[serde(default)]
         weighting: Weighting,
@@ -349,10 +384,14 @@ enum MethodRepr {
     },
     EpsilonGreedy {
         label: String,
+        #[serde(default)]
+        role: Role,
         epsilon: Schedule,
     },
     Softmax {
         label: String,
+        #[serde(default)]
+        role: Role,
         temperature: Schedule,
     },
 }
@@ -362,6 +401,7 @@ impl From<MethodRepr> for MethodSpec {
         match repr {
             MethodRepr::EaMadm {
                 label,
+                role,
                 epsilon,
                 weighting,
                 standardisation,
@@ -369,6 +409,7 @@ impl From<MethodRepr> for MethodSpec {
                 pretrain,
             } => Self {
                 label,
+                role,
                 method: Method::EaMadm(EaMadmConfig {
                     epsilon,
                     weighting,
@@ -377,12 +418,22 @@ impl From<MethodRepr> for MethodSpec {
                     pretrain,
                 }),
             },
-            MethodRepr::EpsilonGreedy { label, epsilon } => Self {
+            MethodRepr::EpsilonGreedy {
                 label,
+                role,
+                epsilon,
+            } => Self {
+                label,
+                role,
                 method: Method::EpsilonGreedy { epsilon },
             },
-            MethodRepr::Softmax { label, temperature } => Self {
+            MethodRepr::Softmax {
                 label,
+                role,
+                temperature,
+            } => Self {
+                label,
+                role,
                 method: Method::Softmax { temperature },
             },
         }
@@ -392,17 +443,27 @@ impl From<MethodRepr> for MethodSpec {
 impl From<MethodSpec> for MethodRepr {
     fn from(spec: MethodSpec) -> Self {
         let label = spec.label;
+        let role = spec.role;
         match spec.method {
             Method::EaMadm(config) => Self::EaMadm {
                 label,
+                role,
                 epsilon: config.epsilon,
                 weighting: config.weighting,
                 standardisation: config.standardisation,
                 storage: config.storage,
                 pretrain: config.pretrain,
             },
-            Method::EpsilonGreedy { epsilon } => Self::EpsilonGreedy { label, epsilon },
-            Method::Softmax { temperature } => Self::Softmax { label, temperature },
+            Method::EpsilonGreedy { epsilon } => Self::EpsilonGreedy {
+                label,
+                role,
+                epsilon,
+            },
+            Method::Softmax { temperature } => Self::Softmax {
+                label,
+                role,
+                temperature,
+            },
         }
     }
 }
@@ -670,40 +731,48 @@ pub fn paper_methods() -> Vec<MethodSpec> {
         storage: Storage::default(),
         pretrain: PretrainConfig::default(),
     };
-    let variant = |label: &str, change: &dyn Fn(&mut EaMadmConfig)| {
+    let variant = |label: &str, role: Role, change: &dyn Fn(&mut EaMadmConfig)| {
         let mut config = ea_madm.clone();
         change(&mut config);
         MethodSpec {
             label: label.to_owned(),
+            role,
             method: Method::EaMadm(config),
         }
     };
     vec![
-        variant("ea-madm", &|_| {}),
+        variant("ea-madm", Role::Paper, &|_| {}),
         MethodSpec {
             label: "epsilon-greedy".to_owned(),
+            role: Role::Paper,
             method: Method::EpsilonGreedy {
                 epsilon: Schedule::Constant(0.1),
             },
         },
         MethodSpec {
             label: "epsilon-decreasing".to_owned(),
+            role: Role::Paper,
             method: Method::EpsilonGreedy {
                 epsilon: table1_epsilon_decreasing(),
             },
         },
         MethodSpec {
             label: "softmax".to_owned(),
+            role: Role::Paper,
             method: Method::Softmax {
                 temperature: table1_temperature(),
             },
         },
-        variant("ea-madm-table", &|c| c.storage = Storage::Table),
-        variant("ea-madm-uniform", &|c| c.weighting = Weighting::Uniform),
-        variant("ea-madm-literal", &|c| {
+        variant("ea-madm-table", Role::Ablation, &|c| {
+            c.storage = Storage::Table
+        }),
+        variant("ea-madm-uniform", Role::Ablation, &|c| {
+            c.weighting = Weighting::Uniform
+        }),
+        variant("ea-madm-literal", Role::Ablation, &|c| {
             c.standardisation = Standardisation::CrossSectional;
         }),
-        variant("ea-madm-distance", &|c| {
+        variant("ea-madm-distance", Role::Ablation, &|c| {
             c.weighting = Weighting::Visibility {
                 support: Support::Distance,
             };

@@ -174,8 +174,8 @@ pub mod task;
 pub use agent::{EaMadmPolicy, PolicyError};
 pub use config::{
     ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_TOML,
-    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Storage, TaskConfig, TrajectoryConfig,
-    paper_methods,
+    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role, Storage, TaskConfig,
+    TrajectoryConfig, paper_methods,
 };
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtasks};
