@@ -764,10 +764,10 @@ pub fn paper_methods() -> Vec<MethodSpec> {
             },
         },
         variant("ea-madm-table", Role::Ablation, &|c| {
-            c.storage = Storage::Table
+            c.storage = Storage::Table;
         }),
         variant("ea-madm-uniform", Role::Ablation, &|c| {
-            c.weighting = Weighting::Uniform
+            c.weighting = Weighting::Uniform;
         }),
         variant("ea-madm-literal", Role::Ablation, &|c| {
             c.standardisation = Standardisation::CrossSectional;
