@@ -2,15 +2,14 @@
 //!
 //! An [`ExperimentConfig`] is plain serde data. Every table rejects unknown keys, and
 //! [`ExperimentConfig::validate`] rejects out-of-range values with a [`ConfigError`] naming the
-//! field by its path (`methods[2].epsilon.factor`). The paper's settings are named constructors,
-//! [`ExperimentConfig::paper_task1`], [`paper_task2`](ExperimentConfig::paper_task2) and
-//! [`paper_robot`](ExperimentConfig::paper_robot), and the same values ship as TOML files
-//! ([`PAPER_TASK1_TOML`], …; `crates/eamadm/configs/` in the repository).
+//! field by its path (`methods[2].epsilon.factor`). The paper's settings are the presets of
+//! [`paper`](crate::paper) ([`paper::task1`](crate::paper::task1), …), and the same values ship
+//! as TOML files ([`PAPER_TASK1_TOML`], …; `crates/eamadm/configs/` in the repository).
 //!
 //! ```toml
 //! name = "task1"
 //! episodes = 200
-//! seeds = 10
+//! seeds = 20
 //! base_seed = 0
 //!
 //! [task]
@@ -33,18 +32,18 @@ use std::path::PathBuf;
 
 use dql::{DoubleQParams, DqlError, EpsilonGreedy, Schedule, Softmax};
 use ea_tree::EaTreeConfig;
-use madm_owa::{Support, Weighting};
+use madm_owa::Weighting;
 use mazes::Preset;
 use reward_std::Standardisation;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// The paper's Task I (Sec. VI.A, Table 1) as TOML; parses to [`ExperimentConfig::paper_task1`].
+/// The paper's Task I (Sec. VI.A, Table 1) as TOML; parses to [`paper::task1`](crate::paper::task1).
 pub const PAPER_TASK1_TOML: &str = include_str!("../configs/task1.toml");
-/// The paper's Task II (Sec. VI.A) as TOML; parses to [`ExperimentConfig::paper_task2`].
+/// The paper's Task II (Sec. VI.A) as TOML; parses to [`paper::task2`](crate::paper::task2).
 pub const PAPER_TASK2_TOML: &str = include_str!("../configs/task2.toml");
 /// The paper's robot experiment (Sec. VI.B, Table 2) as TOML; parses to
-/// [`ExperimentConfig::paper_robot`].
+/// [`paper::robot`](crate::paper::robot).
 pub const PAPER_ROBOT_TOML: &str = include_str!("../configs/robot.toml");
 
 /// Most episodes (or pre-training episodes) a run may have: far beyond any experiment here,
@@ -252,6 +251,19 @@ pub enum Method {
         /// The temperature T per episode.
         temperature: Schedule,
     },
+}
+
+impl Method {
+    /// The TOML `kind` of the method (`ea_madm`, `epsilon_greedy`, `softmax`); results carry
+    /// it so that a report can tell EA-MADM variants from competitors without the config.
+    #[must_use]
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Self::EaMadm(_) => "ea_madm",
+            Self::EpsilonGreedy { .. } => "epsilon_greedy",
+            Self::Softmax { .. } => "softmax",
+        }
+    }
 }
 
 /// EA-MADM's parameters (TOML `kind = "ea_madm"`). Every field but `epsilon` has a default.
@@ -658,52 +670,6 @@ impl ExperimentConfig {
     pub fn method(&self, label: &str) -> Option<&MethodSpec> {
         self.methods.iter().find(|spec| spec.label == label)
     }
-
-    /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, 10 seeds,
-    /// α = 0.1, γ = 0.95, and [`paper_methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
-    #[must_use]
-    pub fn paper_task1() -> Self {
-        Self::paper_maze("task1", Preset::TaskI)
-    }
-
-    /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise
-    /// as [`paper_task1`](Self::paper_task1). Equal to [`PAPER_TASK2_TOML`] parsed.
-    #[must_use]
-    pub fn paper_task2() -> Self {
-        Self::paper_maze("task2", Preset::TaskII)
-    }
-
-    /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
-    /// distance sensors, the analogue of Fig. 12), 200 episodes, 10 seeds, α = 0.1, γ = 0.95,
-    /// ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`paper_methods`]. Equal to
-    /// [`PAPER_ROBOT_TOML`] parsed.
-    #[must_use]
-    pub fn paper_robot() -> Self {
-        Self {
-            name: "robot".to_owned(),
-            task: TaskConfig::Robot {
-                scenario: DEFAULT_SCENARIO.to_owned(),
-                step_cap: None,
-            },
-            ..Self::paper_maze("robot", Preset::TaskI)
-        }
-    }
-
-    fn paper_maze(name: &str, preset: Preset) -> Self {
-        Self {
-            name: name.to_owned(),
-            task: TaskConfig::Maze {
-                preset,
-                step_cap: None,
-            },
-            episodes: 200,
-            seeds: 10,
-            base_seed: 0,
-            learner: table1_learner(),
-            trajectories: TrajectoryConfig::default(),
-            methods: paper_methods(),
-        }
-    }
 }
 
 /// Table 1's learner: α = 0.1, γ = 0.95 (ξ = 0.5, zero initialisation).
@@ -714,70 +680,6 @@ pub fn table1_learner() -> DoubleQParams {
         gamma: 0.95,
         ..DoubleQParams::default()
     }
-}
-
-/// The methods of every paper preset, in report order: `ea-madm`, `epsilon-greedy`
-/// (constant ε = 0.1), `epsilon-decreasing` and `softmax` (Table 1's schedules), then the
-/// ablations, each EA-MADM with one switch flipped: `ea-madm-table` (sub-task tables instead
-/// of trees), `ea-madm-uniform` (uniform instead of visibility weights), `ea-madm-literal`
-/// (the literal, identically zero, standardisation) and `ea-madm-distance` (the distance
-/// support instead of the paper's).
-#[must_use]
-pub fn paper_methods() -> Vec<MethodSpec> {
-    let ea_madm = EaMadmConfig {
-        epsilon: table1_epsilon_decreasing(),
-        weighting: Weighting::default(),
-        standardisation: Standardisation::Running,
-        storage: Storage::default(),
-        pretrain: PretrainConfig::default(),
-    };
-    let variant = |label: &str, role: Role, change: &dyn Fn(&mut EaMadmConfig)| {
-        let mut config = ea_madm.clone();
-        change(&mut config);
-        MethodSpec {
-            label: label.to_owned(),
-            role,
-            method: Method::EaMadm(config),
-        }
-    };
-    vec![
-        variant("ea-madm", Role::Paper, &|_| {}),
-        MethodSpec {
-            label: "epsilon-greedy".to_owned(),
-            role: Role::Paper,
-            method: Method::EpsilonGreedy {
-                epsilon: Schedule::Constant(0.1),
-            },
-        },
-        MethodSpec {
-            label: "epsilon-decreasing".to_owned(),
-            role: Role::Paper,
-            method: Method::EpsilonGreedy {
-                epsilon: table1_epsilon_decreasing(),
-            },
-        },
-        MethodSpec {
-            label: "softmax".to_owned(),
-            role: Role::Paper,
-            method: Method::Softmax {
-                temperature: table1_temperature(),
-            },
-        },
-        variant("ea-madm-table", Role::Ablation, &|c| {
-            c.storage = Storage::Table;
-        }),
-        variant("ea-madm-uniform", Role::Ablation, &|c| {
-            c.weighting = Weighting::Uniform;
-        }),
-        variant("ea-madm-literal", Role::Ablation, &|c| {
-            c.standardisation = Standardisation::CrossSectional;
-        }),
-        variant("ea-madm-distance", Role::Ablation, &|c| {
-            c.weighting = Weighting::Visibility {
-                support: Support::Distance,
-            };
-        }),
-    ]
 }
 
 impl MethodSpec {

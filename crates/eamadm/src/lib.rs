@@ -14,11 +14,14 @@
 //! | [`reward_std`] | reward standardisation (Eq. 10–12, literal and running) |
 //! | [`mazes`] | Task I and Task II (Sec. VI.A) |
 //! | [`wmr_model`] | the wheeled robot and its scenario (Sec. III, VI.B) |
-//! | [`config`] | experiment configs in TOML, with the paper's Table 1 and 2 as presets |
+//! | [`config`] | experiment configs in TOML |
+//! | [`paper`] | the paper's presets (Table 1 and 2), methods, titles, reported numbers, claims C1–C4 |
 //! | [`pretrain`], [`prior`] | sub-task pre-training and the sub-tasks' stored experience (Fig. 5) |
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
 //! | [`summary`], [`results`] | statistics over seeds; JSON and CSV output |
+//! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
+//! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //!
 //! # A first experiment
 //!
@@ -94,10 +97,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! The paper's own settings are [`ExperimentConfig::paper_task1`],
-//! [`paper_task2`](ExperimentConfig::paper_task2) and
-//! [`paper_robot`](ExperimentConfig::paper_robot) (also as TOML: [`PAPER_TASK1_TOML`], …), each
-//! with the four methods and four ablations of [`paper_methods`]. `cargo run --release -p eamadm
+//! The paper's own settings are [`paper::task1`], [`paper::task2`] and [`paper::robot`] (also
+//! as TOML: [`PAPER_TASK1_TOML`], …), each with the four methods and four ablations of
+//! [`paper::methods`]; [`paper::CLAIMS`] holds the paper's claims, which [`claims`] tests on
+//! the per-seed [`scores`] with the resampling statistics of [`stats`]. `cargo run --release -p eamadm
 //! --example compare -- task1` runs one and prints the table.
 //!
 //! # The method (Sec. V, Fig. 5, Algorithm 2)
@@ -159,14 +162,17 @@ pub use reward_std;
 pub use wmr_model;
 
 pub mod agent;
+pub mod claims;
 pub mod config;
 pub mod error;
 pub mod pretrain;
+pub mod paper;
 pub mod prior;
 pub mod record;
 pub mod results;
 mod rng;
 pub mod runner;
+pub mod scores;
 pub mod signal;
 pub mod summary;
 pub mod task;
@@ -175,7 +181,7 @@ pub use agent::{EaMadmPolicy, PolicyError};
 pub use config::{
     ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_TOML,
     PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role, Storage, TaskConfig,
-    TrajectoryConfig, paper_methods,
+    TrajectoryConfig,
 };
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtasks};

@@ -1,0 +1,408 @@
+//! The paper in one place: its three experiments as presets (Table 1 and 2), the methods it
+//! compares (with our ablations), their display titles, the numbers it reports, and its claims
+//! as data that [`claims`](crate::claims) tests.
+//!
+//! Everything here is read off the paper (Sec. VI, Fig. 6–15, Tables 1–2); nothing is computed.
+//! The presets equal the embedded TOML files [`PAPER_TASK1_TOML`], [`PAPER_TASK2_TOML`] and
+//! [`PAPER_ROBOT_TOML`] (a test checks it).
+//!
+//! ```
+//! use eamadm::paper::{self, Direction, PaperTask};
+//!
+//! let task1 = paper::task1();
+//! assert_eq!(task1.episodes, 200);
+//! assert_eq!(task1.seeds, paper::SEEDS);
+//! assert_eq!(PaperTask::Task2.reported().map(|r| r.steps), Some(86.0));
+//! let c1 = paper::claim("C1").unwrap();
+//! assert_eq!(c1.metrics[0].column, "final_steps");
+//! assert_eq!(c1.metrics[0].direction, Direction::LowerIsBetter);
+//! assert_eq!(paper::method_title("epsilon-decreasing"), "ε-decreasing");
+//! ```
+
+use dql::Schedule;
+use madm_owa::{Support, Weighting};
+use mazes::Preset;
+use reward_std::Standardisation;
+use serde::Serialize;
+
+use crate::config::{
+    DEFAULT_SCENARIO, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PretrainConfig, Role,
+    Storage, TaskConfig, TrajectoryConfig, table1_epsilon_decreasing, table1_learner,
+    table1_temperature,
+};
+#[cfg(doc)]
+use crate::config::{PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML};
+
+/// Seeds per method of every preset. The paper shows single runs; 20 seeds give the bootstrap
+/// and permutation statistics of [`claims`](crate::claims) enough resolution (a two-sided
+/// exact permutation test of 20 against 20 can reach p ≈ 1e-11) while the whole default run
+/// stays well under half a minute on two cores.
+pub const SEEDS: u32 = 20;
+
+/// The paper's three experiments, in the order they are run and reported.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub enum PaperTask {
+    /// Task I: the 30 × 30 maze with 100 obstacles (Sec. VI.A, Fig. 6–8).
+    Task1,
+    /// Task II: the 39 × 36 maze with the +10 / −1 reward (Sec. VI.A, Fig. 9–11).
+    Task2,
+    /// The wheeled robot among obstacles (Sec. VI.B, Fig. 12–15).
+    Robot,
+}
+
+/// What the paper reports for EA-MADM at the end of training on a maze (read off Fig. 7/8 and
+/// 10/11 and the text). The paper gives no numbers for the robot.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ReportedNumbers {
+    /// Steps per episode at the end of training ("about 80", "about 86").
+    pub steps: f64,
+    /// Return per episode at the end of training ("about 155", "about −71").
+    pub task_return: f64,
+}
+
+impl PaperTask {
+    /// All three, in run order.
+    pub const ALL: [Self; 3] = [Self::Task1, Self::Task2, Self::Robot];
+
+    /// The experiment's name: its config's `name`, output folder and `task` column
+    /// (`task1`, `task2`, `robot`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Task1 => "task1",
+            Self::Task2 => "task2",
+            Self::Robot => "robot",
+        }
+    }
+
+    /// The title for people: `Task I`, `Task II`, `Robot`.
+    #[must_use]
+    pub fn title(self) -> &'static str {
+        match self {
+            Self::Task1 => "Task I",
+            Self::Task2 => "Task II",
+            Self::Robot => "Robot",
+        }
+    }
+
+    /// The task whose config `name` this is, if it is one of the paper's.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|task| task.name() == name)
+    }
+
+    /// The preset: [`task1`], [`task2`] or [`robot`].
+    #[must_use]
+    pub fn config(self) -> ExperimentConfig {
+        match self {
+            Self::Task1 => task1(),
+            Self::Task2 => task2(),
+            Self::Robot => robot(),
+        }
+    }
+
+    /// What the paper reports for EA-MADM on this task; `None` for the robot (no numbers).
+    #[must_use]
+    pub fn reported(self) -> Option<ReportedNumbers> {
+        match self {
+            Self::Task1 => Some(ReportedNumbers {
+                steps: 80.0,
+                task_return: 155.0,
+            }),
+            Self::Task2 => Some(ReportedNumbers {
+                steps: 86.0,
+                task_return: -71.0,
+            }),
+            Self::Robot => None,
+        }
+    }
+}
+
+/// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`SEEDS`] seeds,
+/// α = 0.1, γ = 0.95, and [`methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
+#[must_use]
+pub fn task1() -> ExperimentConfig {
+    maze("task1", Preset::TaskI)
+}
+
+/// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise as
+/// [`task1`]. Equal to [`PAPER_TASK2_TOML`] parsed.
+#[must_use]
+pub fn task2() -> ExperimentConfig {
+    maze("task2", Preset::TaskII)
+}
+
+/// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
+/// distance sensors, the analogue of Fig. 12), 200 episodes, [`SEEDS`] seeds, α = 0.1,
+/// γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`methods`]. Equal to
+/// [`PAPER_ROBOT_TOML`] parsed.
+#[must_use]
+pub fn robot() -> ExperimentConfig {
+    ExperimentConfig {
+        name: "robot".to_owned(),
+        task: TaskConfig::Robot {
+            scenario: DEFAULT_SCENARIO.to_owned(),
+            step_cap: None,
+        },
+        ..maze("robot", Preset::TaskI)
+    }
+}
+
+fn maze(name: &str, preset: Preset) -> ExperimentConfig {
+    ExperimentConfig {
+        name: name.to_owned(),
+        task: TaskConfig::Maze {
+            preset,
+            step_cap: None,
+        },
+        episodes: 200,
+        seeds: SEEDS,
+        base_seed: 0,
+        learner: table1_learner(),
+        trajectories: TrajectoryConfig::default(),
+        methods: methods(),
+    }
+}
+
+/// The methods of every preset, in report order: `ea-madm`, `epsilon-greedy` (constant
+/// ε = 0.1), `epsilon-decreasing` and `softmax` (Table 1's schedules), then the ablations, each
+/// EA-MADM with one switch flipped: `ea-madm-table` (sub-task tables instead of trees),
+/// `ea-madm-uniform` (uniform instead of visibility weights), `ea-madm-literal` (the literal,
+/// identically zero, standardisation) and `ea-madm-distance` (the distance support instead of
+/// the paper's).
+#[must_use]
+pub fn methods() -> Vec<MethodSpec> {
+    let ea_madm = EaMadmConfig {
+        epsilon: table1_epsilon_decreasing(),
+        weighting: Weighting::default(),
+        standardisation: Standardisation::Running,
+        storage: Storage::default(),
+        pretrain: PretrainConfig::default(),
+    };
+    let variant = |label: &str, role: Role, change: &dyn Fn(&mut EaMadmConfig)| {
+        let mut config = ea_madm.clone();
+        change(&mut config);
+        MethodSpec {
+            label: label.to_owned(),
+            role,
+            method: Method::EaMadm(config),
+        }
+    };
+    vec![
+        variant("ea-madm", Role::Paper, &|_| {}),
+        MethodSpec {
+            label: "epsilon-greedy".to_owned(),
+            role: Role::Paper,
+            method: Method::EpsilonGreedy {
+                epsilon: Schedule::Constant(0.1),
+            },
+        },
+        MethodSpec {
+            label: "epsilon-decreasing".to_owned(),
+            role: Role::Paper,
+            method: Method::EpsilonGreedy {
+                epsilon: table1_epsilon_decreasing(),
+            },
+        },
+        MethodSpec {
+            label: "softmax".to_owned(),
+            role: Role::Paper,
+            method: Method::Softmax {
+                temperature: table1_temperature(),
+            },
+        },
+        variant("ea-madm-table", Role::Ablation, &|c| {
+            c.storage = Storage::Table;
+        }),
+        variant("ea-madm-uniform", Role::Ablation, &|c| {
+            c.weighting = Weighting::Uniform;
+        }),
+        variant("ea-madm-literal", Role::Ablation, &|c| {
+            c.standardisation = Standardisation::CrossSectional;
+        }),
+        variant("ea-madm-distance", Role::Ablation, &|c| {
+            c.weighting = Weighting::Visibility {
+                support: Support::Distance,
+            };
+        }),
+    ]
+}
+
+/// A method's title for people: the paper's names for its four methods (`EA-MADM`,
+/// `ε-greedy`, `ε-decreasing`, `softmax`), the label itself for every other method.
+#[must_use]
+pub fn method_title(label: &str) -> String {
+    match label {
+        "ea-madm" => "EA-MADM".to_owned(),
+        "epsilon-greedy" => "ε-greedy".to_owned(),
+        "epsilon-decreasing" => "ε-decreasing".to_owned(),
+        other => other.to_owned(),
+    }
+}
+
+/// Whether smaller or larger values of a metric are better.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub enum Direction {
+    /// Fewer steps, less fluctuation, shorter reaching time, faster fall of retention time.
+    LowerIsBetter,
+    /// Higher return, higher average reward.
+    HigherIsBetter,
+}
+
+impl Direction {
+    /// `lower` or `higher` (what is better), for tables and CSV.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::LowerIsBetter => "lower",
+            Self::HigherIsBetter => "higher",
+        }
+    }
+
+    /// Whether `difference` = (method under test − competitor) favours the method under test.
+    #[must_use]
+    pub fn favours(self, difference: f64) -> bool {
+        match self {
+            Self::LowerIsBetter => difference < 0.0,
+            Self::HigherIsBetter => difference > 0.0,
+        }
+    }
+}
+
+/// One metric of a claim: a column of `final-scores.csv` and which way is better.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub struct ClaimMetric {
+    /// The column of [`FinalScore`](crate::scores::FinalScore) /
+    /// `final-scores.csv` (see [`scores::COLUMNS`](crate::scores::COLUMNS)).
+    pub column: &'static str,
+    /// Which way is better.
+    pub direction: Direction,
+}
+
+/// One claim of the paper, as data: what it says, where, and how we measure it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Claim {
+    /// `C1` … `C4`.
+    pub id: &'static str,
+    /// The claim in short, close to the paper's own sentence (quoted where it is one).
+    pub words: &'static str,
+    /// Where the paper makes it: section and figures.
+    pub location: &'static str,
+    /// The metrics that test it; the claim holds for a method when it holds on every one.
+    pub metrics: &'static [ClaimMetric],
+    /// The experiments ([`PaperTask::name`]) it is made on.
+    pub tasks: &'static [&'static str],
+}
+
+/// The paper's four claims about EA-MADM against its competitors.
+///
+/// - **C1** fewest steps per episode at the end of training (Fig. 7, 10: "the minimum time step
+///   required for each episode, about 80 steps"; "the least time step …, about 86").
+/// - **C2** highest return per episode (Fig. 8, 11: "the highest cumulative reward", "about
+///   155"; "the highest reward, about −71").
+/// - **C3** least fluctuation of the step and return curves (Fig. 7, 8, 10: "the minimum
+///   fluctuation", "the smallest fluctuation").
+/// - **C4** on the robot, over episodes that reach the target: the largest average reward
+///   (Fig. 13), the least reaching time (Fig. 14), and the fastest fall of the retention time
+///   (Fig. 15).
+pub const CLAIMS: [Claim; 4] = [
+    Claim {
+        id: "C1",
+        words: "EA-MADM needs the fewest steps per episode at the end of training \
+                (\"the minimum time step required for each episode\")",
+        location: "Sec. VI.A, Fig. 7 and Fig. 10",
+        metrics: &[ClaimMetric {
+            column: "final_steps",
+            direction: Direction::LowerIsBetter,
+        }],
+        tasks: &["task1", "task2"],
+    },
+    Claim {
+        id: "C2",
+        words: "EA-MADM obtains the highest return per episode at the end of training \
+                (\"the highest cumulative reward\")",
+        location: "Sec. VI.A, Fig. 8 and Fig. 11",
+        metrics: &[ClaimMetric {
+            column: "final_return",
+            direction: Direction::HigherIsBetter,
+        }],
+        tasks: &["task1", "task2"],
+    },
+    Claim {
+        id: "C3",
+        words: "EA-MADM's step and return curves fluctuate least (\"the minimum fluctuation\")",
+        location: "Sec. VI.A, Fig. 7, 8 and 10",
+        metrics: &[
+            ClaimMetric {
+                column: "fluctuation_steps",
+                direction: Direction::LowerIsBetter,
+            },
+            ClaimMetric {
+                column: "fluctuation_return",
+                direction: Direction::LowerIsBetter,
+            },
+        ],
+        tasks: &["task1", "task2"],
+    },
+    Claim {
+        id: "C4",
+        words: "on the robot, over episodes that reach the target, EA-MADM has the largest \
+                average reward, the least reaching time, and its retention time \"decreases \
+                the fastest\"",
+        location: "Sec. VI.B, Fig. 13, 14 and 15",
+        metrics: &[
+            ClaimMetric {
+                column: "reach_average_reward",
+                direction: Direction::HigherIsBetter,
+            },
+            ClaimMetric {
+                column: "reach_time",
+                direction: Direction::LowerIsBetter,
+            },
+            ClaimMetric {
+                column: "retention_decay",
+                direction: Direction::LowerIsBetter,
+            },
+        ],
+        tasks: &["robot"],
+    },
+];
+
+/// The claim with this id (`C1` … `C4`).
+#[must_use]
+pub fn claim(id: &str) -> Option<&'static Claim> {
+    CLAIMS.iter().find(|claim| claim.id == id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tasks_round_trip_by_name_and_match_their_presets() {
+        for task in PaperTask::ALL {
+            assert_eq!(PaperTask::from_name(task.name()), Some(task));
+            assert_eq!(task.config().name, task.name());
+            assert!(task.config().validate().is_ok());
+        }
+        assert_eq!(PaperTask::from_name("mine"), None);
+    }
+
+    #[test]
+    fn every_claim_names_paper_tasks() {
+        for claim in CLAIMS {
+            assert!(!claim.metrics.is_empty(), "{}", claim.id);
+            for task in claim.tasks {
+                assert!(PaperTask::from_name(task).is_some(), "{}: {task}", claim.id);
+            }
+        }
+    }
+
+    #[test]
+    fn directions_judge_the_sign() {
+        assert!(Direction::LowerIsBetter.favours(-1.0));
+        assert!(!Direction::LowerIsBetter.favours(0.0));
+        assert!(Direction::HigherIsBetter.favours(2.0));
+        assert!(!Direction::HigherIsBetter.favours(-2.0));
+    }
+}
