@@ -195,7 +195,7 @@ mod tests {
 
     #[test]
     fn the_key_ignores_other_methods_and_the_seed_count() {
-        let config = ExperimentConfig::paper_task1();
+        let config = eamadm::paper::task1();
         let method = config.method("softmax").unwrap().clone();
         let key = |config: &ExperimentConfig, seed| {
             RunKey::of(&RunDescription::new(config, &method, seed)).unwrap()
@@ -215,7 +215,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let map = dir.path().join("maze.map");
         std::fs::write(&map, "S..\n.#.\n..T\n").unwrap();
-        let mut config = ExperimentConfig::paper_task1();
+        let mut config = eamadm::paper::task1();
         config.task = TaskConfig::MazeFile {
             path: map.clone(),
             rewards: eamadm::mazes::Preset::TaskI,
@@ -227,7 +227,7 @@ mod tests {
         std::fs::write(&map, "S.#\n...\n..T\n").unwrap();
         assert_ne!(key(), before);
         // The presets carry no file, so their keys do not change with this field.
-        let preset = RunDescription::new(&ExperimentConfig::paper_task1(), &method, 0);
+        let preset = RunDescription::new(&eamadm::paper::task1(), &method, 0);
         assert_eq!(preset.task_file_blake3, None);
         assert!(
             !crate::resume::canonical_json(&preset)

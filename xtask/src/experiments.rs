@@ -64,9 +64,9 @@ impl PlannedExperiment {
 /// The paper preset of `task`.
 pub(crate) fn preset_config(task: Task) -> ExperimentConfig {
     match task {
-        Task::Task1 => ExperimentConfig::paper_task1(),
-        Task::Task2 => ExperimentConfig::paper_task2(),
-        Task::Robot => ExperimentConfig::paper_robot(),
+        Task::Task1 => eamadm::paper::task1(),
+        Task::Task2 => eamadm::paper::task2(),
+        Task::Robot => eamadm::paper::robot(),
     }
 }
 
@@ -212,7 +212,7 @@ mod tests {
 
     #[test]
     fn quick_shortens_every_part() {
-        let config = quick(ExperimentConfig::paper_task1());
+        let config = quick(eamadm::paper::task1());
         assert_eq!(config.episodes, QUICK_EPISODES);
         assert_eq!(config.task.step_cap(), Some(QUICK_MAZE_STEP_CAP));
         for spec in &config.methods {
@@ -221,7 +221,7 @@ mod tests {
             }
         }
         assert!(config.validate().is_ok());
-        let robot = quick(ExperimentConfig::paper_robot());
+        let robot = quick(eamadm::paper::robot());
         assert_eq!(robot.task.step_cap(), None);
     }
 

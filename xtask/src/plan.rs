@@ -15,10 +15,10 @@ pub(crate) const DEFAULT_SEEDS: u32 = 10;
 /// Seeds per task and method of a `--quick` run.
 pub(crate) const QUICK_SEEDS: u32 = 3;
 
-/// The method labels of the embedded default configs, as [`eamadm::paper_methods`] defines
+/// The method labels of the embedded default configs, as [`eamadm::paper::methods`] defines
 /// them: the four methods, then the ablations (each EA-MADM with one switch flipped).
 pub(crate) fn default_methods() -> Vec<String> {
-    eamadm::paper_methods()
+    eamadm::paper::methods()
         .into_iter()
         .map(|method| method.label)
         .collect()

@@ -119,7 +119,7 @@ mod tests {
     #[test]
     fn a_valid_config_runs_and_writes_every_output() {
         let (_dir, ws) = workspace();
-        let mut config = eamadm::ExperimentConfig::paper_task1();
+        let mut config = eamadm::paper::task1();
         config.name = "mine".to_owned();
         config.episodes = 3;
         std::fs::write(ws.root.join("mine.toml"), config.to_toml_string().unwrap()).unwrap();

@@ -7,9 +7,9 @@ use eamadm::{DEFAULT_FINAL_WINDOW, Experiment, ExperimentConfig, summarise};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let mut config = match args.next().as_deref() {
-        None | Some("task1") => ExperimentConfig::paper_task1(),
-        Some("task2") => ExperimentConfig::paper_task2(),
-        Some("robot") => ExperimentConfig::paper_robot(),
+        None | Some("task1") => eamadm::paper::task1(),
+        Some("task2") => eamadm::paper::task2(),
+        Some("robot") => eamadm::paper::robot(),
         Some(other) => return Err(format!("unknown task {other:?}").into()),
     };
     if let Some(seeds) = args.next() {

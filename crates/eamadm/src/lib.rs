@@ -20,6 +20,7 @@
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
 //! | [`summary`], [`results`] | statistics over seeds; JSON and CSV output |
+//! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //!
@@ -165,8 +166,8 @@ pub mod agent;
 pub mod claims;
 pub mod config;
 pub mod error;
-pub mod pretrain;
 pub mod paper;
+pub mod pretrain;
 pub mod prior;
 pub mod record;
 pub mod results;
@@ -174,6 +175,7 @@ mod rng;
 pub mod runner;
 pub mod scores;
 pub mod signal;
+pub mod stats;
 pub mod summary;
 pub mod task;
 

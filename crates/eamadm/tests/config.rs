@@ -10,24 +10,21 @@ use eamadm::{ConfigError, Experiment, ExperimentConfig};
 fn embedded_toml_files_are_the_named_constructors() {
     assert_eq!(
         ExperimentConfig::from_toml_str(PAPER_TASK1_TOML).unwrap(),
-        ExperimentConfig::paper_task1()
+        eamadm::paper::task1()
     );
     assert_eq!(
         ExperimentConfig::from_toml_str(PAPER_TASK2_TOML).unwrap(),
-        ExperimentConfig::paper_task2()
+        eamadm::paper::task2()
     );
     assert_eq!(
         ExperimentConfig::from_toml_str(PAPER_ROBOT_TOML).unwrap(),
-        ExperimentConfig::paper_robot()
+        eamadm::paper::robot()
     );
 }
 
 #[test]
 fn presets_round_trip_through_toml() {
-    for config in [
-        ExperimentConfig::paper_task1(),
-        ExperimentConfig::paper_task2(),
-    ] {
+    for config in [eamadm::paper::task1(), eamadm::paper::task2()] {
         let text = config.to_toml_string().unwrap();
         assert_eq!(
             ExperimentConfig::from_toml_str(&text).unwrap(),
@@ -39,10 +36,7 @@ fn presets_round_trip_through_toml() {
 
 #[test]
 fn presets_load() {
-    for config in [
-        ExperimentConfig::paper_task1(),
-        ExperimentConfig::paper_task2(),
-    ] {
+    for config in [eamadm::paper::task1(), eamadm::paper::task2()] {
         let experiment = Experiment::new(config).unwrap();
         assert_eq!(experiment.jobs().len(), 8 * 10);
     }
@@ -193,7 +187,7 @@ fn out_of_range_values_are_rejected_with_their_path() {
 
 #[test]
 fn the_pretraining_schedule_is_checked_under_its_own_path() {
-    let mut config = ExperimentConfig::paper_task1();
+    let mut config = eamadm::paper::task1();
     let eamadm::Method::EaMadm(ea) = &mut config.methods[0].method else {
         panic!("methods[0] is EA-MADM");
     };

@@ -240,7 +240,7 @@ fn summaries_group_runs_by_method() {
 
 #[test]
 fn robot_runs_carry_the_robot_metrics_and_paths_in_metres() {
-    let mut config = eamadm::ExperimentConfig::paper_robot();
+    let mut config = eamadm::paper::robot();
     config.episodes = 6;
     config.seeds = 1;
     config.task = eamadm::TaskConfig::Robot {

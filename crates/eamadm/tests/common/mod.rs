@@ -4,7 +4,8 @@
 
 use eamadm::config::table1_learner;
 use eamadm::mazes::{GeneratorParams, Pos, Preset, generate_seeded};
-use eamadm::{ExperimentConfig, Method, MethodSpec, TaskConfig, TrajectoryConfig, paper_methods};
+use eamadm::paper::methods as paper_methods;
+use eamadm::{ExperimentConfig, Method, MethodSpec, TaskConfig, TrajectoryConfig};
 
 /// A 10 × 10 maze with 15 obstacles, start top-left, target bottom-right.
 pub(crate) fn small_map() -> String {

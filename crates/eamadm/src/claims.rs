@@ -1,0 +1,673 @@
+//! The paper's claims ([`paper::CLAIMS`]) tested on per-seed final scores
+//! ([`scores`](crate::scores)), with a verdict per claim × task × method under test, and
+//! `claims.csv`.
+//!
+//! # Who is compared with whom
+//!
+//! - **Methods under test**: every EA-MADM method of the task (`kind = ea_madm`): the paper's
+//!   `ea-madm`, each ablation, and each EA-MADM control (e.g. tree thresholds below 1).
+//! - **Competitors**: the paper's own competitors, the methods with `role = paper` that are not
+//!   EA-MADM (ε-greedy, ε-decreasing, softmax). Controls that change a competitor (budget- or
+//!   reward-matched) are reported beside them, never used to judge the paper's claim.
+//!
+//! # The statistics (all from [`stats`](crate::stats), seeded, so reports are reproducible)
+//!
+//! For a metric (a column of `final-scores.csv`) the sample of a method is its per-seed values
+//! (seeds with an empty cell, e.g. no reaching episode, are left out and counted). Per method:
+//! the interquartile mean (IQM) with a percentile-bootstrap 95 % interval. Per comparison of a
+//! method under test `X` with a competitor `Y`: the bootstrap 95 % interval of
+//! `IQM(X) − IQM(Y)` (X and Y resampled independently), the two-sided permutation p-value of
+//! that difference, and the probability of improvement (`P(X better than Y)`, ties ½, oriented
+//! by the metric's direction). Holm–Bonferroni adjusts the p-values across every comparison of
+//! one claim × task × method under test (all its metrics × all competitors).
+//!
+//! # The verdict rule (stated in the report too)
+//!
+//! A comparison **favours** X when the difference's estimate goes the claim's way, its 95 %
+//! interval excludes 0 and its Holm-adjusted p is below 0.05; it **favours** Y under the same
+//! conditions the other way; otherwise it settles nothing. Per claim × task × method:
+//!
+//! - `untestable` when X has fewer than two seeds with a value on one of the claim's metrics
+//!   (e.g. it never reaches the target, so C4 has nothing to average), or when no competitor
+//!   has (the reason is given);
+//! - `contradicted` when any comparison favours a competitor;
+//! - `supported` when every testable comparison favours X;
+//! - `inconclusive` otherwise.
+//!
+//! Comparisons with a competitor that has fewer than two values are listed as untestable and
+//! left out of the rule (that competitor reaches the target in fewer than two seeds).
+
+use std::io::Write;
+
+use rayon::prelude::*;
+use serde::Serialize;
+use thiserror::Error;
+
+use crate::config::Role;
+use crate::paper::{self, Claim, ClaimMetric, Direction};
+use crate::scores::FinalScore;
+use crate::stats::{self, Bootstrap, Interval, PermutationTest, Statistic, StatsError};
+
+/// The significance level of the verdict rule.
+pub const ALPHA: f64 = 0.05;
+
+/// The kind of the EA-MADM methods ([`Method::kind_name`](crate::Method::kind_name)).
+const EA_MADM_KIND: &str = "ea_madm";
+
+/// Claims that cannot be evaluated.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ClaimsError {
+    /// A statistic failed.
+    #[error("claim {claim}, task {task}, method {method}, metric {metric}: {source}")]
+    Stats {
+        /// The claim (empty for a single-method estimate).
+        claim: String,
+        /// The task.
+        task: String,
+        /// The method.
+        method: String,
+        /// The metric.
+        metric: String,
+        /// Why.
+        #[source]
+        source: Box<StatsError>,
+    },
+    /// Writing `claims.csv` failed.
+    #[error("claims CSV: {0}")]
+    Csv(#[from] csv::Error),
+}
+
+/// The settings of the statistics behind the verdicts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClaimOptions {
+    /// Bootstrap of IQM intervals and of differences (the same seed for every call, so each
+    /// number is a function of its two samples only).
+    pub bootstrap: Bootstrap,
+    /// Permutation test of the IQM difference.
+    pub permutation: PermutationTest,
+    /// Significance level of the verdict rule.
+    pub alpha: f64,
+}
+
+impl Default for ClaimOptions {
+    /// 10 000 bootstrap resamples at 95 %, 10 000 permutations, seed 0, α = [`ALPHA`].
+    fn default() -> Self {
+        Self {
+            bootstrap: Bootstrap::default(),
+            permutation: PermutationTest::default(),
+            alpha: ALPHA,
+        }
+    }
+}
+
+/// The verdict on one claim × task × method under test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Every testable comparison favours the method under test.
+    Supported,
+    /// A competitor is significantly better on one of the claim's metrics.
+    Contradicted,
+    /// Neither.
+    Inconclusive,
+    /// The data cannot test the claim (see the reason).
+    Untestable,
+}
+
+impl Verdict {
+    /// `supported`, `contradicted`, `inconclusive` or `untestable`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Supported => "supported",
+            Self::Contradicted => "contradicted",
+            Self::Inconclusive => "inconclusive",
+            Self::Untestable => "untestable",
+        }
+    }
+}
+
+/// What one comparison settles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// Significantly better for the method under test (the claim's way).
+    FavoursMethod,
+    /// Significantly better for the competitor.
+    FavoursCompetitor,
+    /// Not significant, or the interval includes 0.
+    Unsettled,
+}
+
+/// One method under test against one competitor on one metric of a claim.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Comparison {
+    /// The metric.
+    pub metric: ClaimMetric,
+    /// The competitor's label.
+    pub versus: String,
+    /// Seeds with a value: the method's and the competitor's.
+    pub n: (usize, usize),
+    /// IQM(method) − IQM(competitor), with its bootstrap interval.
+    pub difference: Interval,
+    /// Two-sided permutation p-value of the IQM difference.
+    pub p_value: f64,
+    /// The p-value Holm-adjusted across the claim × task × method's comparisons.
+    pub p_holm: f64,
+    /// Probability that a random seed of the method beats one of the competitor (the metric's
+    /// direction; ties count ½).
+    pub p_improvement: f64,
+    /// What it settles.
+    pub outcome: Outcome,
+}
+
+/// A comparison that could not be made, and why.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Untested {
+    /// The metric's column.
+    pub metric: &'static str,
+    /// The competitor's label.
+    pub versus: String,
+    /// Why.
+    pub reason: String,
+}
+
+/// The verdict on one claim × task × method under test, with every comparison behind it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Judgement {
+    /// The claim.
+    pub claim: &'static Claim,
+    /// The task (experiment name).
+    pub task: String,
+    /// The method under test.
+    pub method: String,
+    /// Its role (`paper` for the paper's own EA-MADM).
+    pub role: Role,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Why, in words computed from the numbers (e.g. the untestable reason).
+    pub reason: String,
+    /// The comparisons, metric-major, competitor order as in the scores.
+    pub comparisons: Vec<Comparison>,
+    /// The comparisons that could not be made.
+    pub untested: Vec<Untested>,
+    /// The comparison that decides the verdict: for `supported` the weakest (largest Holm p),
+    /// for `contradicted` the strongest against (smallest Holm p), for `inconclusive` the
+    /// weakest of those that do not favour the method.
+    pub deciding: Option<usize>,
+}
+
+impl Judgement {
+    /// The deciding comparison, if any.
+    #[must_use]
+    pub fn deciding_comparison(&self) -> Option<&Comparison> {
+        self.deciding.and_then(|i| self.comparisons.get(i))
+    }
+}
+
+/// One method's IQM of one metric over seeds, with its bootstrap interval.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Estimate {
+    /// The task.
+    pub task: String,
+    /// The method.
+    pub method: String,
+    /// Its role.
+    pub role: Role,
+    /// The metric's column.
+    pub metric: &'static str,
+    /// Seeds with a value.
+    pub n: usize,
+    /// Seeds in all.
+    pub seeds: usize,
+    /// The IQM and its 95 % interval; `None` when no seed has a value.
+    pub iqm: Option<Interval>,
+}
+
+/// The tasks of `scores`, in first-appearance order.
+#[must_use]
+pub fn tasks(scores: &[FinalScore]) -> Vec<&str> {
+    let mut tasks: Vec<&str> = Vec::new();
+    for row in scores {
+        if !tasks.contains(&row.task.as_str()) {
+            tasks.push(&row.task);
+        }
+    }
+    tasks
+}
+
+/// The methods of `task` in `scores` with their role and kind, in first-appearance order.
+#[must_use]
+pub fn methods<'a>(scores: &'a [FinalScore], task: &str) -> Vec<(&'a str, Role, &'a str)> {
+    let mut methods: Vec<(&str, Role, &str)> = Vec::new();
+    for row in scores.iter().filter(|row| row.task == task) {
+        if !methods.iter().any(|(m, _, _)| *m == row.method) {
+            methods.push((&row.method, row.role, &row.kind));
+        }
+    }
+    methods
+}
+
+/// The per-seed values of `column` for `method` on `task` (empty cells left out), in score
+/// order, and the number of seeds in all.
+#[must_use]
+pub fn values(scores: &[FinalScore], task: &str, method: &str, column: &str) -> (Vec<f64>, usize) {
+    let rows: Vec<&FinalScore> = scores
+        .iter()
+        .filter(|row| row.task == task && row.method == method)
+        .collect();
+    let values = rows.iter().filter_map(|row| row.value(column)).collect();
+    (values, rows.len())
+}
+
+/// Whether `kind` is EA-MADM's: such methods are the ones under test.
+#[must_use]
+pub fn is_under_test(kind: &str) -> bool {
+    kind == EA_MADM_KIND
+}
+
+/// Whether a method is one of the paper's competitors.
+#[must_use]
+pub fn is_competitor(role: Role, kind: &str) -> bool {
+    role == Role::Paper && !is_under_test(kind)
+}
+
+/// The IQM with its bootstrap interval of every metric of every claim, for every method of
+/// every task in `scores` (task, method, then the claims' metrics in order, each once).
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn estimates(
+    scores: &[FinalScore],
+    options: &ClaimOptions,
+) -> Result<Vec<Estimate>, ClaimsError> {
+    let mut jobs = Vec::new();
+    for task in tasks(scores) {
+        for (method, role, _) in methods(scores, task) {
+            for column in claim_columns() {
+                jobs.push((task, method, role, column));
+            }
+        }
+    }
+    jobs.par_iter()
+        .map(|&(task, method, role, metric)| {
+            estimate(scores, task, method, role, metric, &options.bootstrap)
+        })
+        .collect()
+}
+
+/// The IQM and interval of one method's metric.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn estimate(
+    scores: &[FinalScore],
+    task: &str,
+    method: &str,
+    role: Role,
+    metric: &'static str,
+    bootstrap: &Bootstrap,
+) -> Result<Estimate, ClaimsError> {
+    let (x, seeds) = values(scores, task, method, metric);
+    let iqm = if x.is_empty() {
+        None
+    } else {
+        Some(
+            bootstrap
+                .interval(&x, Statistic::Iqm)
+                .map_err(|source| ClaimsError::Stats {
+                    claim: String::new(),
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    metric: metric.to_owned(),
+                    source: Box::new(source),
+                })?,
+        )
+    };
+    Ok(Estimate {
+        task: task.to_owned(),
+        method: method.to_owned(),
+        role,
+        metric,
+        n: x.len(),
+        seeds,
+        iqm,
+    })
+}
+
+/// Every claim metric's column, each once, in claim order.
+#[must_use]
+pub fn claim_columns() -> Vec<&'static str> {
+    let mut columns: Vec<&'static str> = Vec::new();
+    for claim in &paper::CLAIMS {
+        for metric in claim.metrics {
+            if !columns.contains(&metric.column) {
+                columns.push(metric.column);
+            }
+        }
+    }
+    columns
+}
+
+/// Judges every claim on every task of `scores` it is made on, for every method under test
+/// (claim order, then task order, then method order).
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn judge(scores: &[FinalScore], options: &ClaimOptions) -> Result<Vec<Judgement>, ClaimsError> {
+    let present = tasks(scores);
+    let mut jobs = Vec::new();
+    for claim in &paper::CLAIMS {
+        for task in claim.tasks.iter().filter(|t| present.contains(t)) {
+            for (method, role, kind) in methods(scores, task) {
+                if is_under_test(kind) {
+                    jobs.push((claim, *task, method, role));
+                }
+            }
+        }
+    }
+    jobs.par_iter()
+        .map(|&(claim, task, method, role)| judge_one(scores, claim, task, method, role, options))
+        .collect()
+}
+
+/// Judges one claim on one task for one method under test.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn judge_one(
+    scores: &[FinalScore],
+    claim: &'static Claim,
+    task: &str,
+    method: &str,
+    role: Role,
+    options: &ClaimOptions,
+) -> Result<Judgement, ClaimsError> {
+    let error = |metric: &str, source| ClaimsError::Stats {
+        claim: claim.id.to_owned(),
+        task: task.to_owned(),
+        method: method.to_owned(),
+        metric: metric.to_owned(),
+        source: Box::new(source),
+    };
+    let competitors: Vec<&str> = methods(scores, task)
+        .into_iter()
+        .filter(|&(_, role, kind)| is_competitor(role, kind))
+        .map(|(label, _, _)| label)
+        .collect();
+    let mut judgement = Judgement {
+        claim,
+        task: task.to_owned(),
+        method: method.to_owned(),
+        role,
+        verdict: Verdict::Untestable,
+        reason: String::new(),
+        comparisons: Vec::new(),
+        untested: Vec::new(),
+        deciding: None,
+    };
+    if competitors.is_empty() {
+        judgement.reason = "none of the paper's competitors was run".to_owned();
+        return Ok(judgement);
+    }
+    let mut raw_p = Vec::new();
+    for metric in claim.metrics {
+        let (x, seeds) = values(scores, task, method, metric.column);
+        if x.len() < 2 {
+            judgement.reason = format!(
+                "{} has a `{}` value in {} of {seeds} seeds (it needs a reaching episode); \
+                 at least 2 are needed",
+                paper::method_title(method),
+                metric.column,
+                x.len()
+            );
+            judgement.comparisons.clear();
+            return Ok(judgement);
+        }
+        for &versus in &competitors {
+            let (y, versus_seeds) = values(scores, task, versus, metric.column);
+            if y.len() < 2 {
+                judgement.untested.push(Untested {
+                    metric: metric.column,
+                    versus: versus.to_owned(),
+                    reason: format!(
+                        "{} has a value in {} of {versus_seeds} seeds",
+                        paper::method_title(versus),
+                        y.len()
+                    ),
+                });
+                continue;
+            }
+            let difference = options
+                .bootstrap
+                .difference(&x, &y, Statistic::Iqm)
+                .map_err(|e| error(metric.column, e))?;
+            let p_value = options
+                .permutation
+                .p_value(&x, &y, Statistic::Iqm)
+                .map_err(|e| error(metric.column, e))?;
+            let p_improvement = match metric.direction {
+                Direction::HigherIsBetter => stats::probability_of_improvement(&x, &y),
+                Direction::LowerIsBetter => stats::probability_of_improvement(&y, &x),
+            }
+            .map_err(|e| error(metric.column, e))?;
+            raw_p.push(p_value);
+            judgement.comparisons.push(Comparison {
+                metric: *metric,
+                versus: versus.to_owned(),
+                n: (x.len(), y.len()),
+                difference,
+                p_value,
+                p_holm: p_value,
+                p_improvement,
+                outcome: Outcome::Unsettled,
+            });
+        }
+    }
+    if judgement.comparisons.is_empty() {
+        judgement.reason =
+            "no competitor has a value in 2 or more seeds (none reaches the target)".to_owned();
+        return Ok(judgement);
+    }
+    let adjusted = stats::holm(&raw_p).map_err(|e| error("(holm)", e))?;
+    for (comparison, p_holm) in judgement.comparisons.iter_mut().zip(adjusted) {
+        comparison.p_holm = p_holm;
+        comparison.outcome = outcome(comparison, options.alpha);
+    }
+    let comparisons = &judgement.comparisons;
+    let by_p = |pick_max: bool, keep: &dyn Fn(&Comparison) -> bool| {
+        comparisons
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| keep(c))
+            .max_by(|(i, a), (j, b)| {
+                let order = a.p_holm.total_cmp(&b.p_holm);
+                // Ties go to the earlier comparison either way.
+                (if pick_max { order } else { order.reverse() }).then(j.cmp(i))
+            })
+            .map(|(i, _)| i)
+    };
+    if comparisons
+        .iter()
+        .any(|c| c.outcome == Outcome::FavoursCompetitor)
+    {
+        judgement.verdict = Verdict::Contradicted;
+        judgement.deciding = by_p(false, &|c| c.outcome == Outcome::FavoursCompetitor);
+    } else if comparisons
+        .iter()
+        .all(|c| c.outcome == Outcome::FavoursMethod)
+    {
+        judgement.verdict = Verdict::Supported;
+        judgement.deciding = by_p(true, &|_| true);
+    } else {
+        judgement.verdict = Verdict::Inconclusive;
+        judgement.deciding = by_p(true, &|c| c.outcome != Outcome::FavoursMethod);
+    }
+    Ok(judgement)
+}
+
+/// What a comparison settles at level `alpha` (see the module docs).
+fn outcome(comparison: &Comparison, alpha: f64) -> Outcome {
+    let d = &comparison.difference;
+    let significant = comparison.p_holm < alpha && d.excludes(0.0);
+    if !significant {
+        Outcome::Unsettled
+    } else if comparison.metric.direction.favours(d.estimate) {
+        Outcome::FavoursMethod
+    } else if comparison.metric.direction.favours(-d.estimate) {
+        Outcome::FavoursCompetitor
+    } else {
+        Outcome::Unsettled
+    }
+}
+
+/// One row of `claims.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClaimRow {
+    /// `C1` … `C4`.
+    pub claim: &'static str,
+    /// The task.
+    pub task: String,
+    /// The method (under test, or any method for a single-method row).
+    pub method: String,
+    /// The method's role.
+    pub role: Role,
+    /// The column of `final-scores.csv`.
+    pub metric: &'static str,
+    /// `lower` or `higher`: which is better.
+    pub better: &'static str,
+    /// The competitor; empty for a single-method row.
+    pub versus: String,
+    /// Seeds with a value (the method's).
+    pub n: usize,
+    /// Seeds with a value of the competitor (empty for a single-method row).
+    pub n_versus: Option<usize>,
+    /// IQM over seeds (single-method row) or IQM difference method − competitor; empty when no
+    /// seed has a value.
+    pub estimate: Option<f64>,
+    /// Lower end of its bootstrap 95 % interval.
+    pub ci_low: Option<f64>,
+    /// Upper end.
+    pub ci_high: Option<f64>,
+    /// Raw permutation p-value (comparisons only).
+    pub p_value: Option<f64>,
+    /// Holm-adjusted p-value (comparisons only).
+    pub p_holm: Option<f64>,
+    /// Probability of improvement (comparisons only).
+    pub p_improvement: Option<f64>,
+    /// What the comparison settles (`favours_method`, `favours_competitor`, `unsettled`).
+    pub outcome: Option<Outcome>,
+    /// The claim × task × method verdict (rows of a method under test only).
+    pub verdict: Option<Verdict>,
+}
+
+/// The rows of `claims.csv`: per claim and task, first one single-method row per method and
+/// metric (IQM over seeds, `versus` empty; the verdict on rows of a method under test), then
+/// every comparison of every method under test.
+#[must_use]
+pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
+    let mut rows = Vec::new();
+    let mut seen: Vec<(&str, &str)> = Vec::new();
+    for judgement in judgements {
+        let key = (judgement.claim.id, judgement.task.as_str());
+        if !seen.contains(&key) {
+            seen.push(key);
+            for metric in judgement.claim.metrics {
+                for estimate in estimates
+                    .iter()
+                    .filter(|e| e.task == judgement.task && e.metric == metric.column)
+                {
+                    let verdict = judgements
+                        .iter()
+                        .find(|j| {
+                            j.claim.id == judgement.claim.id
+                                && j.task == judgement.task
+                                && j.method == estimate.method
+                        })
+                        .map(|j| j.verdict);
+                    rows.push(ClaimRow {
+                        claim: judgement.claim.id,
+                        task: judgement.task.clone(),
+                        method: estimate.method.clone(),
+                        role: estimate.role,
+                        metric: metric.column,
+                        better: metric.direction.name(),
+                        versus: String::new(),
+                        n: estimate.n,
+                        n_versus: None,
+                        estimate: estimate.iqm.map(|i| i.estimate),
+                        ci_low: estimate.iqm.map(|i| i.low),
+                        ci_high: estimate.iqm.map(|i| i.high),
+                        p_value: None,
+                        p_holm: None,
+                        p_improvement: None,
+                        outcome: None,
+                        verdict,
+                    });
+                }
+            }
+        }
+    }
+    for judgement in judgements {
+        for c in &judgement.comparisons {
+            rows.push(ClaimRow {
+                claim: judgement.claim.id,
+                task: judgement.task.clone(),
+                method: judgement.method.clone(),
+                role: judgement.role,
+                metric: c.metric.column,
+                better: c.metric.direction.name(),
+                versus: c.versus.clone(),
+                n: c.n.0,
+                n_versus: Some(c.n.1),
+                estimate: Some(c.difference.estimate),
+                ci_low: Some(c.difference.low),
+                ci_high: Some(c.difference.high),
+                p_value: Some(c.p_value),
+                p_holm: Some(c.p_holm),
+                p_improvement: Some(c.p_improvement),
+                outcome: Some(c.outcome),
+                verdict: Some(judgement.verdict),
+            });
+        }
+    }
+    rows
+}
+
+/// The columns of `claims.csv`, in order.
+pub const CLAIM_COLUMNS: [&str; 17] = [
+    "claim",
+    "task",
+    "method",
+    "role",
+    "metric",
+    "better",
+    "versus",
+    "n",
+    "n_versus",
+    "estimate",
+    "ci_low",
+    "ci_high",
+    "p_value",
+    "p_holm",
+    "p_improvement",
+    "outcome",
+    "verdict",
+];
+
+/// Writes `claims.csv` (header: the fields of [`ClaimRow`]; empty cells for absent values).
+///
+/// # Errors
+/// [`ClaimsError::Csv`] when writing fails.
+pub fn write_csv<W: Write>(rows: &[ClaimRow], writer: W) -> Result<(), ClaimsError> {
+    let mut csv = csv::Writer::from_writer(writer);
+    if rows.is_empty() {
+        csv.write_record(CLAIM_COLUMNS)?;
+    }
+    for row in rows {
+        csv.serialize(row)?;
+    }
+    csv.flush().map_err(csv::Error::from)?;
+    Ok(())
+}

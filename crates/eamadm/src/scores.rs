@@ -1,0 +1,458 @@
+//! Per-seed final scores: one [`FinalScore`] per (task, method, seed), computed from a
+//! [`RunRecord`], and `final-scores.csv` (tidy: one row per run, one column per metric) that
+//! pandas, R or rliable read directly and from which every number of
+//! [`claims`](crate::claims) can be recomputed.
+//!
+//! The metrics, per run:
+//!
+//! - **Final window** (C1, C2): the last [`FINAL_WINDOW`] training episodes (all of them when a
+//!   run is shorter), as the report has always used. `final_steps` and `final_return` are the
+//!   means of steps and task return over it, `success_rate` the share of its episodes that
+//!   reached the target.
+//! - **Fluctuation** (C3): the sample standard deviation (divisor n − 1) of steps and of task
+//!   return over the second half of training (episodes `⌊E/2⌋ .. E`). These are the training
+//!   curves the paper plots, so exploration is part of them: a fixed-ε method (ε-greedy, ε = 0.1)
+//!   keeps taking random actions to the end and its curves keep that noise, while the
+//!   decreasing schedules (ε-decreasing, EA-MADM: ε < 0.006 after episode 100) hardly explore in
+//!   the second half. That is the paper's own comparison ("the ε-greedy method has the largest
+//!   fluctuation"), not a flaw of the metric; the report says so.
+//! - **Reaching episodes** (C4, robot): the paper takes "100 episodes that are to reach the
+//!   target". We take a run's first [`REACHING_EPISODES`] training episodes that reached the
+//!   target (all of them when fewer did) and report how many (`reaching_episodes`). Over them:
+//!   the mean average reward (return per second), the mean time to reach the target, the mean
+//!   retention time, and `retention_decay`, the least-squares slope of retention time (seconds)
+//!   against the reaching episode's index 0, 1, … (seconds per reaching episode; the paper's
+//!   Fig. 15 plots retention time against that index). A linear slope rather than a slope of
+//!   log retention time, because retention time is often exactly 0 and its logarithm is then
+//!   undefined. More negative is a faster fall. A run with no reaching episode has empty C4
+//!   cells (never NaN); a slope needs two reaching episodes.
+//!
+//! ```
+//! use eamadm::{Experiment, scores};
+//!
+//! let experiment = Experiment::from_toml_str(r#"
+//! name = "tiny"
+//! episodes = 30
+//! seeds = 2
+//! [task]
+//! kind = "maze_text"
+//! rewards = "task1"
+//! map = "S...\n.#..\n...T\n"
+//! [learner]
+//! alpha = 0.1
+//! gamma = 0.95
+//! [[methods]]
+//! label = "softmax"
+//! kind = "softmax"
+//! temperature = { constant = 0.1 }
+//! "#)?;
+//! let records = experiment.run_all()?;
+//! let rows = scores::final_scores(&records, experiment.config())?;
+//! assert_eq!(rows.len(), 2);
+//! assert_eq!(rows[0].final_window, 20);
+//! let mut csv = Vec::new();
+//! scores::write_csv(&rows, &mut csv)?;
+//! assert_eq!(scores::read_csv(csv.as_slice())?, rows);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::io::{Read, Write};
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::config::{ExperimentConfig, Role};
+use crate::record::{EpisodeRecord, RunRecord};
+use crate::stats::{self, StatsError};
+
+/// Training episodes at the end of a run over which `final_*` scores are averaged.
+pub const FINAL_WINDOW: usize = crate::summary::DEFAULT_FINAL_WINDOW;
+
+/// Most reaching episodes a run contributes to its C4 scores: the paper's "100 episodes that
+/// are to reach the target".
+pub const REACHING_EPISODES: usize = 100;
+
+/// The columns of `final-scores.csv`, in order (the fields of [`FinalScore`]).
+pub const COLUMNS: [&str; 22] = [
+    "task",
+    "method",
+    "role",
+    "kind",
+    "seed",
+    "episodes",
+    "final_window",
+    "final_steps",
+    "final_return",
+    "success_rate",
+    "greedy_reached",
+    "greedy_steps",
+    "fluctuation_steps",
+    "fluctuation_return",
+    "env_steps_total",
+    "pretrain_env_steps",
+    "step_cap",
+    "reaching_episodes",
+    "reach_average_reward",
+    "reach_time",
+    "reach_retention_time",
+    "retention_decay",
+];
+
+/// Scores that cannot be computed.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ScoresError {
+    /// A run with no training episode.
+    #[error("run {method} seed {seed} of {task}: no training episode; give `episodes` ≥ 1")]
+    NoEpisodes {
+        /// The experiment.
+        task: String,
+        /// The method's label.
+        method: String,
+        /// The seed.
+        seed: u64,
+    },
+    /// A record whose method the config does not have.
+    #[error(
+        "run {method} seed {seed}: the config of {task} has no method with that label; pass the \
+         config the records were made with"
+    )]
+    UnknownMethod {
+        /// The experiment.
+        task: String,
+        /// The label.
+        method: String,
+        /// The seed.
+        seed: u64,
+    },
+    /// A statistic failed (a non-finite return).
+    #[error("run {method} seed {seed} of {task}: {source}")]
+    Stats {
+        /// The experiment.
+        task: String,
+        /// The label.
+        method: String,
+        /// The seed.
+        seed: u64,
+        /// Why.
+        #[source]
+        source: Box<StatsError>,
+    },
+    /// Reading or writing the CSV failed.
+    #[error("final-scores CSV: {0}")]
+    Csv(#[from] csv::Error),
+}
+
+/// The final scores of one run (one task, method and seed): one row of `final-scores.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FinalScore {
+    /// The experiment's name (`task1`, `task2`, `robot`, or a custom config's).
+    pub task: String,
+    /// The method's label.
+    pub method: String,
+    /// Why the method is in the experiment: `paper`, `ablation` or `control`.
+    pub role: Role,
+    /// The method's kind ([`Method::kind_name`](crate::Method::kind_name)): `ea_madm`,
+    /// `epsilon_greedy`, `softmax`, ….
+    pub kind: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// Training episodes of the run.
+    pub episodes: u64,
+    /// Episodes in the final window (`min(FINAL_WINDOW, episodes)`).
+    pub final_window: usize,
+    /// Mean steps per episode over the final window (C1).
+    pub final_steps: f64,
+    /// Mean task return per episode over the final window (C2).
+    pub final_return: f64,
+    /// Share of final-window episodes that reached the target.
+    pub success_rate: f64,
+    /// Whether the greedy evaluation episode after training reached the target.
+    pub greedy_reached: bool,
+    /// Steps of the greedy evaluation episode.
+    pub greedy_steps: u64,
+    /// Sample SD of steps per episode over the second half of training (C3).
+    pub fluctuation_steps: f64,
+    /// Sample SD of task return per episode over the second half of training (C3).
+    pub fluctuation_return: f64,
+    /// Environment steps of the whole run, sub-task pre-training included.
+    pub env_steps_total: u64,
+    /// Environment steps of sub-task pre-training (0 for the competitors).
+    pub pretrain_env_steps: u64,
+    /// The step cap, read off the run's truncated episodes (empty when none was truncated):
+    /// a seed whose `final_steps` equals it never finished an episode in its final window.
+    pub step_cap: Option<u64>,
+    /// Reaching episodes the C4 scores are taken over (at most [`REACHING_EPISODES`]).
+    pub reaching_episodes: u64,
+    /// Mean average reward (return per second) over the reaching episodes (C4; robot only).
+    pub reach_average_reward: Option<f64>,
+    /// Mean time to reach the target in seconds over the reaching episodes (C4; robot only).
+    pub reach_time: Option<f64>,
+    /// Mean retention time in seconds over the reaching episodes (robot only).
+    pub reach_retention_time: Option<f64>,
+    /// Least-squares slope of retention time against reaching-episode index, in seconds per
+    /// reaching episode (C4; robot only, at least two reaching episodes). Negative: it falls.
+    pub retention_decay: Option<f64>,
+}
+
+impl FinalScore {
+    /// The value of a numeric column of [`COLUMNS`] (`None` for an empty cell or a text
+    /// column). Booleans are 0 or 1.
+    #[must_use]
+    #[expect(
+        clippy::cast_precision_loss,
+        reason = "step counts and seeds are far below 2^52"
+    )]
+    pub fn value(&self, column: &str) -> Option<f64> {
+        match column {
+            "seed" => Some(self.seed as f64),
+            "episodes" => Some(self.episodes as f64),
+            "final_window" => Some(self.final_window as f64),
+            "final_steps" => Some(self.final_steps),
+            "final_return" => Some(self.final_return),
+            "success_rate" => Some(self.success_rate),
+            "greedy_reached" => Some(if self.greedy_reached { 1.0 } else { 0.0 }),
+            "greedy_steps" => Some(self.greedy_steps as f64),
+            "fluctuation_steps" => Some(self.fluctuation_steps),
+            "fluctuation_return" => Some(self.fluctuation_return),
+            "env_steps_total" => Some(self.env_steps_total as f64),
+            "pretrain_env_steps" => Some(self.pretrain_env_steps as f64),
+            "step_cap" => self.step_cap.map(|cap| cap as f64),
+            "reaching_episodes" => Some(self.reaching_episodes as f64),
+            "reach_average_reward" => self.reach_average_reward,
+            "reach_time" => self.reach_time,
+            "reach_retention_time" => self.reach_retention_time,
+            "retention_decay" => self.retention_decay,
+            _ => None,
+        }
+    }
+}
+
+/// The final scores of `records`, in record order. `config` is the experiment's config (for
+/// each method's role and kind).
+///
+/// # Errors
+/// [`ScoresError::NoEpisodes`], [`ScoresError::UnknownMethod`], [`ScoresError::Stats`] for a
+/// non-finite return.
+pub fn final_scores(
+    records: &[RunRecord],
+    config: &ExperimentConfig,
+) -> Result<Vec<FinalScore>, ScoresError> {
+    records
+        .iter()
+        .map(|record| {
+            let spec = config
+                .method(&record.method)
+                .ok_or_else(|| ScoresError::UnknownMethod {
+                    task: record.experiment.clone(),
+                    method: record.method.clone(),
+                    seed: record.seed,
+                })?;
+            final_score(record, spec.role, spec.method.kind_name())
+        })
+        .collect()
+}
+
+/// The final score of one run whose method has this `role` and `kind`.
+///
+/// # Errors
+/// [`ScoresError::NoEpisodes`]; [`ScoresError::Stats`] for a non-finite return.
+#[expect(
+    clippy::cast_precision_loss,
+    reason = "episode and step counts are far below 2^52"
+)]
+pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalScore, ScoresError> {
+    let stats_error = |source| ScoresError::Stats {
+        task: record.experiment.clone(),
+        method: record.method.clone(),
+        seed: record.seed,
+        source: Box::new(source),
+    };
+    let episodes = &record.episodes;
+    if episodes.is_empty() {
+        return Err(ScoresError::NoEpisodes {
+            task: record.experiment.clone(),
+            method: record.method.clone(),
+            seed: record.seed,
+        });
+    }
+    let steps = |e: &EpisodeRecord| e.steps as f64;
+    let window = &episodes[episodes.len().saturating_sub(FINAL_WINDOW)..];
+    let second_half = &episodes[episodes.len() / 2..];
+    let of = |part: &[EpisodeRecord], f: &dyn Fn(&EpisodeRecord) -> f64| -> Vec<f64> {
+        part.iter().map(f).collect()
+    };
+    let final_steps = stats::mean(&of(window, &steps)).map_err(stats_error)?;
+    let final_return = stats::mean(&of(window, &|e| e.task_return)).map_err(stats_error)?;
+    let success_rate = window.iter().filter(|e| e.reached).count() as f64 / window.len() as f64;
+    let fluctuation_steps = stats::sample_sd(&of(second_half, &steps)).map_err(stats_error)?;
+    let fluctuation_return =
+        stats::sample_sd(&of(second_half, &|e| e.task_return)).map_err(stats_error)?;
+    let step_cap = episodes
+        .iter()
+        .filter(|e| e.truncated)
+        .map(|e| e.steps)
+        .max();
+
+    let reaching: Vec<&EpisodeRecord> = episodes
+        .iter()
+        .filter(|e| e.reached)
+        .take(REACHING_EPISODES)
+        .collect();
+    let robot: Vec<_> = reaching.iter().filter_map(|e| e.robot).collect();
+    let is_robot = episodes.iter().any(|e| e.robot.is_some());
+    let (reach_average_reward, reach_time, reach_retention_time, retention_decay) =
+        if is_robot && !robot.is_empty() {
+            let average: Vec<f64> = robot.iter().map(|m| m.average_reward).collect();
+            let time: Vec<f64> = robot
+                .iter()
+                .map(|m| m.time_to_reach.unwrap_or(m.time))
+                .collect();
+            let retention: Vec<f64> = robot.iter().map(|m| m.retention_time).collect();
+            (
+                Some(stats::mean(&average).map_err(stats_error)?),
+                Some(stats::mean(&time).map_err(stats_error)?),
+                Some(stats::mean(&retention).map_err(stats_error)?),
+                slope(&retention),
+            )
+        } else {
+            (None, None, None, None)
+        };
+
+    Ok(FinalScore {
+        task: record.experiment.clone(),
+        method: record.method.clone(),
+        role,
+        kind: kind.to_owned(),
+        seed: record.seed,
+        episodes: episodes.len() as u64,
+        final_window: window.len(),
+        final_steps,
+        final_return,
+        success_rate,
+        greedy_reached: record.evaluation.reached,
+        greedy_steps: record.evaluation.steps,
+        fluctuation_steps,
+        fluctuation_return,
+        env_steps_total: record.total_env_steps,
+        pretrain_env_steps: record.pretrain_env_steps,
+        step_cap,
+        reaching_episodes: reaching.len() as u64,
+        reach_average_reward,
+        reach_time,
+        reach_retention_time,
+        retention_decay,
+    })
+}
+
+/// Least-squares slope of `y` against its index `0, 1, …, n − 1`:
+/// `Σ (i − ī)(yᵢ − ȳ) / Σ (i − ī)²`; `None` for fewer than two points or a non-finite result.
+#[must_use]
+#[expect(
+    clippy::cast_precision_loss,
+    reason = "at most REACHING_EPISODES points"
+)]
+pub fn slope(y: &[f64]) -> Option<f64> {
+    let n = y.len();
+    if n < 2 {
+        return None;
+    }
+    let x_mean = (n - 1) as f64 / 2.0;
+    let y_mean = y.iter().sum::<f64>() / n as f64;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, &value) in y.iter().enumerate() {
+        let dx = i as f64 - x_mean;
+        sxy += dx * (value - y_mean);
+        sxx += dx * dx;
+    }
+    Some(sxy / sxx).filter(|s| s.is_finite())
+}
+
+/// Writes `rows` as `final-scores.csv`: a header of [`COLUMNS`], one row per run; empty cells
+/// for absent values; floats printed so that they read back bit for bit.
+///
+/// # Errors
+/// [`ScoresError::Csv`] when writing fails.
+pub fn write_csv<W: Write>(rows: &[FinalScore], writer: W) -> Result<(), ScoresError> {
+    let mut csv = csv::Writer::from_writer(writer);
+    if rows.is_empty() {
+        csv.write_record(COLUMNS)?;
+    }
+    for row in rows {
+        csv.serialize(row)?;
+    }
+    csv.flush().map_err(csv::Error::from)?;
+    Ok(())
+}
+
+/// Reads a `final-scores.csv` written by [`write_csv`].
+///
+/// # Errors
+/// [`ScoresError::Csv`] for unreadable or malformed input (naming the line).
+pub fn read_csv<R: Read>(reader: R) -> Result<Vec<FinalScore>, ScoresError> {
+    let mut csv = csv::Reader::from_reader(reader);
+    Ok(csv.deserialize().collect::<Result<_, _>>()?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slope_of_a_line_and_of_too_few_points() {
+        assert_eq!(slope(&[5.0, 3.0, 1.0]), Some(-2.0));
+        assert_eq!(slope(&[2.0, 2.0, 2.0, 2.0]), Some(0.0));
+        assert_eq!(slope(&[1.0]), None);
+        assert_eq!(slope(&[]), None);
+        // y = 1 + 0.5 i with noise that cancels: 1.0, 1.6, 1.9, 2.5 → slope 0.48.
+        let s = slope(&[1.0, 1.6, 1.9, 2.5]).unwrap();
+        assert!((s - 0.48).abs() < 1e-12, "{s}");
+    }
+
+    #[test]
+    fn columns_are_the_fields_in_order() {
+        let row = FinalScore {
+            task: "t".into(),
+            method: "m".into(),
+            role: Role::Control,
+            kind: "softmax".into(),
+            seed: 3,
+            episodes: 10,
+            final_window: 10,
+            final_steps: 1.5,
+            final_return: -2.0,
+            success_rate: 0.5,
+            greedy_reached: true,
+            greedy_steps: 7,
+            fluctuation_steps: 0.25,
+            fluctuation_return: 0.125,
+            env_steps_total: 99,
+            pretrain_env_steps: 0,
+            step_cap: None,
+            reaching_episodes: 0,
+            reach_average_reward: None,
+            reach_time: None,
+            reach_retention_time: None,
+            retention_decay: Some(-0.1),
+        };
+        let mut bytes = Vec::new();
+        write_csv(std::slice::from_ref(&row), &mut bytes).unwrap();
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next().unwrap(), COLUMNS.join(","));
+        assert_eq!(
+            lines.next().unwrap(),
+            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,0.25,0.125,99,0,,0,,,,-0.1"
+        );
+        assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
+        for column in COLUMNS {
+            if !matches!(column, "task" | "method" | "role" | "kind") {
+                let absent = matches!(
+                    column,
+                    "step_cap" | "reach_average_reward" | "reach_time" | "reach_retention_time"
+                );
+                assert_eq!(row.value(column).is_none(), absent, "{column}");
+            }
+        }
+    }
+}
