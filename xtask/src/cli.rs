@@ -79,10 +79,15 @@ impl Task {
 
     /// The command-line name, also used for output folders (`task1`, `task2`, `robot`).
     pub(crate) fn name(self) -> &'static str {
+        self.paper().name()
+    }
+
+    /// The paper's experiment this is.
+    pub(crate) fn paper(self) -> eamadm::paper::PaperTask {
         match self {
-            Task::Task1 => "task1",
-            Task::Task2 => "task2",
-            Task::Robot => "robot",
+            Task::Task1 => eamadm::paper::PaperTask::Task1,
+            Task::Task2 => eamadm::paper::PaperTask::Task2,
+            Task::Robot => eamadm::paper::PaperTask::Robot,
         }
     }
 

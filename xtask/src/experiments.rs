@@ -5,8 +5,7 @@
 use std::path::Path;
 
 use eamadm::config::TaskConfig;
-use eamadm::mazes::Preset;
-use eamadm::{ConfigError, Experiment, ExperimentConfig, Method};
+use eamadm::{ConfigError, Experiment, ExperimentConfig, Method, Role};
 use thiserror::Error;
 
 use crate::cli::Task;
@@ -15,11 +14,6 @@ use crate::cli::Task;
 pub(crate) const QUICK_EPISODES: u64 = 30;
 /// Step cap of a `--quick` run's episodes on the mazes (the presets' is 2000).
 pub(crate) const QUICK_MAZE_STEP_CAP: u32 = 500;
-
-/// The four methods the paper compares, in report order; every other label of a config is an
-/// ablation (or an extra method of a custom config).
-pub(crate) const MAIN_METHODS: [&str; 4] =
-    ["ea-madm", "epsilon-greedy", "epsilon-decreasing", "softmax"];
 
 /// A config that cannot be used.
 #[derive(Debug, Error)]
@@ -48,8 +42,6 @@ pub(crate) struct PlannedExperiment {
     pub(crate) name: String,
     /// Title for people: "Task I", "Task II", "Robot", or the config's name.
     pub(crate) title: String,
-    /// The paper's maze, when the task is one (for the paper's reported numbers).
-    pub(crate) paper_maze: Option<Preset>,
     /// The loaded experiment (config with `--seeds` and `--quick` applied).
     pub(crate) experiment: Experiment,
 }
@@ -59,19 +51,18 @@ impl PlannedExperiment {
     pub(crate) fn config(&self) -> &ExperimentConfig {
         self.experiment.config()
     }
-}
 
-/// The paper preset of `task`.
-pub(crate) fn preset_config(task: Task) -> ExperimentConfig {
-    match task {
-        Task::Task1 => eamadm::paper::task1(),
-        Task::Task2 => eamadm::paper::task2(),
-        Task::Robot => eamadm::paper::robot(),
+    /// Whether `label` is one of the paper's methods in this experiment (`role = paper`), as
+    /// opposed to an ablation or a control.
+    pub(crate) fn is_paper_method(&self, label: &str) -> bool {
+        self.config()
+            .method(label)
+            .is_some_and(|spec| spec.role == Role::Paper)
     }
 }
 
-/// Reads and validates a `--config` file (its task is loaded too, so a bad map or scenario file
-/// fails here).
+/// Reads and parses a `--config` file, once (its task is loaded, and so checked, when the
+/// experiment is planned).
 pub(crate) fn load_config_file(path: &Path) -> Result<ExperimentConfig, ExperimentError> {
     let error = |source| ExperimentError::Config {
         path: path.to_path_buf(),
@@ -84,9 +75,7 @@ pub(crate) fn load_config_file(path: &Path) -> Result<ExperimentConfig, Experime
             source,
         })
     })?;
-    let config = ExperimentConfig::from_toml_str(&text).map_err(error)?;
-    Experiment::new(config.clone()).map_err(error)?;
-    Ok(config)
+    ExperimentConfig::from_toml_str(&text).map_err(error)
 }
 
 /// `config` shortened to a smoke run: [`QUICK_EPISODES`] episodes (and pre-training episodes),
@@ -131,44 +120,28 @@ pub(crate) fn shorten(
     }
 }
 
-/// The paper's maze behind a config's task, if any.
-pub(crate) fn paper_maze(config: &ExperimentConfig) -> Option<Preset> {
-    match &config.task {
-        TaskConfig::Maze { preset, .. } => Some(*preset),
-        _ => None,
-    }
-}
-
-/// Title for people of a task.
-pub(crate) fn task_title(task: Task) -> &'static str {
-    match task {
-        Task::Task1 => "Task I",
-        Task::Task2 => "Task II",
-        Task::Robot => "Robot",
-    }
-}
-
-/// The experiments to run: one per selected task (its preset), or the `--config` file's one;
-/// `seeds` per method, shortened when `quick`.
+/// The experiments to run: one per selected task (its preset), or the `--config` file's one
+/// (read once by [`load_config_file`]: its path and config); `seeds` per method, shortened when
+/// `quick`. Each experiment (and so its task: a maze's BFS, the robot's planner) is built once.
 pub(crate) fn plan_experiments(
     tasks: &[Task],
     tasks_given: bool,
-    config_file: Option<&Path>,
+    config_file: Option<(&Path, &ExperimentConfig)>,
     seeds: u32,
     quick_run: bool,
 ) -> Result<Vec<PlannedExperiment>, ExperimentError> {
     let mut configs: Vec<(String, ExperimentConfig)> = Vec::new();
     match config_file {
-        Some(path) => {
+        Some((_, config)) => {
             if tasks_given {
                 return Err(ExperimentError::TaskWithConfig);
             }
-            let config = load_config_file(path)?;
-            configs.push((config.name.clone(), config));
+            configs.push((config.name.clone(), config.clone()));
         }
         None => {
             for &task in tasks {
-                configs.push((task_title(task).to_owned(), preset_config(task)));
+                let paper_task = task.paper();
+                configs.push((paper_task.title().to_owned(), paper_task.config()));
             }
         }
     }
@@ -180,30 +153,18 @@ pub(crate) fn plan_experiments(
                 config = quick(config);
             }
             let name = config.name.clone();
-            let paper_maze = paper_maze(&config);
             let experiment = Experiment::new(config).map_err(|source| ExperimentError::Config {
-                path: config_file.map_or_else(|| name.clone().into(), Path::to_path_buf),
+                path: config_file
+                    .map_or_else(|| name.clone().into(), |(path, _)| path.to_path_buf()),
                 source: Box::new(source),
             })?;
             Ok(PlannedExperiment {
                 name,
                 title,
-                paper_maze,
                 experiment,
             })
         })
         .collect()
-}
-
-/// Method labels for people.
-pub(crate) fn method_title(label: &str) -> String {
-    match label {
-        "ea-madm" => "EA-MADM".to_owned(),
-        "epsilon-greedy" => "ε-greedy".to_owned(),
-        "epsilon-decreasing" => "ε-decreasing".to_owned(),
-        "softmax" => "softmax".to_owned(),
-        other => other.to_owned(),
-    }
 }
 
 #[cfg(test)]
@@ -231,8 +192,9 @@ mod tests {
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names, ["task1", "task2", "robot"]);
         assert!(planned.iter().all(|p| p.config().seeds == 2));
-        assert_eq!(planned[0].paper_maze, Some(Preset::TaskI));
-        assert_eq!(planned[2].paper_maze, None);
+        assert_eq!(planned[1].title, "Task II");
+        assert!(planned[0].is_paper_method("softmax"));
+        assert!(!planned[0].is_paper_method("ea-madm-table"));
     }
 
     #[test]
@@ -241,10 +203,12 @@ mod tests {
         let path = dir.path().join("bad.toml");
         let text = eamadm::PAPER_TASK1_TOML.replace("episodes = 200", "episodes = 0");
         std::fs::write(&path, text).unwrap();
-        let error = plan_experiments(&[], false, Some(&path), 3, false).unwrap_err();
+        let error = load_config_file(&path).unwrap_err();
         assert!(error.to_string().contains("`episodes` = 0"), "{error}");
         std::fs::write(&path, eamadm::PAPER_TASK1_TOML).unwrap();
-        let error = plan_experiments(&[Task::Task1], true, Some(&path), 3, false).unwrap_err();
+        let config = load_config_file(&path).unwrap();
+        let error =
+            plan_experiments(&[Task::Task1], true, Some((&path, &config)), 3, false).unwrap_err();
         assert!(matches!(error, ExperimentError::TaskWithConfig));
     }
 }

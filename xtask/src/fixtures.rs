@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use crate::Failure;
 use crate::atomic::write_atomic;
 use crate::cli::Task;
-use crate::experiments::{preset_config, shorten};
+use crate::experiments::shorten;
 use crate::plan::{Workspace, describe_regen_fixtures};
 use crate::text_diff::first_difference;
 
@@ -97,7 +97,7 @@ pub(crate) fn regen_fixtures(check: bool, workspace: &Workspace) -> Result<(), F
 
 /// The reference config of `task`: its preset with one seed ([`FIXTURE_SEED`]), shortened.
 pub(crate) fn fixture_config(task: Task) -> ExperimentConfig {
-    let mut config = preset_config(task);
+    let mut config = task.paper().config();
     config.seeds = 1;
     config.base_seed = FIXTURE_SEED;
     shorten(

@@ -8,7 +8,7 @@
 //!
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
 //! configs; [`reproduce`] drives a run: [`execute`] runs (resuming via [`resume`], showing
-//! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`paper_report`] writes
+//! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and
 //! `REPORT.md` (with [`report`]'s tables). [`fixtures`] regenerates and checks `fixtures/`,
 //! showing differences with [`text_diff`]. Every file goes through [`atomic`].
 
@@ -17,13 +17,13 @@ use std::process::ExitCode;
 use clap::Parser as _;
 
 mod atomic;
+mod claims_report;
 mod cli;
 mod execute;
 mod experiments;
 mod figures;
 mod fixtures;
 mod outputs;
-mod paper_report;
 mod plan;
 mod progress;
 mod report;

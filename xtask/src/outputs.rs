@@ -12,7 +12,9 @@ use nalgebra::Point2;
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
-use crate::experiments::{MAIN_METHODS, PlannedExperiment, method_title};
+use eamadm::paper::method_title;
+
+use crate::experiments::PlannedExperiment;
 use crate::figures::{FigureError, LineChart};
 
 /// Episodes of the trailing moving average drawn in the per-episode figures.
@@ -51,12 +53,13 @@ pub(crate) fn write_results_json(out: &Path, records: &[&RunRecord]) -> Result<(
     Ok(())
 }
 
-/// Writes the CSV tables and figures of one experiment under `<out>/<name>/`.
+/// Writes the CSV tables and figures of one experiment under `<out>/<name>/`; returns the
+/// figures' file names, in the order written.
 pub(crate) fn write_experiment(
     out: &Path,
     planned: &PlannedExperiment,
     records: &[RunRecord],
-) -> Result<(), OutputError> {
+) -> Result<Vec<String>, OutputError> {
     let folder = out.join(&planned.name);
     let mut curves = Vec::new();
     results::write_curves_csv(records, &mut curves).map_err(|source| OutputError::Results {
@@ -72,10 +75,12 @@ pub(crate) fn write_experiment(
         }
     })?;
     write_atomic(&folder.join("trajectories.csv"), &trajectories)?;
+    let mut written = Vec::new();
     for (file, svg) in experiment_figures(planned, records)? {
-        write_atomic(&folder.join(file), svg.as_bytes())?;
+        write_atomic(&folder.join(&file), svg.as_bytes())?;
+        written.push(file);
     }
-    Ok(())
+    Ok(written)
 }
 
 /// The methods of `records`, in record order, without repeats.
@@ -142,13 +147,13 @@ pub(crate) fn experiment_figures(
     let main: Vec<&str> = all
         .iter()
         .copied()
-        .filter(|m| MAIN_METHODS.contains(m))
+        .filter(|m| planned.is_paper_method(m))
         .collect();
     let shown = if main.is_empty() { all.clone() } else { main };
     let ablations: Vec<&str> = all
         .iter()
         .copied()
-        .filter(|m| *m == "ea-madm" || !MAIN_METHODS.contains(m))
+        .filter(|m| *m == "ea-madm" || !planned.is_paper_method(m))
         .collect();
     let is_robot = planned.experiment.task().scenario().is_some();
     #[allow(clippy::cast_precision_loss)] // optimum far below 2^52

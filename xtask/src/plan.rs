@@ -10,8 +10,8 @@ use thiserror::Error;
 
 use crate::cli::{ReproduceArgs, Task};
 
-/// Seeds per task and method of the default run.
-pub(crate) const DEFAULT_SEEDS: u32 = 10;
+/// Seeds per task and method of the default run: the presets' ([`eamadm::paper::SEEDS`]).
+pub(crate) const DEFAULT_SEEDS: u32 = eamadm::paper::SEEDS;
 /// Seeds per task and method of a `--quick` run.
 pub(crate) const QUICK_SEEDS: u32 = 3;
 
@@ -54,15 +54,6 @@ pub(crate) enum PlanError {
     OutNotAFolder {
         /// The resolved output folder.
         out: PathBuf,
-    },
-    /// A `--config` file that cannot be read.
-    #[error("--config {}: cannot read it: {source}", path.display())]
-    ConfigUnreadable {
-        /// The file given.
-        path: PathBuf,
-        /// Why.
-        #[source]
-        source: io::Error,
     },
 }
 
@@ -152,15 +143,8 @@ impl ReproducePlan {
 
         let config = match &args.config {
             None => None,
-            Some(path) => {
-                let absolute = workspace.current_dir.join(path);
-                // Read it now so a missing or unreadable file fails before anything runs.
-                std::fs::read(&absolute).map_err(|source| PlanError::ConfigUnreadable {
-                    path: path.clone(),
-                    source,
-                })?;
-                Some(absolute)
-            }
+            // The file is read once, by `experiments::load_config_file`, before anything runs.
+            Some(path) => Some(workspace.current_dir.join(path)),
         };
 
         let out = match &args.out {
@@ -333,7 +317,7 @@ mod tests {
         assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
-        assert_eq!(plan.runs(), 3 * 8 * 10);
+        assert_eq!(plan.runs(), 3 * 8 * u64::from(DEFAULT_SEEDS));
         let quick = ReproduceArgs {
             quick: true,
             ..args()
@@ -446,29 +430,6 @@ mod tests {
         };
         let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
         assert!(matches!(error, PlanError::OutNotAFolder { .. }), "{error}");
-    }
-
-    #[test]
-    fn config_must_be_readable() {
-        let (_dir, ws) = workspace();
-        let missing = ReproduceArgs {
-            config: Some("nope.toml".into()),
-            ..args()
-        };
-        let error = ReproducePlan::from_args(&missing, &default_methods(), &ws).unwrap_err();
-        assert!(
-            error
-                .to_string()
-                .starts_with("--config nope.toml: cannot read it"),
-            "{error}"
-        );
-        std::fs::write(ws.root.join("mine.toml"), "episodes = 5\n").unwrap();
-        let present = ReproduceArgs {
-            config: Some("mine.toml".into()),
-            ..args()
-        };
-        let plan = ReproducePlan::from_args(&present, &default_methods(), &ws).unwrap();
-        assert_eq!(plan.config, Some(ws.root.join("mine.toml")));
     }
 
     #[test]

@@ -1,9 +1,7 @@
-//! Text for `REPORT.md`: Markdown tables whose columns line up in the raw file, and
-//! "mean ± 95% CI" numbers rounded to what the interval can support.
+//! Text for `REPORT.md`: Markdown tables whose columns line up in the raw file, and numbers
+//! rounded to the digits they can support.
 
 use thiserror::Error;
-
-use eamadm::summary::SeedSummary;
 
 /// A table row of the wrong length.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -125,7 +123,7 @@ pub(crate) fn format_fixed(value: f64, decimals: usize) -> String {
 }
 
 /// Decimals that show `value` to `significant` significant digits (none for large values).
-fn decimals_for(value: f64, significant: i32) -> usize {
+pub(crate) fn decimals_for(value: f64, significant: i32) -> usize {
     if value == 0.0 || !value.is_finite() {
         return 0;
     }
@@ -133,77 +131,9 @@ fn decimals_for(value: f64, significant: i32) -> usize {
     (significant - 1 - magnitude).clamp(0, MAX_DECIMALS) as usize
 }
 
-/// "mean ± half-width" of a 95% confidence interval, rounded to the interval's precision: the
-/// half-width keeps two significant digits and the mean the same number of decimals
-/// (`80.1234 ± 3.456` → `"80.1 ± 3.5"`, `155.3 ± 12.7` → `"155 ± 13"`).
-///
-/// Without an interval (a single seed) the mean keeps three significant digits and the text
-/// says why: `"80.1 (1 seed)"`. A zero-width interval (all seeds equal) prints `"80.1 ± 0"`.
-pub(crate) fn format_mean_ci(summary: &SeedSummary) -> String {
-    // A half-width that is rounding noise of equal values (e.g. every seed hit the step cap)
-    // prints as an exact zero.
-    let noise = 1e-9 * summary.mean.abs().max(1.0);
-    match summary.ci95_half_width {
-        Some(half_width) if half_width > noise => {
-            let decimals = decimals_for(half_width, 2);
-            format!(
-                "{} ± {}",
-                format_fixed(summary.mean, decimals),
-                format_fixed(half_width, decimals)
-            )
-        }
-        Some(_) => format!(
-            "{} ± 0",
-            format_fixed(summary.mean, decimals_for(summary.mean, 3))
-        ),
-        None => format!(
-            "{} ({} seed{})",
-            format_fixed(summary.mean, decimals_for(summary.mean, 3)),
-            summary.n,
-            if summary.n == 1 { "" } else { "s" }
-        ),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use eamadm::summary::summarize;
-
-    fn summary(mean: f64, half_width: Option<f64>) -> SeedSummary {
-        SeedSummary {
-            n: if half_width.is_some() { 10 } else { 1 },
-            mean,
-            sd: half_width,
-            ci95_half_width: half_width,
-        }
-    }
-
-    #[test]
-    fn mean_ci_precision_follows_the_interval() {
-        let cases = [
-            (80.1234, Some(3.456), "80.1 ± 3.5"),
-            (155.3, Some(12.7), "155 ± 13"),
-            (-71.26, Some(0.834), "-71.26 ± 0.83"),
-            (0.012_345, Some(0.001_23), "0.0123 ± 0.0012"),
-            (15_321.0, Some(250.0), "15321 ± 250"),
-            (-0.004, Some(0.3), "0.00 ± 0.30"),
-            (80.1234, Some(0.0), "80.1 ± 0"),
-            (6.849_315_068_493_151, Some(1e-15), "6.85 ± 0"),
-            (80.1234, None, "80.1 (1 seed)"),
-            (0.0, None, "0 (1 seed)"),
-        ];
-        for (mean, half_width, expected) in cases {
-            assert_eq!(format_mean_ci(&summary(mean, half_width)), expected);
-        }
-    }
-
-    #[test]
-    fn mean_ci_of_a_real_summary() {
-        let s = summarize(&[78.0, 82.0, 85.0, 79.0, 81.0]).unwrap();
-        // mean 81, sd √7.5 ≈ 2.7386, half-width 2.776445 · 2.7386 / √5 ≈ 3.4004.
-        assert_eq!(format_mean_ci(&s), "81.0 ± 3.4");
-    }
 
     #[test]
     fn fixed_never_prints_negative_zero() {

@@ -4,14 +4,15 @@
 use std::time::Instant;
 
 use crate::Failure;
+use crate::claims_report::{Verdicts, write_claim_outputs};
 use crate::cli::ReproduceArgs;
 use crate::execute::run_experiments;
 use crate::experiments::{load_config_file, plan_experiments};
 use crate::outputs::{write_experiment, write_results_json};
-use crate::paper_report::{ExperimentResults, render_report};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
 use crate::resume::RunStore;
+use eamadm::claims::ClaimOptions;
 
 /// Runs the command.
 pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Result<(), Failure> {
@@ -34,10 +35,11 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
             config.seeds
         };
     }
+    let config_file = plan.config.as_deref().zip(custom.as_ref());
     let experiments = plan_experiments(
         &plan.tasks,
         !args.tasks.is_empty(),
-        plan.config.as_deref(),
+        config_file,
         plan.seeds,
         plan.quick,
     )
@@ -52,16 +54,18 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
 
     let all: Vec<_> = grouped.iter().flat_map(|g| g.records.iter()).collect();
     write_results_json(&plan.out, &all).map_err(Failure::failed)?;
-    let mut results = Vec::new();
+    let mut scores = Vec::new();
+    let mut figures = Vec::new();
     for (planned, group) in experiments.iter().zip(&grouped) {
-        write_experiment(&plan.out, planned, &group.records).map_err(Failure::failed)?;
-        results.push(ExperimentResults {
-            planned,
-            records: &group.records,
-        });
+        figures
+            .push(write_experiment(&plan.out, planned, &group.records).map_err(Failure::failed)?);
+        scores.extend(
+            eamadm::scores::final_scores(&group.records, planned.config())
+                .map_err(Failure::failed)?,
+        );
     }
-    let report = render_report(&results, plan.quick).map_err(Failure::failed)?;
-    crate::atomic::write_atomic(&plan.out.join("REPORT.md"), report.as_bytes())
+    let verdicts = Verdicts::compute(scores, &ClaimOptions::default()).map_err(Failure::failed)?;
+    write_claim_outputs(&plan.out, &experiments, &figures, &verdicts, plan.quick)
         .map_err(Failure::failed)?;
     let resumed: usize = grouped.iter().map(|g| g.resumed).sum();
     println!(

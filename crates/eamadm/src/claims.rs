@@ -439,30 +439,10 @@ pub fn judge_one(
                 });
                 continue;
             }
-            let difference = options
-                .bootstrap
-                .difference(&x, &y, Statistic::Iqm)
-                .map_err(|e| error(metric.column, e))?;
-            let p_value = options
-                .permutation
-                .p_value(&x, &y, Statistic::Iqm)
-                .map_err(|e| error(metric.column, e))?;
-            let p_improvement = match metric.direction {
-                Direction::HigherIsBetter => stats::probability_of_improvement(&x, &y),
-                Direction::LowerIsBetter => stats::probability_of_improvement(&y, &x),
-            }
-            .map_err(|e| error(metric.column, e))?;
-            raw_p.push(p_value);
-            judgement.comparisons.push(Comparison {
-                metric: *metric,
-                versus: versus.to_owned(),
-                n: (x.len(), y.len()),
-                difference,
-                p_value,
-                p_holm: p_value,
-                p_improvement,
-                outcome: Outcome::Unsettled,
-            });
+            let comparison =
+                compare(&x, &y, *metric, versus, options).map_err(|e| error(metric.column, e))?;
+            raw_p.push(comparison.p_value);
+            judgement.comparisons.push(comparison);
         }
     }
     if judgement.comparisons.is_empty() {
@@ -505,6 +485,39 @@ pub fn judge_one(
         judgement.deciding = by_p(true, &|c| c.outcome != Outcome::FavoursMethod);
     }
     Ok(judgement)
+}
+
+/// One comparison of the per-seed values `x` of a method with the values `y` of `versus` on
+/// `metric`: bootstrap interval of the IQM difference, permutation p, probability of
+/// improvement. `p_holm` is the raw p and the outcome is judged on it (the caller adjusts).
+///
+/// # Errors
+/// A [`StatsError`] for empty or non-finite samples.
+pub fn compare(
+    x: &[f64],
+    y: &[f64],
+    metric: ClaimMetric,
+    versus: &str,
+    options: &ClaimOptions,
+) -> Result<Comparison, StatsError> {
+    let difference = options.bootstrap.difference(x, y, Statistic::Iqm)?;
+    let p_value = options.permutation.p_value(x, y, Statistic::Iqm)?;
+    let p_improvement = match metric.direction {
+        Direction::HigherIsBetter => stats::probability_of_improvement(x, y),
+        Direction::LowerIsBetter => stats::probability_of_improvement(y, x),
+    }?;
+    let mut comparison = Comparison {
+        metric,
+        versus: versus.to_owned(),
+        n: (x.len(), y.len()),
+        difference,
+        p_value,
+        p_holm: p_value,
+        p_improvement,
+        outcome: Outcome::Unsettled,
+    };
+    comparison.outcome = outcome(&comparison, options.alpha);
+    Ok(comparison)
 }
 
 /// What a comparison settles at level `alpha` (see the module docs).
@@ -670,4 +683,120 @@ pub fn write_csv<W: Write>(rows: &[ClaimRow], writer: W) -> Result<(), ClaimsErr
     }
     csv.flush().map_err(csv::Error::from)?;
     Ok(())
+}
+
+/// A proportion with its counts and Wilson 95 % interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Share {
+    /// Successes.
+    pub successes: u64,
+    /// Trials.
+    pub trials: u64,
+    /// `successes / trials` with its Wilson 95 % interval.
+    pub wilson: Interval,
+}
+
+/// What the report shows of one method beyond the claims: success shares, the per-seed
+/// distribution of final steps, the step budget.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MethodOverview {
+    /// The task.
+    pub task: String,
+    /// The method.
+    pub method: String,
+    /// Its role.
+    pub role: Role,
+    /// Its kind.
+    pub kind: String,
+    /// Seeds.
+    pub seeds: usize,
+    /// Final-window training episodes that reached the target, pooled over seeds (episodes of
+    /// one seed are not independent, so this interval is narrower than the truth; the
+    /// per-seed `success_rate` is in `final-scores.csv`).
+    pub training_success: Share,
+    /// Seeds whose greedy evaluation episode reached the target (seeds are independent).
+    pub greedy_success: Share,
+    /// Seeds whose greedy evaluation episode ran to the step cap.
+    pub greedy_at_cap: usize,
+    /// The task's step cap as seen in its runs (any truncated episode), if any was hit.
+    pub step_cap: Option<u64>,
+    /// Per-seed distribution of `final_steps`, with the seeds at the step cap.
+    pub final_steps: stats::Distribution,
+    /// Seeds with at least one reaching episode.
+    pub reaching_seeds: usize,
+    /// Mean environment steps per run, pre-training included.
+    pub env_steps_total: f64,
+    /// Mean environment steps of sub-task pre-training per run.
+    pub pretrain_env_steps: f64,
+}
+
+/// The overview of every method of every task in `scores`, in score order.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+#[expect(
+    clippy::cast_precision_loss,
+    clippy::cast_possible_truncation,
+    clippy::cast_sign_loss,
+    reason = "counts are far below 2^52; a success rate times its window is a whole count"
+)]
+pub fn overview(scores: &[FinalScore]) -> Result<Vec<MethodOverview>, ClaimsError> {
+    let mut overviews = Vec::new();
+    for task in tasks(scores) {
+        let step_cap = scores
+            .iter()
+            .filter(|row| row.task == task)
+            .filter_map(|row| row.step_cap)
+            .max();
+        for (method, role, kind) in methods(scores, task) {
+            let error = |source| ClaimsError::Stats {
+                claim: String::new(),
+                task: task.to_owned(),
+                method: method.to_owned(),
+                metric: "overview".to_owned(),
+                source: Box::new(source),
+            };
+            let rows: Vec<&FinalScore> = scores
+                .iter()
+                .filter(|row| row.task == task && row.method == method)
+                .collect();
+            let reached: u64 = rows
+                .iter()
+                .map(|row| (row.success_rate * row.final_window as f64).round() as u64)
+                .sum();
+            let window: u64 = rows.iter().map(|row| row.final_window as u64).sum();
+            let greedy = rows.iter().filter(|row| row.greedy_reached).count() as u64;
+            let share = |successes, trials| -> Result<Share, ClaimsError> {
+                Ok(Share {
+                    successes,
+                    trials,
+                    wilson: stats::wilson(successes, trials, 0.95).map_err(error)?,
+                })
+            };
+            let steps: Vec<f64> = rows.iter().map(|row| row.final_steps).collect();
+            let mean_of = |f: &dyn Fn(&FinalScore) -> u64| -> Result<f64, ClaimsError> {
+                let values: Vec<f64> = rows.iter().map(|row| f(row) as f64).collect();
+                stats::mean(&values).map_err(error)
+            };
+            overviews.push(MethodOverview {
+                task: task.to_owned(),
+                method: method.to_owned(),
+                role,
+                kind: kind.to_owned(),
+                seeds: rows.len(),
+                training_success: share(reached, window)?,
+                greedy_success: share(greedy, rows.len() as u64)?,
+                greedy_at_cap: step_cap.map_or(0, |cap| {
+                    rows.iter().filter(|row| row.greedy_steps >= cap).count()
+                }),
+                step_cap,
+                final_steps: stats::distribution(&steps, step_cap.map(|cap| cap as f64))
+                    .map_err(error)?,
+                reaching_seeds: rows.iter().filter(|row| row.reaching_episodes > 0).count(),
+                env_steps_total: mean_of(&|row| row.env_steps_total)?,
+                pretrain_env_steps: mean_of(&|row| row.pretrain_env_steps)?,
+            });
+        }
+    }
+    Ok(overviews)
 }

@@ -73,7 +73,7 @@ pub const FINAL_WINDOW: usize = crate::summary::DEFAULT_FINAL_WINDOW;
 pub const REACHING_EPISODES: usize = 100;
 
 /// The columns of `final-scores.csv`, in order (the fields of [`FinalScore`]).
-pub const COLUMNS: [&str; 22] = [
+pub const COLUMNS: [&str; 23] = [
     "task",
     "method",
     "role",
@@ -91,6 +91,7 @@ pub const COLUMNS: [&str; 22] = [
     "env_steps_total",
     "pretrain_env_steps",
     "step_cap",
+    "optimum_steps",
     "reaching_episodes",
     "reach_average_reward",
     "reach_time",
@@ -182,6 +183,9 @@ pub struct FinalScore {
     /// The step cap, read off the run's truncated episodes (empty when none was truncated):
     /// a seed whose `final_steps` equals it never finished an episode in its final window.
     pub step_cap: Option<u64>,
+    /// The task's optimal route in steps, when known (BFS for a maze, the planner's route for
+    /// the robot).
+    pub optimum_steps: Option<u64>,
     /// Reaching episodes the C4 scores are taken over (at most [`REACHING_EPISODES`]).
     pub reaching_episodes: u64,
     /// Mean average reward (return per second) over the reaching episodes (C4; robot only).
@@ -218,6 +222,7 @@ impl FinalScore {
             "env_steps_total" => Some(self.env_steps_total as f64),
             "pretrain_env_steps" => Some(self.pretrain_env_steps as f64),
             "step_cap" => self.step_cap.map(|cap| cap as f64),
+            "optimum_steps" => self.optimum_steps.map(|steps| steps as f64),
             "reaching_episodes" => Some(self.reaching_episodes as f64),
             "reach_average_reward" => self.reach_average_reward,
             "reach_time" => self.reach_time,
@@ -337,6 +342,7 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
         env_steps_total: record.total_env_steps,
         pretrain_env_steps: record.pretrain_env_steps,
         step_cap,
+        optimum_steps: record.optimum_steps,
         reaching_episodes: reaching.len() as u64,
         reach_average_reward,
         reach_time,
@@ -429,6 +435,7 @@ mod tests {
             env_steps_total: 99,
             pretrain_env_steps: 0,
             step_cap: None,
+            optimum_steps: Some(12),
             reaching_episodes: 0,
             reach_average_reward: None,
             reach_time: None,
@@ -442,7 +449,7 @@ mod tests {
         assert_eq!(lines.next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             lines.next().unwrap(),
-            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,0.25,0.125,99,0,,0,,,,-0.1"
+            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,0.25,0.125,99,0,,12,0,,,,-0.1"
         );
         assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
         for column in COLUMNS {
