@@ -91,7 +91,8 @@
 //! below `k` takes one 32-bit word `w` and returns `⌊w k / 2³²⌋`, rejecting and redrawing when
 //! `(w k) mod 2³² < (2³² − k) mod k` (Lemire, *Fast random integer generation in an interval*,
 //! 2019): exactly uniform, and independent of `rand`'s own range algorithm, which may change.
-//! Draw order:
+//! An index `i` into a sample selects its `i`-th smallest value (`f64::total_cmp` order), so
+//! reordering the input changes no bit of any result. Draw order:
 //!
 //! * [`Bootstrap::interval`]: for `b = 1..=B`, `n` indices below `n`.
 //! * [`Bootstrap::difference`]: for `b = 1..=B`, `n` indices below `n` for `x`, then `m`
@@ -423,7 +424,7 @@ impl Bootstrap {
             }
             check_len(values.len(), "a group's size")?;
         }
-        // The pool, sorted once; `position[g][i]` is where group g's i-th sorted value sits.
+        // The pool, sorted once; `positions[g][i]` is where group g's i-th smallest value sits.
         let pooled: Vec<f64> = groups.iter().flat_map(|g| g.iter().copied()).collect();
         let total = pooled.len();
         check_len(total, "the pooled sample's size")?;
@@ -438,7 +439,11 @@ impl Bootstrap {
         let mut positions = Vec::with_capacity(groups.len());
         let mut offset = 0;
         for values in groups {
-            positions.push(rank[offset..offset + values.len()].to_vec());
+            // Ascending ranks: index i of a group draws the group's i-th smallest value, as
+            // in `interval`, so a single group gives exactly the plain bootstrap.
+            let mut group = rank[offset..offset + values.len()].to_vec();
+            group.sort_unstable();
+            positions.push(group);
             offset += values.len();
         }
 
