@@ -1,0 +1,3 @@
+//! The integration tests of `eamadm`, one test binary with one module per subject.
+
+mod stats;
