@@ -141,11 +141,11 @@ impl ReproducePlan {
             }
         }
 
-        let config = match &args.config {
-            None => None,
-            // The file is read once, by `experiments::load_config_file`, before anything runs.
-            Some(path) => Some(workspace.current_dir.join(path)),
-        };
+        // The file is read once, by `experiments::load_config_file`, before anything runs.
+        let config = args
+            .config
+            .as_ref()
+            .map(|path| workspace.current_dir.join(path));
 
         let out = match &args.out {
             None => workspace.default_out(),
@@ -214,7 +214,7 @@ impl ReproducePlan {
         let _ = writeln!(text, "  config:   {config}");
         let _ = writeln!(
             text,
-            "  output:   {} (runs/, CSV curves, JSON record, SVG figures, REPORT.md)",
+            "  output:   {} (runs/, CSV curves, final-scores.csv, claims.csv, JSON record, SVG figures, REPORT.md)",
             self.out.display()
         );
         text

@@ -2,7 +2,7 @@
 //!
 //! `cargo run --release -p eamadm --example compare -- [task1|task2|robot] [seeds] [episodes]`
 
-use eamadm::{DEFAULT_FINAL_WINDOW, Experiment, ExperimentConfig, summarise};
+use eamadm::{DEFAULT_FINAL_WINDOW, Experiment, summarise};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
