@@ -485,7 +485,10 @@ fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
         .iter()
         .filter(|j| j.task == task && j.method == method)
         .collect();
-    if judgements.is_empty() {
+    if judgements
+        .iter()
+        .all(|j| j.comparisons.is_empty() && j.untested.is_empty())
+    {
         return;
     }
     let _ = writeln!(

@@ -142,4 +142,103 @@ mod tests {
         let report = std::fs::read_to_string(ws.root.join("out/REPORT.md")).unwrap();
         assert!(report.contains("## mine (`mine`)"), "{report}");
     }
+
+    /// Splits a line of a CSV without quoted fields (the claim and score tables have none).
+    fn cells(line: &str) -> Vec<&str> {
+        line.split(',').collect()
+    }
+
+    #[test]
+    fn claims_csv_can_be_recomputed_from_final_scores_csv() {
+        use eamadm::stats::{self, Bootstrap, PermutationTest, Statistic};
+        let (_dir, ws) = workspace();
+        let args = ReproduceArgs {
+            seeds: Some(3),
+            tasks: vec![crate::cli::Task::Task1],
+            methods: vec![
+                "ea-madm".to_owned(),
+                "softmax".to_owned(),
+                "epsilon-greedy".to_owned(),
+            ],
+            config: None,
+            out: Some("out".into()),
+            quick: true,
+        };
+        reproduce_paper(&args, &ws).unwrap();
+        let out = ws.root.join("out");
+        let scores =
+            eamadm::scores::read_csv(std::fs::File::open(out.join("final-scores.csv")).unwrap())
+                .unwrap();
+        assert_eq!(scores.len(), 9);
+        let claims = std::fs::read_to_string(out.join("claims.csv")).unwrap();
+        let mut lines = claims.lines();
+        let header = cells(lines.next().unwrap());
+        let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        let of = |method: &str, metric: &str| -> Vec<f64> {
+            scores
+                .iter()
+                .filter(|s| s.method == method)
+                .filter_map(|s| s.value(metric))
+                .collect()
+        };
+        let number = |cell: &str| cell.parse::<f64>().unwrap();
+        let (mut singles, mut comparisons) = (0, 0);
+        let mut raw_p: std::collections::BTreeMap<(String, String), Vec<(f64, f64)>> =
+            std::collections::BTreeMap::new();
+        for line in lines {
+            let row = cells(line);
+            let (method, metric, versus) = (
+                row[column("method")],
+                row[column("metric")],
+                row[column("versus")],
+            );
+            let x = of(method, metric);
+            if versus.is_empty() {
+                // A single-method row: the IQM over seeds and its bootstrap interval.
+                let interval = Bootstrap::default().interval(&x, Statistic::Iqm).unwrap();
+                assert_eq!(
+                    number(row[column("estimate")]),
+                    stats::iqm(&x).unwrap(),
+                    "{line}"
+                );
+                assert_eq!(number(row[column("ci_low")]), interval.low, "{line}");
+                assert_eq!(number(row[column("ci_high")]), interval.high, "{line}");
+                singles += 1;
+            } else {
+                let y = of(versus, metric);
+                let difference = Bootstrap::default()
+                    .difference(&x, &y, Statistic::Iqm)
+                    .unwrap();
+                let p = PermutationTest::default()
+                    .p_value(&x, &y, Statistic::Iqm)
+                    .unwrap();
+                assert_eq!(
+                    number(row[column("estimate")]),
+                    stats::iqm(&x).unwrap() - stats::iqm(&y).unwrap(),
+                    "{line}"
+                );
+                assert_eq!(number(row[column("ci_low")]), difference.low, "{line}");
+                assert_eq!(number(row[column("ci_high")]), difference.high, "{line}");
+                assert_eq!(number(row[column("p_value")]), p, "{line}");
+                raw_p
+                    .entry((row[column("claim")].to_owned(), method.to_owned()))
+                    .or_default()
+                    .push((p, number(row[column("p_holm")])));
+                comparisons += 1;
+            }
+        }
+        // C1, C2: one metric; C3: two. Three methods, one under test, two competitors.
+        assert_eq!(singles, 3 * (1 + 1 + 2));
+        assert_eq!(comparisons, 2 * (1 + 1 + 2));
+        for ((claim, method), pairs) in raw_p {
+            let raw: Vec<f64> = pairs.iter().map(|(p, _)| *p).collect();
+            let holm: Vec<f64> = pairs.iter().map(|(_, h)| *h).collect();
+            assert_eq!(stats::holm(&raw).unwrap(), holm, "{claim} {method}");
+        }
+        let report = std::fs::read_to_string(out.join("REPORT.md")).unwrap();
+        assert!(
+            report.contains("## Verdicts on the paper's claims"),
+            "{report}"
+        );
+    }
 }
