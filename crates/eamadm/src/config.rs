@@ -813,14 +813,14 @@ impl ExperimentConfig {
     /// α = 0.1, γ = 0.95, and [`paper_methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
     #[must_use]
     pub fn paper_task1() -> Self {
-        Self::paper_maze("task1", Preset::TaskI)
+        Self::paper_maze("task1", Preset::TaskI, TASK1_PRETRAIN_BUDGET)
     }
 
     /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise
     /// as [`paper_task1`](Self::paper_task1). Equal to [`PAPER_TASK2_TOML`] parsed.
     #[must_use]
     pub fn paper_task2() -> Self {
-        Self::paper_maze("task2", Preset::TaskII)
+        Self::paper_maze("task2", Preset::TaskII, TASK2_PRETRAIN_BUDGET)
     }
 
     /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
@@ -835,11 +835,14 @@ impl ExperimentConfig {
                 scenario: DEFAULT_SCENARIO.to_owned(),
                 step_cap: None,
             },
-            ..Self::paper_maze("robot", Preset::TaskI)
+            methods: paper_methods(),
+            ..Self::paper_maze("robot", Preset::TaskI, 0)
         }
     }
 
-    fn paper_maze(name: &str, preset: Preset) -> Self {
+    /// A paper maze task: [`paper_methods`] then [`controls`] with the task's pre-training
+    /// budget.
+    fn paper_maze(name: &str, preset: Preset, pretrain_budget: u64) -> Self {
         Self {
             name: name.to_owned(),
             task: TaskConfig::Maze {
@@ -851,8 +854,19 @@ impl ExperimentConfig {
             base_seed: 0,
             learner: table1_learner(),
             trajectories: TrajectoryConfig::default(),
-            methods: paper_methods(),
+            methods: [paper_methods(), controls(pretrain_budget)].concat(),
         }
+    }
+}
+
+/// EA-MADM as the paper presets run it.
+fn paper_ea_madm() -> EaMadmConfig {
+    EaMadmConfig {
+        epsilon: table1_epsilon_decreasing(),
+        weighting: Weighting::default(),
+        standardisation: Standardisation::Running,
+        storage: Storage::default(),
+        pretrain: PretrainConfig::default(),
     }
 }
 
@@ -874,13 +888,7 @@ pub fn table1_learner() -> DoubleQParams {
 /// support instead of the paper's).
 #[must_use]
 pub fn paper_methods() -> Vec<MethodSpec> {
-    let ea_madm = EaMadmConfig {
-        epsilon: table1_epsilon_decreasing(),
-        weighting: Weighting::default(),
-        standardisation: Standardisation::Running,
-        storage: Storage::default(),
-        pretrain: PretrainConfig::default(),
-    };
+    let ea_madm = paper_ea_madm();
     let variant = |label: &str, role: Role, change: &dyn Fn(&mut EaMadmConfig)| {
         let mut config = ea_madm.clone();
         change(&mut config);
@@ -931,6 +939,90 @@ pub fn paper_methods() -> Vec<MethodSpec> {
             };
         }),
     ]
+}
+
+/// EA-MADM's sub-task pre-training on Task I, in environment steps: the mean over seeds
+/// 0–19 of the two sub-tasks' steps (200 episodes each, Table 1's schedule), rounded. The
+/// budget-matched controls of [`ExperimentConfig::paper_task1`] warm up for this many steps.
+pub const TASK1_PRETRAIN_BUDGET: u64 = 420_000;
+/// As [`TASK1_PRETRAIN_BUDGET`], on Task II.
+pub const TASK2_PRETRAIN_BUDGET: u64 = 492_000;
+
+/// The controls of the maze presets (`role = "control"`; comparisons the paper does not run),
+/// after [`paper_methods`] in report order:
+///
+/// - `subtask0-alone`, `subtask1-alone`: each pre-trained sub-task acting by itself
+///   ([`Method::SubtaskGreedy`], frozen, with EA-MADM's ε schedule);
+/// - `epsilon-greedy-budget`, `epsilon-decreasing-budget`, `softmax-budget`: each competitor
+///   warmed up on the task for `pretrain_budget` environment steps first (EA-MADM's sub-task
+///   pre-training budget on the task);
+/// - `epsilon-greedy-shaped`, `epsilon-decreasing-shaped`, `softmax-shaped`: each competitor
+///   learning from EA-MADM's own standardised sub-task signal
+///   ([`CompetitorSignal::Standardised`]);
+/// - `ea-madm-tau0.75`, `ea-madm-tau0.5`, `ea-madm-tau0.33`: EA-MADM with both tree
+///   thresholds at τ < 1, so clusters aggregate several state–action pairs.
+#[must_use]
+pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
+    let competitors: Vec<(String, Method)> = paper_methods()
+        .into_iter()
+        .filter(|spec| spec.role == Role::Paper)
+        .filter_map(|spec| match spec.method {
+            Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {
+                Some((spec.label, spec.method))
+            }
+            _ => None,
+        })
+        .collect();
+    let with_training = |method: &Method, change: &dyn Fn(&mut CompetitorTraining)| {
+        let mut method = method.clone();
+        if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+            &mut method
+        {
+            change(training);
+        }
+        method
+    };
+    let control = |label: String, method: Method| MethodSpec {
+        label,
+        role: Role::Control,
+        method,
+    };
+    let mut methods = Vec::new();
+    for subtask in 0..2 {
+        methods.push(control(
+            format!("subtask{subtask}-alone"),
+            Method::SubtaskGreedy(SubtaskGreedyConfig {
+                subtask,
+                epsilon: table1_epsilon_decreasing(),
+                learn: false,
+                pretrain: PretrainConfig::default(),
+            }),
+        ));
+    }
+    for (label, method) in &competitors {
+        methods.push(control(
+            format!("{label}-budget"),
+            with_training(method, &|t| t.warmup_env_steps = pretrain_budget),
+        ));
+    }
+    for (label, method) in &competitors {
+        methods.push(control(
+            format!("{label}-shaped"),
+            with_training(method, &|t| t.signal = CompetitorSignal::Standardised),
+        ));
+    }
+    for (tau, name) in [(0.75, "0.75"), (0.5, "0.5"), (0.33, "0.33")] {
+        let mut config = paper_ea_madm();
+        config.storage = Storage::Tree(EaTreeConfig {
+            state_threshold: tau,
+            action_threshold: tau,
+        });
+        methods.push(control(
+            format!("ea-madm-tau{name}"),
+            Method::EaMadm(config),
+        ));
+    }
+    methods
 }
 
 impl MethodSpec {
