@@ -44,8 +44,8 @@ fn presets_load() {
         ExperimentConfig::paper_task2(),
     ] {
         let experiment = Experiment::new(config).unwrap();
-        // The paper's 4 methods, 4 ablations and 11 controls, 10 seeds each.
-        assert_eq!(experiment.jobs().len(), (8 + 11) * 10);
+        // The paper's 4 methods, 4 ablations and 10 controls, 10 seeds each.
+        assert_eq!(experiment.jobs().len(), (8 + 10) * 10);
     }
 }
 

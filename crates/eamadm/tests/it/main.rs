@@ -1,0 +1,11 @@
+//! The eamadm integration tests in one binary; each module is one topic.
+
+#![expect(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod controls;
