@@ -181,14 +181,17 @@ pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
 pub use config::{
-    ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_TOML,
-    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role, Storage, TaskConfig,
-    TrajectoryConfig,
+    CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig, Method,
+    MethodSpec, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role,
+    Storage, SubtaskGreedyConfig, TaskConfig, TrajectoryConfig,
 };
 pub use error::{RunError, RunFailure};
-pub use pretrain::{PretrainedSubtask, pretrain_subtasks};
+pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};
 pub use prior::{PriorTable, build_prior};
-pub use record::{EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord, TrajectoryRecord};
+pub use record::{
+    AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,
+    TrajectoryRecord,
+};
 pub use runner::{Experiment, run, run_all};
 pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};

@@ -25,10 +25,12 @@ use mazes::Preset;
 use reward_std::Standardisation;
 use serde::Serialize;
 
+use ea_tree::EaTreeConfig;
+
 use crate::config::{
-    DEFAULT_SCENARIO, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PretrainConfig, Role,
-    Storage, TaskConfig, TrajectoryConfig, table1_epsilon_decreasing, table1_learner,
-    table1_temperature,
+    CompetitorSignal, CompetitorTraining, DEFAULT_SCENARIO, EaMadmConfig, ExperimentConfig, Method,
+    MethodSpec, PretrainConfig, Role, Storage, SubtaskGreedyConfig, TaskConfig, TrajectoryConfig,
+    table1_epsilon_decreasing, table1_learner, table1_temperature,
 };
 #[cfg(doc)]
 use crate::config::{PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML};
@@ -119,22 +121,22 @@ impl PaperTask {
 }
 
 /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`SEEDS`] seeds,
-/// α = 0.1, γ = 0.95, and [`methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
+/// α = 0.1, γ = 0.95, [`methods`] and the [`controls`]. Equal to [`PAPER_TASK1_TOML`] parsed.
 #[must_use]
 pub fn task1() -> ExperimentConfig {
-    maze("task1", Preset::TaskI)
+    maze("task1", Preset::TaskI, TASK1_PRETRAIN_BUDGET)
 }
 
 /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise as
 /// [`task1`]. Equal to [`PAPER_TASK2_TOML`] parsed.
 #[must_use]
 pub fn task2() -> ExperimentConfig {
-    maze("task2", Preset::TaskII)
+    maze("task2", Preset::TaskII, TASK2_PRETRAIN_BUDGET)
 }
 
 /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
 /// distance sensors, the analogue of Fig. 12), 200 episodes, [`SEEDS`] seeds, α = 0.1,
-/// γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`methods`]. Equal to
+/// γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`methods`] (no controls). Equal to
 /// [`PAPER_ROBOT_TOML`] parsed.
 #[must_use]
 pub fn robot() -> ExperimentConfig {
@@ -144,11 +146,13 @@ pub fn robot() -> ExperimentConfig {
             scenario: DEFAULT_SCENARIO.to_owned(),
             step_cap: None,
         },
-        ..maze("robot", Preset::TaskI)
+        methods: methods(),
+        ..maze("robot", Preset::TaskI, 0)
     }
 }
 
-fn maze(name: &str, preset: Preset) -> ExperimentConfig {
+/// A paper maze task: [`methods`] then [`controls`] with the task's pre-training budget.
+fn maze(name: &str, preset: Preset, pretrain_budget: u64) -> ExperimentConfig {
     ExperimentConfig {
         name: name.to_owned(),
         task: TaskConfig::Maze {
@@ -160,7 +164,7 @@ fn maze(name: &str, preset: Preset) -> ExperimentConfig {
         base_seed: 0,
         learner: table1_learner(),
         trajectories: TrajectoryConfig::default(),
-        methods: methods(),
+        methods: [methods(), controls(pretrain_budget)].concat(),
     }
 }
 
@@ -172,13 +176,7 @@ fn maze(name: &str, preset: Preset) -> ExperimentConfig {
 /// the paper's).
 #[must_use]
 pub fn methods() -> Vec<MethodSpec> {
-    let ea_madm = EaMadmConfig {
-        epsilon: table1_epsilon_decreasing(),
-        weighting: Weighting::default(),
-        standardisation: Standardisation::Running,
-        storage: Storage::default(),
-        pretrain: PretrainConfig::default(),
-    };
+    let ea_madm = paper_ea_madm();
     let variant = |label: &str, role: Role, change: &dyn Fn(&mut EaMadmConfig)| {
         let mut config = ea_madm.clone();
         change(&mut config);
@@ -195,6 +193,7 @@ pub fn methods() -> Vec<MethodSpec> {
             role: Role::Paper,
             method: Method::EpsilonGreedy {
                 epsilon: Schedule::Constant(0.1),
+                training: CompetitorTraining::default(),
             },
         },
         MethodSpec {
@@ -202,6 +201,7 @@ pub fn methods() -> Vec<MethodSpec> {
             role: Role::Paper,
             method: Method::EpsilonGreedy {
                 epsilon: table1_epsilon_decreasing(),
+                training: CompetitorTraining::default(),
             },
         },
         MethodSpec {
@@ -209,6 +209,7 @@ pub fn methods() -> Vec<MethodSpec> {
             role: Role::Paper,
             method: Method::Softmax {
                 temperature: table1_temperature(),
+                training: CompetitorTraining::default(),
             },
         },
         variant("ea-madm-table", Role::Ablation, &|c| {
@@ -226,6 +227,104 @@ pub fn methods() -> Vec<MethodSpec> {
             };
         }),
     ]
+}
+
+/// EA-MADM as the paper presets run it.
+fn paper_ea_madm() -> EaMadmConfig {
+    EaMadmConfig {
+        epsilon: table1_epsilon_decreasing(),
+        weighting: Weighting::default(),
+        standardisation: Standardisation::Running,
+        storage: Storage::default(),
+        pretrain: PretrainConfig::default(),
+    }
+}
+
+/// EA-MADM's sub-task pre-training on Task I, in environment steps: the mean over seeds
+/// 0–19 of the two sub-tasks' steps (200 episodes each, Table 1's schedule), rounded. The
+/// budget-matched controls of [`task1`] warm up for this many steps.
+pub const TASK1_PRETRAIN_BUDGET: u64 = 420_000;
+/// As [`TASK1_PRETRAIN_BUDGET`], on Task II.
+pub const TASK2_PRETRAIN_BUDGET: u64 = 492_000;
+
+/// The controls of the maze presets (`role = "control"`; comparisons the paper does not run),
+/// after [`methods`] in report order:
+///
+/// - `subtask0-alone`, `subtask1-alone`: each pre-trained sub-task acting by itself
+///   ([`Method::SubtaskGreedy`], frozen, with EA-MADM's ε schedule);
+/// - `epsilon-greedy-budget`, `epsilon-decreasing-budget`, `softmax-budget`: each competitor
+///   warmed up on the task for `pretrain_budget` environment steps first (EA-MADM's sub-task
+///   pre-training budget on the task);
+/// - `epsilon-greedy-shaped`, `epsilon-decreasing-shaped`, `softmax-shaped`: each competitor
+///   learning from EA-MADM's own standardised sub-task signal
+///   ([`CompetitorSignal::Standardised`]);
+/// - `ea-madm-tau0.5`, `ea-madm-tau0.33`: EA-MADM with both tree thresholds at τ < 1 (on a
+///   maze, whose state similarities are 0, 1/3 or 1, τ = 0.5 is still exact and τ = 0.33
+///   aggregates the states of a row or a column).
+#[must_use]
+pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
+    let competitors: Vec<(String, Method)> = methods()
+        .into_iter()
+        .filter(|spec| spec.role == Role::Paper)
+        .filter_map(|spec| match spec.method {
+            Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {
+                Some((spec.label, spec.method))
+            }
+            _ => None,
+        })
+        .collect();
+    let with_training = |method: &Method, change: &dyn Fn(&mut CompetitorTraining)| {
+        let mut method = method.clone();
+        if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+            &mut method
+        {
+            change(training);
+        }
+        method
+    };
+    let control = |label: String, method: Method| MethodSpec {
+        label,
+        role: Role::Control,
+        method,
+    };
+    let mut methods = Vec::new();
+    for subtask in 0..2 {
+        methods.push(control(
+            format!("subtask{subtask}-alone"),
+            Method::SubtaskGreedy(SubtaskGreedyConfig {
+                subtask,
+                epsilon: table1_epsilon_decreasing(),
+                learn: false,
+                pretrain: PretrainConfig::default(),
+            }),
+        ));
+    }
+    for (label, method) in &competitors {
+        methods.push(control(
+            format!("{label}-budget"),
+            with_training(method, &|t| t.warmup_env_steps = pretrain_budget),
+        ));
+    }
+    for (label, method) in &competitors {
+        methods.push(control(
+            format!("{label}-shaped"),
+            with_training(method, &|t| t.signal = CompetitorSignal::Standardised),
+        ));
+    }
+    // A maze state's features are its column and row, so state similarities are 0, 1/3 or 1:
+    // 0.5 stands for every exact threshold in (1/3, 1], 0.33 merges rows and columns.
+    for (tau, name) in [(0.5, "0.5"), (0.33, "0.33")] {
+        let mut config = paper_ea_madm();
+        config.storage = Storage::Tree(EaTreeConfig {
+            state_threshold: tau,
+            action_threshold: tau,
+        });
+        methods.push(control(
+            format!("ea-madm-tau{name}"),
+            Method::EaMadm(config),
+        ));
+    }
+    methods
 }
 
 /// A method's title for people: the paper's names for its four methods (`EA-MADM`,
