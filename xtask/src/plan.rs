@@ -323,7 +323,10 @@ mod tests {
         assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
-        assert_eq!(plan.runs(), 3 * 8 * u64::from(DEFAULT_SEEDS));
+        assert_eq!(
+            plan.runs(),
+            3 * default_methods().len() as u64 * u64::from(DEFAULT_SEEDS)
+        );
         let quick = ReproduceArgs {
             quick: true,
             ..args()

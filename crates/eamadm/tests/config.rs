@@ -38,8 +38,11 @@ fn presets_round_trip_through_toml() {
 fn presets_load() {
     for config in [eamadm::paper::task1(), eamadm::paper::task2()] {
         let experiment = Experiment::new(config).unwrap();
-        // The paper's 4 methods, 4 ablations and 10 controls, 10 seeds each.
-        assert_eq!(experiment.jobs().len(), (8 + 10) * 10);
+        // The paper's 4 methods, 4 ablations and 10 controls, `paper::SEEDS` seeds each.
+        assert_eq!(
+            experiment.jobs().len(),
+            (8 + 10) * eamadm::paper::SEEDS as usize
+        );
     }
 }
 
@@ -126,7 +129,7 @@ fn unknown_keys_are_rejected_and_named() {
 fn out_of_range_values_are_rejected_with_their_path() {
     let cases = [
         ("episodes = 200", "episodes = 0", "`episodes`"),
-        ("seeds = 10", "seeds = 0", "`seeds`"),
+        ("seeds = 20", "seeds = 0", "`seeds`"),
         ("alpha = 0.1", "alpha = 1.5", "`learner.alpha`"),
         ("gamma = 0.95", "gamma = -0.1", "`learner.gamma`"),
         (
