@@ -687,10 +687,17 @@ fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
         .collect();
     (!same.is_empty()).then(|| {
         format!(
-            "{} gives exactly EA-MADM's per-seed scores: with thresholds 1.0 the experience \
-             tree stores every pair exactly and answers as a table does, so these runs do not \
-             exercise the tree's aggregation.",
-            same.join(", ")
+            "{} {} exactly EA-MADM's per-seed scores: {} sub-task experience answers every \
+             lookup as EA-MADM's exact tree does (a table, or a tree whose thresholds merge no \
+             two states), so {} not exercise the tree's aggregation.",
+            same.join(", "),
+            if same.len() == 1 { "gives" } else { "give" },
+            if same.len() == 1 { "its" } else { "their" },
+            if same.len() == 1 {
+                "it does"
+            } else {
+                "they do"
+            },
         )
     })
 }
