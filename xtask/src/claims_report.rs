@@ -11,7 +11,8 @@ use std::path::Path;
 
 use eamadm::Role;
 use eamadm::claims::{
-    self, ClaimOptions, ClaimsError, Comparison, Estimate, Judgement, MethodOverview, Outcome,
+    self, ClaimOptions, ClaimsError, Comparison, ControlComparison, Estimate, Judgement,
+    MethodOverview, Outcome,
 };
 use eamadm::paper::{self, CLAIMS, PaperTask, method_title};
 use eamadm::scores::{self, FinalScore, ScoresError};
@@ -47,6 +48,8 @@ pub(crate) struct Verdicts {
     pub(crate) estimates: Vec<Estimate>,
     /// Success shares, distributions and step budgets per task × method.
     pub(crate) overviews: Vec<MethodOverview>,
+    /// The paper's EA-MADM against each control.
+    pub(crate) controls: Vec<ControlComparison>,
     /// The settings the comparisons were made with.
     pub(crate) options: ClaimOptions,
 }
@@ -61,6 +64,7 @@ impl Verdicts {
             judgements: claims::judge(&scores, options)?,
             estimates: claims::estimates(&scores, options)?,
             overviews: claims::overview(&scores)?,
+            controls: claims::control_comparisons(&scores, options)?,
             scores,
             options: *options,
         })
@@ -446,6 +450,7 @@ fn write_task(
         }
         text.push_str(&table.render());
         text.push('\n');
+        write_control_comparisons(text, task, verdicts);
     }
 
     write_comparisons(text, task, verdicts);
@@ -474,6 +479,40 @@ fn write_task(
             links.join(", ")
         );
     }
+}
+
+fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
+    let rows: Vec<&ControlComparison> = verdicts
+        .controls
+        .iter()
+        .filter(|c| c.task == task)
+        .collect();
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        text,
+        "EA-MADM against each control (Δ = IQM of EA-MADM − IQM of the control; raw p, not \
+         adjusted, since these comparisons enter no verdict):\n"
+    );
+    let mut table = MarkdownTable::new([
+        ("control", Align::Left),
+        ("metric", Align::Left),
+        ("Δ IQM [95%]", Align::Right),
+        ("p", Align::Right),
+        ("P(EA-MADM better)", Align::Right),
+    ]);
+    for c in rows {
+        let _ = table.push_row([
+            format!("`{}`", c.comparison.versus),
+            format!("`{}`", c.comparison.metric.column),
+            interval(&c.comparison.difference),
+            p_value(c.comparison.p_value),
+            format_fixed(c.comparison.p_improvement, 2),
+        ]);
+    }
+    text.push_str(&table.render());
+    text.push('\n');
 }
 
 fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
@@ -901,6 +940,7 @@ mod tests {
     fn the_verdict_sentence_follows_the_numbers() {
         let better = Verdicts::compute(scores(60.0), &options()).unwrap();
         let report = render_report(&[], &[], &better, false);
+        assert!(!report.contains("control, not in the paper"), "{report}");
         assert!(
             verdict_row(&report, "C1").contains("**supported**"),
             "{report}"
@@ -923,6 +963,40 @@ mod tests {
             "{report}"
         );
         assert!(report.starts_with("# EA-MADM reproduction report"));
+        // A control is judged nowhere but shown as one, with EA-MADM against it.
+        let mut with_control = scores(60.0);
+        for seed in 0..8 {
+            let noise = seed as f64;
+            with_control.push(row(
+                "task1",
+                "softmax-shaped",
+                Role::Control,
+                "softmax",
+                seed,
+                50.0 + noise,
+            ));
+        }
+        let verdicts = Verdicts::compute(with_control, &options()).unwrap();
+        assert!(verdicts.judgements.iter().all(|j| j.method == "ea-madm"));
+        assert!(
+            verdicts
+                .judgements
+                .iter()
+                .flat_map(|j| &j.comparisons)
+                .all(|c| c.versus != "softmax-shaped")
+        );
+        let planned =
+            crate::experiments::plan_experiments(&[crate::cli::Task::Task1], false, None, 8, true)
+                .unwrap();
+        let report = render_report(&planned, &[], &verdicts, false);
+        assert!(
+            report.contains("### Controls (control, not in the paper)"),
+            "{report}"
+        );
+        assert!(
+            report.contains("| `softmax-shaped` | `final_steps`"),
+            "{report}"
+        );
         assert!(report.find("## Verdicts").unwrap() < report.find("## How the scores").unwrap());
     }
 

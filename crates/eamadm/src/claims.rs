@@ -10,7 +10,7 @@
 //!   EA-MADM (ε-greedy, ε-decreasing, softmax). Controls that change a competitor (budget- or
 //!   reward-matched) are reported beside them, never used to judge the paper's claim.
 //!
-//! # The statistics (all from [`stats`](crate::stats), seeded, so reports are reproducible)
+//! # The statistics (all from [`stats`], seeded, so reports are reproducible)
 //!
 //! For a metric (a column of `final-scores.csv`) the sample of a method is its per-seed values
 //! (seeds with an empty cell, e.g. no reaching episode, are left out and counted). Per method:
@@ -683,6 +683,80 @@ pub fn write_csv<W: Write>(rows: &[ClaimRow], writer: W) -> Result<(), ClaimsErr
     }
     csv.flush().map_err(csv::Error::from)?;
     Ok(())
+}
+
+/// The paper's EA-MADM against one control on one metric (not Holm-adjusted: these
+/// comparisons explain the verdicts and never enter them).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ControlComparison {
+    /// The task.
+    pub task: String,
+    /// The paper's EA-MADM (role `paper`, kind `ea_madm`).
+    pub method: String,
+    /// The comparison; `versus` is the control.
+    pub comparison: Comparison,
+}
+
+/// The paper's EA-MADM against every control (role `control`) of every task on `final_steps`
+/// and `final_return` (lower and higher is better), where both have at least two values.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn control_comparisons(
+    scores: &[FinalScore],
+    options: &ClaimOptions,
+) -> Result<Vec<ControlComparison>, ClaimsError> {
+    let metrics = [
+        ClaimMetric {
+            column: "final_steps",
+            direction: Direction::LowerIsBetter,
+        },
+        ClaimMetric {
+            column: "final_return",
+            direction: Direction::HigherIsBetter,
+        },
+    ];
+    let mut jobs = Vec::new();
+    for task in tasks(scores) {
+        let all = methods(scores, task);
+        let Some(&(method, _, _)) = all
+            .iter()
+            .find(|&&(_, role, kind)| role == Role::Paper && is_under_test(kind))
+        else {
+            continue;
+        };
+        for &(control, role, _) in &all {
+            if role == Role::Control {
+                for metric in metrics {
+                    jobs.push((task, method, control, metric));
+                }
+            }
+        }
+    }
+    let results: Vec<Option<ControlComparison>> = jobs
+        .par_iter()
+        .map(|&(task, method, control, metric)| {
+            let (x, _) = values(scores, task, method, metric.column);
+            let (y, _) = values(scores, task, control, metric.column);
+            if x.len() < 2 || y.len() < 2 {
+                return Ok(None);
+            }
+            let comparison =
+                compare(&x, &y, metric, control, options).map_err(|source| ClaimsError::Stats {
+                    claim: String::new(),
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    metric: metric.column.to_owned(),
+                    source: Box::new(source),
+                })?;
+            Ok(Some(ControlComparison {
+                task: task.to_owned(),
+                method: method.to_owned(),
+                comparison,
+            }))
+        })
+        .collect::<Result<_, ClaimsError>>()?;
+    Ok(results.into_iter().flatten().collect())
 }
 
 /// A proportion with its counts and Wilson 95 % interval.
