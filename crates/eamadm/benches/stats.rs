@@ -27,21 +27,21 @@ fn bench_stats(c: &mut Criterion) {
     for statistic in [Statistic::Iqm, Statistic::Mean] {
         let name = statistic.name();
         c.bench_function(&format!("bootstrap interval, {name}, n = 20"), |b| {
-            b.iter(|| bootstrap.interval(black_box(&x), statistic))
+            b.iter(|| bootstrap.interval(black_box(&x), statistic));
         });
         c.bench_function(&format!("bootstrap difference, {name}, 20 vs 20"), |b| {
-            b.iter(|| bootstrap.difference(black_box(&x), black_box(&y), statistic))
+            b.iter(|| bootstrap.difference(black_box(&x), black_box(&y), statistic));
         });
         c.bench_function(
             &format!("stratified interval, {name}, 3 groups of 20"),
             |b| b.iter(|| bootstrap.stratified_interval(&[&x, &y, &x], statistic)),
         );
         c.bench_function(&format!("permutation p, {name}, 20 vs 20"), |b| {
-            b.iter(|| permutation.p_value(black_box(&x), black_box(&y), statistic))
+            b.iter(|| permutation.p_value(black_box(&x), black_box(&y), statistic));
         });
     }
     c.bench_function("probability of improvement, 20 vs 20", |b| {
-        b.iter(|| probability_of_improvement(black_box(&x), black_box(&y)))
+        b.iter(|| probability_of_improvement(black_box(&x), black_box(&y)));
     });
 }
 
