@@ -463,7 +463,7 @@ impl Bootstrap {
         self.percentile_interval(estimate, &mut replicates, statistic.name())
     }
 
-    /// The percentile interval of `replicates` (sorted in place) around `estimate`.
+    /// The percentile interval of `replicates` (reordered in place) around `estimate`.
     fn percentile_interval(
         &self,
         estimate: f64,
@@ -473,12 +473,11 @@ impl Bootstrap {
         if replicates.iter().any(|v| !v.is_finite()) {
             return Err(StatsError::Overflow { what });
         }
-        replicates.sort_unstable_by(f64::total_cmp);
         let alpha = 1.0 - self.confidence;
         Ok(Interval {
             estimate,
-            low: quantile_sorted(replicates, alpha / 2.0),
-            high: quantile_sorted(replicates, 1.0 - alpha / 2.0),
+            low: quantile_unsorted(replicates, alpha / 2.0),
+            high: quantile_unsorted(replicates, 1.0 - alpha / 2.0),
         })
     }
 }
@@ -952,6 +951,21 @@ fn quantile_sorted(sorted: &[f64], p: f64) -> f64 {
     }
 }
 
+/// The type-7 quantile at level `p ∈ [0, 1]` of a non-empty slice, by selection in `O(len)`
+/// instead of a sort (`values` is reordered). The two order statistics it interpolates are
+/// unique values under `f64::total_cmp`, so the result equals [`quantile_sorted`]'s bit for
+/// bit whatever the selection algorithm.
+fn quantile_unsorted(values: &mut [f64], p: f64) -> f64 {
+    let h = (values.len() - 1) as f64 * p;
+    let below = h.floor();
+    let i = (below as usize).min(values.len() - 1);
+    let (_, &mut at, above) = values.select_nth_unstable_by(i, f64::total_cmp);
+    match above.iter().copied().min_by(f64::total_cmp) {
+        Some(next) if h > below => (at + (h - below) * (next - at)).clamp(at, next),
+        _ => at,
+    }
+}
+
 /// Whether `n` choose `k` is at most `limit`, and if so its value.
 fn binomial_at_most(n: usize, k: usize, limit: u64) -> Option<u64> {
     let k = k.min(n - k);
@@ -1084,6 +1098,21 @@ mod tests {
         assert_eq!(binomial_at_most(6, 3, 19), None);
         assert_eq!(binomial_at_most(40, 20, 10_000), None);
         assert_eq!(binomial_at_most(5, 0, 1), Some(1));
+    }
+
+    #[test]
+    fn selection_gives_the_sorted_quantile_bit_for_bit() {
+        let values = [5.5, -1.0, 3.25, 9.0, 0.0, 3.25, 7.75, -4.5, 2.0];
+        let mut sorted = values;
+        sorted.sort_unstable_by(f64::total_cmp);
+        for p in [0.0, 0.025, 0.1, 0.25, 0.5, 0.8, 0.975, 1.0] {
+            let mut scratch = values;
+            assert_eq!(
+                quantile_unsorted(&mut scratch, p).to_bits(),
+                quantile_sorted(&sorted, p).to_bits(),
+                "{p}"
+            );
+        }
     }
 
     #[test]
