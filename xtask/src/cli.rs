@@ -35,8 +35,10 @@ pub(crate) struct ReproduceArgs {
     #[arg(long = "task", value_name = "TASK", value_enum)]
     pub(crate) tasks: Vec<Task>,
     /// Run only this method (by label); repeat for several [default: all]. Labels: ea-madm,
-    /// epsilon-greedy, epsilon-decreasing, softmax, and the ablations ea-madm-table,
-    /// ea-madm-uniform, ea-madm-literal, ea-madm-distance.
+    /// epsilon-greedy, epsilon-decreasing, softmax, the ablations ea-madm-table,
+    /// ea-madm-uniform, ea-madm-literal, ea-madm-distance, and the maze tasks' controls
+    /// subtask0-alone, subtask1-alone, <competitor>-budget, <competitor>-shaped,
+    /// ea-madm-tau0.5, ea-madm-tau0.33.
     #[arg(long = "method", value_name = "METHOD")]
     pub(crate) methods: Vec<String>,
     /// Experiment config (TOML) to use instead of the embedded defaults.

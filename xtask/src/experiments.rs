@@ -94,12 +94,26 @@ pub(crate) fn shorten(
     maze_step_cap: Option<u32>,
     robot_step_cap: Option<u32>,
 ) {
+    let episodes_before = config.episodes;
     config.episodes = config.episodes.min(episodes);
     let episodes_now = config.episodes;
     config.trajectories.episodes.retain(|&e| e < episodes_now);
     for spec in &mut config.methods {
-        if let Method::EaMadm(ea) = &mut spec.method {
-            ea.pretrain.episodes = ea.pretrain.episodes.min(episodes);
+        match &mut spec.method {
+            Method::EaMadm(ea) => ea.pretrain.episodes = ea.pretrain.episodes.min(episodes),
+            Method::SubtaskGreedy(alone) => {
+                alone.pretrain.episodes = alone.pretrain.episodes.min(episodes);
+            }
+            // A budget written for the full run shrinks with the episodes, as pre-training
+            // does (only roughly matched in a shortened run, whose step caps differ too).
+            Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
+                training.warmup_env_steps = u64::try_from(
+                    u128::from(training.warmup_env_steps) * u128::from(episodes_now)
+                        / u128::from(episodes_before.max(1)),
+                )
+                .unwrap_or(u64::MAX);
+            }
+            _ => {}
         }
     }
     match &mut config.task {
@@ -177,8 +191,18 @@ mod tests {
         assert_eq!(config.episodes, QUICK_EPISODES);
         assert_eq!(config.task.step_cap(), Some(QUICK_MAZE_STEP_CAP));
         for spec in &config.methods {
-            if let Method::EaMadm(ea) = &spec.method {
-                assert_eq!(ea.pretrain.episodes, QUICK_EPISODES);
+            match &spec.method {
+                Method::EaMadm(ea) => assert_eq!(ea.pretrain.episodes, QUICK_EPISODES),
+                Method::SubtaskGreedy(alone) => {
+                    assert_eq!(alone.pretrain.episodes, QUICK_EPISODES);
+                }
+                Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
+                    assert!(
+                        training.warmup_env_steps
+                            <= eamadm::paper::TASK1_PRETRAIN_BUDGET * QUICK_EPISODES / 200
+                    );
+                }
+                _ => {}
             }
         }
         assert!(config.validate().is_ok());

@@ -240,7 +240,7 @@ fn curves_csv(records: &[RunRecord]) -> String {
         .iter()
         .map(|r| {
             format!(
-                "# {}: {} environment steps in all, {} of them pre-training sub-tasks; the row \
+                "# {}: {} environment steps in all, {} of them before the recorded episodes (sub-task pre-training or a warm-up); the row \
                  `greedy evaluation` is the greedy episode after training.\n",
                 r.method, r.total_env_steps, r.pretrain_env_steps
             )

@@ -179,7 +179,8 @@ impl ReproducePlan {
         })
     }
 
-    /// Number of runs: tasks × methods × seeds.
+    /// Number of runs: tasks × methods × seeds (an upper bound when a task's config lacks some
+    /// of the methods, as the robot's lacks the maze controls).
     pub(crate) fn runs(&self) -> u64 {
         self.tasks.len() as u64 * self.methods.len() as u64 * u64::from(self.seeds)
     }
@@ -201,7 +202,8 @@ impl ReproducePlan {
         let _ = writeln!(text, "  methods:  {}", self.methods.join(", "));
         let _ = writeln!(
             text,
-            "  seeds:    {} per task and method → {} × {} × {} = {} runs{}",
+            "  seeds:    {} per task and method → at most {} × {} × {} = {} runs (each task runs \
+             the methods its config defines){}",
             self.seeds,
             self.tasks.len(),
             self.methods.len(),
@@ -323,6 +325,7 @@ mod tests {
         assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
+        // 8 methods and 10 controls (the robot's config has no controls: an upper bound).
         assert_eq!(
             plan.runs(),
             3 * default_methods().len() as u64 * u64::from(DEFAULT_SEEDS)

@@ -16,10 +16,13 @@ pub struct RunRecord {
     /// Length of the task's optimal route in steps, when known: the BFS shortest path for a
     /// maze. Curves are compared with it.
     pub optimum_steps: Option<u64>,
-    /// Sub-task pre-training (EA-MADM only; empty for the competitors), in sub-task order.
+    /// Sub-task pre-training (EA-MADM: every sub-task in order; a sub-task alone: its one
+    /// sub-task; empty for the competitors).
     pub subtasks: Vec<SubtaskRecord>,
-    /// Environment steps spent on sub-task pre-training (0 for the competitors). The paper
-    /// does not count them; every cumulative count here does.
+    /// Environment steps spent before the recorded episodes: EA-MADM's (or a sub-task
+    /// alone's) sub-task pre-training, a budget-matched competitor's warm-up, 0 for the
+    /// paper's competitors. The paper does not count them; every cumulative count here does
+    /// (`episodes[i].env_steps`, so steps can be drawn against cumulative steps).
     pub pretrain_env_steps: u64,
     /// One record per training episode of the source task, in order.
     pub episodes: Vec<EpisodeRecord>,
