@@ -1,0 +1,135 @@
+//! The claims and their verdicts on hand-made per-seed scores: the claims name real columns,
+//! the verdict follows the numbers (it flips when they flip), untestable claims say why, and the
+//! judgements are bit-identical with one and two threads.
+
+use eamadm::Role;
+use eamadm::claims::{self, ClaimOptions, Outcome, Verdict};
+use eamadm::paper::{self, CLAIMS};
+use eamadm::scores::{COLUMNS, FinalScore};
+use eamadm::stats::{Bootstrap, PermutationTest};
+
+fn row(method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScore {
+    FinalScore {
+        task: "task2".to_owned(),
+        method: method.to_owned(),
+        role,
+        kind: kind.to_owned(),
+        seed,
+        episodes: 200,
+        final_window: 20,
+        final_steps: steps,
+        final_return: -steps,
+        success_rate: 0.5,
+        greedy_reached: false,
+        greedy_steps: 2000,
+        fluctuation_steps: steps / 4.0,
+        fluctuation_return: steps / 4.0,
+        env_steps_total: 1000,
+        pretrain_env_steps: 0,
+        step_cap: Some(2000),
+        optimum_steps: Some(73),
+        reaching_episodes: 10,
+        reach_average_reward: None,
+        reach_time: None,
+        reach_retention_time: None,
+        retention_decay: None,
+    }
+}
+
+/// EA-MADM at `ea + seed`, softmax at `other + seed`, 10 seeds each.
+fn scores(ea: f64, other: f64) -> Vec<FinalScore> {
+    (0..10)
+        .map(|seed| row("ea-madm", Role::Paper, "ea_madm", seed, ea + seed as f64))
+        .chain(
+            (0..10).map(|seed| row("softmax", Role::Paper, "softmax", seed, other + seed as f64)),
+        )
+        .collect()
+}
+
+fn options() -> ClaimOptions {
+    ClaimOptions {
+        bootstrap: Bootstrap::new(2000, 0.95, 7).unwrap(),
+        permutation: PermutationTest::new(2000, 7).unwrap(),
+        alpha: 0.05,
+    }
+}
+
+fn verdict(scores: &[FinalScore], claim: &str) -> Verdict {
+    claims::judge(scores, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == claim && j.method == "ea-madm")
+        .unwrap()
+        .verdict
+}
+
+#[test]
+fn every_claim_metric_is_a_column_of_final_scores() {
+    for claim in CLAIMS {
+        for metric in claim.metrics {
+            assert!(
+                COLUMNS.contains(&metric.column),
+                "{}: {}",
+                claim.id,
+                metric.column
+            );
+        }
+    }
+    assert_eq!(paper::claim("C3").unwrap().metrics.len(), 2);
+}
+
+#[test]
+fn the_verdict_flips_when_the_numbers_flip() {
+    let fewer = scores(100.0, 1500.0);
+    assert_eq!(verdict(&fewer, "C1"), Verdict::Supported);
+    assert_eq!(verdict(&fewer, "C2"), Verdict::Supported);
+    assert_eq!(verdict(&fewer, "C3"), Verdict::Supported);
+    let more = scores(1500.0, 100.0);
+    assert_eq!(verdict(&more, "C1"), Verdict::Contradicted);
+    assert_eq!(verdict(&more, "C2"), Verdict::Contradicted);
+    let same = scores(100.0, 100.0);
+    assert_eq!(verdict(&same, "C1"), Verdict::Inconclusive);
+    // The deciding comparison of a contradicted claim favours the competitor.
+    let judgement = claims::judge(&more, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C1")
+        .unwrap();
+    let deciding = judgement.deciding_comparison().unwrap();
+    assert_eq!(deciding.outcome, Outcome::FavoursCompetitor);
+    assert!(deciding.difference.low > 0.0, "{deciding:?}");
+    assert!(deciding.p_holm < 0.05);
+}
+
+#[test]
+fn claims_on_other_tasks_and_without_competitors_are_not_judged_or_untestable() {
+    let judgements = claims::judge(&scores(100.0, 1500.0), &options()).unwrap();
+    // Task II carries C1–C3; C4 is the robot's.
+    let ids: Vec<&str> = judgements.iter().map(|j| j.claim.id).collect();
+    assert_eq!(ids, ["C1", "C2", "C3"]);
+    let alone: Vec<FinalScore> = scores(100.0, 1500.0)
+        .into_iter()
+        .filter(|s| s.method == "ea-madm")
+        .collect();
+    let judgement = &claims::judge(&alone, &options()).unwrap()[0];
+    assert_eq!(judgement.verdict, Verdict::Untestable);
+    assert_eq!(judgement.reason, "none of the paper's competitors was run");
+}
+
+#[test]
+fn judgements_are_bit_identical_with_one_and_two_threads() {
+    let rows = scores(300.0, 320.0);
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                (
+                    claims::judge(&rows, &options()).unwrap(),
+                    claims::estimates(&rows, &options()).unwrap(),
+                )
+            })
+    };
+    assert_eq!(on(1), on(2));
+}
