@@ -810,14 +810,16 @@ impl ExperimentConfig {
     }
 
     /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, 10 seeds,
-    /// α = 0.1, γ = 0.95, and [`paper_methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
+    /// α = 0.1, γ = 0.95, [`paper_methods`] and the [`controls`] with the
+    /// [`TASK1_PRETRAIN_BUDGET`]. Equal to [`PAPER_TASK1_TOML`] parsed.
     #[must_use]
     pub fn paper_task1() -> Self {
         Self::paper_maze("task1", Preset::TaskI, TASK1_PRETRAIN_BUDGET)
     }
 
     /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise
-    /// as [`paper_task1`](Self::paper_task1). Equal to [`PAPER_TASK2_TOML`] parsed.
+    /// as [`paper_task1`](Self::paper_task1) (budget [`TASK2_PRETRAIN_BUDGET`]). Equal to
+    /// [`PAPER_TASK2_TOML`] parsed.
     #[must_use]
     pub fn paper_task2() -> Self {
         Self::paper_maze("task2", Preset::TaskII, TASK2_PRETRAIN_BUDGET)
@@ -825,7 +827,7 @@ impl ExperimentConfig {
 
     /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
     /// distance sensors, the analogue of Fig. 12), 200 episodes, 10 seeds, α = 0.1, γ = 0.95,
-    /// ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`paper_methods`]. Equal to
+    /// ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`paper_methods`] (no controls). Equal to
     /// [`PAPER_ROBOT_TOML`] parsed.
     #[must_use]
     pub fn paper_robot() -> Self {
