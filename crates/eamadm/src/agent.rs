@@ -391,6 +391,40 @@ mod tests {
         assert!((0..100).all(|_| greedy.select(0, &own, &mut rng) == 3));
     }
 
+    /// A learner whose both tables hold `values` (`n_states × n_actions`, row-major).
+    fn learner(n_states: usize, n_actions: usize, values: Vec<f64>) -> DoubleQ {
+        let table = dql::QTable::from_values(n_states, n_actions, values).unwrap();
+        DoubleQ::from_tables(dql::DoubleQParams::default(), &table, &table).unwrap()
+    }
+
+    #[test]
+    fn agreement_counts_decisions_per_subtask_with_ties_agreeing() {
+        // Sub-task 0 prefers action 1 everywhere; sub-task 1 ties actions 0 and 1 in state 0
+        // and prefers action 0 in state 1. The prior makes action 1 the decision everywhere.
+        let prior = PriorTable::from_fn(2, 2, 2, |_, _, a| Some(if a == 1 { 5.0 } else { 0.0 }));
+        let first = learner(2, 2, vec![0.0, 1.0, 0.0, 1.0]);
+        let second = learner(2, 2, vec![2.0, 2.0, 3.0, -1.0]);
+        let mut policy = EaMadmPolicy::new(prior, Schedule::Constant(0.0), Weighting::Uniform)
+            .unwrap()
+            .with_agreement(&[&first, &second], 1);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        policy.begin_episode(0);
+        assert_eq!(policy.select(0, &[0.0, 0.0], &mut rng), 1);
+        policy.begin_episode(1);
+        assert_eq!(policy.select(0, &[0.0, 0.0], &mut rng), 1);
+        assert_eq!(policy.select(1, &[0.0, 0.0], &mut rng), 1);
+        let agreement = policy.agreement().unwrap();
+        assert_eq!(agreement.training.decisions, 3);
+        // The tie in state 0 agrees; state 1's choice does not match sub-task 1's argmax.
+        assert_eq!(agreement.training.agrees, [3, 2]);
+        assert_eq!(agreement.training.agrees_with_all, 2);
+        assert_eq!(agreement.final_window.decisions, 2);
+        assert_eq!(agreement.final_window.agrees, [2, 1]);
+        assert_eq!(agreement.final_window.missing_experience, 0);
+        // The greedy evaluation policy counts nothing.
+        assert!(policy.without_exploration().agreement().is_none());
+    }
+
     #[test]
     fn fixed_weights_are_refused() {
         let prior = PriorTable::from_fn(1, 2, 2, |_, _, _| Some(0.0));
