@@ -37,7 +37,7 @@ pub(crate) struct ReproduceArgs {
     /// Run only this method (by label); repeat for several [default: all]. Labels: ea-madm,
     /// epsilon-greedy, epsilon-decreasing, softmax, the ablations ea-madm-table,
     /// ea-madm-uniform, ea-madm-literal, ea-madm-distance, and the maze tasks' controls
-    /// subtask0-alone, subtask1-alone, <competitor>-budget, <competitor>-shaped,
+    /// subtask0-alone, subtask1-alone, COMPETITOR-budget, COMPETITOR-shaped,
     /// ea-madm-tau0.5, ea-madm-tau0.33.
     #[arg(long = "method", value_name = "METHOD")]
     pub(crate) methods: Vec<String>,
