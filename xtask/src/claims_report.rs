@@ -117,7 +117,8 @@ fn number(value: f64) -> String {
 fn interval(i: &Interval) -> String {
     let width = i.high - i.low;
     let decimals = if width > 1e-9 * i.estimate.abs().max(1.0) {
-        decimals_for(width, 2)
+        // The nudge keeps a width like 73.1 − 73.0 = 0.0999… at the precision of 0.1.
+        decimals_for(width * (1.0 + 1e-9), 2)
     } else {
         decimals_for(i.estimate, 3)
     };
@@ -1092,6 +1093,12 @@ mod tests {
             high: 2000.0,
         };
         assert_eq!(interval(&flat), "2000 [2000, 2000]");
+        let tenth = Interval {
+            estimate: 73.0,
+            low: 73.0,
+            high: 73.1,
+        };
+        assert_eq!(interval(&tenth), "73.00 [73.00, 73.10]");
         assert_eq!(p_value(0.0004), "< 0.001");
         assert_eq!(p_value(0.0312), "0.031");
     }
