@@ -17,7 +17,7 @@
 //! // The embedded default scenario, the analogue of Fig. 12.
 //! let scenario = Scenario::default_scenario();
 //! let mut env = WmrEnv::new(scenario.clone())?;
-//! assert_eq!((env.n_states(), env.n_actions(), env.n_subtasks()), (250, 5, 3));
+//! assert_eq!((env.n_states(), env.n_actions(), env.n_subtasks()), (1750, 5, 3));
 //!
 //! // The shortest route the planner finds, replayed through the environment.
 //! let plan = shortest_plan(&scenario, &PlannerParams::default()).expect("solvable");
@@ -148,14 +148,17 @@ pub use env::{DEFAULT_SEED, Observation, WmrEnv};
 pub use geometry::{Circle, Rect};
 pub use kinematics::{RobotParams, Twist, WheelSpeeds, integrate_arc};
 pub use metrics::{EpisodeMetrics, MetricsParams, Outcome};
-pub use planner::{Plan, PlannerParams, TabularPolicy, shortest_plan, tabular_policy};
+pub use planner::{
+    Plan, PlanError, PlannerParams, TabularPolicy, search, shortest_plan, tabular_policy,
+};
 pub use render::{RenderedPath, render_svg};
 pub use reward::{
     RadPenalty, RewardInputs, RewardParams, SUBTASK_COUNT, SUBTASK_NAMES, TaskReward, TaskStep,
 };
 pub use scenario::{
-    ArenaSpec, DEFAULT_SCENARIO_TOML, ObstacleSpec, Scenario, ScenarioError, StartSpec, TargetSpec,
+    ArenaSpec, DEFAULT_SCENARIO_TOML, MAX_ARENA_SIDE, MAX_CONTROL_PERIOD, MAX_REWARD_MAGNITUDE,
+    MAX_STEP_CAP, ObstacleSpec, Scenario, ScenarioError, StartSpec, TargetSpec,
 };
 pub use sensors::{DistanceSensors, SENSOR_COUNT, SensorParams};
-pub use state::{Discretiser, StateBins, StateParams};
+pub use state::{DEFAULT_TARGET_BINS, Discretiser, MAX_BINS, MAX_STATES, StateBins, StateParams};
 pub use world::{Motion, Obstacle, World};
