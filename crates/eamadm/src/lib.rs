@@ -173,9 +173,9 @@ pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
 pub use config::{
-    ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_TOML,
-    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role, Storage, TaskConfig,
-    TrajectoryConfig, paper_methods,
+    ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML,
+    PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, ROBOT_EPISODES, Role,
+    Storage, TaskConfig, TrajectoryConfig, paper_methods,
 };
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtasks};

@@ -1,0 +1,3 @@
+//! The `eamadm` integration tests gathered into one test binary (one module per topic).
+
+mod robot_refusals;
