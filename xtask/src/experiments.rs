@@ -67,6 +67,7 @@ pub(crate) fn preset_config(task: Task) -> ExperimentConfig {
         Task::Task1 => ExperimentConfig::paper_task1(),
         Task::Task2 => ExperimentConfig::paper_task2(),
         Task::Robot => ExperimentConfig::paper_robot(),
+        Task::RobotPaperState => ExperimentConfig::paper_robot_paper_state(),
     }
 }
 
@@ -145,6 +146,7 @@ pub(crate) fn task_title(task: Task) -> &'static str {
         Task::Task1 => "Task I",
         Task::Task2 => "Task II",
         Task::Robot => "Robot",
+        Task::RobotPaperState => "Robot, paper's state",
     }
 }
 
@@ -229,7 +231,7 @@ mod tests {
     fn presets_are_planned_with_the_given_seeds() {
         let planned = plan_experiments(&Task::ALL, false, None, 2, true).unwrap();
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(names, ["task1", "task2", "robot"]);
+        assert_eq!(names, ["task1", "task2", "robot", "robot-paper-state"]);
         assert!(planned.iter().all(|p| p.config().seeds == 2));
         assert_eq!(planned[0].paper_maze, Some(Preset::TaskI));
         assert_eq!(planned[2].paper_maze, None);

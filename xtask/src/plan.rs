@@ -333,7 +333,7 @@ mod tests {
         assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
-        assert_eq!(plan.runs(), 3 * 8 * 10);
+        assert_eq!(plan.runs(), 4 * 8 * 10);
         let quick = ReproduceArgs {
             quick: true,
             ..args()
