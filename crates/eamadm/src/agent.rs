@@ -2,11 +2,14 @@
 //! multi-attribute decision over the sub-tasks' prior experience and the source task's own
 //! values.
 
-use dql::{DqlError, EpsilonGreedy, ExplorationPolicy, Schedule, argmax_random_tie};
+use dql::{
+    DoubleQ, DqlError, EpsilonGreedy, ExplorationPolicy, Learner, Schedule, argmax_random_tie,
+};
 use madm_owa::{MadmDecider, MadmError, Weighting};
 use rand::Rng;
 
 use crate::prior::PriorTable;
+use crate::record::{AgreementCounts, AgreementRecord};
 
 /// The EA-MADM policy of the source task (Algorithm 2, lines 16–22).
 ///
@@ -54,6 +57,50 @@ pub struct EaMadmPolicy {
     cached_own: Vec<u64>,
     /// Per `(state, action)`: that `Eq`.
     cached_value: Vec<f64>,
+    /// Counts of agreement with the sub-tasks' own greedy choices, when asked for
+    /// ([`with_agreement`](Self::with_agreement)).
+    agreement: Option<AgreementTally>,
+}
+
+/// What [`EaMadmPolicy::with_agreement`] counts with.
+#[derive(Debug, Clone)]
+struct AgreementTally {
+    /// Sub-task `k`'s behaviour values at `(k · n_states + s) · n_actions + a`.
+    values: Vec<f64>,
+    n_states: usize,
+    /// First episode of the final window.
+    final_from: u64,
+    /// The current episode is in the final window.
+    in_final: bool,
+    training: AgreementCounts,
+    final_window: AgreementCounts,
+}
+
+impl AgreementTally {
+    fn count(&mut self, state: usize, action: usize, n_actions: usize, missing: bool) {
+        let m = self.training.agrees.len();
+        let mut all = true;
+        for k in 0..m {
+            let start = (k * self.n_states + state) * n_actions;
+            let row = &self.values[start..start + n_actions];
+            let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            // Ties: agreeing with any of the tied maxima is agreeing.
+            let agrees = row[action] == best;
+            all &= agrees;
+            self.training.agrees[k] += u64::from(agrees);
+            if self.in_final {
+                self.final_window.agrees[k] += u64::from(agrees);
+            }
+        }
+        for counts in [&mut self.training, &mut self.final_window] {
+            counts.decisions += 1;
+            counts.agrees_with_all += u64::from(all);
+            counts.missing_experience += u64::from(missing);
+            if !self.in_final {
+                break;
+            }
+        }
+    }
 }
 
 /// The bits of a NaN: no finite own value has them, so a fresh cache entry never matches.
@@ -99,9 +146,60 @@ impl EaMadmPolicy {
             row: vec![0.0; cols],
             cached_own: vec![NOT_COMPUTED; pairs],
             cached_value: vec![0.0; pairs],
+            agreement: None,
             exploration,
             decider,
             prior,
+        })
+    }
+
+    /// The same policy, counting how often its exploitation choice equals each sub-task's
+    /// greedy argmax (see [`AgreementRecord`]), over all episodes and over those from
+    /// `final_from` on. `subtasks` are the pre-trained sub-task learners in sub-task order.
+    ///
+    /// # Panics
+    /// If the learners do not match the prior's sub-task count and shape.
+    #[must_use]
+    pub fn with_agreement(mut self, subtasks: &[&DoubleQ], final_from: u64) -> Self {
+        let (n_states, n_actions) = (self.prior.n_states(), self.prior.n_actions());
+        assert_eq!(
+            subtasks.len(),
+            self.prior.n_subtasks(),
+            "one learner per sub-task"
+        );
+        let mut values = vec![0.0; subtasks.len() * n_states * n_actions];
+        for (k, learner) in subtasks.iter().enumerate() {
+            assert_eq!(
+                (learner.n_states(), learner.n_actions()),
+                (n_states, n_actions),
+                "sub-task learners match the prior's shape"
+            );
+            for state in 0..n_states {
+                let start = (k * n_states + state) * n_actions;
+                learner.action_values(state, &mut values[start..start + n_actions]);
+            }
+        }
+        let counts = AgreementCounts {
+            agrees: vec![0; subtasks.len()],
+            ..AgreementCounts::default()
+        };
+        self.agreement = Some(AgreementTally {
+            values,
+            n_states,
+            final_from,
+            in_final: false,
+            training: counts.clone(),
+            final_window: counts,
+        });
+        self
+    }
+
+    /// The agreement counted so far, if [`with_agreement`](Self::with_agreement) asked for it.
+    #[must_use]
+    pub fn agreement(&self) -> Option<AgreementRecord> {
+        self.agreement.as_ref().map(|tally| AgreementRecord {
+            final_window: tally.final_window.clone(),
+            training: tally.training.clone(),
         })
     }
 
@@ -122,6 +220,7 @@ impl EaMadmPolicy {
     #[must_use]
     pub fn without_exploration(mut self) -> Self {
         self.exploration = EpsilonGreedy::constant(0.0).expect("ε = 0 is a valid exploration rate");
+        self.agreement = None;
         self
     }
 
@@ -185,6 +284,9 @@ impl EaMadmPolicy {
 impl ExplorationPolicy for EaMadmPolicy {
     fn begin_episode(&mut self, episode: u64) {
         self.exploration.begin_episode(episode);
+        if let Some(tally) = self.agreement.as_mut() {
+            tally.in_final = episode >= tally.final_from;
+        }
     }
 
     #[inline]
@@ -196,7 +298,14 @@ impl ExplorationPolicy for EaMadmPolicy {
     ) -> usize {
         match self.exploration.explore_action(action_values.len(), rng) {
             Some(action) => action,
-            None => self.decide(state, action_values, rng),
+            None => {
+                let action = self.decide(state, action_values, rng);
+                if let Some(tally) = self.agreement.as_mut() {
+                    let missing = !self.prior.is_complete(state);
+                    tally.count(state, action, self.prior.n_actions(), missing);
+                }
+                action
+            }
         }
     }
 }

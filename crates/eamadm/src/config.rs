@@ -254,12 +254,83 @@ pub enum Method {
     EpsilonGreedy {
         /// The exploring rate ε per episode.
         epsilon: Schedule,
+        /// What it learns from and how long it trains before its recorded episodes (controls;
+        /// the paper's competitors use the defaults).
+        training: CompetitorTraining,
     },
     /// Plain double Q on the task reward with softmax exploration. TOML `kind = "softmax"`.
     Softmax {
         /// The temperature T per episode.
         temperature: Schedule,
+        /// As for [`EpsilonGreedy`](Self::EpsilonGreedy).
+        training: CompetitorTraining,
     },
+    /// A control: one pre-trained sub-task acting by itself on the task, with no MADM step.
+    /// TOML `kind = "subtask_greedy"`.
+    SubtaskGreedy(SubtaskGreedyConfig),
+}
+
+/// A competitor's learning signal and warm-up (TOML keys `signal` and `warmup_env_steps`
+/// beside the method's other fields). The defaults are the paper's competitors: the task's
+/// reward, no warm-up.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CompetitorTraining {
+    /// What the learner learns from.
+    pub signal: CompetitorSignal,
+    /// Environment steps of training on the task *before* the recorded episodes (the
+    /// budget-matched control: EA-MADM spends its sub-task pre-training's steps before its
+    /// own). The warm-up runs the method's own exploration schedule from episode 0, learning
+    /// from `signal`, until exactly this many steps are spent (its last episode is cut at the
+    /// budget); the recorded episodes then start the schedule again at episode 0, as
+    /// EA-MADM's source task does after its sub-tasks' schedules. 0: no warm-up.
+    pub warmup_env_steps: u64,
+}
+
+/// What a competitor learns from. TOML `signal = "task" | "subtask_sum" | "standardised"`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CompetitorSignal {
+    /// The task's own reward (the paper's competitors).
+    #[default]
+    Task,
+    /// The sum of the sub-task rewards of each step: the reward information EA-MADM's
+    /// sub-tasks receive, unstandardised.
+    SubtaskSum,
+    /// Exactly the signal EA-MADM's source task learns from: the sub-task rewards
+    /// standardised with running statistics (Eq. 10–12, [`Standardisation::Running`]).
+    Standardised,
+}
+
+impl CompetitorSignal {
+    /// Whether the signal needs a task with sub-tasks.
+    #[must_use]
+    pub fn needs_subtasks(self) -> bool {
+        !matches!(self, Self::Task)
+    }
+}
+
+/// Most warm-up environment steps a competitor may take (far beyond any budget here).
+pub const MAX_WARMUP_ENV_STEPS: u64 = 1_000_000_000;
+
+/// A pre-trained sub-task acting alone (TOML `kind = "subtask_greedy"`): the sub-task is
+/// pre-trained exactly as EA-MADM pre-trains it (same streams, so the same learner as in the
+/// EA-MADM run with the same seed and `pretrain`), then the source task's episodes choose
+/// ε-greedily on *that sub-task's values only*; with `learn = false` (default) the values
+/// stay frozen, as EA-MADM's prior experience does.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SubtaskGreedyConfig {
+    /// Which sub-task (0-based, in the task's sub-task order).
+    pub subtask: usize,
+    /// The exploring rate per episode of the source-task episodes (EA-MADM's schedule makes
+    /// the curve comparable with EA-MADM's).
+    pub epsilon: Schedule,
+    /// Whether the sub-task keeps learning from its own reward during those episodes.
+    #[serde(default)]
+    pub learn: bool,
+    /// How the sub-task is pre-trained (as EA-MADM's `pretrain`).
+    #[serde(default)]
+    pub pretrain: PretrainConfig,
 }
 
 /// EA-MADM's parameters (TOML `kind = "ea_madm"`). Every field but `epsilon` has a default.
@@ -395,13 +466,44 @@ enum MethodRepr {
         #[serde(default)]
         role: Role,
         epsilon: Schedule,
+        #[serde(default, skip_serializing_if = "is_task_signal")]
+        signal: CompetitorSignal,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        warmup_env_steps: u64,
     },
     Softmax {
         label: String,
         #[serde(default)]
         role: Role,
         temperature: Schedule,
+        #[serde(default, skip_serializing_if = "is_task_signal")]
+        signal: CompetitorSignal,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        warmup_env_steps: u64,
     },
+    SubtaskGreedy {
+        label: String,
+        #[serde(default)]
+        role: Role,
+        subtask: usize,
+        epsilon: Schedule,
+        #[serde(default)]
+        learn: bool,
+        #[serde(default)]
+        pretrain: PretrainConfig,
+    },
+}
+
+fn is_task_signal(signal: &CompetitorSignal) -> bool {
+    *signal == CompetitorSignal::Task
+}
+
+#[expect(
+    clippy::trivially_copy_pass_by_ref,
+    reason = "serde's skip_serializing_if passes a reference"
+)]
+fn is_zero(value: &u64) -> bool {
+    *value == 0
 }
 
 impl From<MethodRepr> for MethodSpec {
@@ -430,19 +532,52 @@ impl From<MethodRepr> for MethodSpec {
                 label,
                 role,
                 epsilon,
+                signal,
+                warmup_env_steps,
             } => Self {
                 label,
                 role,
-                method: Method::EpsilonGreedy { epsilon },
+                method: Method::EpsilonGreedy {
+                    epsilon,
+                    training: CompetitorTraining {
+                        signal,
+                        warmup_env_steps,
+                    },
+                },
             },
             MethodRepr::Softmax {
                 label,
                 role,
                 temperature,
+                signal,
+                warmup_env_steps,
             } => Self {
                 label,
                 role,
-                method: Method::Softmax { temperature },
+                method: Method::Softmax {
+                    temperature,
+                    training: CompetitorTraining {
+                        signal,
+                        warmup_env_steps,
+                    },
+                },
+            },
+            MethodRepr::SubtaskGreedy {
+                label,
+                role,
+                subtask,
+                epsilon,
+                learn,
+                pretrain,
+            } => Self {
+                label,
+                role,
+                method: Method::SubtaskGreedy(SubtaskGreedyConfig {
+                    subtask,
+                    epsilon,
+                    learn,
+                    pretrain,
+                }),
             },
         }
     }
@@ -462,15 +597,30 @@ impl From<MethodSpec> for MethodRepr {
                 storage: config.storage,
                 pretrain: config.pretrain,
             },
-            Method::EpsilonGreedy { epsilon } => Self::EpsilonGreedy {
+            Method::EpsilonGreedy { epsilon, training } => Self::EpsilonGreedy {
                 label,
                 role,
                 epsilon,
+                signal: training.signal,
+                warmup_env_steps: training.warmup_env_steps,
             },
-            Method::Softmax { temperature } => Self::Softmax {
+            Method::Softmax {
+                temperature,
+                training,
+            } => Self::Softmax {
                 label,
                 role,
                 temperature,
+                signal: training.signal,
+                warmup_env_steps: training.warmup_env_steps,
+            },
+            Method::SubtaskGreedy(config) => Self::SubtaskGreedy {
+                label,
+                role,
+                subtask: config.subtask,
+                epsilon: config.epsilon,
+                learn: config.learn,
+                pretrain: config.pretrain,
             },
         }
     }
@@ -781,6 +931,7 @@ pub fn paper_methods() -> Vec<MethodSpec> {
             role: Role::Paper,
             method: Method::EpsilonGreedy {
                 epsilon: Schedule::Constant(0.1),
+                training: CompetitorTraining::default(),
             },
         },
         MethodSpec {
@@ -788,6 +939,7 @@ pub fn paper_methods() -> Vec<MethodSpec> {
             role: Role::Paper,
             method: Method::EpsilonGreedy {
                 epsilon: table1_epsilon_decreasing(),
+                training: CompetitorTraining::default(),
             },
         },
         MethodSpec {
@@ -795,6 +947,7 @@ pub fn paper_methods() -> Vec<MethodSpec> {
             role: Role::Paper,
             method: Method::Softmax {
                 temperature: table1_temperature(),
+                training: CompetitorTraining::default(),
             },
         },
         variant("ea-madm-table", Role::Ablation, &|c| {
@@ -822,13 +975,22 @@ impl MethodSpec {
     pub fn validate(&self, path: &str) -> Result<(), ConfigError> {
         check_label(&join(path, "label"), &self.label)?;
         match &self.method {
-            Method::EpsilonGreedy { epsilon } => {
+            Method::EpsilonGreedy { epsilon, training } => {
                 EpsilonGreedy::new(*epsilon).map_err(|e| ConfigError::from_dql(path, e))?;
+                training.validate(path)?;
             }
-            Method::Softmax { temperature } => {
+            Method::Softmax {
+                temperature,
+                training,
+            } => {
                 Softmax::new(*temperature).map_err(|e| ConfigError::from_dql(path, e))?;
+                training.validate(path)?;
             }
             Method::EaMadm(config) => config.validate(path)?,
+            Method::SubtaskGreedy(config) => {
+                EpsilonGreedy::new(config.epsilon).map_err(|e| ConfigError::from_dql(path, e))?;
+                validate_pretrain(path, &config.pretrain)?;
+            }
         }
         Ok(())
     }
@@ -868,18 +1030,39 @@ impl EaMadmConfig {
                 }
             }
         }
-        let pretrain = join(path, "pretrain");
-        if self.pretrain.episodes == 0 || self.pretrain.episodes > MAX_EPISODES {
+        validate_pretrain(path, &self.pretrain)
+    }
+}
+
+impl CompetitorTraining {
+    /// Checks the warm-up budget; `path` prefixes field names in errors. (Whether the task has
+    /// the sub-tasks a signal needs is checked when the task is loaded.)
+    ///
+    /// # Errors
+    /// [`ConfigError::Invalid`] naming `warmup_env_steps`.
+    pub fn validate(&self, path: &str) -> Result<(), ConfigError> {
+        if self.warmup_env_steps > MAX_WARMUP_ENV_STEPS {
             return Err(ConfigError::invalid(
-                join(&pretrain, "episodes"),
-                self.pretrain.episodes,
-                format!("an episode count in 1..={MAX_EPISODES}"),
+                join(path, "warmup_env_steps"),
+                self.warmup_env_steps,
+                format!("a step budget in 0..={MAX_WARMUP_ENV_STEPS}"),
             ));
         }
-        EpsilonGreedy::new(self.pretrain.epsilon)
-            .map_err(|e| ConfigError::from_dql(&pretrain, e))?;
         Ok(())
     }
+}
+
+fn validate_pretrain(path: &str, config: &PretrainConfig) -> Result<(), ConfigError> {
+    let pretrain = join(path, "pretrain");
+    if config.episodes == 0 || config.episodes > MAX_EPISODES {
+        return Err(ConfigError::invalid(
+            join(&pretrain, "episodes"),
+            config.episodes,
+            format!("an episode count in 1..={MAX_EPISODES}"),
+        ));
+    }
+    EpsilonGreedy::new(config.epsilon).map_err(|e| ConfigError::from_dql(&pretrain, e))?;
+    Ok(())
 }
 
 /// Labels and names go into file names: non-empty, at most 64 of `[A-Za-z0-9._-]`.

@@ -55,6 +55,28 @@ pub fn pretrain_subtasks<E: Environment + Clone + Send + Sync>(
         .collect()
 }
 
+/// Trains sub-task `k` of `env` alone, exactly as [`pretrain_subtasks`] trains it (the same
+/// random streams, so the same learner as in a [`pretrain_subtasks`] call with the same
+/// arguments).
+///
+/// # Errors
+/// A [`DqlError`] for invalid parameters, a sub-task `k` the environment does not have, or
+/// an environment that breaks its contract.
+pub fn pretrain_subtask<E: Environment + Clone>(
+    env: &E,
+    k: usize,
+    learner: DoubleQParams,
+    config: &PretrainConfig,
+    seed: u64,
+) -> Result<PretrainedSubtask, DqlError> {
+    let name = env
+        .subtask_names()
+        .get(k)
+        .cloned()
+        .unwrap_or_else(|| format!("sub-task {k}"));
+    train_subtask(env.clone(), k, name, learner, config, seed)
+}
+
 fn train_subtask<E: Environment>(
     mut env: E,
     k: usize,

@@ -2,7 +2,7 @@
 //! `(state, action, sub-task)`, or none.
 
 use dql::{DoubleQ, Environment, Learner};
-use ea_tree::{AnswerTable, EaTree, EaTreeError, TableEntry};
+use ea_tree::{AnswerTable, EaTree, EaTreeError, TableEntry, TreeStats};
 
 use crate::config::Storage;
 
@@ -149,8 +149,8 @@ impl PriorTable {
     }
 }
 
-/// The prior table of trained sub-task learners stored as `storage` says, with the number of
-/// clusters of each tree (`None` for table storage).
+/// The prior table of trained sub-task learners stored as `storage` says, with each tree's
+/// statistics (clusters, samples, estimated bytes; `None` for table storage).
 ///
 /// # Errors
 /// An [`EaTreeError`] from building a tree (e.g. a state with no features).
@@ -158,7 +158,7 @@ pub fn build_prior<E: Environment + ?Sized>(
     env: &E,
     learners: &[&DoubleQ],
     storage: &Storage,
-) -> Result<(PriorTable, Vec<Option<u64>>), EaTreeError> {
+) -> Result<(PriorTable, Vec<Option<TreeStats>>), EaTreeError> {
     match storage {
         Storage::Table => Ok((
             PriorTable::from_learners(learners),
@@ -181,7 +181,7 @@ pub fn build_prior<E: Environment + ?Sized>(
                         q2: sample.q2,
                     }),
                 )?;
-                clusters.push(Some(tree.len() as u64));
+                clusters.push(Some(tree.stats()));
                 tables.push(tree.answer_table(features.iter().map(Vec::as_slice), n_actions));
             }
             Ok((

@@ -31,6 +31,49 @@ pub struct RunRecord {
     pub evaluation: EpisodeRecord,
     /// The evaluation episode's trajectory.
     pub evaluation_trajectory: TrajectoryRecord,
+    /// Training episodes in the final window that [`final_window_actions`](Self::final_window_actions)
+    /// and [`agreement`](Self::agreement) count over: the last
+    /// [`DEFAULT_FINAL_WINDOW`](crate::DEFAULT_FINAL_WINDOW) episodes (all of them in a shorter run).
+    #[serde(default)]
+    pub final_window_episodes: u64,
+    /// How often each action was taken in the final window, one count per action (every
+    /// method; exploring steps included). Sums to the steps of the window's episodes.
+    #[serde(default)]
+    pub final_window_actions: Vec<u64>,
+    /// EA-MADM only: how often its exploitation choice equals each sub-task's own greedy
+    /// choice, over the final window and over all source-task training; `None` otherwise.
+    #[serde(default)]
+    pub agreement: Option<AgreementRecord>,
+}
+
+/// How often EA-MADM's exploitation choice agrees with each sub-task's greedy argmax.
+///
+/// Only exploitation steps count (the ε coin said "exploit" and the MADM decision chose):
+/// exploring steps choose at random and say nothing about the decision rule. A sub-task's
+/// greedy choice is the argmax of its pre-trained learner's behaviour values
+/// (`(Q1 + Q2) / 2`) in the state; when several actions share the maximum, the step *agrees*
+/// if the chosen action is one of them.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AgreementRecord {
+    /// Over the final window's episodes.
+    pub final_window: AgreementCounts,
+    /// Over every training episode of the source task (the final window included).
+    pub training: AgreementCounts,
+}
+
+/// Agreement counts over a set of episodes (see [`AgreementRecord`]).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AgreementCounts {
+    /// Exploitation steps (MADM decisions).
+    pub decisions: u64,
+    /// Per sub-task (in sub-task order): decisions equal to (one of) its argmax actions.
+    /// Each is at most `decisions`.
+    pub agrees: Vec<u64>,
+    /// Decisions agreeing with every sub-task at once (at most the smallest of `agrees`).
+    pub agrees_with_all: u64,
+    /// Decisions in a state where at least one sub-task had no prior experience for at least
+    /// one action (its attribute dropped out of that action's row).
+    pub missing_experience: u64,
 }
 
 /// One episode of the source task.
@@ -106,4 +149,21 @@ pub struct SubtaskRecord {
     pub clusters: Option<u64>,
     /// State–action pairs of the task for which the source task finds prior experience.
     pub answered_pairs: u64,
+    /// Experience samples inserted into its EA tree (`None` with table storage): the
+    /// visited pairs.
+    #[serde(default)]
+    pub tree_samples: Option<u64>,
+    /// Estimated heap bytes of its EA tree, clusters and lookup index
+    /// ([`ea_tree::TreeStats::bytes`]); `None` with table storage.
+    #[serde(default)]
+    pub tree_bytes: Option<u64>,
+    /// Bytes of the dense double-Q tables the tree stands in for: two `f64` per
+    /// state–action pair of the task.
+    #[serde(default)]
+    pub table_bytes: u64,
+    /// The sub-task's pre-trained greedy policy by itself on the task: one greedy episode
+    /// without learning, on the same start as the run's evaluation episode (its
+    /// `task_return` is the task's reward; `env_steps` is this episode's steps alone).
+    #[serde(default)]
+    pub greedy_alone: Option<EpisodeRecord>,
 }

@@ -18,6 +18,10 @@ pub(crate) enum Stream {
     Evaluation,
     /// The seed handed to the environment's `reset` in the evaluation episode.
     EvaluationEnvironment,
+    /// A competitor's warm-up episodes before its recorded ones (budget-matched control).
+    Warmup,
+    /// The seeds handed to the environment's `reset` in warm-up episodes.
+    WarmupEnvironment,
     /// Sub-task `k`'s learner: initial values, exploration, tie-breaks.
     Pretrain(usize),
     /// The seeds handed to the environment's `reset` in sub-task `k`'s episodes.
@@ -33,6 +37,8 @@ impl Stream {
             Self::SourceEnvironment => 3,
             Self::Evaluation => 4,
             Self::EvaluationEnvironment => 5,
+            Self::Warmup => 6,
+            Self::WarmupEnvironment => 7,
             Self::Pretrain(k) => 1 << 32 | wide(k),
             Self::PretrainEnvironment(k) => 2 << 32 | wide(k),
         }
@@ -60,6 +66,8 @@ mod tests {
             Stream::SourceEnvironment,
             Stream::Evaluation,
             Stream::EvaluationEnvironment,
+            Stream::Warmup,
+            Stream::WarmupEnvironment,
             Stream::Pretrain(0),
             Stream::Pretrain(1),
             Stream::PretrainEnvironment(0),

@@ -2,20 +2,25 @@
 //! of them in parallel.
 
 use dql::{
-    DoubleQ, DqlError, EpisodeOptions, EpisodeOutcome, EpsilonGreedy, ExplorationPolicy, Greedy,
-    Learner, RewardSignal, Softmax, TaskReward, run_episode,
+    DoubleQ, DqlError, Environment, EpisodeOptions, EpisodeOutcome, EpsilonGreedy,
+    ExplorationPolicy, Greedy, Learner, RewardSignal, Softmax, Step, SubtaskReward, TaskReward,
+    run_episode,
 };
-use rand::RngExt;
+use rand::{Rng, RngExt};
 use rayon::prelude::*;
+use reward_std::Standardisation;
 
 use crate::agent::EaMadmPolicy;
-use crate::config::{ConfigError, ExperimentConfig, Method, MethodSpec};
+use crate::config::{
+    CompetitorSignal, CompetitorTraining, ConfigError, ExperimentConfig, Method, MethodSpec,
+};
 use crate::error::{RunError, RunFailure};
-use crate::pretrain::pretrain_subtasks;
+use crate::pretrain::{pretrain_subtask, pretrain_subtasks};
 use crate::prior::build_prior;
-use crate::record::{EpisodeRecord, RunRecord, SubtaskRecord, TrajectoryRecord};
+use crate::record::{AgreementRecord, EpisodeRecord, RunRecord, SubtaskRecord, TrajectoryRecord};
 use crate::rng::{Stream, stream_rng};
 use crate::signal::StandardisedReward;
+use crate::summary::DEFAULT_FINAL_WINDOW;
 use crate::task::{Counting, Task, TaskEnv, TaskKind};
 
 /// A validated config with its task loaded: ready to run.
@@ -151,8 +156,29 @@ pub fn run_all(config: &ExperimentConfig) -> Result<Vec<RunRecord>, RunError> {
     experiment.run_all()
 }
 
-/// Checks what only the task can tell: EA-MADM needs sub-tasks.
+/// Checks what only the task can tell: EA-MADM, a sub-task alone and the reward-matched
+/// signals need sub-tasks (and the sub-task named must exist).
 fn check_method_fits(task: &Task, spec: &MethodSpec, path: &str) -> Result<(), ConfigError> {
+    let n_subtasks = task.subtask_names().len();
+    match &spec.method {
+        Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. }
+            if training.signal.needs_subtasks() && n_subtasks == 0 =>
+        {
+            return Err(ConfigError::invalid(
+                format!("{path}.signal"),
+                format!("{:?}", training.signal),
+                "\"task\": this task has no sub-tasks whose rewards could be learned from",
+            ));
+        }
+        Method::SubtaskGreedy(alone) if alone.subtask >= n_subtasks => {
+            return Err(ConfigError::invalid(
+                format!("{path}.subtask"),
+                alone.subtask,
+                format!("a sub-task index below the task's {n_subtasks} sub-tasks"),
+            ));
+        }
+        _ => {}
+    }
     if let Method::EaMadm(config) = &spec.method {
         if task.subtask_names().is_empty() {
             return Err(ConfigError::invalid(
@@ -188,53 +214,115 @@ fn run_on<E: TaskEnv>(
         config.learner,
         &mut init_rng,
     )?;
+    let window = config.episodes.min(DEFAULT_FINAL_WINDOW as u64);
+    let final_from = config.episodes - window;
     let mut session = Session {
         env: Counting::new(prototype.clone()),
         learner,
         config,
         seed,
     };
-    let (subtasks, pretrain_env_steps, trained, evaluation) = match &spec.method {
+    let n_actions = prototype.n_actions();
+    let table_bytes = (prototype.n_states() * n_actions * 2 * std::mem::size_of::<f64>()) as u64;
+    let outcome = match &spec.method {
         Method::EaMadm(ea) => {
             let pretrained = pretrain_subtasks(prototype, config.learner, &ea.pretrain, seed)?;
             let learners: Vec<&DoubleQ> = pretrained.iter().map(|s| &s.learner).collect();
-            let (prior, clusters) = build_prior(prototype, &learners, &ea.storage)?;
-            let subtasks: Vec<SubtaskRecord> = pretrained
-                .iter()
-                .zip(clusters)
-                .enumerate()
-                .map(|(k, (subtask, clusters))| SubtaskRecord {
+            let (prior, tree_stats) = build_prior(prototype, &learners, &ea.storage)?;
+            let mut subtasks = Vec::with_capacity(pretrained.len());
+            for (k, (subtask, stats)) in pretrained.iter().zip(tree_stats).enumerate() {
+                subtasks.push(SubtaskRecord {
                     name: subtask.name.clone(),
                     episodes: subtask.episodes,
                     env_steps: subtask.env_steps,
                     last_episode_steps: subtask.last_episode_steps,
                     visited_pairs: subtask.learner.experience().count() as u64,
-                    clusters,
+                    clusters: stats.map(|stats| stats.clusters as u64),
                     answered_pairs: prior.answered_pairs(k),
-                })
-                .collect();
+                    tree_samples: stats.map(|stats| stats.samples_seen),
+                    tree_bytes: stats.map(|stats| stats.bytes() as u64),
+                    table_bytes,
+                    greedy_alone: Some(session.greedy_alone(&subtask.learner)?),
+                });
+            }
             let pretrain_env_steps = subtasks.iter().map(|s| s.env_steps).sum();
-            let mut policy = EaMadmPolicy::new(prior, ea.epsilon, ea.weighting.clone())?;
+            let policy = EaMadmPolicy::new(prior, ea.epsilon, ea.weighting.clone())?
+                .with_agreement(&learners, final_from);
+            let mut policy = ActionTally::new(policy, n_actions, final_from);
             let mut signal = StandardisedReward::new(ea.standardisation, subtasks.len())?;
-            let trained = session.train(&mut policy, &mut signal, pretrain_env_steps)?;
-            let mut greedy = policy.without_exploration();
+            let trained = session.train(&mut policy, &mut signal, pretrain_env_steps, true)?;
+            let agreement = policy.inner.agreement();
+            let mut greedy = policy.inner.without_exploration();
             let evaluation = session.evaluate(&mut greedy, trained.env_steps)?;
-            (subtasks, pretrain_env_steps, trained, evaluation)
+            Outcome {
+                subtasks,
+                pretrain_env_steps,
+                trained,
+                evaluation,
+                actions: policy.counts,
+                agreement,
+            }
         }
-        Method::EpsilonGreedy { epsilon } => {
-            let mut policy = EpsilonGreedy::new(*epsilon)?;
-            let trained = session.train(&mut policy, &mut TaskReward, 0)?;
-            let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
-            (Vec::new(), 0, trained, evaluation)
+        Method::EpsilonGreedy { epsilon, training } => {
+            let policy = EpsilonGreedy::new(*epsilon)?;
+            session.competitor(policy, *training, final_from)?
         }
-        Method::Softmax { temperature } => {
-            let mut policy = Softmax::new(*temperature)?;
-            let trained = session.train(&mut policy, &mut TaskReward, 0)?;
+        Method::Softmax {
+            temperature,
+            training,
+        } => {
+            let policy = Softmax::new(*temperature)?;
+            session.competitor(policy, *training, final_from)?
+        }
+        Method::SubtaskGreedy(alone) => {
+            let pretrained = pretrain_subtask(
+                prototype,
+                alone.subtask,
+                config.learner,
+                &alone.pretrain,
+                seed,
+            )?;
+            let subtask = SubtaskRecord {
+                name: pretrained.name.clone(),
+                episodes: pretrained.episodes,
+                env_steps: pretrained.env_steps,
+                last_episode_steps: pretrained.last_episode_steps,
+                visited_pairs: pretrained.learner.experience().count() as u64,
+                clusters: None,
+                answered_pairs: pretrained.learner.experience().count() as u64,
+                tree_samples: None,
+                tree_bytes: None,
+                table_bytes,
+                greedy_alone: Some(session.greedy_alone(&pretrained.learner)?),
+            };
+            let pretrain_env_steps = pretrained.env_steps;
+            // The source task's episodes act (and, with `learn`, learn) on the sub-task's own
+            // values and reward.
+            session.learner = pretrained.learner;
+            let mut policy =
+                ActionTally::new(EpsilonGreedy::new(alone.epsilon)?, n_actions, final_from);
+            let mut signal = SubtaskReward(alone.subtask);
+            let trained =
+                session.train(&mut policy, &mut signal, pretrain_env_steps, alone.learn)?;
             let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
-            (Vec::new(), 0, trained, evaluation)
+            Outcome {
+                subtasks: vec![subtask],
+                pretrain_env_steps,
+                trained,
+                evaluation,
+                actions: policy.counts,
+                agreement: None,
+            }
         }
     };
-    let (evaluation, evaluation_trajectory) = evaluation;
+    let Outcome {
+        subtasks,
+        pretrain_env_steps,
+        trained,
+        evaluation: (evaluation, evaluation_trajectory),
+        actions,
+        agreement,
+    } = outcome;
     Ok(RunRecord {
         experiment: config.name.clone(),
         method: spec.label.clone(),
@@ -247,7 +335,105 @@ fn run_on<E: TaskEnv>(
         trajectories: trained.trajectories,
         evaluation,
         evaluation_trajectory,
+        final_window_episodes: window,
+        final_window_actions: actions,
+        agreement,
     })
+}
+
+/// What one method's run produced, before it becomes a [`RunRecord`].
+struct Outcome {
+    subtasks: Vec<SubtaskRecord>,
+    pretrain_env_steps: u64,
+    trained: Trained,
+    evaluation: (EpisodeRecord, TrajectoryRecord),
+    actions: Vec<u64>,
+    agreement: Option<AgreementRecord>,
+}
+
+/// A policy that counts the actions it takes in the final window (episodes from
+/// `final_from` on), exploring steps included.
+struct ActionTally<P> {
+    inner: P,
+    counts: Vec<u64>,
+    final_from: u64,
+    active: bool,
+}
+
+impl<P> ActionTally<P> {
+    fn new(inner: P, n_actions: usize, final_from: u64) -> Self {
+        Self {
+            inner,
+            counts: vec![0; n_actions],
+            final_from,
+            active: false,
+        }
+    }
+}
+
+impl<P: ExplorationPolicy> ExplorationPolicy for ActionTally<P> {
+    fn begin_episode(&mut self, episode: u64) {
+        self.active = episode >= self.final_from;
+        self.inner.begin_episode(episode);
+    }
+
+    fn end_episode(&mut self, episode: u64) {
+        self.inner.end_episode(episode);
+    }
+
+    #[inline]
+    fn select<R: Rng + ?Sized>(
+        &mut self,
+        state: usize,
+        action_values: &[f64],
+        rng: &mut R,
+    ) -> usize {
+        let action = self.inner.select(state, action_values, rng);
+        if self.active {
+            if let Some(count) = self.counts.get_mut(action) {
+                *count += 1;
+            }
+        }
+        action
+    }
+}
+
+/// A competitor's learning signal ([`CompetitorSignal`]) as a [`RewardSignal`].
+enum CompetitorReward {
+    Task,
+    SubtaskSum,
+    Standardised(StandardisedReward),
+}
+
+impl CompetitorReward {
+    fn new(signal: CompetitorSignal, n_subtasks: usize) -> Result<Self, RunFailure> {
+        Ok(match signal {
+            CompetitorSignal::Task => Self::Task,
+            CompetitorSignal::SubtaskSum => Self::SubtaskSum,
+            CompetitorSignal::Standardised => Self::Standardised(StandardisedReward::new(
+                Standardisation::Running,
+                n_subtasks,
+            )?),
+        })
+    }
+}
+
+impl RewardSignal for CompetitorReward {
+    fn begin_episode(&mut self, n_subtasks: usize) -> Result<(), DqlError> {
+        match self {
+            Self::Task | Self::SubtaskSum => Ok(()),
+            Self::Standardised(signal) => signal.begin_episode(n_subtasks),
+        }
+    }
+
+    #[inline]
+    fn learning_reward(&mut self, step: &Step, subtask_rewards: &[f64]) -> f64 {
+        match self {
+            Self::Task => TaskReward.learning_reward(step, subtask_rewards),
+            Self::SubtaskSum => subtask_rewards.iter().sum(),
+            Self::Standardised(signal) => signal.learning_reward(step, subtask_rewards),
+        }
+    }
 }
 
 /// The source task's learner on its environment, for one run.
@@ -267,13 +453,69 @@ struct Trained {
 }
 
 impl<E: TaskEnv> Session<'_, E> {
+    /// A paper competitor or its control: warm-up (if any), training and evaluation.
+    fn competitor<P: ExplorationPolicy>(
+        &mut self,
+        policy: P,
+        training: CompetitorTraining,
+        final_from: u64,
+    ) -> Result<Outcome, RunFailure> {
+        let mut signal = CompetitorReward::new(training.signal, self.env.n_subtasks())?;
+        let mut policy = ActionTally::new(policy, self.env.n_actions(), final_from);
+        let warmup_env_steps =
+            self.warm_up(&mut policy.inner, &mut signal, training.warmup_env_steps)?;
+        let trained = self.train(&mut policy, &mut signal, warmup_env_steps, true)?;
+        let evaluation = self.evaluate(&mut Greedy, trained.env_steps)?;
+        Ok(Outcome {
+            subtasks: Vec::new(),
+            pretrain_env_steps: warmup_env_steps,
+            trained,
+            evaluation,
+            actions: policy.counts,
+            agreement: None,
+        })
+    }
+
+    /// Trains on the task with `policy` and `signal` for exactly `budget` environment steps
+    /// (episodes 0, 1, … of the policy's schedule; the last one cut at the budget), before
+    /// the recorded episodes. Returns the steps spent (`budget`).
+    fn warm_up<P: ExplorationPolicy, S: RewardSignal>(
+        &mut self,
+        policy: &mut P,
+        signal: &mut S,
+        budget: u64,
+    ) -> Result<u64, DqlError> {
+        let mut rng = stream_rng(self.seed, Stream::Warmup);
+        let mut env_seeds = stream_rng(self.seed, Stream::WarmupEnvironment);
+        let mut spent = 0;
+        let mut episode = 0;
+        while spent < budget {
+            let options = EpisodeOptions::new(episode)
+                .with_seed(env_seeds.random())
+                .with_max_steps(budget - spent);
+            let outcome = run_episode(
+                &mut self.env,
+                &mut self.learner,
+                policy,
+                signal,
+                &mut rng,
+                &options,
+            )?;
+            // Every episode takes at least one step, so the loop ends.
+            spent += outcome.steps.max(1);
+            episode += 1;
+        }
+        Ok(spent)
+    }
+
     /// Trains for the config's episodes; `env_steps` counts the steps already spent
-    /// (pre-training).
+    /// (pre-training or warm-up); `learn = false` acts without updating the learner.
     fn train<P: ExplorationPolicy, S: RewardSignal>(
         &mut self,
         policy: &mut P,
         signal: &mut S,
         mut env_steps: u64,
+        learn: bool,
     ) -> Result<Trained, DqlError> {
         let episodes = self.config.episodes;
         let mut rng = stream_rng(self.seed, Stream::SourceTraining);
@@ -283,6 +525,7 @@ impl<E: TaskEnv> Session<'_, E> {
         for episode in 0..episodes {
             let mut options = EpisodeOptions::new(episode).with_seed(env_seeds.random());
             options.record_trajectory = self.config.trajectories.keeps(episode, episodes);
+            options.learn = learn;
             let outcome = run_episode(
                 &mut self.env,
                 &mut self.learner,
@@ -310,42 +553,38 @@ impl<E: TaskEnv> Session<'_, E> {
         policy: &mut P,
         env_steps: u64,
     ) -> Result<(EpisodeRecord, TrajectoryRecord), DqlError> {
-        let mut rng = stream_rng(self.seed, Stream::Evaluation);
-        let env_seed = stream_rng(self.seed, Stream::EvaluationEnvironment).random();
-        let episode = self.config.episodes;
-        let options = EpisodeOptions::new(episode)
-            .with_seed(env_seed)
-            .without_learning()
-            .recording();
-        let outcome = run_episode(
+        let (outcome, mut record) = greedy_episode(
             &mut self.env,
             &mut self.learner,
             policy,
-            &mut TaskReward,
-            &mut rng,
-            &options,
+            self.config.episodes,
+            self.seed,
+            true,
         )?;
-        let mut record = self.record(episode, &outcome, env_steps);
-        record.learning_return = 0.0;
+        record.env_steps = env_steps;
         let trajectory = self
-            .trajectory(episode, true, &outcome)
+            .trajectory(record.episode, true, &outcome)
             .expect("the evaluation episode records its trajectory");
         Ok((record, trajectory))
     }
 
+    /// A pre-trained sub-task's greedy policy by itself: the evaluation episode (same start,
+    /// same tie-break stream) acted greedily on the sub-task's own values.
+    fn greedy_alone(&mut self, subtask: &DoubleQ) -> Result<EpisodeRecord, DqlError> {
+        let mut learner = subtask.clone();
+        let (_, record) = greedy_episode(
+            &mut self.env,
+            &mut learner,
+            &mut Greedy,
+            self.config.episodes,
+            self.seed,
+            false,
+        )?;
+        Ok(record)
+    }
+
     fn record(&self, episode: u64, outcome: &EpisodeOutcome, env_steps: u64) -> EpisodeRecord {
-        EpisodeRecord {
-            episode,
-            steps: outcome.steps,
-            task_return: outcome.task_return,
-            learning_return: outcome.learning_return,
-            terminated: outcome.terminated,
-            truncated: outcome.truncated,
-            reached: self.env.inner.reached(outcome.terminated),
-            collisions: self.env.collisions(),
-            env_steps,
-            robot: self.env.inner.robot_metrics(),
-        }
+        episode_record(&self.env, episode, outcome, env_steps)
     }
 
     fn trajectory(
@@ -364,5 +603,47 @@ impl<E: TaskEnv> Session<'_, E> {
                 actions: trajectory.actions.clone(),
                 positions: self.env.inner.positions(trajectory),
             })
+    }
+}
+
+/// One greedy episode of `learner` without learning, numbered `episode`, on the evaluation
+/// streams of `seed`; its record counts only its own steps in `env_steps`.
+fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
+    env: &mut Counting<E>,
+    learner: &mut DoubleQ,
+    policy: &mut P,
+    episode: u64,
+    seed: u64,
+    recording: bool,
+) -> Result<(EpisodeOutcome, EpisodeRecord), DqlError> {
+    let mut rng = stream_rng(seed, Stream::Evaluation);
+    let env_seed = stream_rng(seed, Stream::EvaluationEnvironment).random();
+    let mut options = EpisodeOptions::new(episode)
+        .with_seed(env_seed)
+        .without_learning();
+    options.record_trajectory = recording;
+    let outcome = run_episode(env, learner, policy, &mut TaskReward, &mut rng, &options)?;
+    let mut record = episode_record(env, episode, &outcome, outcome.steps);
+    record.learning_return = 0.0;
+    Ok((outcome, record))
+}
+
+fn episode_record<E: TaskEnv>(
+    env: &Counting<E>,
+    episode: u64,
+    outcome: &EpisodeOutcome,
+    env_steps: u64,
+) -> EpisodeRecord {
+    EpisodeRecord {
+        episode,
+        steps: outcome.steps,
+        task_return: outcome.task_return,
+        learning_return: outcome.learning_return,
+        terminated: outcome.terminated,
+        truncated: outcome.truncated,
+        reached: env.inner.reached(outcome.terminated),
+        collisions: env.collisions(),
+        env_steps,
+        robot: env.inner.robot_metrics(),
     }
 }
