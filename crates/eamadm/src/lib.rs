@@ -19,6 +19,7 @@
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
 //! | [`summary`], [`results`] | statistics over seeds; JSON and CSV output |
+//! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //!
 //! # A first experiment
 //!
@@ -168,6 +169,7 @@ pub mod results;
 mod rng;
 pub mod runner;
 pub mod signal;
+pub mod stats;
 pub mod summary;
 pub mod task;
 

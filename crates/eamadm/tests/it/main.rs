@@ -1,3 +1,4 @@
-//! The `eamadm` integration tests gathered into one test binary (one module per topic).
+//! The integration tests of `eamadm`, one test binary with one module per subject.
 
 mod robot_refusals;
+mod stats;
