@@ -168,6 +168,7 @@ fn write_experiment(
         );
         text.push_str(&robot.render());
         text.push('\n');
+        crate::robot_report::write_robot_behaviour(text, experiment.records, config.learner.gamma);
     }
 
     let base = summary.iter().find(|s| s.method == "ea-madm");

@@ -160,6 +160,7 @@ pub use reward_std;
 pub use wmr_model;
 
 pub mod agent;
+pub mod behaviour;
 pub mod config;
 pub mod error;
 pub mod pretrain;
@@ -174,6 +175,7 @@ pub mod summary;
 pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
+pub use behaviour::{Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use config::{
     ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML,
     PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, ROBOT_EPISODES, Role,
