@@ -212,7 +212,11 @@ fn write_experiment(
         text.push_str(&table.render());
         text.push('\n');
     }
-    let mut figures = vec!["steps", "return"];
+    let mut figures = if is_robot {
+        vec!["success", "steps", "return"]
+    } else {
+        vec!["steps", "return"]
+    };
     if !summary
         .iter()
         .all(|s| MAIN_METHODS.contains(&s.method.as_str()))
