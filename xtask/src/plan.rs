@@ -15,13 +15,23 @@ pub(crate) const DEFAULT_SEEDS: u32 = 10;
 /// Seeds per task and method of a `--quick` run.
 pub(crate) const QUICK_SEEDS: u32 = 3;
 
-/// The method labels of the embedded default configs, as [`eamadm::paper_methods`] defines
-/// them: the four methods, then the ablations (each EA-MADM with one switch flipped).
+/// The method labels of the embedded default configs, in order of first appearance: the four
+/// methods, the ablations (each EA-MADM with one switch flipped), then the maze tasks'
+/// controls ([`eamadm::controls`]).
 pub(crate) fn default_methods() -> Vec<String> {
-    eamadm::paper_methods()
-        .into_iter()
-        .map(|method| method.label)
-        .collect()
+    let mut labels: Vec<String> = Vec::new();
+    for config in [
+        eamadm::ExperimentConfig::paper_task1(),
+        eamadm::ExperimentConfig::paper_task2(),
+        eamadm::ExperimentConfig::paper_robot(),
+    ] {
+        for method in config.methods {
+            if !labels.contains(&method.label) {
+                labels.push(method.label);
+            }
+        }
+    }
+    labels
 }
 
 /// Arguments that cannot work.

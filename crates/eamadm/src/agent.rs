@@ -79,26 +79,27 @@ struct AgreementTally {
 impl AgreementTally {
     fn count(&mut self, state: usize, action: usize, n_actions: usize, missing: bool) {
         let m = self.training.agrees.len();
-        let mut all = true;
+        let mut agrees_with_all = true;
         for k in 0..m {
             let start = (k * self.n_states + state) * n_actions;
             let row = &self.values[start..start + n_actions];
             let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             // Ties: agreeing with any of the tied maxima is agreeing.
             let agrees = row[action] == best;
-            all &= agrees;
+            agrees_with_all &= agrees;
             self.training.agrees[k] += u64::from(agrees);
             if self.in_final {
                 self.final_window.agrees[k] += u64::from(agrees);
             }
         }
-        for counts in [&mut self.training, &mut self.final_window] {
+        let add = |counts: &mut AgreementCounts| {
             counts.decisions += 1;
-            counts.agrees_with_all += u64::from(all);
+            counts.agrees_with_all += u64::from(agrees_with_all);
             counts.missing_experience += u64::from(missing);
-            if !self.in_final {
-                break;
-            }
+        };
+        add(&mut self.training);
+        if self.in_final {
+            add(&mut self.final_window);
         }
     }
 }

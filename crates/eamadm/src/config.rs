@@ -821,14 +821,14 @@ impl ExperimentConfig {
     /// α = 0.1, γ = 0.95, and [`paper_methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
     #[must_use]
     pub fn paper_task1() -> Self {
-        Self::paper_maze("task1", Preset::TaskI)
+        Self::paper_maze("task1", Preset::TaskI, TASK1_PRETRAIN_BUDGET)
     }
 
     /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise
     /// as [`paper_task1`](Self::paper_task1). Equal to [`PAPER_TASK2_TOML`] parsed.
     #[must_use]
     pub fn paper_task2() -> Self {
-        Self::paper_maze("task2", Preset::TaskII)
+        Self::paper_maze("task2", Preset::TaskII, TASK2_PRETRAIN_BUDGET)
     }
 
     /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
@@ -845,8 +845,9 @@ impl ExperimentConfig {
                 step_cap: None,
                 target_bins: None,
             },
+            methods: paper_methods(),
             episodes: ROBOT_EPISODES,
-            ..Self::paper_maze("robot", Preset::TaskI)
+            ..Self::paper_maze("robot", Preset::TaskI, 0)
         }
     }
 
@@ -866,7 +867,9 @@ impl ExperimentConfig {
         }
     }
 
-    fn paper_maze(name: &str, preset: Preset) -> Self {
+    /// A paper maze task: [`paper_methods`] then [`controls`] with the task's pre-training
+    /// budget.
+    fn paper_maze(name: &str, preset: Preset, pretrain_budget: u64) -> Self {
         Self {
             name: name.to_owned(),
             task: TaskConfig::Maze {
@@ -878,7 +881,7 @@ impl ExperimentConfig {
             base_seed: 0,
             learner: table1_learner(),
             trajectories: TrajectoryConfig::default(),
-            methods: paper_methods(),
+            methods: [paper_methods(), controls(pretrain_budget)].concat(),
         }
     }
 }
@@ -889,6 +892,17 @@ impl ExperimentConfig {
 /// over 20 seeds, docs/paper-notes.md §8), and 300 episodes keep the default robot run near
 /// 15 s on two cores at 20 seeds.
 pub const ROBOT_EPISODES: u64 = 300;
+
+/// EA-MADM as the paper presets run it.
+fn paper_ea_madm() -> EaMadmConfig {
+    EaMadmConfig {
+        epsilon: table1_epsilon_decreasing(),
+        weighting: Weighting::default(),
+        standardisation: Standardisation::Running,
+        storage: Storage::default(),
+        pretrain: PretrainConfig::default(),
+    }
+}
 
 /// Table 1's learner: α = 0.1, γ = 0.95 (ξ = 0.5, zero initialisation).
 #[must_use]
@@ -908,13 +922,7 @@ pub fn table1_learner() -> DoubleQParams {
 /// support instead of the paper's).
 #[must_use]
 pub fn paper_methods() -> Vec<MethodSpec> {
-    let ea_madm = EaMadmConfig {
-        epsilon: table1_epsilon_decreasing(),
-        weighting: Weighting::default(),
-        standardisation: Standardisation::Running,
-        storage: Storage::default(),
-        pretrain: PretrainConfig::default(),
-    };
+    let ea_madm = paper_ea_madm();
     let variant = |label: &str, role: Role, change: &dyn Fn(&mut EaMadmConfig)| {
         let mut config = ea_madm.clone();
         change(&mut config);
@@ -965,6 +973,93 @@ pub fn paper_methods() -> Vec<MethodSpec> {
             };
         }),
     ]
+}
+
+/// EA-MADM's sub-task pre-training on Task I, in environment steps: the mean over seeds
+/// 0–19 of the two sub-tasks' steps (200 episodes each, Table 1's schedule), rounded. The
+/// budget-matched controls of [`ExperimentConfig::paper_task1`] warm up for this many steps.
+pub const TASK1_PRETRAIN_BUDGET: u64 = 420_000;
+/// As [`TASK1_PRETRAIN_BUDGET`], on Task II.
+pub const TASK2_PRETRAIN_BUDGET: u64 = 492_000;
+
+/// The controls of the maze presets (`role = "control"`; comparisons the paper does not run),
+/// after [`paper_methods`] in report order:
+///
+/// - `subtask0-alone`, `subtask1-alone`: each pre-trained sub-task acting by itself
+///   ([`Method::SubtaskGreedy`], frozen, with EA-MADM's ε schedule);
+/// - `epsilon-greedy-budget`, `epsilon-decreasing-budget`, `softmax-budget`: each competitor
+///   warmed up on the task for `pretrain_budget` environment steps first (EA-MADM's sub-task
+///   pre-training budget on the task);
+/// - `epsilon-greedy-shaped`, `epsilon-decreasing-shaped`, `softmax-shaped`: each competitor
+///   learning from EA-MADM's own standardised sub-task signal
+///   ([`CompetitorSignal::Standardised`]);
+/// - `ea-madm-tau0.5`, `ea-madm-tau0.33`: EA-MADM with both tree thresholds at τ < 1 (on a
+///   maze, whose state similarities are 0, 1/3 or 1, τ = 0.5 is still exact and τ = 0.33
+///   aggregates the states of a row or a column).
+#[must_use]
+pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
+    let competitors: Vec<(String, Method)> = paper_methods()
+        .into_iter()
+        .filter(|spec| spec.role == Role::Paper)
+        .filter_map(|spec| match spec.method {
+            Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {
+                Some((spec.label, spec.method))
+            }
+            _ => None,
+        })
+        .collect();
+    let with_training = |method: &Method, change: &dyn Fn(&mut CompetitorTraining)| {
+        let mut method = method.clone();
+        if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+            &mut method
+        {
+            change(training);
+        }
+        method
+    };
+    let control = |label: String, method: Method| MethodSpec {
+        label,
+        role: Role::Control,
+        method,
+    };
+    let mut methods = Vec::new();
+    for subtask in 0..2 {
+        methods.push(control(
+            format!("subtask{subtask}-alone"),
+            Method::SubtaskGreedy(SubtaskGreedyConfig {
+                subtask,
+                epsilon: table1_epsilon_decreasing(),
+                learn: false,
+                pretrain: PretrainConfig::default(),
+            }),
+        ));
+    }
+    for (label, method) in &competitors {
+        methods.push(control(
+            format!("{label}-budget"),
+            with_training(method, &|t| t.warmup_env_steps = pretrain_budget),
+        ));
+    }
+    for (label, method) in &competitors {
+        methods.push(control(
+            format!("{label}-shaped"),
+            with_training(method, &|t| t.signal = CompetitorSignal::Standardised),
+        ));
+    }
+    // A maze state's features are its column and row, so state similarities are 0, 1/3 or 1:
+    // 0.5 stands for every exact threshold in (1/3, 1], 0.33 merges rows and columns.
+    for (tau, name) in [(0.5, "0.5"), (0.33, "0.33")] {
+        let mut config = paper_ea_madm();
+        config.storage = Storage::Tree(EaTreeConfig {
+            state_threshold: tau,
+            action_threshold: tau,
+        });
+        methods.push(control(
+            format!("ea-madm-tau{name}"),
+            Method::EaMadm(config),
+        ));
+    }
+    methods
 }
 
 impl MethodSpec {

@@ -177,14 +177,18 @@ pub mod task;
 pub use agent::{EaMadmPolicy, PolicyError};
 pub use behaviour::{Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use config::{
-    ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML,
-    PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, ROBOT_EPISODES, Role,
-    Storage, TaskConfig, TrajectoryConfig, paper_methods,
+    CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig, Method,
+    MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+    PretrainConfig, ROBOT_EPISODES, Role, Storage, SubtaskGreedyConfig, TASK1_PRETRAIN_BUDGET,
+    TASK2_PRETRAIN_BUDGET, TaskConfig, TrajectoryConfig, controls, paper_methods,
 };
 pub use error::{RunError, RunFailure};
-pub use pretrain::{PretrainedSubtask, pretrain_subtasks};
+pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};
 pub use prior::{PriorTable, build_prior};
-pub use record::{EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord, TrajectoryRecord};
+pub use record::{
+    AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,
+    TrajectoryRecord,
+};
 pub use runner::{Experiment, run, run_all};
 pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};

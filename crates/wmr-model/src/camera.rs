@@ -115,7 +115,7 @@ pub struct ObstacleSighting {
 pub struct CameraView {
     /// The target is inside the horizontal field of view.
     pub target_in_view: bool,
-    /// The target's horizontal image position δ_T: Eq. 5 in its horizontal form,
+    /// The target's horizontal image position `δ_T`: Eq. 5 in its horizontal form,
     /// `½ (tan β_T / tan β₁ʰ + 1)` with `β_T` the target's bearing from the optical axis
     /// (clockwise positive) and `β₁ʰ` half the horizontal field of view: 0 at the image's left
     /// edge, ½ straight ahead, 1 at its right edge. Clamped to `[0, 1]`; a target behind the
@@ -248,7 +248,7 @@ impl Camera {
         }
     }
 
-    /// δ_T of a point given in the camera's frame (x forward, y left), clamped to `[0, 1]`.
+    /// `δ_T` of a point given in the camera's frame (x forward, y left), clamped to `[0, 1]`.
     fn horizontal_ratio(&self, local: &Vector2<f64>) -> f64 {
         if local.x <= 0.0 {
             // Beside or behind the camera: the edge on its side (left edge for y ≥ 0).

@@ -9,7 +9,7 @@
 //!   horizontal field of view `[−fov/2, fov/2]` (clamped);
 //! * optionally (`N_T = target_bins ≥ 1`, not in the paper) the target's horizontal position
 //!   in the camera image, Eq. 5 in its horizontal form: `δ_T = ½ (tan β_T / tan β₁ʰ + 1)` with
-//!   `β_T` the target's bearing from the optical axis (clockwise positive, so δ_T runs left to
+//!   `β_T` the target's bearing from the optical axis (clockwise positive, so `δ_T` runs left to
 //!   right across the image) and `β₁ʰ` half the horizontal field of view, in `N_T` equal bins
 //!   over `[0, 1]`. `N_T = 0` is the paper's literal state, which has no bearing to the target.
 //!
@@ -46,7 +46,7 @@ pub struct StateParams {
     pub image_bins: u32,
     /// `N_A`: number of angle bins.
     pub angle_bins: u32,
-    /// `N_T`: number of bins over the target's horizontal image position δ_T; 0 leaves the
+    /// `N_T`: number of bins over the target's horizontal image position `δ_T`; 0 leaves the
     /// target's bearing out of the state, as in the paper.
     pub target_bins: u32,
 }
@@ -169,7 +169,7 @@ impl Discretiser {
     }
 
     /// The bins of an observation: distance to the target, the target's horizontal image
-    /// position `target_ratio` (δ_T, see [`CameraView::target_ratio`](crate::CameraView)) and
+    /// position `target_ratio` (`δ_T`, see [`CameraView::target_ratio`](crate::CameraView)) and
     /// the obstacle in view, if any.
     #[must_use]
     pub fn bins(
@@ -292,10 +292,10 @@ mod tests {
         assert_eq!((bins.distance, bins.target, bins.obstacle), (1, 3, None));
         assert_eq!(d.index(bins), (7 + 3) * 25 + 24);
         assert_eq!(d.features(d.index(bins)), vec![1, 4, 6, 3]);
-        // δ_T at the image's edges clamps into the end bins.
+        // `δ_T` at the image's edges clamps into the end bins.
         assert_eq!(d.bins(0.15, -0.2, None).target, 0);
         assert_eq!(d.bins(0.15, 1.0, None).target, 6);
-        // N_T = 0 ignores δ_T.
+        // N_T = 0 ignores `δ_T`.
         let paper = Discretiser::new(StateParams::paper(), &CameraParams::default());
         assert_eq!(paper.bins(0.15, 0.9, None).target, 0);
     }

@@ -1,4 +1,13 @@
-//! The integration tests of `eamadm`, one test binary with one module per subject.
+//! The eamadm integration tests in one binary; each module is one topic.
 
+#![expect(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod controls;
 mod robot_refusals;
 mod stats;
