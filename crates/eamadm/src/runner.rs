@@ -391,10 +391,10 @@ impl<P: ExplorationPolicy> ExplorationPolicy for ActionTally<P> {
         rng: &mut R,
     ) -> usize {
         let action = self.inner.select(state, action_values, rng);
-        if self.active {
-            if let Some(count) = self.counts.get_mut(action) {
-                *count += 1;
-            }
+        if self.active
+            && let Some(count) = self.counts.get_mut(action)
+        {
+            *count += 1;
         }
         action
     }
