@@ -159,3 +159,49 @@ fn write_subtasks(text: &mut String, method: &MethodBehaviour, gamma: f64) {
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use eamadm::Endings;
+    use eamadm::stats::wilson;
+
+    use super::*;
+
+    fn method(reached: u64, episodes: u64) -> MethodBehaviour {
+        MethodBehaviour {
+            method: "softmax".to_owned(),
+            seeds: 2,
+            final_episodes: episodes,
+            final_endings: Endings {
+                reached,
+                failed: episodes - reached,
+                truncated: 0,
+            },
+            success: wilson(reached, episodes, 0.95).ok(),
+            seeds_reaching: usize::from(reached > 0),
+            mean_final_steps: 40.0,
+            action_shares: vec![0.5, 0.25, 0.0, 0.125, 0.125],
+            subtasks: Vec::new(),
+            dominant_subtask: None,
+            decisions: 0,
+        }
+    }
+
+    #[test]
+    fn success_states_the_count_share_and_interval_or_never() {
+        assert_eq!(
+            success(&method(0, 40)),
+            "never reached (0 of 40; 95% CI 0%–9%)"
+        );
+        let text = success(&method(10, 40));
+        assert!(text.starts_with("10 of 40: 25% (95% CI "), "{text}");
+        assert_eq!(success(&method(0, 0)), "no episodes");
+    }
+
+    #[test]
+    fn an_empty_record_set_writes_nothing() {
+        let mut text = String::new();
+        write_robot_behaviour(&mut text, &[], 0.95);
+        assert!(text.is_empty());
+    }
+}

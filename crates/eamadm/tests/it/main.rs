@@ -8,6 +8,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod behaviour;
 mod controls;
 mod robot_refusals;
 mod stats;
