@@ -178,8 +178,12 @@ fn reaching_chart(
         format!("{title}; never reached: {}", never.join(", "))
     };
     if drawn == 0 {
-        // Nothing reached: an empty chart would be an error, so draw a flat zero line labelled
-        // as such rather than rank anything.
+        // Nothing reached: the chart says so and draws no data (a single point draws no line;
+        // a chart without any series would be an error).
+        chart.title = format!(
+            "{}: no method reached the target",
+            title.split(':').next().unwrap_or(title)
+        );
         chart = chart.with_series("no method reached the target", vec![vec![0.0]]);
     }
     chart.render_svg()
