@@ -86,11 +86,13 @@ impl Verdicts {
 }
 
 /// Writes `final-scores.csv`, `claims.csv` and `REPORT.md` into `out`. `figures` holds, per
-/// experiment, the figure files written for it.
+/// experiment, the figure files written for it; `behaviour`, per experiment, the markdown that
+/// explains each method's behaviour (empty where there is none).
 pub(crate) fn write_claim_outputs(
     out: &Path,
     experiments: &[PlannedExperiment],
     figures: &[Vec<String>],
+    behaviour: &[String],
     verdicts: &Verdicts,
     quick: bool,
 ) -> Result<(), ClaimsReportError> {
@@ -103,7 +105,7 @@ pub(crate) fn write_claim_outputs(
         &mut bytes,
     )?;
     write_atomic(&out.join("claims.csv"), &bytes)?;
-    let report = render_report(experiments, figures, verdicts, quick);
+    let report = render_report(experiments, figures, behaviour, verdicts, quick);
     write_atomic(&out.join("REPORT.md"), report.as_bytes())?;
     Ok(())
 }
@@ -182,6 +184,7 @@ fn comparison_in_words(c: &Comparison) -> String {
 pub(crate) fn render_report(
     experiments: &[PlannedExperiment],
     figures: &[Vec<String>],
+    behaviour: &[String],
     verdicts: &Verdicts,
     quick: bool,
 ) -> String {
@@ -204,6 +207,7 @@ pub(crate) fn render_report(
             &mut text,
             planned,
             figures.get(index).map_or(&[][..], Vec::as_slice),
+            behaviour.get(index).map_or("", String::as_str),
             verdicts,
         );
     }
@@ -370,6 +374,7 @@ fn write_task(
     text: &mut String,
     planned: &PlannedExperiment,
     figures: &[String],
+    behaviour: &str,
     verdicts: &Verdicts,
 ) {
     let task = planned.name.as_str();
@@ -460,14 +465,17 @@ fn write_task(
         let _ = writeln!(text, "- {sentence}");
     }
     text.push('\n');
-    if PaperTask::from_name(task) == Some(PaperTask::Robot)
-        || verdicts
-            .scores
-            .iter()
-            .any(|s| s.task == task && s.reach_time.is_some())
+    if matches!(
+        PaperTask::from_name(task),
+        Some(PaperTask::Robot | PaperTask::RobotPaperState)
+    ) || verdicts
+        .scores
+        .iter()
+        .any(|s| s.task == task && s.reach_time.is_some())
     {
         write_robot(text, task, &overviews, verdicts);
     }
+    text.push_str(behaviour);
     if !figures.is_empty() {
         let links: Vec<String> = figures
             .iter()
@@ -940,7 +948,7 @@ mod tests {
     #[test]
     fn the_verdict_sentence_follows_the_numbers() {
         let better = Verdicts::compute(scores(60.0), &options()).unwrap();
-        let report = render_report(&[], &[], &better, false);
+        let report = render_report(&[], &[], &[], &better, false);
         assert!(!report.contains("control, not in the paper"), "{report}");
         assert!(
             verdict_row(&report, "C1").contains("**supported**"),
@@ -952,13 +960,13 @@ mod tests {
             "{report}"
         );
         let worse = Verdicts::compute(scores(140.0), &options()).unwrap();
-        let report = render_report(&[], &[], &worse, false);
+        let report = render_report(&[], &[], &[], &worse, false);
         assert!(
             verdict_row(&report, "C1").contains("**contradicted**"),
             "{report}"
         );
         let same = Verdicts::compute(scores(100.0), &options()).unwrap();
-        let report = render_report(&[], &[], &same, false);
+        let report = render_report(&[], &[], &[], &same, false);
         assert!(
             verdict_row(&report, "C1").contains("**inconclusive**"),
             "{report}"
@@ -989,7 +997,7 @@ mod tests {
         let planned =
             crate::experiments::plan_experiments(&[crate::cli::Task::Task1], false, None, 8, true)
                 .unwrap();
-        let report = render_report(&planned, &[], &verdicts, false);
+        let report = render_report(&planned, &[], &[], &verdicts, false);
         assert!(
             report.contains("### Controls (control, not in the paper)"),
             "{report}"

@@ -70,16 +70,22 @@ pub(crate) enum Task {
     /// Task II: the 39×36 maze (Sec. VI.A).
     #[value(name = "task2", alias = "task-ii")]
     Task2,
-    /// The wheeled robot among obstacles (Sec. VI.B).
+    /// The wheeled robot among obstacles (Sec. VI.B), its state with the target's image
+    /// position.
     #[value(name = "robot")]
     Robot,
+    /// The wheeled robot over the paper's literal state (no target feature).
+    #[value(name = "robot-paper-state")]
+    RobotPaperState,
 }
 
 impl Task {
     /// All tasks, in run order.
-    pub(crate) const ALL: [Task; 3] = [Task::Task1, Task::Task2, Task::Robot];
+    pub(crate) const ALL: [Task; 4] =
+        [Task::Task1, Task::Task2, Task::Robot, Task::RobotPaperState];
 
-    /// The command-line name, also used for output folders (`task1`, `task2`, `robot`).
+    /// The command-line name, also used for output folders (`task1`, `task2`, `robot`,
+    /// `robot-paper-state`).
     pub(crate) fn name(self) -> &'static str {
         self.paper().name()
     }
@@ -90,6 +96,7 @@ impl Task {
             Task::Task1 => eamadm::paper::PaperTask::Task1,
             Task::Task2 => eamadm::paper::PaperTask::Task2,
             Task::Robot => eamadm::paper::PaperTask::Robot,
+            Task::RobotPaperState => eamadm::paper::PaperTask::RobotPaperState,
         }
     }
 
@@ -99,6 +106,7 @@ impl Task {
             Task::Task1 => "Task I, 30×30 maze",
             Task::Task2 => "Task II, 39×36 maze",
             Task::Robot => "wheeled robot",
+            Task::RobotPaperState => "wheeled robot, the paper's state",
         }
     }
 }

@@ -214,7 +214,7 @@ mod tests {
     fn presets_are_planned_with_the_given_seeds() {
         let planned = plan_experiments(&Task::ALL, false, None, 2, true).unwrap();
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(names, ["task1", "task2", "robot"]);
+        assert_eq!(names, ["task1", "task2", "robot", "robot-paper-state"]);
         assert!(planned.iter().all(|p| p.config().seeds == 2));
         assert_eq!(planned[1].title, "Task II");
         assert!(planned[0].is_paper_method("softmax"));

@@ -29,6 +29,7 @@ mod progress;
 mod report;
 mod reproduce;
 mod resume;
+mod robot_report;
 mod text_diff;
 
 use cli::{Cli, Command};

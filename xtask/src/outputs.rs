@@ -135,6 +135,65 @@ fn chart(
     chart.render_svg()
 }
 
+/// A chart of one robot metric over *reaching* episodes (x = the n-th episode of a seed that
+/// reached the target; seeds with fewer reaching episodes drop out to the right). Methods that
+/// never reach are not drawn; the title names them.
+fn reaching_chart(
+    title: &str,
+    y_label: &str,
+    records: &[RunRecord],
+    methods: &[&str],
+    value: impl Fn(&EpisodeRecord) -> f64,
+) -> Result<String, FigureError> {
+    let series = curves(records, methods, |e| {
+        if e.reached { value(e) } else { f64::NAN }
+    });
+    let mut never = Vec::new();
+    let mut chart =
+        LineChart::new(String::new(), "reaching episode", y_label).with_smoothing(FIGURE_SMOOTHING);
+    let mut drawn = 0;
+    for (method, runs) in series {
+        let reaching: Vec<Vec<f64>> = runs
+            .into_iter()
+            .map(|run| {
+                run.into_iter()
+                    .filter(|v| !v.is_nan())
+                    .collect::<Vec<f64>>()
+            })
+            .filter(|run| !run.is_empty())
+            .collect();
+        if reaching.is_empty() {
+            never.push(method_title(method));
+        } else {
+            let seeds = reaching.len();
+            chart = chart.with_series(
+                format!(
+                    "{} ({seeds} seed{})",
+                    method_title(method),
+                    if seeds == 1 { "" } else { "s" }
+                ),
+                reaching,
+            );
+            drawn += 1;
+        }
+    }
+    chart.title = if never.is_empty() {
+        format!("{title} (mean over reaching seeds, 95% CI)")
+    } else {
+        format!("{title}; never reached: {}", never.join(", "))
+    };
+    if drawn == 0 {
+        // Nothing reached: the chart says so and draws no data (a single point draws no line;
+        // a chart without any series would be an error).
+        chart.title = format!(
+            "{}: no method reached the target",
+            title.split(':').next().unwrap_or(title)
+        );
+        chart = chart.with_series("no method reached the target", vec![vec![0.0]]);
+    }
+    chart.render_svg()
+}
+
 /// The figures of one experiment: file name and SVG text.
 pub(crate) fn experiment_figures(
     planned: &PlannedExperiment,
@@ -198,40 +257,56 @@ pub(crate) fn experiment_figures(
         ));
     }
     if is_robot {
+        // The robot's first figure is success per episode: with no success, more steps only
+        // means surviving longer.
+        figures.insert(
+            0,
+            (
+                "success.svg".to_owned(),
+                chart(
+                    format!("{title}: success per episode"),
+                    "share of seeds that reached the target",
+                    curves(records, &shown, |e| f64::from(u8::from(e.reached))),
+                    None,
+                )?,
+            ),
+        );
         let robot = |value: fn(&eamadm::RobotEpisodeMetrics) -> f64| {
             move |e: &EpisodeRecord| e.robot.as_ref().map_or(0.0, value)
         };
-        figures.push((
-            "average-reward.svg".to_owned(),
-            chart(
-                format!("{title}: average reward per episode {smoothing}"),
+        // Fig. 13–15 plot "episodes that are to reach the target": x is the reaching-episode
+        // index, each seed contributing its own reaching episodes in order.
+        for (file, what, y_label, value) in [
+            (
+                "average-reward.svg",
+                "average reward",
                 "average reward (return per second)",
-                curves(records, &shown, robot(|m| m.average_reward)),
-                None,
-            )?,
-        ));
-        figures.push((
-            "reaching-time.svg".to_owned(),
-            chart(
-                format!("{title}: reaching time {smoothing}"),
-                "time to reach (s; episode time if not reached)",
-                curves(
+                robot(|m| m.average_reward),
+            ),
+            (
+                "reaching-time.svg",
+                "reaching time",
+                "time to reach (s)",
+                robot(|m| m.time_to_reach.unwrap_or(m.time)),
+            ),
+            (
+                "retention-time.svg",
+                "retention time",
+                "retention time (s)",
+                robot(|m| m.retention_time),
+            ),
+        ] {
+            figures.push((
+                file.to_owned(),
+                reaching_chart(
+                    &format!("{title}: {what} over reaching episodes"),
+                    y_label,
                     records,
                     &shown,
-                    robot(|m| m.time_to_reach.unwrap_or(m.time)),
-                ),
-                None,
-            )?,
-        ));
-        figures.push((
-            "retention-time.svg".to_owned(),
-            chart(
-                format!("{title}: retention time {smoothing}"),
-                "retention time (s)",
-                curves(records, &shown, robot(|m| m.retention_time)),
-                None,
-            )?,
-        ));
+                    value,
+                )?,
+            ));
+        }
     }
     if let Some(svg) = trajectory_figure(planned, records, &shown) {
         figures.push(("trajectories.svg".to_owned(), svg));

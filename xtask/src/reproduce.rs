@@ -56,17 +56,34 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
     write_results_json(&plan.out, &all).map_err(Failure::failed)?;
     let mut scores = Vec::new();
     let mut figures = Vec::new();
+    let mut behaviour = Vec::new();
     for (planned, group) in experiments.iter().zip(&grouped) {
         figures
             .push(write_experiment(&plan.out, planned, &group.records).map_err(Failure::failed)?);
+        let mut section = String::new();
+        if matches!(planned.config().task, eamadm::TaskConfig::Robot { .. }) {
+            crate::robot_report::write_robot_behaviour(
+                &mut section,
+                &group.records,
+                planned.config().learner.gamma,
+            );
+        }
+        behaviour.push(section);
         scores.extend(
             eamadm::scores::final_scores(&group.records, planned.config())
                 .map_err(Failure::failed)?,
         );
     }
     let verdicts = Verdicts::compute(scores, &ClaimOptions::default()).map_err(Failure::failed)?;
-    write_claim_outputs(&plan.out, &experiments, &figures, &verdicts, plan.quick)
-        .map_err(Failure::failed)?;
+    write_claim_outputs(
+        &plan.out,
+        &experiments,
+        &figures,
+        &behaviour,
+        &verdicts,
+        plan.quick,
+    )
+    .map_err(Failure::failed)?;
     let resumed: usize = grouped.iter().map(|g| g.resumed).sum();
     println!(
         "done in {:.1} s: {} runs ({resumed} resumed from an earlier invocation)\nreport: {}",

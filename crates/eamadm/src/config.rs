@@ -45,6 +45,9 @@ pub const PAPER_TASK2_TOML: &str = include_str!("../configs/task2.toml");
 /// The paper's robot experiment (Sec. VI.B, Table 2) as TOML; parses to
 /// [`paper::robot`](crate::paper::robot).
 pub const PAPER_ROBOT_TOML: &str = include_str!("../configs/robot.toml");
+/// The robot experiment over the paper's literal state (no target feature) as TOML; parses to
+/// [`paper::robot_paper_state`](crate::paper::robot_paper_state).
+pub const PAPER_ROBOT_PAPER_STATE_TOML: &str = include_str!("../configs/robot-paper-state.toml");
 
 /// Most episodes (or pre-training episodes) a run may have: far beyond any experiment here,
 /// small enough that cumulative step counts cannot overflow.
@@ -88,7 +91,8 @@ pub struct ExperimentConfig {
 /// an optional `step_cap` overriding the task's own (2000 for the mazes); `kind = "robot"` with
 /// `scenario = "default"` (the embedded analogue of the paper's Fig. 12) or the path of a
 /// scenario TOML file (see [`wmr_model::Scenario`]), whose own `step_cap` (500 by default) an
-/// optional `step_cap` here overrides.
+/// optional `step_cap` here overrides, and whose `state.target_bins` (7 by default; 0 is the
+/// paper's literal state) an optional `target_bins` here overrides.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 #[non_exhaustive]
@@ -128,6 +132,10 @@ pub enum TaskConfig {
         /// Episode step cap; the scenario's when absent.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         step_cap: Option<u32>,
+        /// Bins over the target's horizontal image position (`state.target_bins` of the
+        /// scenario, 0 = the paper's literal state); the scenario's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        target_bins: Option<u32>,
     },
 }
 

@@ -163,6 +163,7 @@ pub use reward_std;
 pub use wmr_model;
 
 pub mod agent;
+pub mod behaviour;
 pub mod claims;
 pub mod config;
 pub mod error;
@@ -180,10 +181,11 @@ pub mod summary;
 pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
+pub use behaviour::{Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use config::{
     CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig, Method,
-    MethodSpec, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role,
-    Storage, SubtaskGreedyConfig, TaskConfig, TrajectoryConfig,
+    MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+    PretrainConfig, Role, Storage, SubtaskGreedyConfig, TaskConfig, TrajectoryConfig,
 };
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};

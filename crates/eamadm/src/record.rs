@@ -169,4 +169,9 @@ pub struct SubtaskRecord {
     /// `task_return` is the task's reward; `env_steps` is this episode's steps alone).
     #[serde(default)]
     pub greedy_alone: Option<EpisodeRecord>,
+    /// The pre-trained learner's behaviour values `(Q1 + Q2) / 2` of each action in the
+    /// task's start state: what the sub-task learned to expect from the start (e.g. close to
+    /// `r / (1 − γ)` for a learner paid `r` per step that learned to idle).
+    #[serde(default)]
+    pub start_values: Vec<f64>,
 }

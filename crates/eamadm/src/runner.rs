@@ -243,6 +243,7 @@ fn run_on<E: TaskEnv>(
                     tree_bytes: stats.map(|stats| stats.bytes() as u64),
                     table_bytes,
                     greedy_alone: Some(session.greedy_alone(&subtask.learner)?),
+                    start_values: start_values(prototype, &subtask.learner),
                 });
             }
             let pretrain_env_steps = subtasks.iter().map(|s| s.env_steps).sum();
@@ -294,6 +295,7 @@ fn run_on<E: TaskEnv>(
                 tree_bytes: None,
                 table_bytes,
                 greedy_alone: Some(session.greedy_alone(&pretrained.learner)?),
+                start_values: start_values(prototype, &pretrained.learner),
             };
             let pretrain_env_steps = pretrained.env_steps;
             // The source task's episodes act (and, with `learn`, learn) on the sub-task's own
@@ -646,4 +648,13 @@ fn episode_record<E: TaskEnv>(
         env_steps,
         robot: env.inner.robot_metrics(),
     }
+}
+
+/// `learner`'s behaviour values of each action in the start state of `prototype` (a fresh copy
+/// is reset, so the run's own environment and its random stream are untouched).
+fn start_values<E: Environment + Clone>(prototype: &E, learner: &DoubleQ) -> Vec<f64> {
+    let start = prototype.clone().reset(None);
+    let mut values = vec![0.0; prototype.n_actions()];
+    learner.action_values(start, &mut values);
+    values
 }

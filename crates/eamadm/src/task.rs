@@ -3,7 +3,7 @@
 
 use dql::{Environment, Step, Trajectory};
 use mazes::{Event, Maze, MazeEnv, Preset};
-use wmr_model::{Outcome, PlannerParams, Scenario, WmrEnv, shortest_plan};
+use wmr_model::{Outcome, PlannerParams, Scenario, WmrEnv};
 
 use crate::config::{ConfigError, DEFAULT_SCENARIO, TaskConfig};
 use crate::record::RobotEpisodeMetrics;
@@ -62,7 +62,11 @@ impl Task {
                 })?;
                 Self::from_maze(maze, *rewards, *step_cap, "task.rewards")
             }
-            TaskConfig::Robot { scenario, step_cap } => {
+            TaskConfig::Robot {
+                scenario,
+                step_cap,
+                target_bins,
+            } => {
                 let scenario_error = |source| ConfigError::Scenario {
                     field: "task.scenario".to_owned(),
                     source,
@@ -81,9 +85,16 @@ impl Task {
                 if let Some(cap) = step_cap {
                     scenario.step_cap = *cap;
                 }
-                // The shortest route the planner finds: the robot's analogue of a BFS optimum.
-                let optimum_steps = shortest_plan(&scenario, &PlannerParams::default())
-                    .map(|plan| plan.actions.len() as u64);
+                if let Some(bins) = target_bins {
+                    scenario.state.target_bins = *bins;
+                }
+                // Validates the overrides too, then proves the target reachable: a scenario
+                // whose target no route reaches is refused here, not trained on in vain. The
+                // shortest route found is the robot's analogue of a BFS optimum.
+                let plan = scenario
+                    .check_route(&PlannerParams::default())
+                    .map_err(scenario_error)?;
+                let optimum_steps = Some(plan.actions.len() as u64);
                 let env = WmrEnv::new(scenario).map_err(scenario_error)?;
                 Ok(Self {
                     kind: TaskKind::Robot(Box::new(env)),

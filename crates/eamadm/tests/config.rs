@@ -3,7 +3,9 @@
 
 #![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
 
-use eamadm::config::{PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML};
+use eamadm::config::{
+    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+};
 use eamadm::{ConfigError, Experiment, ExperimentConfig};
 
 #[test]
@@ -19,6 +21,10 @@ fn embedded_toml_files_are_the_named_constructors() {
     assert_eq!(
         ExperimentConfig::from_toml_str(PAPER_ROBOT_TOML).unwrap(),
         eamadm::paper::robot()
+    );
+    assert_eq!(
+        ExperimentConfig::from_toml_str(PAPER_ROBOT_PAPER_STATE_TOML).unwrap(),
+        eamadm::paper::robot_paper_state()
     );
 }
 

@@ -1,5 +1,6 @@
 //! Can a table learner reach the target? Plain tabular Q-learning on variants of the default
-//! scenario, as evidence for the crate docs' "What a table learner can and cannot do here".
+//! scenario over the paper's literal state (no target feature), and with the target feature
+//! added back, as evidence for the crate docs' "What a table learner can and cannot do here".
 //!
 //! `cargo run --release -p wmr-model --example learnability -- [episodes] [seeds]`
 //!
@@ -11,7 +12,9 @@
 use dql::Environment;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use wmr_model::{ObstacleSpec, Outcome, Scenario, TaskReward, WmrEnv};
+use wmr_model::{
+    DEFAULT_TARGET_BINS, ObstacleSpec, Outcome, Scenario, StateParams, TaskReward, WmrEnv,
+};
 
 const WINDOW: usize = 500;
 
@@ -94,7 +97,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let episodes: usize = args.next().map_or(Ok(2000), |s| s.parse())?;
     let seeds: u64 = args.next().map_or(Ok(5), |s| s.parse())?;
-    let default = Scenario::default_scenario();
+    let mut default = Scenario::default_scenario();
+    default.state = StateParams::paper();
     let variant = |edit: &dyn Fn(&mut Scenario)| {
         let mut scenario = default.clone();
         edit(&mut scenario);
@@ -127,6 +131,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
         ("150 deg view", variant(&|s| s.camera.horizontal_fov = 2.6)),
         ("empty arena", variant(&|s| s.obstacles.clear())),
+        (
+            "target feature (default)",
+            variant(&|s| s.state.target_bins = DEFAULT_TARGET_BINS),
+        ),
         (
             "empty arena, subtask_sum",
             variant(&|s| {

@@ -115,6 +115,12 @@ pub struct ObstacleSighting {
 pub struct CameraView {
     /// The target is inside the horizontal field of view.
     pub target_in_view: bool,
+    /// The target's horizontal image position `δ_T`: Eq. 5 in its horizontal form,
+    /// `½ (tan β_T / tan β₁ʰ + 1)` with `β_T` the target's bearing from the optical axis
+    /// (clockwise positive) and `β₁ʰ` half the horizontal field of view: 0 at the image's left
+    /// edge, ½ straight ahead, 1 at its right edge. Clamped to `[0, 1]`; a target behind the
+    /// camera gets the edge on its side. The state's optional target feature bins it.
+    pub target_ratio: f64,
     /// The nearest obstacle in view, if any.
     pub obstacle: Option<ObstacleSighting>,
 }
@@ -201,7 +207,9 @@ impl Camera {
     ) -> CameraView {
         let camera = self.position(pose);
         let to_local = pose.rotation.inverse();
-        let target_in_view = self.in_view_local(&(to_local * (target - camera)));
+        let target_local = to_local * (target - camera);
+        let target_in_view = self.in_view_local(&target_local);
+        let target_ratio = self.horizontal_ratio(&target_local);
 
         let mut best: Option<(usize, f64, Vector2<f64>)> = None;
         for (index, obstacle) in world.obstacles().iter().enumerate() {
@@ -235,8 +243,19 @@ impl Camera {
         });
         CameraView {
             target_in_view,
+            target_ratio,
             obstacle,
         }
+    }
+
+    /// `δ_T` of a point given in the camera's frame (x forward, y left), clamped to `[0, 1]`.
+    fn horizontal_ratio(&self, local: &Vector2<f64>) -> f64 {
+        if local.x <= 0.0 {
+            // Beside or behind the camera: the edge on its side (left edge for y ≥ 0).
+            return if local.y >= 0.0 { 0.0 } else { 1.0 };
+        }
+        let tan_beta = -local.y / local.x;
+        (0.5 * (tan_beta / self.tan_half_horizontal + 1.0)).clamp(0.0, 1.0)
     }
 }
 
@@ -333,6 +352,28 @@ mod tests {
         let expected_angle = (feature.y - 1.0).atan2(feature.x - 0.5);
         assert!((seen.angle - expected_angle).abs() < 1e-12);
         assert!((seen.distance - (feature - Point2::new(0.52, 1.0)).norm()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn target_ratio_is_eq5_across_the_image() {
+        let cam = camera(DeltaAxis::Vertical);
+        let world = World::new(2.0, 2.0, vec![]);
+        let pose = Isometry2::new(Vector2::new(0.5, 1.0), 0.0);
+        let camera_at = Point2::new(0.52, 1.0);
+        // Straight ahead: the image's middle.
+        let ahead = cam.observe(&world, &pose, &Point2::new(1.5, 1.0));
+        assert!((ahead.target_ratio - 0.5).abs() < 1e-15);
+        // 30° to the left with a 45° half view: ½ (tan(−30°) / tan 45° + 1) = ½ (1 − 1/√3).
+        let bearing = 30.0_f64.to_radians();
+        let left = camera_at + Vector2::new(bearing.cos(), bearing.sin()) * 0.4;
+        let seen = cam.observe(&world, &pose, &left);
+        assert!((seen.target_ratio - 0.5 * (1.0 - 1.0 / 3.0_f64.sqrt())).abs() < 1e-12);
+        // Outside the view: clamped to the edge on its side.
+        let behind_right = cam.observe(&world, &pose, &Point2::new(0.3, 0.5));
+        assert!(!behind_right.target_in_view);
+        assert_eq!(behind_right.target_ratio, 1.0);
+        let far_left = cam.observe(&world, &pose, &Point2::new(0.6, 1.9));
+        assert_eq!(far_left.target_ratio, 0.0);
     }
 
     #[test]

@@ -102,6 +102,7 @@ impl WmrEnv {
             readings: [0.0; SENSOR_COUNT],
             view: CameraView {
                 target_in_view: true,
+                target_ratio: 0.5,
                 obstacle: None,
             },
             subtask_rewards: [0.0; SUBTASK_COUNT],
@@ -195,9 +196,9 @@ impl WmrEnv {
         let to_target =
             pose.rotation.inverse() * (self.target - Point2::from(pose.translation.vector));
         let target_distance = to_target.norm();
-        let bins = self
-            .discretiser
-            .bins(target_distance, view.obstacle.as_ref());
+        let bins =
+            self.discretiser
+                .bins(target_distance, view.target_ratio, view.obstacle.as_ref());
         Observation {
             proximities,
             view,
@@ -220,9 +221,11 @@ impl WmrEnv {
         self.sensors.add_noise(&mut self.readings, &mut self.rng);
         self.view = self.camera.observe(&self.world, &self.pose, &self.target);
         let distance = self.target_distance();
-        self.state = self
-            .discretiser
-            .index(self.discretiser.bins(distance, self.view.obstacle.as_ref()));
+        self.state = self.discretiser.index(self.discretiser.bins(
+            distance,
+            self.view.target_ratio,
+            self.view.obstacle.as_ref(),
+        ));
         distance
     }
 

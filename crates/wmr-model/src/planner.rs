@@ -6,10 +6,12 @@
 //! over `(x, y, heading)`: the first pose to land in a cell claims it. The grid makes the
 //! search finite and fast but means the result is the shortest plan *found*, an upper bound on
 //! the true optimum (a finer grid tightens it). `Stop` is never expanded (it cannot shorten a
-//! plan).
+//! plan). A grid that would exceed [`MAX_GRID_CELLS`] cells (an arena much larger than the
+//! default 1 m²) is coarsened: the position cell grows until the grid fits.
 
 use nalgebra::{Isometry2, Point2};
 use serde::{Deserialize, Serialize};
+use thiserror::Error;
 
 use crate::action::Action;
 use crate::camera::Camera;
@@ -65,17 +67,53 @@ struct Node {
     action: Action,
 }
 
-/// Largest visited grid [`shortest_plan`] allocates (one byte per cell).
+/// Largest visited grid [`search`] allocates (one byte per cell).
 pub const MAX_GRID_CELLS: usize = 1 << 27;
 
-/// Searches `scenario` (assumed valid) for the shortest action sequence, breadth first. `None`
-/// when the search exhausts the reachable cells or the budget without reaching the target, or
-/// when `params` is not usable (non-positive cell, zero heading cells, a grid of more than
-/// [`MAX_GRID_CELLS`] cells).
+/// Largest `heading_cells` [`search`] accepts.
+pub const MAX_HEADING_CELLS: u32 = 3600;
+
+/// Why [`search`] found no plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum PlanError {
+    /// `cell` is not a positive finite length, or `heading_cells` is 0 or above
+    /// [`MAX_HEADING_CELLS`].
+    #[error("the planner's parameters are unusable (cell > 0, 1 ≤ heading_cells ≤ 3600)")]
+    InvalidParams,
+    /// Every reachable cell was expanded without reaching the target: no route exists at the
+    /// planner's resolution.
+    #[error("all {expanded} reachable poses searched")]
+    NoRoute {
+        /// Nodes expanded.
+        expanded: usize,
+    },
+    /// The expansion budget ran out first.
+    #[error("budget of {expanded} expansions used up")]
+    BudgetExhausted {
+        /// Nodes expanded.
+        expanded: usize,
+    },
+}
+
+/// Searches `scenario` (assumed valid) for the shortest action sequence, breadth first; `None`
+/// when [`search`] fails.
 #[must_use]
 pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan> {
-    if !params.cell.is_finite() || params.cell <= 0.0 || params.heading_cells == 0 {
-        return None;
+    search(scenario, params).ok()
+}
+
+/// Searches `scenario` (assumed valid, in particular with an arena of finite, bounded size)
+/// for the shortest action sequence, breadth first.
+///
+/// # Errors
+/// [`PlanError`]: unusable `params`, no route, or the expansion budget used up.
+pub fn search(scenario: &Scenario, params: &PlannerParams) -> Result<Plan, PlanError> {
+    if !params.cell.is_finite()
+        || params.cell <= 0.0
+        || params.heading_cells == 0
+        || params.heading_cells > MAX_HEADING_CELLS
+    {
+        return Err(PlanError::InvalidParams);
     }
     let world = scenario.world();
     let camera = Camera::new(scenario.camera);
@@ -93,17 +131,26 @@ pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan
         })
         .collect();
 
-    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-    let cells_along = |extent: f64| (extent / params.cell).ceil() as usize + 1;
-    let (nx, ny) = (
-        cells_along(scenario.arena.width),
-        cells_along(scenario.arena.height),
-    );
     let nh = params.heading_cells as usize;
-    let cells = nx.checked_mul(ny)?.checked_mul(nh)?;
-    if cells > MAX_GRID_CELLS {
-        return None;
+    let (width, height) = (scenario.arena.width, scenario.arena.height);
+    #[expect(
+        clippy::cast_precision_loss,
+        reason = "MAX_GRID_CELLS / heading cells is far below 2⁵³"
+    )]
+    let max_position_cells = (MAX_GRID_CELLS / nh) as f64;
+    // Coarsen the position cell until (w / cell + 2) · (h / cell + 2) cells fit.
+    let mut cell = params.cell;
+    while (width / cell + 2.0) * (height / cell + 2.0) > max_position_cells {
+        cell *= 1.25;
     }
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "extent / cell is positive and, after coarsening, below MAX_GRID_CELLS"
+    )]
+    let cells_along = |extent: f64| (extent / cell).ceil() as usize + 1;
+    let (nx, ny) = (cells_along(width), cells_along(height));
+    let cells = nx * ny * nh;
     let mut visited = vec![false; cells];
     let cell_of = |pose: &Isometry2<f64>| {
         let t = pose.translation.vector;
@@ -111,8 +158,8 @@ pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan
         let h = pose.rotation.angle().rem_euclid(turn) / turn;
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (ix, iy, ih) = (
-            ((t.x / params.cell) as usize).min(nx - 1),
-            ((t.y / params.cell) as usize).min(ny - 1),
+            ((t.x / cell) as usize).min(nx - 1),
+            ((t.y / cell) as usize).min(ny - 1),
             ((h * nh as f64) as usize).min(nh - 1),
         );
         (ix * ny + iy) * nh + ih
@@ -149,12 +196,16 @@ pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan
                 action: *action,
             });
             if reached {
-                return Some(unwind(&nodes, next + 1));
+                return Ok(unwind(&nodes, next + 1));
             }
         }
         next += 1;
     }
-    None
+    if next < nodes.len() {
+        Err(PlanError::BudgetExhausted { expanded: next })
+    } else {
+        Err(PlanError::NoRoute { expanded: next })
+    }
 }
 
 fn unwind(nodes: &[Node], expanded: usize) -> Plan {
@@ -220,7 +271,7 @@ pub fn tabular_policy(
     let state_of = |pose: &Isometry2<f64>| {
         let view = camera.observe(&world, pose, &target);
         let distance = (target - Point2::from(pose.translation.vector)).norm();
-        discretiser.index(discretiser.bins(distance, view.obstacle.as_ref()))
+        discretiser.index(discretiser.bins(distance, view.target_ratio, view.obstacle.as_ref()))
     };
 
     let mut policy: Vec<Option<Action>> = vec![None; discretiser.n_states()];

@@ -1,14 +1,16 @@
 //! SVG pictures of a scenario and of runs through it.
 //!
 //! The picture is drawn at 500 px per metre with y pointing up (the SVG is flipped), and shows
-//! the arena, the obstacles, the start pose (body disc and heading), the target (reach
-//! radius), and any number of paths, each in its own colour.
+//! the arena with axes in metres and a scale bar, the obstacles, the start pose (body disc and
+//! heading, labelled "start"), the target (reach radius, labelled "target"), and any number of
+//! paths, each in its own colour and ending in a dot; a path that never leaves the start
+//! body's disc (a robot standing still) is drawn as a ring marker so it stays visible.
 
 use std::fmt::Write as _;
 
 use nalgebra::Point2;
 use svg::Document;
-use svg::node::element::{Circle, Line, Polyline, Rectangle, Title};
+use svg::node::element::{Circle, Line, Polyline, Rectangle, Text, Title};
 
 use crate::scenario::{ObstacleSpec, Scenario};
 
@@ -29,6 +31,31 @@ pub struct RenderedPath<'a> {
     pub label: &'a str,
 }
 
+/// Room left of and below the arena for the axes' labels (m).
+const AXIS_MARGIN: f64 = 0.09;
+
+/// A tick spacing of 1, 2 or 5 × 10ⁿ metres giving at most 10 intervals over `extent`.
+fn tick_step(extent: f64) -> f64 {
+    let raw = extent / 10.0;
+    let decade = 10_f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&step| step >= raw)
+        .unwrap_or(10.0 * decade)
+}
+
+/// A text label at world position `(x, y)` (m), `size` px, anchored as given.
+fn label(x: f64, y: f64, text: &str, size: u32, anchor: &str) -> Text {
+    Text::new(text)
+        .set("x", px(x))
+        .set("y", px(-y))
+        .set("font-size", size)
+        .set("font-family", "sans-serif")
+        .set("text-anchor", anchor)
+        .set("fill", "#333")
+}
+
 /// Rounds to a tenth of a pixel so that the SVG text is short and stable.
 fn px(metres: f64) -> f64 {
     (metres * PIXELS_PER_METRE * 10.0).round() / 10.0
@@ -39,19 +66,20 @@ fn px(metres: f64) -> f64 {
 pub fn render_svg(scenario: &Scenario, paths: &[RenderedPath<'_>]) -> String {
     let (w, h) = (scenario.arena.width, scenario.arena.height);
     let margin = 0.02;
+    let (left, bottom) = (AXIS_MARGIN, AXIS_MARGIN);
     // Flip y: world (x, y) is drawn at (x, −y); the view box starts at −(h + margin).
     let mut doc = Document::new()
         .set(
             "viewBox",
             (
-                px(-margin),
+                px(-left),
                 px(-(h + margin)),
-                px(w + 2.0 * margin),
-                px(h + 2.0 * margin),
+                px(w + left + margin),
+                px(h + margin + bottom),
             ),
         )
-        .set("width", px(w + 2.0 * margin))
-        .set("height", px(h + 2.0 * margin))
+        .set("width", px(w + left + margin))
+        .set("height", px(h + margin + bottom))
         .add(Title::new(if scenario.name.is_empty() {
             "wmr-model scenario"
         } else {
@@ -67,6 +95,7 @@ pub fn render_svg(scenario: &Scenario, paths: &[RenderedPath<'_>]) -> String {
                 .set("stroke", "#333")
                 .set("stroke-width", 4),
         );
+    doc = axes(doc, w, h);
     for spec in &scenario.obstacles {
         doc = match *spec {
             ObstacleSpec::Circle { x, y, radius } => doc.add(
@@ -121,8 +150,24 @@ pub fn render_svg(scenario: &Scenario, paths: &[RenderedPath<'_>]) -> String {
                 .set("y2", px(-(start.y + radius * start.heading.sin())))
                 .set("stroke", "#2a7")
                 .set("stroke-width", 2),
-        );
+        )
+        .add(label(
+            start.x,
+            start.y + radius + 0.012,
+            "start",
+            13,
+            "middle",
+        ))
+        .add(label(
+            target.x,
+            target.y + target.reach_radius + 0.012,
+            "target",
+            13,
+            "middle",
+        ));
+    let origin = Point2::new(start.x, start.y);
     for (i, path) in paths.iter().enumerate() {
+        let colour = PATH_COLOURS[i % PATH_COLOURS.len()];
         let mut points = String::new();
         for p in path.points {
             // Writing to a String cannot fail.
@@ -132,10 +177,102 @@ pub fn render_svg(scenario: &Scenario, paths: &[RenderedPath<'_>]) -> String {
             Polyline::new()
                 .set("points", points.trim_end())
                 .set("fill", "none")
-                .set("stroke", PATH_COLOURS[i % PATH_COLOURS.len()])
+                .set("stroke", colour)
                 .set("stroke-width", 2)
                 .add(Title::new(path.label)),
         );
+        let Some(end) = path.points.last() else {
+            continue;
+        };
+        let stood_still = path.points.iter().all(|p| (p - origin).norm() <= radius);
+        doc = doc.add(if stood_still {
+            // Ring markers of growing size, so several robots standing still all show.
+            #[expect(
+                clippy::cast_precision_loss,
+                reason = "the path index is a small count"
+            )]
+            let ring = radius * (0.45 + 0.15 * i as f64);
+            Circle::new()
+                .set("cx", px(end.x))
+                .set("cy", px(-end.y))
+                .set("r", px(ring))
+                .set("fill", "none")
+                .set("stroke", colour)
+                .set("stroke-width", 3)
+                .add(Title::new(path.label))
+        } else {
+            Circle::new()
+                .set("cx", px(end.x))
+                .set("cy", px(-end.y))
+                .set("r", 5)
+                .set("fill", colour)
+                .add(Title::new(path.label))
+        });
     }
     doc.to_string()
+}
+
+/// Ticks and labels in metres along the arena's bottom and left edges, and a scale bar.
+fn axes(mut doc: Document, w: f64, h: f64) -> Document {
+    let step = tick_step(w.max(h));
+    let decimals = if step >= 1.0 {
+        0
+    } else {
+        1 + usize::from(step < 0.1)
+    };
+    let tick = 0.012;
+    for (along_x, extent) in [(true, w), (false, h)] {
+        let mut k = 0_u32;
+        loop {
+            let at = f64::from(k) * step;
+            if at > extent + 1e-9 {
+                break;
+            }
+            let text = format!("{at:.decimals$}");
+            doc = if along_x {
+                doc.add(
+                    Line::new()
+                        .set("x1", px(at))
+                        .set("y1", 0.0)
+                        .set("x2", px(at))
+                        .set("y2", px(tick))
+                        .set("stroke", "#333")
+                        .set("stroke-width", 1.5),
+                )
+                .add(label(at, -tick - 0.03, &text, 13, "middle"))
+            } else {
+                doc.add(
+                    Line::new()
+                        .set("x1", px(-tick))
+                        .set("y1", px(-at))
+                        .set("x2", 0.0)
+                        .set("y2", px(-at))
+                        .set("stroke", "#333")
+                        .set("stroke-width", 1.5),
+                )
+                .add(label(-tick - 0.006, at - 0.009, &text, 13, "end"))
+            };
+            k += 1;
+        }
+    }
+    // Axis names and a scale bar of one tick step below the arena's right end.
+    let bar = format!("{}", (step * 100.0).round());
+    doc.add(label(w / 2.0, -0.08, "x (m)", 14, "middle"))
+        .add(label(-0.085, h - step / 2.0 - 0.005, "y (m)", 14, "start"))
+        .add(
+            Line::new()
+                .set("x1", px(w - step))
+                .set("y1", px(0.075))
+                .set("x2", px(w))
+                .set("y2", px(0.075))
+                .set("stroke", "#333")
+                .set("stroke-width", 3),
+        )
+        .add(label(
+            w - step / 2.0,
+            -0.068,
+            &format!("{bar} cm"),
+            12,
+            "middle",
+        ))
 }

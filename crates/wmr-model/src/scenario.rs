@@ -7,6 +7,24 @@
 //!
 //! [`Scenario::validate`] turns every mistake it can detect into a [`ScenarioError`] naming
 //! the field (`obstacles[2].radius`, `camera.horizontal_fov`, …) and the offending value.
+//!
+//! # Bounds
+//!
+//! Besides being finite and of the right sign, numbers are bounded so that every scenario that
+//! passes validation can be run without a panic, an abort or a non-finite reward:
+//!
+//! | field | bound | why |
+//! |---|---|---|
+//! | `arena.width`, `arena.height` | ≤ [`MAX_ARENA_SIDE`] (20 m) | the planner's grid and the robot's scale |
+//! | `step_cap` | ≤ [`MAX_STEP_CAP`] (100 000) | each episode keeps its path (16 bytes a step) |
+//! | `control_period` | ≤ [`MAX_CONTROL_PERIOD`] (10 s) | one step stays one manoeuvre |
+//! | `state.*_bins` | ≤ [`MAX_BINS`] | with the state count ≤ [`MAX_STATES`], the tables fit |
+//! | `sensors.noise` | in `[0, 1]` | readings lie in `[0, 1]`; more noise is meaningless |
+//! | `reward.*` constants | magnitude ≤ [`MAX_REWARD_MAGNITUDE`] (10⁶) | sums over an episode stay finite |
+//! | `reward.p` | in `[0.01, 100]` | Eq. 6–7 divide by `p` |
+//!
+//! Solvability is a separate, costlier check: [`Scenario::check_route`] runs the planner and
+//! refuses a target no route reaches (e.g. walled off).
 
 use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
@@ -17,13 +35,26 @@ use crate::camera::{Camera, CameraParams};
 use crate::geometry::{Circle, Rect};
 use crate::kinematics::RobotParams;
 use crate::metrics::MetricsParams;
+use crate::planner::{Plan, PlanError, PlannerParams, search};
 use crate::reward::{RewardParams, TaskReward};
 use crate::sensors::SensorParams;
-use crate::state::StateParams;
+use crate::state::{MAX_BINS, MAX_STATES, StateParams};
 use crate::world::{Obstacle, World};
 
 /// The embedded default scenario (the analogue of the paper's Fig. 12), as TOML text.
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../scenarios/fig12.toml");
+
+/// Largest arena side (m).
+pub const MAX_ARENA_SIDE: f64 = 20.0;
+
+/// Largest `step_cap`.
+pub const MAX_STEP_CAP: u32 = 100_000;
+
+/// Largest control period (s).
+pub const MAX_CONTROL_PERIOD: f64 = 10.0;
+
+/// Largest magnitude of a reward constant.
+pub const MAX_REWARD_MAGNITUDE: f64 = 1e6;
 
 /// The walled arena `[0, width] × [0, height]`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -189,11 +220,27 @@ pub enum ScenarioError {
         /// The allowed range, in words.
         expected: &'static str,
     },
-    /// The bins make more than `u32::MAX` states.
-    #[error("`state` bins make {count} states, more than {max}", max = u32::MAX)]
+    /// The bins make more than [`MAX_STATES`] states.
+    #[error(
+        "`state` bins make {count} states, more than {MAX_STATES}: lower `state.distance_bins`, \
+         `state.image_bins`, `state.angle_bins` or `state.target_bins`"
+    )]
     TooManyStates {
-        /// `N_D · (N_O · N_A + 1)`.
+        /// `N_D · max(N_T, 1) · (N_O · N_A + 1)`.
         count: u128,
+    },
+    /// The planner finds no route from the start to the target (e.g. it is walled off).
+    #[error(
+        "`target` ({x}, {y}) cannot be reached from `start`: the planner found no route \
+         without a hit or losing the target from view ({reason})"
+    )]
+    TargetUnreachable {
+        /// Target x (m).
+        x: f64,
+        /// Target y (m).
+        y: f64,
+        /// Why the search ended.
+        reason: PlanError,
     },
     /// An obstacle reaches beyond the walls.
     #[error("`obstacles[{index}]` reaches outside the arena")]
@@ -279,8 +326,37 @@ impl Checker {
         )
     }
 
-    fn at_least_one(field: &str, value: u32) -> Result<(), ScenarioError> {
-        Self::require(field, f64::from(value), value >= 1, "at least 1")
+    fn bins(field: &str, value: u32, min: u32) -> Result<(), ScenarioError> {
+        let expected = if min == 0 {
+            "in [0, 1000]"
+        } else {
+            "in [1, 1000]"
+        };
+        Self::require(
+            field,
+            f64::from(value),
+            (min..=MAX_BINS).contains(&value),
+            expected,
+        )
+    }
+
+    fn magnitude(field: &str, value: f64) -> Result<(), ScenarioError> {
+        let value = Self::finite(field, value)?;
+        Self::require(
+            field,
+            value,
+            value.abs() <= MAX_REWARD_MAGNITUDE,
+            "at most 1e6 in magnitude",
+        )
+    }
+
+    fn at_most(
+        field: &str,
+        value: f64,
+        max: f64,
+        expected: &'static str,
+    ) -> Result<(), ScenarioError> {
+        Self::require(field, value, value <= max, expected)
     }
 }
 
@@ -335,6 +411,22 @@ impl Scenario {
         )
     }
 
+    /// Runs the planner ([`search`] with `params`) and returns the shortest route it finds: the
+    /// load-time proof that the target can be reached at all.
+    ///
+    /// # Errors
+    /// [`ScenarioError::TargetUnreachable`] when the search ends without reaching the target
+    /// (no route exists, or none within the planner's budget); a validation error first if
+    /// the scenario is invalid.
+    pub fn check_route(&self, params: &PlannerParams) -> Result<Plan, ScenarioError> {
+        self.validate()?;
+        search(self, params).map_err(|reason| ScenarioError::TargetUnreachable {
+            x: self.target.x,
+            y: self.target.y,
+            reason,
+        })
+    }
+
     /// Checks every field; the first problem found is returned.
     ///
     /// # Errors
@@ -347,14 +439,25 @@ impl Scenario {
     fn validate_numbers(&self) -> Result<(), ScenarioError> {
         type C = Checker;
         C::positive("control_period", self.control_period)?;
+        C::at_most(
+            "control_period",
+            self.control_period,
+            MAX_CONTROL_PERIOD,
+            "at most 10 s",
+        )?;
         C::require(
             "step_cap",
             f64::from(self.step_cap),
-            self.step_cap >= 1,
-            "at least 1",
+            (1..=MAX_STEP_CAP).contains(&self.step_cap),
+            "in [1, 100000]",
         )?;
-        C::positive("arena.width", self.arena.width)?;
-        C::positive("arena.height", self.arena.height)?;
+        for (field, side) in [
+            ("arena.width", self.arena.width),
+            ("arena.height", self.arena.height),
+        ] {
+            C::positive(field, side)?;
+            C::at_most(field, side, MAX_ARENA_SIDE, "at most 20 m")?;
+        }
         C::finite("start.x", self.start.x)?;
         C::finite("start.y", self.start.y)?;
         C::finite("start.heading", self.start.heading)?;
@@ -398,6 +501,7 @@ impl Scenario {
         }
         C::positive("sensors.range", self.sensors.range)?;
         C::non_negative("sensors.noise", self.sensors.noise)?;
+        C::at_most("sensors.noise", self.sensors.noise, 1.0, "in [0, 1]")?;
         let camera = &self.camera;
         C::open_angle("camera.horizontal_fov", camera.horizontal_fov)?;
         C::open_angle("camera.vertical_fov", camera.vertical_fov)?;
@@ -411,31 +515,37 @@ impl Scenario {
         )?;
         C::positive("camera.obstacle_range", camera.obstacle_range)?;
         let state = &self.state;
-        C::at_least_one("state.distance_bins", state.distance_bins)?;
+        C::bins("state.distance_bins", state.distance_bins, 1)?;
         C::positive("state.distance_max", state.distance_max)?;
-        C::at_least_one("state.image_bins", state.image_bins)?;
-        C::at_least_one("state.angle_bins", state.angle_bins)?;
-        let count = u128::from(state.distance_bins)
-            * (u128::from(state.image_bins) * u128::from(state.angle_bins) + 1);
-        if count > u128::from(u32::MAX) {
+        C::bins("state.image_bins", state.image_bins, 1)?;
+        C::bins("state.angle_bins", state.angle_bins, 1)?;
+        C::bins("state.target_bins", state.target_bins, 0)?;
+        let count = state.state_count();
+        if count > u128::from(MAX_STATES) {
             return Err(ScenarioError::TooManyStates { count });
         }
         let reward = &self.reward;
-        C::finite("reward.k", reward.k)?;
+        C::magnitude("reward.k", reward.k)?;
         C::positive("reward.p", reward.p)?;
-        C::finite("reward.f", reward.f)?;
-        C::finite("reward.hit", reward.hit)?;
-        C::finite("reward.target_kept", reward.target_kept)?;
-        C::finite("reward.target_lost", reward.target_lost)?;
-        C::finite("reward.goal_bonus", reward.goal_bonus)?;
+        C::require(
+            "reward.p",
+            reward.p,
+            (0.01..=100.0).contains(&reward.p),
+            "in [0.01, 100]",
+        )?;
+        C::magnitude("reward.f", reward.f)?;
+        C::magnitude("reward.hit", reward.hit)?;
+        C::magnitude("reward.target_kept", reward.target_kept)?;
+        C::magnitude("reward.target_lost", reward.target_lost)?;
+        C::magnitude("reward.goal_bonus", reward.goal_bonus)?;
         if let TaskReward::Progress {
             closer,
             farther,
             min_progress,
         } = reward.task
         {
-            C::finite("reward.task.closer", closer)?;
-            C::finite("reward.task.farther", farther)?;
+            C::magnitude("reward.task.closer", closer)?;
+            C::magnitude("reward.task.farther", farther)?;
             C::non_negative("reward.task.min_progress", min_progress)?;
         }
         C::non_negative(

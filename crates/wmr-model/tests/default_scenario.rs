@@ -6,7 +6,8 @@ use nalgebra::Vector2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use wmr_model::{
-    Action, Outcome, PlannerParams, Scenario, TaskReward, WmrEnv, shortest_plan, tabular_policy,
+    Action, Outcome, PlannerParams, Scenario, StateParams, TaskReward, WmrEnv, shortest_plan,
+    tabular_policy,
 };
 
 #[test]
@@ -15,7 +16,11 @@ fn default_scenario_is_valid_and_sized_as_documented() {
     scenario.validate().unwrap();
     assert_eq!(scenario.obstacles.len(), 5);
     let env = WmrEnv::default();
-    assert_eq!(env.n_states(), 250);
+    // 10 distance × 7 target bins × (4 × 6 obstacle bins + "none in view").
+    assert_eq!(env.n_states(), 1750);
+    let mut paper = scenario.clone();
+    paper.state = StateParams::paper();
+    assert_eq!(WmrEnv::new(paper).unwrap().n_states(), 250);
     assert_eq!(env.n_actions(), 5);
     assert_eq!(env.n_subtasks(), 3);
     assert_eq!(
@@ -103,9 +108,11 @@ fn a_scripted_waypoint_controller_reaches_the_target() {
 
 #[test]
 fn a_deterministic_table_over_the_discrete_state_solves_the_task() {
-    let scenario = Scenario::default_scenario();
+    // Over the paper's literal state (no target feature), the harder case.
+    let mut scenario = Scenario::default_scenario();
+    scenario.state = StateParams::paper();
     let table = tabular_policy(&scenario, 200, 1_000_000).expect("a table exists");
-    let mut env = WmrEnv::default();
+    let mut env = WmrEnv::new(scenario).unwrap();
     env.reset(Some(5));
     let mut steps = 0;
     loop {
@@ -230,8 +237,10 @@ fn discounted_return(task: TaskReward, actions: &[Action]) -> (f64, Outcome) {
 fn the_subtask_sum_pays_about_as_much_for_standing_still_as_for_reaching() {
     // Why TaskReward::Progress is the default. Three behaviours from the start: stop until the
     // step cap, the planner's 34-step route (no table over the states can follow it), and the
-    // run of the first deterministic table the search finds within 200 steps.
-    let scenario = Scenario::default_scenario();
+    // run of the first deterministic table over the paper's state the search finds within
+    // 200 steps.
+    let mut scenario = Scenario::default_scenario();
+    scenario.state = StateParams::paper();
     let plan = shortest_plan(&scenario, &PlannerParams::default()).expect("solvable");
     let table = tabular_policy(&scenario, 200, 1_000_000).expect("a table exists");
     let stop = vec![Action::Stop; 500];

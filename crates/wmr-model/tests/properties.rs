@@ -108,6 +108,8 @@ proptest! {
     #[test]
     fn discretisation_lands_in_range(
         (distance_bins, image_bins, angle_bins) in (1u32..30, 1u32..30, 1u32..30),
+        target_bins in 0u32..12,
+        target_ratio in prop_oneof![-1.0..2.0, Just(f64::NAN), Just(f64::INFINITY)],
         distance_max in 0.01..5.0,
         horizontal_fov in 0.01..3.1,
         vertical in any::<bool>(),
@@ -117,7 +119,7 @@ proptest! {
             prop_oneof![-4.0..4.0, Just(f64::NAN), Just(f64::INFINITY)],
         )),
     ) {
-        let params = StateParams { distance_bins, distance_max, image_bins, angle_bins };
+        let params = StateParams { distance_bins, distance_max, image_bins, angle_bins, target_bins };
         let camera = CameraParams {
             horizontal_fov,
             delta_axis: if vertical { DeltaAxis::Vertical } else { DeltaAxis::Horizontal },
@@ -131,8 +133,9 @@ proptest! {
             delta,
             angle,
         });
-        let bins = discretiser.bins(distance, sighting.as_ref());
+        let bins = discretiser.bins(distance, target_ratio, sighting.as_ref());
         prop_assert!(bins.distance < distance_bins);
+        prop_assert!(bins.target < target_bins.max(1));
         if let Some((image, angle)) = bins.obstacle {
             prop_assert!(image < image_bins && angle < angle_bins);
         }
@@ -140,7 +143,7 @@ proptest! {
         prop_assert!(index < discretiser.n_states());
         prop_assert_eq!(discretiser.bins_of(index), Some(bins));
         let features = discretiser.features(index);
-        prop_assert_eq!(features.len(), 3);
+        prop_assert_eq!(features.len(), if target_bins == 0 { 3 } else { 4 });
         prop_assert!(features[0] < distance_bins);
         prop_assert!(features[1] <= image_bins && features[2] <= angle_bins);
     }

@@ -167,10 +167,10 @@ fn parameter_errors_name_the_field_and_value() {
     let error = error_of(&format!("{MINIMAL}\n[state]\nangle_bins = 0\n"));
     assert_eq!(
         error.to_string(),
-        "`state.angle_bins` must be at least 1, got 0"
+        "`state.angle_bins` must be in [1, 1000], got 0"
     );
     let error = error_of(&format!(
-        "{MINIMAL}\n[state]\ndistance_bins = 100000\nimage_bins = 100000\nangle_bins = 100000\n"
+        "{MINIMAL}\n[state]\ndistance_bins = 1000\nimage_bins = 1000\nangle_bins = 1000\n"
     ));
     assert!(
         matches!(error, ScenarioError::TooManyStates { .. }),

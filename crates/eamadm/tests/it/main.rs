@@ -8,6 +8,8 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod behaviour;
 mod claims;
 mod controls;
+mod robot_refusals;
 mod stats;

@@ -1,0 +1,122 @@
+//! Robot experiments that cannot be solved or held in memory are refused when the config is
+//! loaded, with a typed error naming the field (issue 12, item 5; issue 14, item 2), and the
+//! robot presets load: `robot` with the target feature, `robot-paper-state` without.
+
+use std::path::PathBuf;
+
+use eamadm::wmr_model::{DEFAULT_SCENARIO_TOML, PlanError, ScenarioError};
+use eamadm::{ConfigError, Experiment, ExperimentConfig, TaskConfig};
+
+/// Writes `scenario` to a file of its own under Cargo's temporary folder for tests.
+fn scenario_file(name: &str, scenario: &str) -> PathBuf {
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("refusal-{name}.toml"));
+    std::fs::write(&path, scenario).expect("the test folder is writable");
+    path
+}
+
+fn robot_config(
+    scenario: String,
+    step_cap: Option<u32>,
+    target_bins: Option<u32>,
+) -> ExperimentConfig {
+    let mut config = eamadm::paper::robot();
+    config.task = TaskConfig::Robot {
+        scenario,
+        step_cap,
+        target_bins,
+    };
+    config
+}
+
+/// The scenario error of a refused robot config, after checking it names `task.scenario`.
+fn scenario_error(config: ExperimentConfig) -> ScenarioError {
+    match Experiment::new(config) {
+        Err(ConfigError::Scenario { field, source }) => {
+            assert_eq!(field, "task.scenario");
+            source
+        }
+        Err(other) => panic!("expected a scenario error, got {other}"),
+        Ok(_) => panic!("the config must be refused"),
+    }
+}
+
+fn field_of(error: &ScenarioError) -> &str {
+    match error {
+        ScenarioError::OutOfRange { field, .. } | ScenarioError::NotFinite { field, .. } => field,
+        other => panic!("expected a field error, got {other}"),
+    }
+}
+
+#[test]
+fn the_robot_presets_load_with_and_without_the_target_feature() {
+    let robot = Experiment::new(eamadm::paper::robot()).expect("valid");
+    assert_eq!(robot.task().n_states(), 1750);
+    assert_eq!(robot.task().optimum_steps(), Some(34));
+    let paper = Experiment::new(eamadm::paper::robot_paper_state()).expect("valid");
+    assert_eq!(paper.task().n_states(), 250);
+    assert_eq!(paper.config().name, "robot-paper-state");
+}
+
+#[test]
+fn a_walled_off_target_is_refused_at_load_time() {
+    // A wall across the whole arena just before the target.
+    let walled = format!(
+        "{DEFAULT_SCENARIO_TOML}\n[[obstacles]]\nshape = \"rectangle\"\nx = 0.82\ny = 0.5\n\
+         width = 0.02\nheight = 1.0\n"
+    );
+    let path = scenario_file("walled", &walled);
+    let error = scenario_error(robot_config(path.display().to_string(), None, None));
+    assert!(
+        matches!(
+            error,
+            ScenarioError::TargetUnreachable {
+                reason: PlanError::NoRoute { .. },
+                ..
+            }
+        ),
+        "{error}"
+    );
+    assert!(error.to_string().starts_with("`target`"), "{error}");
+}
+
+#[test]
+fn overrides_that_cannot_be_held_in_memory_are_refused() {
+    // Used to abort allocating a 64 GB episode buffer.
+    let error = scenario_error(robot_config("default".to_owned(), Some(u32::MAX), None));
+    assert_eq!(field_of(&error), "step_cap");
+    // Used to abort allocating the state table (here through the target feature).
+    let error = scenario_error(robot_config(
+        "default".to_owned(),
+        None,
+        Some(2_147_483_647),
+    ));
+    assert_eq!(field_of(&error), "state.target_bins");
+}
+
+#[test]
+fn scenario_files_with_oversized_numbers_are_refused() {
+    for (name, edit, field) in [
+        ("arena", ("width = 1.0", "width = 1e17"), "arena.width"),
+        (
+            "bins",
+            ("[arena]", "[state]\ndistance_bins = 2147483647\n\n[arena]"),
+            "state.distance_bins",
+        ),
+        (
+            "noise",
+            ("[arena]", "[sensors]\nnoise = 1e308\n\n[arena]"),
+            "sensors.noise",
+        ),
+        (
+            "goal",
+            ("[arena]", "[reward]\ngoal_bonus = 1e308\n\n[arena]"),
+            "reward.goal_bonus",
+        ),
+    ] {
+        let text = DEFAULT_SCENARIO_TOML.replacen(edit.0, edit.1, 1);
+        assert_ne!(text, DEFAULT_SCENARIO_TOML, "{name}: the edit applies");
+        let path = scenario_file(name, &text);
+        let error = scenario_error(robot_config(path.display().to_string(), None, None));
+        assert_eq!(field_of(&error), field, "{name}: {error}");
+    }
+}
