@@ -173,9 +173,9 @@ pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
 pub use config::{
-    ConfigError, EaMadmConfig, ExperimentConfig, Method, MethodSpec, PAPER_ROBOT_TOML,
-    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, Role, Storage, TaskConfig,
-    TrajectoryConfig, paper_methods,
+    ConfigError, EaMadmConfig, ExperimentConfig, MAX_INPUT_FILE_BYTES, Method, MethodSpec,
+    PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role,
+    Storage, TaskConfig, TrajectoryConfig, is_safe_slug, paper_methods, read_input_file,
 };
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtasks};

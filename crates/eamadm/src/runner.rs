@@ -217,8 +217,14 @@ fn run_on<E: TaskEnv>(
             let mut policy = EaMadmPolicy::new(prior, ea.epsilon, ea.weighting.clone())?;
             let mut signal = StandardisedReward::new(ea.standardisation, subtasks.len())?;
             let trained = session.train(&mut policy, &mut signal, pretrain_env_steps)?;
+            if let Some(error) = policy.failure() {
+                return Err(RunFailure::Decision(error.clone()));
+            }
             let mut greedy = policy.without_exploration();
             let evaluation = session.evaluate(&mut greedy, trained.env_steps)?;
+            if let Some(error) = greedy.failure() {
+                return Err(RunFailure::Decision(error.clone()));
+            }
             (subtasks, pretrain_env_steps, trained, evaluation)
         }
         Method::EpsilonGreedy { epsilon } => {
