@@ -18,9 +18,10 @@ pub(crate) struct AtomicWriteError {
 }
 
 /// Writes `contents` to `path` atomically: creates the parent folders, writes a temporary file in
-/// the same folder (same file system, so the rename is atomic), flushes it to disk and renames it
-/// over `path`, then syncs the folder so the rename itself is on disk. On error the temporary file is removed and `path` is untouched. A process killed
-/// mid-write may leave a hidden `.<name>.*.tmp` file behind; nothing reads those.
+/// the same folder (same file system, so the rename is atomic), flushes it to disk, renames it
+/// over `path` and syncs the folder so that the rename itself is on disk. On error the temporary
+/// file is removed and `path` is untouched. A process killed mid-write may leave a hidden
+/// `.<name>.*.tmp` file behind; nothing reads those.
 pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
     let error = |source| AtomicWriteError {
         path: path.to_path_buf(),
