@@ -48,6 +48,10 @@ pub(crate) struct ReproduceArgs {
     /// Smoke run: few seeds and episodes, done in seconds.
     #[arg(long)]
     pub(crate) quick: bool,
+    /// If another reproduce-paper is using the output folder, wait for it to finish instead
+    /// of exiting with an error.
+    #[arg(long)]
+    pub(crate) wait: bool,
 }
 
 /// Options of `regen-fixtures`.
@@ -129,6 +133,7 @@ mod tests {
                 config: None,
                 out: None,
                 quick: false,
+                wait: false,
             }
         );
     }
@@ -153,6 +158,7 @@ mod tests {
                 "--out",
                 "/tmp/out",
                 "--quick",
+                "--wait",
             ]),
             ReproduceArgs {
                 seeds: Some(4),
@@ -161,6 +167,7 @@ mod tests {
                 config: Some(PathBuf::from("my.toml")),
                 out: Some(PathBuf::from("/tmp/out")),
                 quick: true,
+                wait: true,
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command

@@ -9,7 +9,8 @@
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
 //! configs; [`reproduce`] drives a run: [`execute`] runs (resuming via [`resume`], showing
 //! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`paper_report`] writes
-//! `REPORT.md` (with [`report`]'s tables). [`fixtures`] regenerates and checks `fixtures/`,
+//! `REPORT.md` (with [`report`]'s tables), all staged and swapped into the locked output folder
+//! by [`output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
 //! showing differences with [`text_diff`]. Every file goes through [`atomic`].
 
 use std::process::ExitCode;
@@ -22,6 +23,7 @@ mod execute;
 mod experiments;
 mod figures;
 mod fixtures;
+mod output_folder;
 mod outputs;
 mod paper_report;
 mod plan;

@@ -55,14 +55,28 @@ pub(crate) enum PlanError {
         /// The resolved output folder.
         out: PathBuf,
     },
-    /// A `--config` file that cannot be read.
+    /// An `--out` below something that exists and is not a folder (`some-file/sub`).
+    #[error(
+        "--out {}: {} exists and is not a folder, so the output folder cannot be made there; \
+         choose another --out",
+        out.display(),
+        blocker.display()
+    )]
+    OutUnderAFile {
+        /// The resolved output folder.
+        out: PathBuf,
+        /// The existing non-folder on its path.
+        blocker: PathBuf,
+    },
+    /// A `--config` file that cannot be read (missing, not a regular file, too large, not
+    /// UTF-8).
     #[error("--config {}: cannot read it: {source}", path.display())]
     ConfigUnreadable {
         /// The file given.
         path: PathBuf,
-        /// Why.
+        /// Why (naming the limit it breaks, if any).
         #[source]
-        source: io::Error,
+        source: Box<eamadm::ConfigError>,
     },
 }
 
@@ -118,8 +132,9 @@ pub(crate) struct ReproducePlan {
 
 impl ReproducePlan {
     /// Checks `args`: method labels against `known_methods` (the labels the config defines),
-    /// the config file is readable, the output folder is not inside `fixtures/` and, if it
-    /// exists, is a folder. Touches nothing on disk.
+    /// the config file is readable (a regular file of at most 1 MiB), the output folder is not
+    /// inside `fixtures/`, is a folder if it exists, and has only folders on its path.
+    /// Touches nothing on disk.
     pub(crate) fn from_args(
         args: &ReproduceArgs,
         known_methods: &[String],
@@ -154,10 +169,13 @@ impl ReproducePlan {
             None => None,
             Some(path) => {
                 let absolute = workspace.current_dir.join(path);
-                // Read it now so a missing or unreadable file fails before anything runs.
-                std::fs::read(&absolute).map_err(|source| PlanError::ConfigUnreadable {
-                    path: path.clone(),
-                    source,
+                // Read it now (bounded: a regular file of at most 1 MiB) so a missing,
+                // unreadable or endless file fails before anything runs.
+                eamadm::read_input_file(&absolute, "--config").map_err(|source| {
+                    PlanError::ConfigUnreadable {
+                        path: path.clone(),
+                        source: Box::new(source),
+                    }
                 })?;
                 Some(absolute)
             }
@@ -174,6 +192,17 @@ impl ReproducePlan {
         if out.exists() && !out.is_dir() {
             return Err(PlanError::OutNotAFolder { out });
         }
+        // The folder will be created: everything on its path that exists must be a folder.
+        if let Some(blocker) = out
+            .ancestors()
+            .skip(1)
+            .find(|ancestor| ancestor.exists() && !ancestor.is_dir())
+        {
+            return Err(PlanError::OutUnderAFile {
+                blocker: blocker.to_path_buf(),
+                out,
+            });
+        }
 
         Ok(Self {
             tasks,
@@ -189,9 +218,18 @@ impl ReproducePlan {
         })
     }
 
-    /// Number of runs: tasks × methods × seeds.
+    /// Number of experiments: the one of a `--config` file, or one per selected task.
+    pub(crate) fn experiments(&self) -> usize {
+        if self.config.is_some() {
+            1
+        } else {
+            self.tasks.len()
+        }
+    }
+
+    /// Number of runs: experiments × methods × seeds.
     pub(crate) fn runs(&self) -> u64 {
-        self.tasks.len() as u64 * self.methods.len() as u64 * u64::from(self.seeds)
+        self.experiments() as u64 * self.methods.len() as u64 * u64::from(self.seeds)
     }
 
     /// The plan, for people.
@@ -213,7 +251,7 @@ impl ReproducePlan {
             text,
             "  seeds:    {} per task and method → {} × {} × {} = {} runs{}",
             self.seeds,
-            self.tasks.len(),
+            self.experiments(),
             self.methods.len(),
             self.seeds,
             self.runs(),
@@ -310,6 +348,7 @@ mod tests {
             config: None,
             out: None,
             quick: false,
+            wait: false,
         }
     }
 
@@ -446,6 +485,55 @@ mod tests {
         };
         let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
         assert!(matches!(error, PlanError::OutNotAFolder { .. }), "{error}");
+    }
+
+    #[test]
+    fn out_below_a_file_is_refused_before_any_work() {
+        let (_dir, ws) = workspace();
+        std::fs::write(ws.root.join("some-file"), "x").unwrap();
+        let bad = ReproduceArgs {
+            out: Some("some-file/sub/deeper".into()),
+            ..args()
+        };
+        let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
+        assert!(matches!(error, PlanError::OutUnderAFile { .. }), "{error}");
+        assert!(
+            error
+                .to_string()
+                .contains("some-file exists and is not a folder"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_config_plan_counts_one_experiment() {
+        let (_dir, ws) = workspace();
+        std::fs::write(ws.root.join("base.toml"), "episodes = 5\n").unwrap();
+        let with_config = ReproduceArgs {
+            config: Some("base.toml".into()),
+            seeds: Some(2),
+            ..args()
+        };
+        let three: Vec<String> = ["a", "b", "c"].map(str::to_owned).to_vec();
+        let plan = ReproducePlan::from_args(&with_config, &three, &ws).unwrap();
+        assert_eq!(plan.runs(), 6);
+        assert!(
+            plan.describe().contains("1 × 3 × 2 = 6 runs"),
+            "{}",
+            plan.describe()
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_config_that_is_a_device_is_refused_without_reading_it() {
+        let (_dir, ws) = workspace();
+        let device = ReproduceArgs {
+            config: Some("/dev/zero".into()),
+            ..args()
+        };
+        let error = ReproducePlan::from_args(&device, &default_methods(), &ws).unwrap_err();
+        assert!(error.to_string().contains("not a regular file"), "{error}");
     }
 
     #[test]

@@ -99,7 +99,7 @@ fn load_maze(text: &str) {
         let outcome = env.step(step % env.n_actions());
         assert!(outcome.reward.is_finite());
         assert!(env.subtask_rewards().iter().all(|r| r.is_finite()));
-        if outcome.terminated || outcome.truncated {
+        if outcome.done() {
             break;
         }
     }
@@ -125,7 +125,7 @@ fn load_scenario(text: &str) {
     env.reset(Some(3));
     for step in 0..5 {
         let outcome = env.step(step % env.n_actions());
-        if outcome.terminated || outcome.truncated {
+        if outcome.done() {
             break;
         }
     }
