@@ -551,9 +551,20 @@ impl ConfigError {
                 name,
                 value,
                 expected,
-            } => Self::invalid(join(prefix, &name), value, expected),
+            } => Self::invalid(join(prefix, &name), readable_number(value), expected),
             other => Self::invalid(prefix, "(see message)", other.to_string()),
         }
+    }
+}
+
+/// A number as a person would write it: plain when moderate, in exponent form when huge or
+/// tiny (`1e308`, not 309 digits).
+fn readable_number(value: f64) -> String {
+    let magnitude = value.abs();
+    if magnitude != 0.0 && !(1e-6..1e16).contains(&magnitude) {
+        format!("{value:e}")
+    } else {
+        value.to_string()
     }
 }
 

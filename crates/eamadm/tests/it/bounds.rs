@@ -42,6 +42,7 @@ fn huge_initial_values_are_refused_at_validation() {
         assert!(matches!(error, ConfigError::Invalid { .. }), "{error}");
         assert_eq!(error.field(), Some("learner.init.value"), "{error}");
         assert!(error.to_string().contains("1e9"), "{error}");
+        assert!(error.to_string().len() < 200, "readable: {error}");
     }
 }
 
