@@ -144,6 +144,20 @@ mod tests {
         }
         let report = std::fs::read_to_string(ws.root.join("out/REPORT.md")).unwrap();
         assert!(report.contains("## mine (`mine`)"), "{report}");
+        // Every visible top-level entry but the experiment's folder is a name configs may not
+        // take, so no experiment can overwrite it.
+        for entry in std::fs::read_dir(ws.root.join("out")).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') || name == "mine" {
+                continue;
+            }
+            assert!(
+                eamadm::RESERVED_NAMES
+                    .iter()
+                    .any(|reserved| reserved.eq_ignore_ascii_case(&name)),
+                "{name} is not reserved"
+            );
+        }
     }
 
     fn write_config(ws: &Workspace, file: &str, name: &str) {
