@@ -18,9 +18,10 @@ pub(crate) struct AtomicWriteError {
 }
 
 /// Writes `contents` to `path` atomically: creates the parent folders, writes a temporary file in
-/// the same folder (same file system, so the rename is atomic), flushes it to disk and renames it
-/// over `path`. On error the temporary file is removed and `path` is untouched. A process killed
-/// mid-write may leave a hidden `.<name>.*.tmp` file behind; nothing reads those.
+/// the same folder (same file system, so the rename is atomic), flushes it to disk, renames it
+/// over `path` and syncs the folder so that the rename itself is on disk. On error the temporary
+/// file is removed and `path` is untouched. A process killed mid-write may leave a hidden
+/// `.<name>.*.tmp` file behind; nothing reads those.
 pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
     let error = |source| AtomicWriteError {
         path: path.to_path_buf(),
@@ -50,6 +51,17 @@ pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWri
     temp.write_all(contents).map_err(error)?;
     temp.as_file().sync_all().map_err(error)?;
     temp.persist(path).map_err(|persist| error(persist.error))?;
+    sync_folder(folder).map_err(error)?;
+    Ok(())
+}
+
+/// Flushes a folder's entries (a rename, a new or removed file) to disk, so that a crash right
+/// after a write returned cannot lose it. A no-op where folders cannot be opened as files.
+pub(crate) fn sync_folder(folder: &Path) -> io::Result<()> {
+    #[cfg(unix)]
+    std::fs::File::open(folder)?.sync_all()?;
+    #[cfg(not(unix))]
+    let _ = folder;
     Ok(())
 }
 

@@ -50,6 +50,10 @@ pub(crate) struct ReproduceArgs {
     /// Smoke run: few seeds and episodes, done in seconds.
     #[arg(long)]
     pub(crate) quick: bool,
+    /// If another reproduce-paper is using the output folder, wait for it to finish instead
+    /// of exiting with an error.
+    #[arg(long)]
+    pub(crate) wait: bool,
 }
 
 /// Options of `regen-fixtures`.
@@ -144,6 +148,7 @@ mod tests {
                 config: None,
                 out: None,
                 quick: false,
+                wait: false,
             }
         );
     }
@@ -168,6 +173,7 @@ mod tests {
                 "--out",
                 "/tmp/out",
                 "--quick",
+                "--wait",
             ]),
             ReproduceArgs {
                 seeds: Some(4),
@@ -176,6 +182,7 @@ mod tests {
                 config: Some(PathBuf::from("my.toml")),
                 out: Some(PathBuf::from("/tmp/out")),
                 quick: true,
+                wait: true,
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command

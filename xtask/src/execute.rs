@@ -84,8 +84,8 @@ fn task_file_digest(task: &TaskConfig) -> Option<String> {
         TaskConfig::Robot { scenario, .. } if scenario != DEFAULT_SCENARIO => scenario.into(),
         _ => return None,
     };
-    let bytes = std::fs::read(path).ok()?;
-    Some(blake3::hash(&bytes).to_hex().to_string())
+    let text = eamadm::read_input_file(&path, "task").ok()?;
+    Some(blake3::hash(text.as_bytes()).to_hex().to_string())
 }
 
 /// One run to do.

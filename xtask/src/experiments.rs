@@ -68,13 +68,7 @@ pub(crate) fn load_config_file(path: &Path) -> Result<ExperimentConfig, Experime
         path: path.to_path_buf(),
         source: Box::new(source),
     };
-    let text = std::fs::read_to_string(path).map_err(|source| {
-        error(ConfigError::Read {
-            field: "--config".to_owned(),
-            path: path.to_path_buf(),
-            source,
-        })
-    })?;
+    let text = eamadm::read_input_file(path, "--config").map_err(error)?;
     ExperimentConfig::from_toml_str(&text).map_err(error)
 }
 

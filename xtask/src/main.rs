@@ -8,8 +8,10 @@
 //!
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
 //! configs; [`reproduce`] drives a run: [`execute`] runs (resuming via [`resume`], showing
-//! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and
-//! `REPORT.md` (with [`report`]'s tables). [`fixtures`] regenerates and checks `fixtures/`,
+//! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`claims_report`]
+//! writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with [`report`]'s
+//! tables), all staged and swapped into the locked output folder by [`output_folder`].
+//! [`fixtures`] regenerates and checks `fixtures/`,
 //! showing differences with [`text_diff`]. Every file goes through [`atomic`].
 
 use std::process::ExitCode;
@@ -23,6 +25,7 @@ mod execute;
 mod experiments;
 mod figures;
 mod fixtures;
+mod output_folder;
 mod outputs;
 mod plan;
 mod progress;

@@ -61,6 +61,19 @@ pub(crate) enum PlanError {
         /// The resolved output folder.
         out: PathBuf,
     },
+    /// An `--out` below something that exists and is not a folder (`some-file/sub`).
+    #[error(
+        "--out {}: {} exists and is not a folder, so the output folder cannot be made there; \
+         choose another --out",
+        out.display(),
+        blocker.display()
+    )]
+    OutUnderAFile {
+        /// The resolved output folder.
+        out: PathBuf,
+        /// The existing non-folder on its path.
+        blocker: PathBuf,
+    },
 }
 
 /// Where the workspace is and where the command was started: relative paths given on the
@@ -115,8 +128,9 @@ pub(crate) struct ReproducePlan {
 
 impl ReproducePlan {
     /// Checks `args`: method labels against `known_methods` (the labels the config defines),
-    /// the config file is readable, the output folder is not inside `fixtures/` and, if it
-    /// exists, is a folder. Touches nothing on disk.
+    /// the config file is readable (a regular file of at most 1 MiB), the output folder is not
+    /// inside `fixtures/`, is a folder if it exists, and has only folders on its path.
+    /// Touches nothing on disk.
     pub(crate) fn from_args(
         args: &ReproduceArgs,
         known_methods: &[String],
@@ -164,6 +178,17 @@ impl ReproducePlan {
         if out.exists() && !out.is_dir() {
             return Err(PlanError::OutNotAFolder { out });
         }
+        // The folder will be created: everything on its path that exists must be a folder.
+        if let Some(blocker) = out
+            .ancestors()
+            .skip(1)
+            .find(|ancestor| ancestor.exists() && !ancestor.is_dir())
+        {
+            return Err(PlanError::OutUnderAFile {
+                blocker: blocker.to_path_buf(),
+                out,
+            });
+        }
 
         Ok(Self {
             tasks,
@@ -179,10 +204,19 @@ impl ReproducePlan {
         })
     }
 
-    /// Number of runs: tasks × methods × seeds (an upper bound when a task's config lacks some
-    /// of the methods, as the robot's lacks the maze controls).
+    /// Number of experiments: the one of a `--config` file, or one per selected task.
+    pub(crate) fn experiments(&self) -> usize {
+        if self.config.is_some() {
+            1
+        } else {
+            self.tasks.len()
+        }
+    }
+
+    /// Number of runs: experiments × methods × seeds (an upper bound when an experiment's
+    /// config lacks some of the methods, as the robot's lacks the maze controls).
     pub(crate) fn runs(&self) -> u64 {
-        self.tasks.len() as u64 * self.methods.len() as u64 * u64::from(self.seeds)
+        self.experiments() as u64 * self.methods.len() as u64 * u64::from(self.seeds)
     }
 
     /// The plan, for people.
@@ -205,7 +239,7 @@ impl ReproducePlan {
             "  seeds:    {} per task and method → at most {} × {} × {} = {} runs (each task runs \
              the methods its config defines){}",
             self.seeds,
-            self.tasks.len(),
+            self.experiments(),
             self.methods.len(),
             self.seeds,
             self.runs(),
@@ -302,6 +336,7 @@ mod tests {
             config: None,
             out: None,
             quick: false,
+            wait: false,
         }
     }
 

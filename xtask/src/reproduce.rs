@@ -8,6 +8,7 @@ use crate::claims_report::{Verdicts, write_claim_outputs};
 use crate::cli::ReproduceArgs;
 use crate::execute::run_experiments;
 use crate::experiments::{load_config_file, plan_experiments};
+use crate::output_folder::OutputFolder;
 use crate::outputs::{write_experiment, write_results_json};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
@@ -46,20 +47,23 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
     .map_err(Failure::invalid)?;
     print!("{}", plan.describe());
 
+    // One process per output folder; what a killed earlier invocation left is repaired here.
+    let folder = OutputFolder::open(&plan.out, args.wait).map_err(Failure::failed)?;
     let started = Instant::now();
-    let store = RunStore::new(&plan.out);
+    let store = RunStore::new(folder.root());
     let progress = Progress::for_stdout();
     let grouped =
         run_experiments(&experiments, &plan.methods, &store, &progress).map_err(Failure::failed)?;
 
+    // The set of outputs is written aside and swapped in whole (see `output_folder`).
+    let staging = folder.staging().map_err(Failure::failed)?;
     let all: Vec<_> = grouped.iter().flat_map(|g| g.records.iter()).collect();
-    write_results_json(&plan.out, &all).map_err(Failure::failed)?;
+    write_results_json(&staging, &all).map_err(Failure::failed)?;
     let mut scores = Vec::new();
     let mut figures = Vec::new();
     let mut behaviour = Vec::new();
     for (planned, group) in experiments.iter().zip(&grouped) {
-        figures
-            .push(write_experiment(&plan.out, planned, &group.records).map_err(Failure::failed)?);
+        figures.push(write_experiment(&staging, planned, &group.records).map_err(Failure::failed)?);
         let mut section = String::new();
         if matches!(planned.config().task, eamadm::TaskConfig::Robot { .. }) {
             crate::robot_report::write_robot_behaviour(
@@ -76,7 +80,7 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
     }
     let verdicts = Verdicts::compute(scores, &ClaimOptions::default()).map_err(Failure::failed)?;
     write_claim_outputs(
-        &plan.out,
+        &staging,
         &experiments,
         &figures,
         &behaviour,
@@ -84,6 +88,7 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
         plan.quick,
     )
     .map_err(Failure::failed)?;
+    folder.commit().map_err(Failure::failed)?;
     let resumed: usize = grouped.iter().map(|g| g.resumed).sum();
     println!(
         "done in {:.1} s: {} runs ({resumed} resumed from an earlier invocation)\nreport: {}",
@@ -106,6 +111,7 @@ mod tests {
             config: config.map(Into::into),
             out: Some(out.into()),
             quick: true,
+            wait: false,
         }
     }
 
@@ -158,6 +164,88 @@ mod tests {
         }
         let report = std::fs::read_to_string(ws.root.join("out/REPORT.md")).unwrap();
         assert!(report.contains("## mine (`mine`)"), "{report}");
+        // Every visible top-level entry but the experiment's folder is a name configs may not
+        // take, so no experiment can overwrite it.
+        for entry in std::fs::read_dir(ws.root.join("out")).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') || name == "mine" {
+                continue;
+            }
+            assert!(
+                eamadm::RESERVED_NAMES
+                    .iter()
+                    .any(|reserved| reserved.eq_ignore_ascii_case(&name)),
+                "{name} is not reserved"
+            );
+        }
+    }
+
+    fn write_config(ws: &Workspace, file: &str, name: &str) {
+        let mut config = eamadm::paper::task1();
+        config.name = name.to_owned();
+        config.episodes = 3;
+        std::fs::write(ws.root.join(file), config.to_toml_string().unwrap()).unwrap();
+    }
+
+    #[test]
+    fn a_run_of_other_arguments_leaves_no_stale_outputs() {
+        let (_dir, ws) = workspace();
+        write_config(&ws, "first.toml", "first");
+        write_config(&ws, "second.toml", "second");
+        reproduce_paper(&args(Some("first.toml"), "out"), &ws).unwrap();
+        assert!(ws.root.join("out/first/curves.csv").is_file());
+        reproduce_paper(&args(Some("second.toml"), "out"), &ws).unwrap();
+        let out = ws.root.join("out");
+        assert!(
+            !out.join("first").exists(),
+            "the first run's outputs are gone"
+        );
+        assert!(out.join("second/curves.csv").is_file());
+        let manifest = std::fs::read_to_string(out.join(".outputs")).unwrap();
+        assert!(
+            manifest.lines().all(|line| !line.starts_with("first/")),
+            "{manifest}"
+        );
+        assert!(manifest.contains("REPORT.md\n"), "{manifest}");
+        assert!(!out.join(".staging").exists() && !out.join(".committed").exists());
+        // The run store is not part of the set: both runs' records stay for resuming.
+        assert_eq!(std::fs::read_dir(out.join("runs")).unwrap().count(), 2);
+    }
+
+    #[test]
+    fn names_that_would_escape_the_output_folder_are_refused_before_writing() {
+        let (_dir, ws) = workspace();
+        for name in ["..", "runs", "REPORT.md"] {
+            let text = eamadm::PAPER_TASK1_TOML.replacen(
+                "name = \"task1\"",
+                &format!("name = {name:?}"),
+                1,
+            );
+            std::fs::write(ws.root.join("bad.toml"), text).unwrap();
+            let failure = reproduce_paper(&args(Some("bad.toml"), "out/sub"), &ws).unwrap_err();
+            assert_eq!(failure.exit_code, 2, "{name}: {}", failure.message);
+            assert!(failure.message.contains("`name`"), "{}", failure.message);
+            assert!(!ws.root.join("out").exists(), "{name}");
+        }
+    }
+
+    #[test]
+    fn a_busy_output_folder_is_refused_with_a_clear_message() {
+        let (_dir, ws) = workspace();
+        write_config(&ws, "mine.toml", "mine");
+        let held = OutputFolder::open(&ws.root.join("out"), false).unwrap();
+        let failure = reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap_err();
+        assert_eq!(failure.exit_code, 1);
+        assert!(
+            failure
+                .message
+                .contains("another reproduce-paper is using this output folder"),
+            "{}",
+            failure.message
+        );
+        assert!(!ws.root.join("out/REPORT.md").exists());
+        drop(held);
+        reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap();
     }
 
     /// Splits a line of a CSV without quoted fields (the claim and score tables have none).
@@ -180,6 +268,7 @@ mod tests {
             config: None,
             out: Some("out".into()),
             quick: true,
+            wait: false,
         };
         reproduce_paper(&args, &ws).unwrap();
         let out = ws.root.join("out");

@@ -134,4 +134,4 @@ pub use policy::{BuiltinPolicy, EpsilonGreedy, ExplorationPolicy, Greedy, Softma
 pub use q_learning::{QLearning, QLearningParams};
 pub use reward_signal::{RewardSignal, SubtaskReward, TaskReward};
 pub use schedule::Schedule;
-pub use table::{Initialisation, QTable, argmax_random_tie, max_value};
+pub use table::{Initialisation, MAX_ABS_INITIAL_VALUE, QTable, argmax_random_tie, max_value};

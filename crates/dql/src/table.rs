@@ -60,24 +60,43 @@ impl From<Initialisation> for InitialisationRepr {
     }
 }
 
+/// Largest magnitude of an initial action value: `1e9`.
+///
+/// Initial values (and the tasks' rewards, bounded as tightly by their crates) this small keep
+/// every learned value many orders of magnitude below `f64::MAX`: an update moves a value by at
+/// most `α · (|r| + |Q|)`, so even the longest validated run cannot overflow, and the sums and
+/// products of values that policies and decision rules form stay finite. Optimistic or
+/// pessimistic initialisation needs values near the rewards' scale, far below this.
+pub const MAX_ABS_INITIAL_VALUE: f64 = 1e9;
+
 impl Initialisation {
-    /// Checks the values are finite and `low <= high` with a finite width.
+    /// Checks the values are finite, at most [`MAX_ABS_INITIAL_VALUE`] in magnitude, and
+    /// `low <= high`.
     ///
     /// # Errors
     /// [`DqlError::InvalidParameter`] naming `init.value`, `init.low` or `init.high`.
     pub fn validate(&self) -> Result<(), DqlError> {
+        let bounded = |v: f64| v.is_finite() && v.abs() <= MAX_ABS_INITIAL_VALUE;
         match *self {
             Self::Zero => Ok(()),
-            Self::Constant { value } => {
-                check_param("init.value", value, value.is_finite(), "a finite value")
-            }
+            Self::Constant { value } => check_param(
+                "init.value",
+                value,
+                bounded(value),
+                "a finite value with |value| <= 1e9",
+            ),
             Self::Uniform { low, high } => {
-                check_param("init.low", low, low.is_finite(), "a finite value")?;
+                check_param(
+                    "init.low",
+                    low,
+                    bounded(low),
+                    "a finite value with |low| <= 1e9",
+                )?;
                 check_param(
                     "init.high",
                     high,
-                    high.is_finite() && high >= low && (high - low).is_finite(),
-                    "a finite value >= init.low with a finite width high - low",
+                    bounded(high) && high >= low,
+                    "a finite value >= init.low with |high| <= 1e9",
                 )
             }
         }

@@ -33,6 +33,10 @@ use crate::index::WalkIndex;
 use crate::similarity::Similarity;
 use crate::tree::{EaTree, index_kind};
 
+/// Unix permissions of a saved tree: owner read-write, everyone else read (what xtask gives its
+/// outputs, and what `std::fs::write` gives under the usual umask 022).
+pub const SAVED_FILE_MODE: u32 = 0o644;
+
 const FORMAT: &str = "ea-tree";
 const VERSION: u32 = 1;
 
@@ -161,10 +165,23 @@ impl<S: Similarity> EaTree<S> {
             Some(parent) if !parent.as_os_str().is_empty() => parent,
             _ => Path::new("."),
         };
-        let mut file = tempfile::NamedTempFile::new_in(folder).map_err(io)?;
+        let mut builder = tempfile::Builder::new();
+        // Saved trees are for everyone to read, like the files xtask writes and those
+        // `std::fs::write` makes (tempfile's default is owner-only, 0600).
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(
+            SAVED_FILE_MODE,
+        ));
+        let mut file = builder.tempfile_in(folder).map_err(io)?;
         file.write_all(self.to_json().as_bytes()).map_err(io)?;
         file.as_file().sync_all().map_err(io)?;
         file.persist(path).map_err(|e| io(e.error))?;
+        // The rename lives in the folder: sync it too, or a crash right after `save` returned
+        // could lose the completed write.
+        #[cfg(unix)]
+        std::fs::File::open(folder)
+            .and_then(|dir| dir.sync_all())
+            .map_err(io)?;
         Ok(())
     }
 

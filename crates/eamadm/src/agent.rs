@@ -60,6 +60,8 @@ pub struct EaMadmPolicy {
     /// Counts of agreement with the sub-tasks' own greedy choices, when asked for
     /// ([`with_agreement`](Self::with_agreement)).
     agreement: Option<AgreementTally>,
+    /// The first decision that could not be made (a row with a non-finite value), if any.
+    failure: Option<MadmError>,
 }
 
 /// What [`EaMadmPolicy::with_agreement`] counts with.
@@ -148,6 +150,7 @@ impl EaMadmPolicy {
             cached_own: vec![NOT_COMPUTED; pairs],
             cached_value: vec![0.0; pairs],
             agreement: None,
+            failure: None,
             exploration,
             decider,
             prior,
@@ -208,6 +211,15 @@ impl EaMadmPolicy {
     #[must_use]
     pub fn prior(&self) -> &PriorTable {
         &self.prior
+    }
+
+    /// The first decision that failed since the policy was made, if any: a row of the decision
+    /// matrix with a non-finite value (the source task's own value overflowed). Such a row
+    /// counts as the worst action, and the run that used the policy must report this error
+    /// instead of its results.
+    #[must_use]
+    pub fn failure(&self) -> Option<&MadmError> {
+        self.failure.as_ref()
     }
 
     /// The ε in force (set at the start of each episode).
@@ -272,10 +284,24 @@ impl EaMadmPolicy {
                 }
                 self.row[len] = own;
                 len += 1;
-                self.decider
-                    .evaluate(&self.row[..len], 1, len, &mut cached_value[action..=action])
-                    .expect("the row has finite entries and a non-fixed weighting");
-                cached_own[action] = own.to_bits();
+                match self.decider.evaluate(
+                    &self.row[..len],
+                    1,
+                    len,
+                    &mut cached_value[action..=action],
+                ) {
+                    Ok(()) => cached_own[action] = own.to_bits(),
+                    Err(error) => {
+                        // Validated configs bound initial values and rewards so that rows stay
+                        // finite; should one not, the step goes on (a policy cannot fail) and
+                        // the run reports the error when its episode ends.
+                        cached_value[action] = f64::NEG_INFINITY;
+                        cached_own[action] = NOT_COMPUTED;
+                        if self.failure.is_none() {
+                            self.failure = Some(error);
+                        }
+                    }
+                }
             }
         }
         cached

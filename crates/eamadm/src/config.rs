@@ -63,7 +63,8 @@ pub const MAX_SEEDS: u32 = 100_000;
 #[serde(deny_unknown_fields)]
 pub struct ExperimentConfig {
     /// Name of the experiment, copied into every [`RunRecord`](crate::RunRecord) (the paper
-    /// presets use `task1`, `task2`, `robot`). Letters, digits, `-`, `_` and `.` only.
+    /// presets use `task1`, `task2`, `robot`). A [safe slug](is_safe_slug): it names the
+    /// experiment's output folder.
     pub name: String,
     /// The task every method runs on.
     pub task: TaskConfig,
@@ -203,7 +204,7 @@ impl TrajectoryConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "MethodRepr", into = "MethodRepr")]
 pub struct MethodSpec {
-    /// Unique within a config; letters, digits, `-`, `_` and `.` only (used in file names).
+    /// Unique within a config; a [safe slug](is_safe_slug) (used in file names).
     pub label: String,
     /// Why the method is in the experiment: one of the paper's methods, an ablation of
     /// EA-MADM, or a control the paper does not run. TOML `role = "paper"` (default),
@@ -721,9 +722,20 @@ impl ConfigError {
                 name,
                 value,
                 expected,
-            } => Self::invalid(join(prefix, &name), value, expected),
+            } => Self::invalid(join(prefix, &name), readable_number(value), expected),
             other => Self::invalid(prefix, "(see message)", other.to_string()),
         }
+    }
+}
+
+/// A number as a person would write it: plain when moderate, in exponent form when huge or
+/// tiny (`1e308`, not 309 digits).
+fn readable_number(value: f64) -> String {
+    let magnitude = value.abs();
+    if magnitude != 0.0 && !(1e-6..1e16).contains(&magnitude) {
+        format!("{value:e}")
+    } else {
+        value.to_string()
     }
 }
 
@@ -939,20 +951,125 @@ fn validate_pretrain(path: &str, config: &PretrainConfig) -> Result<(), ConfigEr
     Ok(())
 }
 
-/// Labels and names go into file names: non-empty, at most 64 of `[A-Za-z0-9._-]`.
-fn check_label(field: &str, label: &str) -> Result<(), ConfigError> {
-    let ok = !label.is_empty()
-        && label.len() <= 64
+/// Largest file a config may be read from, or name (a maze map, a robot scenario): 1 MiB. The
+/// paper's configs, maps and scenarios are a few KiB; the limit keeps a mistaken path (a device,
+/// a log) from filling memory.
+pub const MAX_INPUT_FILE_BYTES: u64 = 1 << 20;
+
+/// Reads a text input file (a config, or a file a config names) with bounds: it must be a
+/// regular file (not a folder, device or FIFO, which could hang or never end) of at most
+/// [`MAX_INPUT_FILE_BYTES`], in UTF-8. `field` names what points at the file in errors
+/// (`--config`, `task.path`, `task.scenario`).
+///
+/// # Errors
+/// [`ConfigError::Read`] naming `field` and `path`: missing, unreadable, not a regular file,
+/// too large, or not UTF-8.
+pub fn read_input_file(path: &std::path::Path, field: &str) -> Result<String, ConfigError> {
+    use std::io::Read as _;
+    let fail = |source: io::Error| ConfigError::Read {
+        field: field.to_owned(),
+        path: path.to_path_buf(),
+        source,
+    };
+    let invalid = |message: String| fail(io::Error::new(io::ErrorKind::InvalidInput, message));
+    // Look before opening: opening a FIFO for reading blocks until a writer appears.
+    let metadata = std::fs::metadata(path).map_err(fail)?;
+    if !metadata.is_file() {
+        return Err(invalid(
+            "not a regular file (folders, devices and pipes are refused)".to_owned(),
+        ));
+    }
+    let too_large = || {
+        invalid(format!(
+            "larger than the limit of {MAX_INPUT_FILE_BYTES} bytes (1 MiB) for input files"
+        ))
+    };
+    if metadata.len() > MAX_INPUT_FILE_BYTES {
+        return Err(too_large());
+    }
+    let file = std::fs::File::open(path).map_err(fail)?;
+    let mut bytes = Vec::new();
+    // The file may have grown since: read one byte past the limit at most.
+    file.take(MAX_INPUT_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(fail)?;
+    if bytes.len() as u64 > MAX_INPUT_FILE_BYTES {
+        return Err(too_large());
+    }
+    String::from_utf8(bytes).map_err(|error| {
+        invalid(format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            error.utf8_error().valid_up_to()
+        ))
+    })
+}
+
+/// Names an experiment or method may not have, compared without regard to case: the entries
+/// the reproduction tooling keeps in its output folder beside the experiments' folders (the run
+/// store, the combined record and the report; its own bookkeeping entries are hidden names, which
+/// slugs cannot be), and the device
+/// names Windows reserves. An experiment's name becomes a folder in that output folder, so one of
+/// these would overwrite or mix with another output.
+pub const RESERVED_NAMES: &[&str] = &[
+    "runs",
+    "results.json",
+    "report.md",
+    "final-scores.csv",
+    "claims.csv",
+    "con",
+    "prn",
+    "aux",
+    "nul",
+    "com1",
+    "com2",
+    "com3",
+    "com4",
+    "com5",
+    "com6",
+    "com7",
+    "com8",
+    "com9",
+    "lpt1",
+    "lpt2",
+    "lpt3",
+    "lpt4",
+    "lpt5",
+    "lpt6",
+    "lpt7",
+    "lpt8",
+    "lpt9",
+];
+
+/// Whether `label` is a safe slug for a file or folder name: 1 to 64 characters from ASCII
+/// letters, digits, `-`, `_` and `.`, starting with a letter or digit (so never `.`, `..` or a
+/// hidden name), never ending with `.`, and not one of [`RESERVED_NAMES`] (ignoring case).
+#[must_use]
+pub fn is_safe_slug(label: &str) -> bool {
+    let Some(first) = label.chars().next() else {
+        return false;
+    };
+    label.len() <= 64
+        && first.is_ascii_alphanumeric()
+        && !label.ends_with('.')
         && label
             .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
-    if ok {
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+        && !RESERVED_NAMES
+            .iter()
+            .any(|reserved| reserved.eq_ignore_ascii_case(label))
+}
+
+/// Labels and names go into file and folder names: they must be [safe slugs](is_safe_slug).
+fn check_label(field: &str, label: &str) -> Result<(), ConfigError> {
+    if is_safe_slug(label) {
         Ok(())
     } else {
         Err(ConfigError::invalid(
             field,
             format!("{label:?}"),
-            "1 to 64 characters from letters, digits, '-', '_' and '.'",
+            "a name of 1 to 64 characters from letters, digits, '-', '_' and '.', starting with a \
+             letter or digit, not ending with '.', and not a reserved name (runs, results.json, \
+             REPORT.md, or a Windows device name such as con or nul)",
         ))
     }
 }

@@ -2,6 +2,7 @@
 
 use dql::DqlError;
 use ea_tree::EaTreeError;
+use madm_owa::MadmError;
 use reward_std::RewardStdError;
 use thiserror::Error;
 
@@ -51,6 +52,12 @@ pub enum RunFailure {
     /// The reward standardisation could not be set up.
     #[error("reward standardisation: {0}")]
     Standardisation(#[from] RewardStdError),
+    /// An EA-MADM decision could not be made: a value of the decision matrix was not finite.
+    #[error(
+        "EA-MADM decision: {0} (a learned value overflowed; bound the learner's `init` and the \
+         task's rewards)"
+    )]
+    Decision(#[source] MadmError),
 }
 
 impl From<ConfigError> for RunFailure {

@@ -183,9 +183,10 @@ pub mod task;
 pub use agent::{EaMadmPolicy, PolicyError};
 pub use behaviour::{Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use config::{
-    CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig, Method,
-    MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
-    PretrainConfig, Role, Storage, SubtaskGreedyConfig, TaskConfig, TrajectoryConfig,
+    CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig,
+    MAX_INPUT_FILE_BYTES, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML,
+    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role, Storage,
+    SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, is_safe_slug, read_input_file,
 };
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};

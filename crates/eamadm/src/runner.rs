@@ -252,9 +252,15 @@ fn run_on<E: TaskEnv>(
             let mut policy = ActionTally::new(policy, n_actions, final_from);
             let mut signal = StandardisedReward::new(ea.standardisation, subtasks.len())?;
             let trained = session.train(&mut policy, &mut signal, pretrain_env_steps, true)?;
+            if let Some(error) = policy.inner.failure() {
+                return Err(RunFailure::Decision(error.clone()));
+            }
             let agreement = policy.inner.agreement();
             let mut greedy = policy.inner.without_exploration();
             let evaluation = session.evaluate(&mut greedy, trained.env_steps)?;
+            if let Some(error) = greedy.failure() {
+                return Err(RunFailure::Decision(error.clone()));
+            }
             Outcome {
                 subtasks,
                 pretrain_env_steps,

@@ -1,11 +1,13 @@
 //! Loading a task config into an environment, and what the runner needs from environments
 //! beyond [`dql::Environment`]: collisions, reaching the target, positions, robot metrics.
 
+use std::path::Path;
+
 use dql::{Environment, Step, Trajectory};
 use mazes::{Event, Maze, MazeEnv, Preset};
 use wmr_model::{Outcome, PlannerParams, Scenario, WmrEnv};
 
-use crate::config::{ConfigError, DEFAULT_SCENARIO, TaskConfig};
+use crate::config::{ConfigError, DEFAULT_SCENARIO, TaskConfig, read_input_file};
 use crate::record::RobotEpisodeMetrics;
 
 /// A loaded task: the environment every run of an experiment starts from (each run clones it).
@@ -40,11 +42,7 @@ impl Task {
                 rewards,
                 step_cap,
             } => {
-                let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
-                    field: "task.path".to_owned(),
-                    path: path.clone(),
-                    source,
-                })?;
+                let text = read_input_file(path, "task.path")?;
                 let maze = Maze::parse(&text).map_err(|source| ConfigError::Maze {
                     field: "task.path".to_owned(),
                     source,
@@ -74,12 +72,7 @@ impl Task {
                 let mut scenario = if scenario == DEFAULT_SCENARIO {
                     Scenario::default_scenario()
                 } else {
-                    let text =
-                        std::fs::read_to_string(scenario).map_err(|source| ConfigError::Read {
-                            field: "task.scenario".to_owned(),
-                            path: scenario.into(),
-                            source,
-                        })?;
+                    let text = read_input_file(Path::new(scenario), "task.scenario")?;
                     Scenario::from_toml_str(&text).map_err(scenario_error)?
                 };
                 if let Some(cap) = step_cap {

@@ -159,6 +159,6 @@ pub use presets::{FIXTURE_DIR, Preset};
 pub use render_svg::{PALETTE, SvgOptions, SvgTrajectory, render_svg};
 pub use render_text::{PATH_MARK, render_text};
 pub use reward::{
-    DEFAULT_STEP_CAP, DO_NOT_HIT_NAME, Event, REACH_FASTER_NAME, RewardScheme, SpecError, Subtask,
-    TaskSpec,
+    DEFAULT_STEP_CAP, DO_NOT_HIT_NAME, Event, MAX_ABS_REWARD, REACH_FASTER_NAME, RewardScheme,
+    SpecError, Subtask, TaskSpec,
 };

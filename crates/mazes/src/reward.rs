@@ -136,11 +136,13 @@ impl RewardScheme {
         [self.closer, self.farther, self.bump, self.target]
     }
 
-    /// Checks that every reward is finite; `field` prefixes the field names in the error.
+    /// Checks that every reward is finite and at most [`MAX_ABS_REWARD`] in magnitude; `field`
+    /// prefixes the field names in the error.
     ///
     /// # Errors
     ///
-    /// [`SpecError::NonFiniteReward`] naming the first non-finite field.
+    /// [`SpecError::NonFiniteReward`] or [`SpecError::RewardOutOfRange`] naming the first bad
+    /// field.
     pub fn validate(&self, field: &str) -> Result<(), SpecError> {
         for event in Event::ALL {
             let value = self.reward(event);
@@ -150,10 +152,25 @@ impl RewardScheme {
                     value,
                 });
             }
+            if value.abs() > MAX_ABS_REWARD {
+                return Err(SpecError::RewardOutOfRange {
+                    field: format!("{field}.{}", event.name()),
+                    value,
+                    limit: MAX_ABS_REWARD,
+                });
+            }
         }
         Ok(())
     }
 }
+
+/// Largest magnitude of a reward constant: `1e9`.
+///
+/// The presets use rewards of magnitude at most 10. Bounding them (with the learners' initial
+/// values, see `dql::MAX_ABS_INITIAL_VALUE`) keeps every Q-value and learning signal of a
+/// validated run finite: a value moves by at most `α · (|r| + |Q|)` per update, and no
+/// validated run is long enough to carry a 1e9 reward anywhere near `f64::MAX`.
+pub const MAX_ABS_REWARD: f64 = 1e9;
 
 /// A named sub-task: one reward scheme over the same maze and dynamics.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -271,6 +288,16 @@ pub enum SpecError {
         field: String,
         /// The value found.
         value: f64,
+    },
+    /// A reward's magnitude exceeds [`MAX_ABS_REWARD`].
+    #[error("`{field}` must lie in [-{limit:e}, {limit:e}], got {value}")]
+    RewardOutOfRange {
+        /// Path of the offending field, e.g. `reward.target`.
+        field: String,
+        /// The value found.
+        value: f64,
+        /// The largest magnitude accepted.
+        limit: f64,
     },
     /// `step_cap` is 0: no episode could take a single step.
     #[error("`step_cap` must be at least 1, got 0")]

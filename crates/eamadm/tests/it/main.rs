@@ -9,7 +9,12 @@
 mod common;
 
 mod behaviour;
+mod bounds;
 mod claims;
 mod controls;
+mod fuzz_inputs;
+mod input_files;
+mod mutate;
+mod names;
 mod robot_refusals;
 mod stats;

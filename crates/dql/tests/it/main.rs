@@ -1,0 +1,3 @@
+//! Integration tests of `dql`, one module per concern.
+
+mod bounds;

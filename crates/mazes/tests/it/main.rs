@@ -1,0 +1,3 @@
+//! Integration tests of `mazes`, one module per concern.
+
+mod bounds;

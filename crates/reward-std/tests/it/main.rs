@@ -1,0 +1,3 @@
+//! Integration tests of `reward-std`, one module per concern.
+
+mod precision;

@@ -1,0 +1,407 @@
+//! The output folder of `reproduce-paper`: one process at a time (an exclusive lock), and one
+//! consistent set of output files (staged, committed, then swapped in).
+//!
+//! Layout of `<out>/` beside the outputs themselves (all hidden names, which no experiment name
+//! can take):
+//!
+//! - `.reproduce-paper.lock` — locked exclusively for the whole invocation (the operating
+//!   system's advisory lock, released when the process ends, even when it is killed);
+//! - `.staging/` — the set being written; removed at the next start if a kill left it;
+//! - `.committed/` — a complete set whose swap into `<out>/` has begun; the next start finishes
+//!   the swap before anything else;
+//! - `.outputs` — the manifest: every file of the current set, one relative path per line.
+//!
+//! The mechanism knows nothing of the files' formats: the set is whatever the invocation writes
+//! into the staging folder. Files of the previous set that the new one does not have are removed,
+//! so a run of other arguments in the same folder leaves no stale curves or figures behind.
+//! Files the manifest never listed (a user's own files, the run store `runs/`) are left alone.
+
+use std::fs::File;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+use crate::atomic::{AtomicWriteError, sync_folder, write_atomic};
+
+/// The lock file inside the output folder.
+pub(crate) const LOCK_FILE: &str = ".reproduce-paper.lock";
+/// Where a set is written before it is committed.
+pub(crate) const STAGING: &str = ".staging";
+/// A complete set whose swap has begun.
+pub(crate) const COMMITTED: &str = ".committed";
+/// The manifest of the current set.
+pub(crate) const MANIFEST: &str = ".outputs";
+
+/// The output folder cannot be used.
+#[derive(Debug, Error)]
+pub(crate) enum OutputFolderError {
+    /// Another process holds the lock.
+    #[error(
+        "{}: another reproduce-paper is using this output folder (it holds {}); wait for it to \
+         finish, choose another --out, or pass --wait to wait for it",
+        out.display(),
+        LOCK_FILE
+    )]
+    Busy {
+        /// The output folder.
+        out: PathBuf,
+    },
+    /// A file-system operation failed.
+    #[error("{}: {what}: {source}", path.display())]
+    Io {
+        /// What was being done.
+        what: &'static str,
+        /// The path it was done to.
+        path: PathBuf,
+        /// Why it failed.
+        #[source]
+        source: io::Error,
+    },
+    /// Writing the manifest failed.
+    #[error(transparent)]
+    Write(#[from] AtomicWriteError),
+}
+
+fn io_error(what: &'static str, path: &Path) -> impl FnOnce(io::Error) -> OutputFolderError {
+    let path = path.to_path_buf();
+    move |source| OutputFolderError::Io { what, path, source }
+}
+
+/// An output folder this process holds the lock of. Dropping it releases the lock.
+#[derive(Debug)]
+pub(crate) struct OutputFolder {
+    root: PathBuf,
+    /// Held for the lifetime of the value: the lock lives as long as the open file.
+    _lock: File,
+}
+
+impl OutputFolder {
+    /// Creates `out` if needed, takes its lock (waiting for another process to release it when
+    /// `wait`, failing with [`OutputFolderError::Busy`] otherwise), then repairs what a killed
+    /// earlier invocation left: finishes a committed swap, removes an unfinished staging folder.
+    pub(crate) fn open(out: &Path, wait: bool) -> Result<Self, OutputFolderError> {
+        std::fs::create_dir_all(out).map_err(io_error("cannot create the folder", out))?;
+        let lock_path = out.join(LOCK_FILE);
+        let lock = File::options()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(io_error("cannot open the lock file", &lock_path))?;
+        if wait {
+            lock.lock()
+                .map_err(io_error("cannot lock the output folder", &lock_path))?;
+        } else {
+            match lock.try_lock() {
+                Ok(()) => {}
+                Err(std::fs::TryLockError::WouldBlock) => {
+                    return Err(OutputFolderError::Busy {
+                        out: out.to_path_buf(),
+                    });
+                }
+                Err(std::fs::TryLockError::Error(source)) => {
+                    return Err(io_error("cannot lock the output folder", &lock_path)(
+                        source,
+                    ));
+                }
+            }
+        }
+        let folder = Self {
+            root: out.to_path_buf(),
+            _lock: lock,
+        };
+        folder.recover()?;
+        Ok(folder)
+    }
+
+    /// The output folder.
+    pub(crate) fn root(&self) -> &Path {
+        &self.root
+    }
+
+    /// A fresh, empty staging folder to write the new set into.
+    pub(crate) fn staging(&self) -> Result<PathBuf, OutputFolderError> {
+        let staging = self.root.join(STAGING);
+        remove_dir_if_present(&staging)?;
+        std::fs::create_dir(&staging)
+            .map_err(io_error("cannot create the staging folder", &staging))?;
+        Ok(staging)
+    }
+
+    /// Makes the staged set the folder's set: lists it in a manifest, commits it (one atomic
+    /// rename of the staging folder), then swaps it in and removes the previous set's files
+    /// that it does not have.
+    pub(crate) fn commit(&self) -> Result<(), OutputFolderError> {
+        let staging = self.root.join(STAGING);
+        let mut files = Vec::new();
+        list_files(&staging, Path::new(""), &mut files)?;
+        files.sort();
+        let mut manifest = String::new();
+        for file in &files {
+            manifest.push_str(&slash_path(file));
+            manifest.push('\n');
+        }
+        write_atomic(&staging.join(MANIFEST), manifest.as_bytes())?;
+        let committed = self.root.join(COMMITTED);
+        remove_dir_if_present(&committed)?;
+        std::fs::rename(&staging, &committed)
+            .map_err(io_error("cannot commit the staging folder", &staging))?;
+        sync_folder(&self.root).map_err(io_error("cannot sync the folder", &self.root))?;
+        self.swap_in()
+    }
+
+    /// Repairs what a killed invocation left behind (see the module docs).
+    fn recover(&self) -> Result<(), OutputFolderError> {
+        if self.root.join(COMMITTED).is_dir() {
+            self.swap_in()?;
+        }
+        remove_dir_if_present(&self.root.join(STAGING))
+    }
+
+    /// Moves the committed set into the folder. Idempotent: a kill at any point is finished by
+    /// running it again (the previous manifest is replaced only after every file has moved).
+    fn swap_in(&self) -> Result<(), OutputFolderError> {
+        let committed = self.root.join(COMMITTED);
+        if !committed.join(MANIFEST).is_file() {
+            // The manifest moves last: without it the swap had finished, only the (empty)
+            // folder was left.
+            return remove_dir_if_present(&committed);
+        }
+        let new_files = read_manifest(&committed.join(MANIFEST))?;
+        let old_files = read_manifest(&self.root.join(MANIFEST))?;
+        for stale in old_files.iter().filter(|old| !new_files.contains(old)) {
+            let path = self.root.join(stale);
+            match std::fs::remove_file(&path) {
+                Ok(()) => remove_empty_parents(&self.root, &path),
+                Err(error) if error.kind() == io::ErrorKind::NotFound => {}
+                Err(error) => return Err(io_error("cannot remove a stale output", &path)(error)),
+            }
+        }
+        for file in &new_files {
+            let from = committed.join(file);
+            if !from.exists() {
+                // Moved by an earlier, interrupted swap.
+                continue;
+            }
+            let to = self.root.join(file);
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent)
+                    .map_err(io_error("cannot create an output folder", parent))?;
+            }
+            std::fs::rename(&from, &to)
+                .map_err(io_error("cannot move an output into place", &to))?;
+        }
+        let manifest = self.root.join(MANIFEST);
+        std::fs::rename(committed.join(MANIFEST), &manifest)
+            .map_err(io_error("cannot move the manifest into place", &manifest))?;
+        sync_folder(&self.root).map_err(io_error("cannot sync the folder", &self.root))?;
+        remove_dir_if_present(&committed)
+    }
+}
+
+/// The files a manifest lists (none when it does not exist). Lines that would leave the folder
+/// (absolute, `..`, empty) are ignored: a hand-edited manifest cannot make us delete elsewhere.
+fn read_manifest(path: &Path) -> Result<Vec<PathBuf>, OutputFolderError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(error) => return Err(io_error("cannot read the manifest", path)(error)),
+    };
+    Ok(text
+        .lines()
+        .map(PathBuf::from)
+        .filter(|file| {
+            !file.as_os_str().is_empty()
+                && file
+                    .components()
+                    .all(|part| matches!(part, std::path::Component::Normal(_)))
+        })
+        .collect())
+}
+
+/// Every file under `folder` (recursively), as paths relative to it, prefixed with `prefix`.
+fn list_files(
+    folder: &Path,
+    prefix: &Path,
+    files: &mut Vec<PathBuf>,
+) -> Result<(), OutputFolderError> {
+    let entries = std::fs::read_dir(folder).map_err(io_error("cannot list the folder", folder))?;
+    for entry in entries {
+        let entry = entry.map_err(io_error("cannot list the folder", folder))?;
+        let relative = prefix.join(entry.file_name());
+        let kind = entry
+            .file_type()
+            .map_err(io_error("cannot inspect an output", &entry.path()))?;
+        if kind.is_dir() {
+            list_files(&entry.path(), &relative, files)?;
+        } else {
+            files.push(relative);
+        }
+    }
+    Ok(())
+}
+
+/// A relative path with `/` between its parts, whatever the platform.
+fn slash_path(path: &Path) -> String {
+    path.components()
+        .map(|part| part.as_os_str().to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+fn remove_dir_if_present(folder: &Path) -> Result<(), OutputFolderError> {
+    match std::fs::remove_dir_all(folder) {
+        Ok(()) => Ok(()),
+        Err(error) if error.kind() == io::ErrorKind::NotFound => Ok(()),
+        Err(error) => Err(io_error("cannot remove the folder", folder)(error)),
+    }
+}
+
+/// Removes the folders between `file` and `root` that became empty (best effort: a folder that
+/// still holds something, such as a user's file, stays).
+fn remove_empty_parents(root: &Path, file: &Path) {
+    let mut folder = file.parent();
+    while let Some(current) = folder {
+        if current == root || !current.starts_with(root) || std::fs::remove_dir(current).is_err() {
+            break;
+        }
+        folder = current.parent();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Writes `files` (relative path, contents) into a staging folder and commits them.
+    fn write_set(folder: &OutputFolder, files: &[(&str, &str)]) {
+        let staging = folder.staging().unwrap();
+        for (path, contents) in files {
+            write_atomic(&staging.join(path), contents.as_bytes()).unwrap();
+        }
+        folder.commit().unwrap();
+    }
+
+    fn visible_files(root: &Path) -> Vec<String> {
+        let mut files = Vec::new();
+        list_files(root, Path::new(""), &mut files).unwrap();
+        let mut names: Vec<String> = files
+            .iter()
+            .map(|f| slash_path(f))
+            .filter(|f| f != LOCK_FILE)
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn a_second_set_replaces_the_first_and_leaves_no_stale_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let folder = OutputFolder::open(&out, false).unwrap();
+        write_set(
+            &folder,
+            &[
+                ("REPORT.md", "one"),
+                ("first/curves.csv", "1"),
+                ("results.json", "[1]"),
+            ],
+        );
+        std::fs::write(out.join("notes.txt"), "the user's own file").unwrap();
+        write_set(&folder, &[("REPORT.md", "two"), ("second/curves.csv", "2")]);
+        assert_eq!(
+            visible_files(&out),
+            [".outputs", "REPORT.md", "notes.txt", "second/curves.csv"]
+        );
+        assert_eq!(
+            std::fs::read_to_string(out.join("REPORT.md")).unwrap(),
+            "two"
+        );
+        assert_eq!(
+            std::fs::read_to_string(out.join(MANIFEST)).unwrap(),
+            "REPORT.md\nsecond/curves.csv\n"
+        );
+        assert!(!out.join("first").exists(), "the emptied folder is removed");
+    }
+
+    #[test]
+    fn a_kill_while_staging_leaves_the_previous_set_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let folder = OutputFolder::open(&out, false).unwrap();
+        write_set(&folder, &[("REPORT.md", "old"), ("a/curves.csv", "old")]);
+        // A new set half written, then the process dies.
+        let staging = folder.staging().unwrap();
+        write_atomic(&staging.join("REPORT.md"), b"new").unwrap();
+        drop(folder);
+        assert_eq!(
+            std::fs::read_to_string(out.join("REPORT.md")).unwrap(),
+            "old"
+        );
+        // The next invocation throws the half-written set away.
+        let _folder = OutputFolder::open(&out, false).unwrap();
+        assert!(!out.join(STAGING).exists());
+        assert_eq!(
+            visible_files(&out),
+            [".outputs", "REPORT.md", "a/curves.csv"]
+        );
+    }
+
+    #[test]
+    fn a_kill_during_the_swap_is_finished_by_the_next_invocation() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let folder = OutputFolder::open(&out, false).unwrap();
+        write_set(&folder, &[("REPORT.md", "old"), ("a/curves.csv", "old")]);
+        // Commit a new set, then simulate a kill after one file has moved.
+        let staging = folder.staging().unwrap();
+        write_atomic(&staging.join("REPORT.md"), b"new").unwrap();
+        write_atomic(&staging.join("b/curves.csv"), b"new").unwrap();
+        write_atomic(&staging.join(MANIFEST), b"REPORT.md\nb/curves.csv\n").unwrap();
+        std::fs::rename(&staging, out.join(COMMITTED)).unwrap();
+        std::fs::rename(out.join(COMMITTED).join("REPORT.md"), out.join("REPORT.md")).unwrap();
+        drop(folder);
+        let _folder = OutputFolder::open(&out, false).unwrap();
+        assert_eq!(
+            visible_files(&out),
+            [".outputs", "REPORT.md", "b/curves.csv"]
+        );
+        assert_eq!(
+            std::fs::read_to_string(out.join("REPORT.md")).unwrap(),
+            "new"
+        );
+        assert!(!out.join(COMMITTED).exists());
+    }
+
+    #[test]
+    fn a_second_process_is_refused_or_waits() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let first = OutputFolder::open(&out, false).unwrap();
+        // Locks belong to open files, so a second open in this process stands for a second
+        // process.
+        let error = OutputFolder::open(&out, false).unwrap_err();
+        assert!(matches!(error, OutputFolderError::Busy { .. }), "{error}");
+        assert!(error.to_string().contains("--wait"), "{error}");
+        let waiter = std::thread::spawn({
+            let out = out.clone();
+            move || OutputFolder::open(&out, true).map(|_| ())
+        });
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        assert!(!waiter.is_finished(), "--wait waits while the lock is held");
+        drop(first);
+        waiter.join().unwrap().unwrap();
+    }
+
+    #[test]
+    fn a_manifest_cannot_point_outside_the_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let manifest = dir.path().join(MANIFEST);
+        std::fs::write(&manifest, "../escape\n/etc/passwd\n\nok/file.csv\n").unwrap();
+        assert_eq!(
+            read_manifest(&manifest).unwrap(),
+            [PathBuf::from("ok/file.csv")]
+        );
+    }
+}
