@@ -521,10 +521,7 @@ fn statement(
 mod tests {
     use super::*;
     use crate::cli::Task;
-    use crate::execute::run_experiments;
     use crate::experiments::{plan_experiments, shorten};
-    use crate::progress::Progress;
-    use crate::resume::RunStore;
 
     /// A tiny Task I run of three methods and two seeds.
     fn tiny() -> (PlannedExperiment, Vec<RunRecord>) {
@@ -535,17 +532,18 @@ mod tests {
         let methods: Vec<String> = ["ea-madm", "softmax", "ea-madm-table"]
             .map(str::to_owned)
             .to_vec();
-        let dir = tempfile::tempdir().unwrap();
-        let records = run_experiments(
-            &planned,
-            &methods,
-            &RunStore::new(dir.path()),
-            &Progress::hidden(),
-        )
-        .unwrap()
-        .remove(0)
-        .records;
-        (planned.remove(0), records)
+        let planned = planned.remove(0);
+        let config = planned.config();
+        let records = methods
+            .iter()
+            .flat_map(|label| {
+                let method = config.method(label).unwrap();
+                config
+                    .seed_values()
+                    .map(|seed| planned.experiment.run(method, seed).unwrap())
+            })
+            .collect();
+        (planned, records)
     }
 
     #[test]

@@ -230,7 +230,7 @@ impl ReproducePlan {
         let _ = writeln!(text, "  config:   {config}");
         let _ = writeln!(
             text,
-            "  output:   {} (runs/, CSV curves, JSON record, SVG figures, REPORT.md)",
+            "  output:   {} (runs/ store, CSV curves, SVG figures, REPORT.md)",
             self.out.display()
         );
         text
@@ -310,6 +310,7 @@ mod tests {
             config: None,
             out: None,
             quick: false,
+            keep_trajectories: crate::cli::KeepTrajectories::Figures,
         }
     }
 

@@ -1,0 +1,191 @@
+//! The outputs of a plan, made from run stores as a stream: one run at a time is read (in job
+//! order), written to the output's run store bundle and the CSV tables, and kept only in its
+//! compact form (per-episode curves, evaluation, sub-tasks; no training trajectories) for the
+//! figures and `REPORT.md`.
+//!
+//! `reproduce-paper` (unsharded, `--shard`, `--runs-only`) and `merge` all end here, so a merge
+//! of shards writes the bytes an unsharded run writes: the same runs, read in the same order, go
+//! through the same code. The bundles are rewritten in job order, so their bytes do not depend
+//! on which process, thread or shard ran a run, nor in which order runs completed.
+
+use std::io::Write as _;
+use std::path::Path;
+
+use eamadm::RunRecord;
+use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
+use eamadm::summary::StatsError;
+use thiserror::Error;
+
+use crate::atomic::{AtomicFile, AtomicWriteError, write_atomic};
+use crate::cli::KeepTrajectories;
+use crate::experiments::PlannedExperiment;
+use crate::jobs::Job;
+use crate::outputs::{OutputError, write_figures};
+use crate::paper_report::{ExperimentResults, render_report};
+use crate::store::{RunStore, StoreError, StoredRun};
+
+/// What to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Outputs {
+    /// Only the run store (`runs/<experiment>.jsonl`), compacted into job order: a shard's or
+    /// `--runs-only`'s output.
+    StoreOnly,
+    /// The run store, the CSV tables, the figures and `REPORT.md`.
+    Everything {
+        /// Whether the plan is a `--quick` smoke run (the report says so).
+        quick: bool,
+    },
+}
+
+/// Making the outputs failed.
+#[derive(Debug, Error)]
+pub(crate) enum FinishError {
+    /// Runs of the plan that no store holds.
+    #[error(
+        "{} of the plan's {total} runs are in none of the stores; run the missing shards (or \
+         `cargo xtask run-job --key KEY` with the plan's options) and merge again. Missing:\n{}",
+        missing.len(),
+        missing.join("\n")
+    )]
+    Missing {
+        /// One line per missing run: experiment, method, seed and key.
+        missing: Vec<String>,
+        /// The plan's number of runs.
+        total: usize,
+    },
+    /// Reading a store failed.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// A CSV table failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// Writing a file failed.
+    #[error(transparent)]
+    Write(#[from] AtomicWriteError),
+    /// The report's statistics failed.
+    #[error("REPORT.md: {0}")]
+    Report(#[from] StatsError),
+}
+
+/// The runs of `jobs` that none of `stores` holds (keeping `keep`'s trajectories), one line
+/// each, in job order.
+pub(crate) fn missing_runs(
+    experiments: &[PlannedExperiment],
+    jobs: &[Job<'_>],
+    stores: &[RunStore],
+    keep: KeepTrajectories,
+) -> Vec<String> {
+    jobs.iter()
+        .filter(|job| !stores.iter().any(|store| store.has(&job.key, keep)))
+        .map(|job| {
+            format!(
+                "  {} {} seed {} (key {})",
+                experiments[job.experiment].name, job.method.label, job.seed, job.key
+            )
+        })
+        .collect()
+}
+
+/// Run `job` from the first store holding it.
+fn load(
+    stores: &[RunStore],
+    job: &Job<'_>,
+    keep: KeepTrajectories,
+) -> Result<Option<StoredRun>, StoreError> {
+    for store in stores {
+        if let Some(run) = store.load(&job.key, keep)? {
+            return Ok(Some(run));
+        }
+    }
+    Ok(None)
+}
+
+/// Writes `outputs` for `jobs` (in job order) under `out`, reading every run from the first of
+/// `stores` that holds it; fails listing every missing run before writing anything. Returns the
+/// number of runs written.
+pub(crate) fn write_outputs(
+    out: &Path,
+    experiments: &[PlannedExperiment],
+    jobs: &[Job<'_>],
+    stores: &[RunStore],
+    keep: KeepTrajectories,
+    outputs: Outputs,
+) -> Result<usize, FinishError> {
+    let missing = missing_runs(experiments, jobs, stores, keep);
+    if !missing.is_empty() {
+        return Err(FinishError::Missing {
+            missing,
+            total: jobs.len(),
+        });
+    }
+    let runs_folder = out.join("runs");
+    let mut compact: Vec<Vec<RunRecord>> = Vec::with_capacity(experiments.len());
+    for (index, planned) in experiments.iter().enumerate() {
+        let mut bundle = AtomicFile::create(&runs_folder.join(format!("{}.jsonl", planned.name)))?;
+        let everything = matches!(outputs, Outputs::Everything { .. });
+        let folder = out.join(&planned.name);
+        let mut tables = if everything {
+            Some((
+                AtomicFile::create(&folder.join("curves.csv"))?,
+                AtomicFile::create(&folder.join("trajectories.csv"))?,
+            ))
+        } else {
+            None
+        };
+        let mut records = Vec::new();
+        {
+            let mut csv = tables
+                .as_mut()
+                .map(|(curves, paths)| (CurvesCsv::new(curves), TrajectoriesCsv::new(paths)));
+            for job in jobs.iter().filter(|job| job.experiment == index) {
+                let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
+                    missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
+                    total: jobs.len(),
+                })?;
+                let line = run.line(&job.key, keep)?;
+                bundle.write_all(&line).map_err(|source| AtomicWriteError {
+                    path: bundle.path().to_path_buf(),
+                    source,
+                })?;
+                if let Some((curves, paths)) = csv.as_mut() {
+                    let table = |file: &str| {
+                        let file = format!("{}/{file}", planned.name);
+                        move |source: ResultsError| OutputError::Results { file, source }
+                    };
+                    curves.push(&run.record).map_err(table("curves.csv"))?;
+                    paths.push(&run.record).map_err(table("trajectories.csv"))?;
+                    // The figures and the report need the curves, the evaluation and the
+                    // sub-tasks, never the training trajectories.
+                    let mut record = run.record;
+                    record.trajectories = Vec::new();
+                    records.push(record);
+                }
+            }
+            if let Some((curves, paths)) = csv {
+                let table = |file: &str| {
+                    let file = format!("{}/{file}", planned.name);
+                    move |source: ResultsError| OutputError::Results { file, source }
+                };
+                curves.finish().map_err(table("curves.csv"))?;
+                paths.finish().map_err(table("trajectories.csv"))?;
+            }
+        }
+        bundle.commit()?;
+        if let Some((curves, paths)) = tables {
+            curves.commit()?;
+            paths.commit()?;
+            write_figures(out, planned, &records)?;
+        }
+        compact.push(records);
+    }
+    if let Outputs::Everything { quick } = outputs {
+        let results: Vec<ExperimentResults<'_>> = experiments
+            .iter()
+            .zip(&compact)
+            .map(|(planned, records)| ExperimentResults { planned, records })
+            .collect();
+        let report = render_report(&results, quick)?;
+        write_atomic(&out.join("REPORT.md"), report.as_bytes())?;
+    }
+    Ok(jobs.len())
+}
