@@ -393,7 +393,11 @@ impl RunStore {
             }
         };
         file.write_all(&line).map_err(write)?;
-        file.sync_data().map_err(write)?;
+        // Synced outside the lock, so that runs finishing together do not wait on each other's
+        // disk flush.
+        let handle = file.try_clone().map_err(write)?;
+        drop(appenders);
+        handle.sync_data().map_err(write)?;
         Ok(())
     }
 }
