@@ -1,0 +1,3 @@
+//! Integration tests of the `xtask` binary, one module per subject.
+
+mod slurm;
