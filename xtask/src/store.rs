@@ -11,7 +11,8 @@
 //!   ([`KeepTrajectories`]) and `blake3`, the BLAKE3 hash of the bytes `<description><TAB><record>`;
 //! - the description is the run's [`RunDescription`] in canonical JSON, whose BLAKE3 hash *is* the
 //!   run's key, so the key is checked, not trusted;
-//! - the record is the [`RunRecord`], training trajectories removed unless kept for all.
+//! - the record is the [`RunRecord`] with its per-episode curve stored as columns, training
+//!   trajectories removed unless kept for all.
 //!
 //! Lines are appended while a run goes (one `write` of the whole line, then a sync), so a kill
 //! loses at most the line being written; opening the store for writing cuts such a torn tail.
@@ -25,7 +26,7 @@ use std::io::{self, BufRead as _, BufReader, Read as _, Seek as _, SeekFrom, Wri
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use eamadm::RunRecord;
+use eamadm::{EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord, TrajectoryRecord};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -160,6 +161,123 @@ pub(crate) fn compact(mut record: RunRecord, keep: KeepTrajectories) -> RunRecor
     record
 }
 
+/// A [`RunRecord`] as a store line holds it: the per-episode curve as columns (one array per
+/// field) instead of one object per episode, which would repeat every field name per episode —
+/// a third of the size. Converting there and back is exact.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StoredRecord {
+    experiment: String,
+    method: String,
+    seed: u64,
+    optimum_steps: Option<u64>,
+    subtasks: Vec<SubtaskRecord>,
+    pretrain_env_steps: u64,
+    episodes: EpisodeColumns,
+    total_env_steps: u64,
+    trajectories: Vec<TrajectoryRecord>,
+    evaluation: EpisodeRecord,
+    evaluation_trajectory: TrajectoryRecord,
+}
+
+/// [`EpisodeRecord`]s field by field; every column has one entry per episode.
+#[derive(Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EpisodeColumns {
+    episode: Vec<u64>,
+    steps: Vec<u64>,
+    task_return: Vec<f64>,
+    learning_return: Vec<f64>,
+    terminated: Vec<bool>,
+    truncated: Vec<bool>,
+    reached: Vec<bool>,
+    collisions: Vec<u64>,
+    env_steps: Vec<u64>,
+    robot: Vec<Option<RobotEpisodeMetrics>>,
+}
+
+impl StoredRecord {
+    fn from_record(record: &RunRecord, keep: KeepTrajectories) -> Self {
+        let mut columns = EpisodeColumns::default();
+        for e in &record.episodes {
+            columns.episode.push(e.episode);
+            columns.steps.push(e.steps);
+            columns.task_return.push(e.task_return);
+            columns.learning_return.push(e.learning_return);
+            columns.terminated.push(e.terminated);
+            columns.truncated.push(e.truncated);
+            columns.reached.push(e.reached);
+            columns.collisions.push(e.collisions);
+            columns.env_steps.push(e.env_steps);
+            columns.robot.push(e.robot);
+        }
+        Self {
+            experiment: record.experiment.clone(),
+            method: record.method.clone(),
+            seed: record.seed,
+            optimum_steps: record.optimum_steps,
+            subtasks: record.subtasks.clone(),
+            pretrain_env_steps: record.pretrain_env_steps,
+            episodes: columns,
+            total_env_steps: record.total_env_steps,
+            trajectories: match keep {
+                KeepTrajectories::All => record.trajectories.clone(),
+                KeepTrajectories::Figures => Vec::new(),
+            },
+            evaluation: record.evaluation.clone(),
+            evaluation_trajectory: record.evaluation_trajectory.clone(),
+        }
+    }
+
+    fn into_record(self) -> Result<RunRecord, String> {
+        let c = self.episodes;
+        let n = c.episode.len();
+        let lengths = [
+            c.steps.len(),
+            c.task_return.len(),
+            c.learning_return.len(),
+            c.terminated.len(),
+            c.truncated.len(),
+            c.reached.len(),
+            c.collisions.len(),
+            c.env_steps.len(),
+            c.robot.len(),
+        ];
+        if lengths.iter().any(|&len| len != n) {
+            return Err(format!(
+                "record: the episode columns differ in length ({n} episodes, columns {lengths:?})"
+            ));
+        }
+        let episodes = (0..n)
+            .map(|i| EpisodeRecord {
+                episode: c.episode[i],
+                steps: c.steps[i],
+                task_return: c.task_return[i],
+                learning_return: c.learning_return[i],
+                terminated: c.terminated[i],
+                truncated: c.truncated[i],
+                reached: c.reached[i],
+                collisions: c.collisions[i],
+                env_steps: c.env_steps[i],
+                robot: c.robot[i],
+            })
+            .collect();
+        Ok(RunRecord {
+            experiment: self.experiment,
+            method: self.method,
+            seed: self.seed,
+            optimum_steps: self.optimum_steps,
+            subtasks: self.subtasks,
+            pretrain_env_steps: self.pretrain_env_steps,
+            episodes,
+            total_env_steps: self.total_env_steps,
+            trajectories: self.trajectories,
+            evaluation: self.evaluation,
+            evaluation_trajectory: self.evaluation_trajectory,
+        })
+    }
+}
+
 /// The bytes of one line (with its newline) for `record`, compacted under `keep`.
 fn line_bytes(
     key: &RunKey,
@@ -173,12 +291,8 @@ fn line_bytes(
     };
     let mut content = description.to_vec();
     content.push(b'\t');
-    if keep == KeepTrajectories::Figures && !record.trajectories.is_empty() {
-        let compacted = compact(record.clone(), keep);
-        serde_json::to_writer(&mut content, &compacted).map_err(serialize)?;
-    } else {
-        serde_json::to_writer(&mut content, record).map_err(serialize)?;
-    }
+    serde_json::to_writer(&mut content, &StoredRecord::from_record(record, keep))
+        .map_err(serialize)?;
     let header = LineHeader {
         format: RUN_LINE_FORMAT,
         key: key.as_str().to_owned(),
@@ -349,8 +463,10 @@ impl RunStore {
                 line.header.key
             )));
         }
-        let record: RunRecord =
-            serde_json::from_slice(line.record).map_err(|e| changed(format!("record: {e}")))?;
+        let record = serde_json::from_slice::<StoredRecord>(line.record)
+            .map_err(|e| changed(format!("record: {e}")))?
+            .into_record()
+            .map_err(&changed)?;
         Ok(Some(StoredRun {
             description: line.description.to_vec(),
             record: compact(record, keep),
@@ -561,13 +677,13 @@ mod tests {
         }
         let bundle = store.bundle_path(&runs[0].2.experiment);
         let text = std::fs::read_to_string(&bundle).unwrap();
-        // Change one number of the first record's first episode.
+        // Change one number of the first record's first episode (its steps, a digit longer).
         let first_line = text.lines().next().unwrap();
-        let steps = format!("\"steps\":{}", runs[0].2.episodes[0].steps);
-        assert!(first_line.contains(&steps));
+        let steps = format!("\"steps\":[{},", runs[0].2.episodes[0].steps);
+        assert!(first_line.contains(&steps), "{first_line}");
         let edited = first_line.replacen(
             &steps,
-            &format!("\"steps\":{}", runs[0].2.episodes[0].steps + 1),
+            &format!("\"steps\":[{}0,", runs[0].2.episodes[0].steps),
             1,
         );
         std::fs::write(&bundle, text.replacen(first_line, &edited, 1)).unwrap();
@@ -606,6 +722,21 @@ mod tests {
         let (store, warnings) = open(dir.path());
         assert!(warnings.is_empty(), "{warnings:?}");
         assert_eq!(store.len(), 2);
+    }
+
+    #[test]
+    fn the_episode_columns_convert_back_exactly_and_must_agree_in_length() {
+        for (_, _, record) in runs() {
+            let stored = StoredRecord::from_record(&record, KeepTrajectories::All);
+            let text = serde_json::to_vec(&stored).unwrap();
+            let back: StoredRecord = serde_json::from_slice(&text).unwrap();
+            assert_eq!(back.into_record().unwrap(), record);
+        }
+        let (_, _, record) = runs().remove(0);
+        let mut stored = StoredRecord::from_record(&record, KeepTrajectories::Figures);
+        stored.episodes.steps.pop();
+        let problem = stored.into_record().unwrap_err();
+        assert!(problem.contains("differ in length"), "{problem}");
     }
 
     #[test]

@@ -44,10 +44,16 @@ fn slurm_missing() -> Option<String> {
     {
         Ok(output) if output.status.success() => {
             let states = String::from_utf8_lossy(&output.stdout);
-            if states.lines().any(|state| state.trim() == "idle" || state.trim() == "mix") {
+            if states
+                .lines()
+                .any(|state| state.trim() == "idle" || state.trim() == "mix")
+            {
                 None
             } else {
-                Some(format!("no idle SLURM node (sinfo says {:?})", states.trim()))
+                Some(format!(
+                    "no idle SLURM node (sinfo says {:?})",
+                    states.trim()
+                ))
             }
         }
         Ok(output) => Some(format!(
@@ -150,7 +156,10 @@ fn three_shards_and_a_merge_on_slurm_equal_an_unsharded_run() {
         logs(&out.join("logs"))
     );
     for k in 1..=3 {
-        assert!(out.join(format!("shard-{k}/runs")).is_dir(), "shard {k} ran");
+        assert!(
+            out.join(format!("shard-{k}/runs")).is_dir(),
+            "shard {k} ran"
+        );
         assert!(!out.join(format!("shard-{k}/REPORT.md")).exists());
     }
     let (expected, actual) = (tree(&whole), tree(&merged));
