@@ -34,7 +34,11 @@ fn slurm_missing() -> Option<String> {
     match Command::new("sbatch").arg("--version").output() {
         Err(error) => return Some(format!("`sbatch` cannot be run ({error})")),
         Ok(output) if !output.status.success() => {
-            return Some("`sbatch --version` fails".to_owned());
+            return Some(
+                "`sbatch --version` fails (no SLURM config? start a cluster with \
+                 `.ci/slurm-cluster start DIR` and export SLURM_CONF)"
+                    .to_owned(),
+            );
         }
         Ok(_) => {}
     }
