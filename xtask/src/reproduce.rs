@@ -82,23 +82,8 @@ pub(crate) fn reproduce_paper(
     let (plan, experiments) = prepare(args, workspace)?;
     let mut jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     if command.mode.list_jobs {
-        let arguments = plan_arguments(args, &plan.out, &workspace.current_dir);
-        for job in &jobs {
-            let mut run = vec![
-                "run-job".to_owned(),
-                "--key".to_owned(),
-                job.key.to_string(),
-            ];
-            run.extend(arguments.iter().cloned());
-            let line = JobLine {
-                key: job.key.as_str(),
-                experiment: &experiments[job.experiment].name,
-                task: task_name(args, &plan, job.experiment),
-                method: &job.method.label,
-                seed: job.seed,
-                run,
-            };
-            println!("{}", serde_json::to_string(&line).map_err(Failure::failed)?);
+        for line in job_lines(args, &plan, &experiments, &jobs, workspace)? {
+            println!("{line}");
         }
         return Ok(());
     }
@@ -141,6 +126,36 @@ pub(crate) fn reproduce_paper(
         println!("run store: {}", plan.out.join("runs").display());
     }
     Ok(())
+}
+
+/// The `--list-jobs` lines of `jobs`: one JSON object per run.
+fn job_lines(
+    args: &ReproduceArgs,
+    plan: &ReproducePlan,
+    experiments: &[PlannedExperiment],
+    jobs: &[crate::jobs::Job<'_>],
+    workspace: &Workspace,
+) -> Result<Vec<String>, Failure> {
+    let arguments = plan_arguments(args, &plan.out, &workspace.current_dir);
+    jobs.iter()
+        .map(|job| {
+            let mut run = vec![
+                "run-job".to_owned(),
+                "--key".to_owned(),
+                job.key.to_string(),
+            ];
+            run.extend(arguments.iter().cloned());
+            let line = JobLine {
+                key: job.key.as_str(),
+                experiment: &experiments[job.experiment].name,
+                task: task_name(args, plan, job.experiment),
+                method: &job.method.label,
+                seed: job.seed,
+                run,
+            };
+            serde_json::to_string(&line).map_err(Failure::failed)
+        })
+        .collect()
 }
 
 /// Runs `run-job`: exactly the run `--key` of the plan, into the run store of `--out`.
@@ -432,6 +447,40 @@ mod tests {
         )
         .unwrap();
         assert_same_tree(&ws.root.join("whole"), &ws.root.join("merged"));
+    }
+
+    #[test]
+    fn each_listed_job_parses_back_to_the_plan_and_its_key() {
+        use clap::Parser as _;
+        let (_dir, ws) = workspace();
+        let args = small("listed");
+        let (plan, experiments) = prepare(&args, &ws).unwrap();
+        let jobs = plan_jobs(&experiments, &plan.methods).unwrap();
+        let lines = job_lines(&args, &plan, &experiments, &jobs, &ws).unwrap();
+        assert_eq!(lines.len(), 2 * 2 * 2);
+        let mut keys = std::collections::BTreeSet::new();
+        for (line, job) in lines.iter().zip(&jobs) {
+            let value: serde_json::Value = serde_json::from_str(line).unwrap();
+            assert_eq!(value["key"], job.key.as_str());
+            assert_eq!(value["method"], job.method.label.as_str());
+            assert_eq!(value["seed"], job.seed);
+            assert!(["task1", "robot"].contains(&value["task"].as_str().unwrap()));
+            keys.insert(job.key.to_string());
+            let run: Vec<String> = serde_json::from_value(value["run"].clone()).unwrap();
+            let cli =
+                crate::cli::Cli::try_parse_from(std::iter::once("xtask".to_owned()).chain(run))
+                    .unwrap();
+            let crate::cli::Command::RunJob(parsed) = cli.command else {
+                panic!("not a run-job command: {line}");
+            };
+            assert_eq!(parsed.key, job.key.as_str());
+            let expected = ReproduceArgs {
+                out: Some(ws.root.join("listed")),
+                ..small("listed")
+            };
+            assert_eq!(parsed.plan, expected);
+        }
+        assert_eq!(keys.len(), lines.len(), "keys are unique");
     }
 
     #[test]
