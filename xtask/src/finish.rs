@@ -86,6 +86,38 @@ pub(crate) fn missing_runs(
         .collect()
 }
 
+/// Removes what earlier versions wrote and this one replaces: `results.json` (every record, now
+/// in the store) and the one-file-per-run store `runs/<64 hex digits>.json` (format 1, whose
+/// runs carry no checksum; they are recomputed). Left in place they would sit beside the new
+/// outputs as a second, stale set.
+fn remove_legacy_files(out: &Path) -> Result<(), FinishError> {
+    let remove = |path: &Path| -> Result<(), FinishError> {
+        match std::fs::remove_file(path) {
+            Ok(()) => Ok(()),
+            Err(error) if error.kind() == std::io::ErrorKind::NotFound => Ok(()),
+            Err(source) => Err(FinishError::Write(AtomicWriteError {
+                path: path.to_path_buf(),
+                source,
+            })),
+        }
+    };
+    remove(&out.join("results.json"))?;
+    let Ok(entries) = std::fs::read_dir(out.join("runs")) else {
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let is_legacy_run = name
+            .strip_suffix(".json")
+            .is_some_and(|stem| stem.len() == 64 && stem.bytes().all(|b| b.is_ascii_hexdigit()));
+        if is_legacy_run {
+            remove(&entry.path())?;
+        }
+    }
+    Ok(())
+}
+
 /// Run `job` from the first store holding it.
 fn load(
     stores: &[RunStore],
@@ -178,6 +210,7 @@ pub(crate) fn write_outputs(
         }
         compact.push(records);
     }
+    remove_legacy_files(out)?;
     if let Outputs::Everything { quick } = outputs {
         let results: Vec<ExperimentResults<'_>> = experiments
             .iter()

@@ -501,7 +501,19 @@ mod tests {
             format!("{}\n{edited}\n{torn}", lines[0]),
         )
         .unwrap();
+        // What an earlier version left: results.json and a one-file-per-run store.
+        std::fs::write(copy.join("results.json"), "[]").unwrap();
+        let legacy = copy.join("runs").join(format!("{}.json", "ab".repeat(32)));
+        std::fs::write(&legacy, "{}").unwrap();
+        std::fs::write(copy.join("runs/notes.json"), "mine").unwrap();
         reproduce_paper(&command(small("resumed"), RunModeArgs::default()), &ws).unwrap();
+        assert!(!legacy.exists());
+        // Only files of ours are removed.
+        assert_eq!(
+            std::fs::read(copy.join("runs/notes.json")).unwrap(),
+            b"mine"
+        );
+        std::fs::remove_file(copy.join("runs/notes.json")).unwrap();
         assert_same_tree(&ws.root.join("whole"), &copy);
     }
 }
