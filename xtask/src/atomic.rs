@@ -65,6 +65,80 @@ pub(crate) fn sync_folder(folder: &Path) -> io::Result<()> {
     Ok(())
 }
 
+/// A file written in pieces and then put in place atomically, like [`write_atomic`] for output
+/// too large to hold in memory: writes go to a temporary file in the same folder, and
+/// [`AtomicFile::commit`] syncs it and renames it over the path. Dropped without a commit, the
+/// temporary file is removed and the path is untouched.
+pub(crate) struct AtomicFile {
+    path: PathBuf,
+    writer: io::BufWriter<tempfile::NamedTempFile>,
+}
+
+impl AtomicFile {
+    /// Starts writing `path` (creating its parent folders).
+    pub(crate) fn create(path: &Path) -> Result<Self, AtomicWriteError> {
+        let error = |source| AtomicWriteError {
+            path: path.to_path_buf(),
+            source,
+        };
+        let file_name = path.file_name().ok_or_else(|| {
+            error(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "the path names no file",
+            ))
+        })?;
+        let folder = match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        std::fs::create_dir_all(folder).map_err(error)?;
+        let mut prefix = std::ffi::OsString::from(".");
+        prefix.push(file_name);
+        prefix.push(".");
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(&prefix).suffix(".tmp");
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+        let temp = builder.tempfile_in(folder).map_err(error)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            writer: io::BufWriter::new(temp),
+        })
+    }
+
+    /// The file being written.
+    pub(crate) fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Flushes, syncs and renames the temporary file over the path.
+    pub(crate) fn commit(self) -> Result<(), AtomicWriteError> {
+        let path = self.path;
+        let error = |source| AtomicWriteError {
+            path: path.clone(),
+            source,
+        };
+        let temp = self
+            .writer
+            .into_inner()
+            .map_err(|e| error(e.into_error()))?;
+        temp.as_file().sync_all().map_err(error)?;
+        temp.persist(&path)
+            .map_err(|persist| error(persist.error))?;
+        Ok(())
+    }
+}
+
+impl io::Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.writer.write(buf)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.writer.flush()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,6 +182,24 @@ mod tests {
         assert_eq!(error.path, path);
         assert!(error.to_string().contains("taken"), "{error}");
         assert_eq!(entries(dir.path()), vec!["taken"]);
+    }
+
+    #[test]
+    fn a_streamed_file_appears_only_on_commit() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("runs/task1.jsonl");
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"one\n").unwrap();
+        file.write_all(b"two\n").unwrap();
+        assert!(!path.exists());
+        file.commit().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"one\ntwo\n");
+        assert_eq!(entries(&dir.path().join("runs")), vec!["task1.jsonl"]);
+        let mut dropped = AtomicFile::create(&path).unwrap();
+        dropped.write_all(b"never").unwrap();
+        drop(dropped);
+        assert_eq!(std::fs::read(&path).unwrap(), b"one\ntwo\n");
+        assert_eq!(entries(&dir.path().join("runs")), vec!["task1.jsonl"]);
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! The command line: `cargo xtask reproduce-paper [OPTIONS]` and
-//! `cargo xtask regen-fixtures [--check]`. Parsing only; [`crate::plan`] checks the values
+//! The command line: `cargo xtask reproduce-paper [OPTIONS]`, `run-job --key KEY [OPTIONS]`,
+//! `merge [OPTIONS] STORE...` and `cargo xtask regen-fixtures [--check]`. Parsing only; [`crate::plan`] checks the values
 //! against each other and the file system.
 
 use std::path::PathBuf;
@@ -20,9 +20,78 @@ pub(crate) struct Cli {
 pub(crate) enum Command {
     /// Rerun the paper's experiments (Task I, Task II, the robot) for EA-MADM, its competitors
     /// and the ablations over many seeds; write curves, the full record, figures and REPORT.md.
-    ReproducePaper(ReproduceArgs),
+    ReproducePaper(ReproduceCommand),
     /// Regenerate fixtures/: maze layouts, robot scenario, reference trajectories and curves.
     RegenFixtures(RegenFixturesArgs),
+    /// Run exactly one run of a plan (a key from `reproduce-paper --list-jobs`, with the same
+    /// plan options) into the run store of --out, for GNU parallel, SLURM or any job engine.
+    RunJob(RunJobArgs),
+    /// Check the run stores of finished shards (or run-job folders) and write the outputs of
+    /// the plan (the same options as the sharded runs) as one unsharded run would.
+    Merge(MergeArgs),
+}
+
+/// What `reproduce-paper` does with its plan besides running it all and reporting.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Args)]
+pub(crate) struct RunModeArgs {
+    /// Run only the runs whose key falls in shard K of N (1 ≤ K ≤ N), store them under --out and
+    /// exit without the report; `cargo xtask merge` makes the outputs from all shards.
+    #[arg(long, value_name = "K/N", conflicts_with_all = ["runs_only", "list_jobs"])]
+    pub(crate) shard: Option<String>,
+    /// Run (or resume) every run into the run store under --out and exit without the report.
+    #[arg(long, conflicts_with = "list_jobs")]
+    pub(crate) runs_only: bool,
+    /// Print one JSON line per run of the plan (key, experiment, task, method, seed and the
+    /// `run-job` arguments that run it) and exit; runs nothing, writes nothing.
+    #[arg(long)]
+    pub(crate) list_jobs: bool,
+}
+
+/// Options of `reproduce-paper`.
+#[derive(Debug, Clone, PartialEq, Eq, Args)]
+pub(crate) struct ReproduceCommand {
+    /// The plan.
+    #[command(flatten)]
+    pub(crate) plan: ReproduceArgs,
+    /// Sharding and job listing.
+    #[command(flatten)]
+    pub(crate) mode: RunModeArgs,
+}
+
+/// Options of `run-job`.
+#[derive(Debug, Clone, PartialEq, Eq, Args)]
+pub(crate) struct RunJobArgs {
+    /// The run's key, as `reproduce-paper --list-jobs` prints it.
+    #[arg(long, value_name = "KEY")]
+    pub(crate) key: String,
+    /// The plan the key belongs to (the options given to --list-jobs).
+    #[command(flatten)]
+    pub(crate) plan: ReproduceArgs,
+}
+
+/// Options of `merge`.
+#[derive(Debug, Clone, PartialEq, Eq, Args)]
+pub(crate) struct MergeArgs {
+    /// The plan the stores belong to (the options the shards were run with, without --shard).
+    #[command(flatten)]
+    pub(crate) plan: ReproduceArgs,
+    /// Output folders of the shards (each holding runs/), or runs/ folders themselves.
+    #[arg(value_name = "STORE", required = true)]
+    pub(crate) stores: Vec<PathBuf>,
+}
+
+/// Which training-episode trajectories the run store and `trajectories.csv` keep. The greedy
+/// evaluation episode after training, which the figures draw, is always kept.
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum KeepTrajectories {
+    /// Only what the figures draw (the evaluation episodes).
+    #[default]
+    Figures,
+    /// Also every training trajectory the config records (its `trajectories` section).
+    All,
 }
 
 /// Options of `reproduce-paper`.
@@ -54,6 +123,9 @@ pub(crate) struct ReproduceArgs {
     /// of exiting with an error.
     #[arg(long)]
     pub(crate) wait: bool,
+    /// Which training trajectories to keep in the run store and trajectories.csv.
+    #[arg(long, value_name = "WHICH", value_enum, default_value_t)]
+    pub(crate) keep_trajectories: KeepTrajectories,
 }
 
 /// Options of `regen-fixtures`.
@@ -127,8 +199,8 @@ mod tests {
 
     fn reproduce(args: &[&str]) -> ReproduceArgs {
         match parse(args).unwrap().command {
-            Command::ReproducePaper(args) => args,
-            Command::RegenFixtures(_) => panic!("parsed as regen-fixtures"),
+            Command::ReproducePaper(command) => command.plan,
+            other => panic!("parsed as {other:?}"),
         }
     }
 
@@ -149,6 +221,7 @@ mod tests {
                 out: None,
                 quick: false,
                 wait: false,
+                keep_trajectories: KeepTrajectories::Figures,
             }
         );
     }
@@ -174,6 +247,8 @@ mod tests {
                 "/tmp/out",
                 "--quick",
                 "--wait",
+                "--keep-trajectories",
+                "all",
             ]),
             ReproduceArgs {
                 seeds: Some(4),
@@ -183,6 +258,7 @@ mod tests {
                 out: Some(PathBuf::from("/tmp/out")),
                 quick: true,
                 wait: true,
+                keep_trajectories: KeepTrajectories::All,
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command
@@ -200,10 +276,41 @@ mod tests {
             &["reproduce-paper", "--task", "task3"],
             &["reproduce-paper", "--frobnicate"],
             &["regen-fixtures", "--quick"],
+            &["reproduce-paper", "--shard", "1/3", "--runs-only"],
+            &["reproduce-paper", "--list-jobs", "--runs-only"],
+            &["reproduce-paper", "--keep-trajectories", "some"],
+            &["merge", "--out", "x"],
+            &["run-job", "--quick"],
         ] {
             let error = parse(args).unwrap_err();
             assert_eq!(error.exit_code(), 2, "{args:?}");
         }
+    }
+
+    #[test]
+    fn the_cluster_commands_parse() {
+        let Command::ReproducePaper(command) =
+            parse(&["reproduce-paper", "--quick", "--shard", "2/3"])
+                .unwrap()
+                .command
+        else {
+            panic!("not reproduce-paper");
+        };
+        assert_eq!(command.mode.shard.as_deref(), Some("2/3"));
+        assert!(command.plan.quick);
+        let Command::RunJob(job) = parse(&["run-job", "--key", "ab", "--seeds", "2"])
+            .unwrap()
+            .command
+        else {
+            panic!("not run-job");
+        };
+        assert_eq!((job.key.as_str(), job.plan.seeds), ("ab", Some(2)));
+        let Command::Merge(merge) = parse(&["merge", "--out", "m", "a", "b"]).unwrap().command
+        else {
+            panic!("not merge");
+        };
+        assert_eq!(merge.stores, vec![PathBuf::from("a"), PathBuf::from("b")]);
+        assert_eq!(merge.plan.out, Some(PathBuf::from("m")));
     }
 
     #[test]

@@ -1,20 +1,22 @@
-//! Runs every (experiment, method, seed) in parallel with rayon, resuming: a run whose record is
-//! already stored under `<out>/runs/` is loaded instead of rerun, and each finished run is stored
-//! atomically as soon as it completes.
+//! Runs every (experiment, method, seed) in parallel with rayon, resuming: a run the run store
+//! under `<out>/runs/` already holds (checked) is skipped, and each finished run is appended to
+//! the store as soon as it completes.
 //!
 //! Each run is a pure function of (config, method, seed) ([`eamadm::Experiment::run`]) and the
 //! records are returned in job order, so the results do not depend on the number of threads,
 //! on completion order, or on which runs were resumed.
 
 use eamadm::config::{DEFAULT_SCENARIO, TaskConfig};
-use eamadm::{ExperimentConfig, MethodSpec, RunError, RunRecord};
+use eamadm::{ExperimentConfig, MethodSpec, RunError};
 use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
+use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
+use crate::jobs::Job;
 use crate::progress::{Progress, TaskProgress};
-use crate::resume::{ResumeError, RunKey, RunStore};
+use crate::store::{RunStore, StoreError};
 
 /// Version of the numbers a run produces, in the resume key: bump it when a change of code
 /// changes results without changing the config or the crate version, so that stored runs are
@@ -33,9 +35,9 @@ pub(crate) enum ExecuteError {
         #[source]
         source: RunError,
     },
-    /// Storing or loading a run file failed.
+    /// Storing a run failed.
     #[error(transparent)]
-    Resume(#[from] ResumeError),
+    Store(#[from] StoreError),
 }
 
 /// What identifies a run for resuming: everything its record depends on.
@@ -88,49 +90,25 @@ fn task_file_digest(task: &TaskConfig) -> Option<String> {
     Some(blake3::hash(text.as_bytes()).to_hex().to_string())
 }
 
-/// One run to do.
-struct Job<'a> {
-    experiment: usize,
-    method: &'a MethodSpec,
-    seed: u64,
-    key: RunKey,
-}
-
-/// The records of one experiment, in method order (as selected), seed order within a method.
-#[derive(Debug, Clone)]
-pub(crate) struct ExperimentRecords {
-    /// The experiment's records.
-    pub(crate) records: Vec<RunRecord>,
-    /// How many of them were loaded from an earlier invocation.
+/// What [`run_jobs`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct RunCounts {
+    /// Runs computed now.
+    pub(crate) ran: usize,
+    /// Runs found in the store from an earlier invocation.
     pub(crate) resumed: usize,
 }
 
-/// Runs `methods` × seeds of every experiment, resuming from and storing into `store`.
-pub(crate) fn run_experiments(
+/// Runs every job of `jobs` the store does not hold yet, in parallel, appending each finished
+/// run to the store as soon as it completes. Records are dropped once stored, so memory holds
+/// only the runs in flight; the outputs are made afterwards from the store ([`crate::finish`]).
+pub(crate) fn run_jobs(
     experiments: &[PlannedExperiment],
-    methods: &[String],
+    jobs: &[Job<'_>],
     store: &RunStore,
+    keep: KeepTrajectories,
     progress: &Progress,
-) -> Result<Vec<ExperimentRecords>, ExecuteError> {
-    let mut jobs = Vec::new();
-    for (index, planned) in experiments.iter().enumerate() {
-        let config = planned.config();
-        for label in methods {
-            // Labels were checked against the config's; a label absent here is skipped.
-            let Some(method) = config.method(label) else {
-                continue;
-            };
-            for seed in config.seed_values() {
-                let key = RunKey::of(&RunDescription::new(config, method, seed))?;
-                jobs.push(Job {
-                    experiment: index,
-                    method,
-                    seed,
-                    key,
-                });
-            }
-        }
-    }
+) -> Result<RunCounts, ExecuteError> {
     let bars: Vec<TaskProgress> = experiments
         .iter()
         .enumerate()
@@ -138,21 +116,20 @@ pub(crate) fn run_experiments(
             let total = jobs.iter().filter(|job| job.experiment == index).count() as u64;
             let done = jobs
                 .iter()
-                .filter(|job| job.experiment == index && store.is_done(&job.key))
+                .filter(|job| job.experiment == index && store.has(&job.key, keep))
                 .count() as u64;
             let bar = progress.start(&planned.name, total);
             bar.skip_already_done(done);
             bar
         })
         .collect();
-
-    let results: Vec<(usize, RunRecord, bool)> = jobs
-        .par_iter()
-        .map(|job| {
+    let todo: Vec<&Job<'_>> = jobs
+        .iter()
+        .filter(|job| !store.has(&job.key, keep))
+        .collect();
+    todo.par_iter()
+        .try_for_each(|job| -> Result<(), ExecuteError> {
             let planned = &experiments[job.experiment];
-            if let Some(record) = store.load::<RunRecord>(&job.key)? {
-                return Ok((job.experiment, record, true));
-            }
             let record = planned
                 .experiment
                 .run(job.method, job.seed)
@@ -160,31 +137,22 @@ pub(crate) fn run_experiments(
                     experiment: planned.name.clone(),
                     source,
                 })?;
-            store.store(
+            store.append(
                 &job.key,
                 &RunDescription::new(planned.config(), job.method, job.seed),
                 &record,
+                keep,
             )?;
             bars[job.experiment].inc();
-            Ok((job.experiment, record, false))
-        })
-        .collect::<Result<_, ExecuteError>>()?;
+            Ok(())
+        })?;
     for bar in &bars {
         bar.finish();
     }
-
-    let mut grouped: Vec<ExperimentRecords> = experiments
-        .iter()
-        .map(|_| ExperimentRecords {
-            records: Vec::new(),
-            resumed: 0,
-        })
-        .collect();
-    for (experiment, record, resumed) in results {
-        grouped[experiment].records.push(record);
-        grouped[experiment].resumed += usize::from(resumed);
-    }
-    Ok(grouped)
+    Ok(RunCounts {
+        ran: todo.len(),
+        resumed: jobs.len() - todo.len(),
+    })
 }
 
 #[cfg(test)]
@@ -192,6 +160,8 @@ mod tests {
     use super::*;
     use crate::cli::Task;
     use crate::experiments::{plan_experiments, shorten};
+    use crate::jobs::plan_jobs;
+    use crate::resume::RunKey;
 
     #[test]
     fn the_key_ignores_other_methods_and_the_seed_count() {
@@ -237,20 +207,27 @@ mod tests {
     }
 
     #[test]
-    fn resumed_runs_equal_fresh_ones() {
+    fn resumed_runs_are_skipped_and_equal_fresh_ones() {
         let mut planned = plan_experiments(&[Task::Task1], false, None, 2, true).unwrap();
         let mut config = planned[0].config().clone();
         shorten(&mut config, 4, Some(60), None);
         planned[0].experiment = eamadm::Experiment::new(config).unwrap();
         let methods = vec!["epsilon-greedy".to_owned(), "ea-madm".to_owned()];
+        let jobs = plan_jobs(&planned, &methods).unwrap();
+        assert_eq!(jobs.len(), 4);
+        assert_eq!(jobs[0].method.label, "epsilon-greedy");
         let dir = tempfile::tempdir().unwrap();
-        let store = RunStore::new(dir.path());
-        let fresh = run_experiments(&planned, &methods, &store, &Progress::hidden()).unwrap();
-        assert_eq!(fresh[0].records.len(), 4);
-        assert_eq!(fresh[0].resumed, 0);
-        assert_eq!(fresh[0].records[0].method, "epsilon-greedy");
-        let again = run_experiments(&planned, &methods, &store, &Progress::hidden()).unwrap();
-        assert_eq!(again[0].resumed, 4);
-        assert_eq!(again[0].records, fresh[0].records);
+        let keep = KeepTrajectories::Figures;
+        let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
+        let counts = run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden()).unwrap();
+        assert_eq!(counts, RunCounts { ran: 4, resumed: 0 });
+        let store = open();
+        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden()).unwrap();
+        assert_eq!(again, RunCounts { ran: 0, resumed: 4 });
+        for job in &jobs {
+            let stored = store.load(&job.key, keep).unwrap().unwrap();
+            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, crate::store::compact(fresh, keep));
+        }
     }
 }

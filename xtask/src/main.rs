@@ -2,16 +2,22 @@
 //!
 //! - `cargo xtask reproduce-paper [--seeds N] [--task T]... [--method M]... [--config FILE]
 //!   [--out DIR] [--quick]` reruns the paper's experiments and writes curves, figures and a report.
+//!   `--shard K/N` or `--runs-only` run into the run store without the report; `--list-jobs`
+//!   prints the runs as JSON lines.
+//! - `cargo xtask run-job --key KEY [plan options]` runs exactly one run into the store.
+//! - `cargo xtask merge --out DIR [plan options] STORE...` checks shards' run stores and writes
+//!   the outputs an unsharded run writes.
 //! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/`.
 //!
 //! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
-//! configs; [`reproduce`] drives a run: [`execute`] runs (resuming via [`resume`], showing
-//! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`claims_report`]
-//! writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with [`report`]'s
-//! tables), all staged and swapped into the locked output folder by [`output_folder`].
-//! [`fixtures`] regenerates and checks `fixtures/`,
+//! configs; [`reproduce`] drives a run: [`jobs`] lists and shards the runs, [`execute`] runs
+//! them (resuming by [`resume`]'s keys from the [`store`], showing [`progress`]), [`finish`]
+//! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
+//! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with
+//! [`report`]'s tables and [`robot_report`]'s robot behaviour), all staged and swapped into the
+//! locked output folder by [`output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
 //! showing differences with [`text_diff`]. Every file goes through [`atomic`].
 
 use std::process::ExitCode;
@@ -24,7 +30,9 @@ mod cli;
 mod execute;
 mod experiments;
 mod figures;
+mod finish;
 mod fixtures;
+mod jobs;
 mod output_folder;
 mod outputs;
 mod plan;
@@ -33,6 +41,7 @@ mod report;
 mod reproduce;
 mod resume;
 mod robot_report;
+mod store;
 mod text_diff;
 
 use cli::{Cli, Command};
@@ -50,6 +59,8 @@ fn main() -> ExitCode {
     let outcome = match cli.command {
         Command::ReproducePaper(args) => reproduce::reproduce_paper(&args, &workspace),
         Command::RegenFixtures(args) => fixtures::regen_fixtures(args.check, &workspace),
+        Command::RunJob(args) => reproduce::run_job(&args, &workspace),
+        Command::Merge(args) => reproduce::merge(&args, &workspace),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

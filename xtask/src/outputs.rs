@@ -1,6 +1,6 @@
-//! The files of an output folder, all written atomically: `results.json` (every run's full
-//! record), and per experiment `<name>/curves.csv` (one tidy row per run and episode),
-//! `<name>/trajectories.csv` (one row per trajectory step) and the SVG figures.
+//! The figures of an output folder, written atomically: per experiment the SVG charts and the
+//! greedy paths under `<name>/`. The CSV tables and the run store are streamed by
+//! [`crate::finish`].
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -40,41 +40,14 @@ pub(crate) enum OutputError {
     Write(#[from] AtomicWriteError),
 }
 
-/// Writes `results.json` with every record of every experiment, in run order.
-pub(crate) fn write_results_json(out: &Path, records: &[&RunRecord]) -> Result<(), OutputError> {
-    let owned: Vec<RunRecord> = records.iter().map(|r| (*r).clone()).collect();
-    let mut bytes = Vec::new();
-    results::write_json(&owned, &mut bytes).map_err(|source| OutputError::Results {
-        file: "results.json".to_owned(),
-        source,
-    })?;
-    bytes.push(b'\n');
-    write_atomic(&out.join("results.json"), &bytes)?;
-    Ok(())
-}
-
-/// Writes the CSV tables and figures of one experiment under `<out>/<name>/`; returns the
-/// figures' file names, in the order written.
-pub(crate) fn write_experiment(
+/// Writes the SVG figures of one experiment under `<out>/<name>/` (its CSV tables are streamed
+/// by [`crate::finish`]).
+pub(crate) fn write_figures(
     out: &Path,
     planned: &PlannedExperiment,
     records: &[RunRecord],
 ) -> Result<Vec<String>, OutputError> {
     let folder = out.join(&planned.name);
-    let mut curves = Vec::new();
-    results::write_curves_csv(records, &mut curves).map_err(|source| OutputError::Results {
-        file: format!("{}/curves.csv", planned.name),
-        source,
-    })?;
-    write_atomic(&folder.join("curves.csv"), &curves)?;
-    let mut trajectories = Vec::new();
-    results::write_trajectories_csv(records, &mut trajectories).map_err(|source| {
-        OutputError::Results {
-            file: format!("{}/trajectories.csv", planned.name),
-            source,
-        }
-    })?;
-    write_atomic(&folder.join("trajectories.csv"), &trajectories)?;
     let mut written = Vec::new();
     for (file, svg) in experiment_figures(planned, records)? {
         write_atomic(&folder.join(&file), svg.as_bytes())?;

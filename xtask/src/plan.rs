@@ -256,7 +256,7 @@ impl ReproducePlan {
         let _ = writeln!(text, "  config:   {config}");
         let _ = writeln!(
             text,
-            "  output:   {} (runs/, CSV curves, final-scores.csv, claims.csv, JSON record, SVG figures, REPORT.md)",
+            "  output:   {} (runs/ store, CSV curves, final-scores.csv, claims.csv, SVG figures, REPORT.md)",
             self.out.display()
         );
         text
@@ -337,6 +337,7 @@ mod tests {
             out: None,
             quick: false,
             wait: false,
+            keep_trajectories: crate::cli::KeepTrajectories::Figures,
         }
     }
 

@@ -1,22 +1,34 @@
-//! `cargo xtask reproduce-paper`: check everything (arguments, config, tasks) before touching
-//! the output folder, run (resuming), then write the results, figures and `REPORT.md`.
+//! `cargo xtask reproduce-paper`, `run-job` and `merge`: check everything (arguments, config,
+//! tasks) before touching the output folder, run (resuming) the plan's runs — all, one shard, or
+//! one job — into the run store, then write the results, figures and `REPORT.md` from the store.
 
 use std::time::Instant;
 
 use crate::Failure;
-use crate::claims_report::{Verdicts, write_claim_outputs};
-use crate::cli::ReproduceArgs;
-use crate::execute::run_experiments;
-use crate::experiments::{load_config_file, plan_experiments};
+use crate::cli::{KeepTrajectories, MergeArgs, ReproduceArgs, ReproduceCommand, RunJobArgs};
+use crate::execute::run_jobs;
+use crate::experiments::{PlannedExperiment, load_config_file, plan_experiments};
+use crate::finish::{Outputs, write_outputs};
+use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
 use crate::output_folder::OutputFolder;
-use crate::outputs::{write_experiment, write_results_json};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
-use crate::resume::RunStore;
-use eamadm::claims::ClaimOptions;
+use crate::store::RunStore;
 
-/// Runs the command.
-pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Result<(), Failure> {
+/// Prints a warning (a damaged run that will be recomputed, a line a merge ignores).
+#[expect(
+    clippy::print_stderr,
+    reason = "a command-line tool reports warnings on stderr"
+)]
+fn warn_on_stderr(message: &str) {
+    eprintln!("warning: {message}");
+}
+
+/// The checked plan of `args` and its loaded experiments. Touches nothing on disk.
+fn prepare(
+    args: &ReproduceArgs,
+    workspace: &Workspace,
+) -> Result<(ReproducePlan, Vec<PlannedExperiment>), Failure> {
     // Everything is checked before the output folder is created: a bad config writes nothing.
     let custom = match &args.config {
         Some(path) => {
@@ -45,55 +57,210 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
         plan.quick,
     )
     .map_err(Failure::invalid)?;
+    Ok((plan, experiments))
+}
+
+/// The task name of an experiment for `--list-jobs`.
+fn task_name(args: &ReproduceArgs, plan: &ReproducePlan, experiment: usize) -> &'static str {
+    if args.config.is_some() {
+        "config"
+    } else {
+        plan.tasks
+            .get(experiment)
+            .map_or("config", |task| task.name())
+    }
+}
+
+/// Runs `reproduce-paper`.
+pub(crate) fn reproduce_paper(
+    command: &ReproduceCommand,
+    workspace: &Workspace,
+) -> Result<(), Failure> {
+    let args = &command.plan;
+    let shard = match &command.mode.shard {
+        Some(text) => Some(Shard::parse(text).map_err(Failure::invalid)?),
+        None => None,
+    };
+    let (plan, experiments) = prepare(args, workspace)?;
+    let mut jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
+    if command.mode.list_jobs {
+        for line in job_lines(args, &plan, &experiments, &jobs, workspace)? {
+            println!("{line}");
+        }
+        return Ok(());
+    }
+    if let Some(shard) = shard {
+        jobs.retain(|job| shard.holds(&job.key));
+    }
     print!("{}", plan.describe());
+    if let Some(shard) = shard {
+        println!(
+            "  shard:    {shard}: {} of the runs; the report is made by `cargo xtask merge`",
+            jobs.len()
+        );
+    }
 
     // One process per output folder; what a killed earlier invocation left is repaired here.
     let folder = OutputFolder::open(&plan.out, args.wait).map_err(Failure::failed)?;
     let started = Instant::now();
-    let store = RunStore::new(folder.root());
-    let progress = Progress::for_stdout();
-    let grouped =
-        run_experiments(&experiments, &plan.methods, &store, &progress).map_err(Failure::failed)?;
-
-    // The set of outputs is written aside and swapped in whole (see `output_folder`).
-    let staging = folder.staging().map_err(Failure::failed)?;
-    let all: Vec<_> = grouped.iter().flat_map(|g| g.records.iter()).collect();
-    write_results_json(&staging, &all).map_err(Failure::failed)?;
-    let mut scores = Vec::new();
-    let mut figures = Vec::new();
-    let mut behaviour = Vec::new();
-    for (planned, group) in experiments.iter().zip(&grouped) {
-        figures.push(write_experiment(&staging, planned, &group.records).map_err(Failure::failed)?);
-        let mut section = String::new();
-        if matches!(planned.config().task, eamadm::TaskConfig::Robot { .. }) {
-            crate::robot_report::write_robot_behaviour(
-                &mut section,
-                &group.records,
-                planned.config().learner.gamma,
-            );
-        }
-        behaviour.push(section);
-        scores.extend(
-            eamadm::scores::final_scores(&group.records, planned.config())
-                .map_err(Failure::failed)?,
-        );
+    let keep = args.keep_trajectories;
+    let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    let counts = run_jobs(&experiments, &jobs, &store, keep, &Progress::for_stdout())
+        .map_err(Failure::failed)?;
+    drop(store);
+    // Reopened: the index now holds the runs appended above.
+    let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    let reporting = shard.is_none() && !command.mode.runs_only;
+    if reporting {
+        // The set of outputs is written aside and swapped in whole (see `output_folder`); the
+        // run store is rewritten in place, in job order.
+        let staging = folder.staging().map_err(Failure::failed)?;
+        write_outputs(
+            folder.root(),
+            &staging,
+            &experiments,
+            &jobs,
+            &[store],
+            keep,
+            Outputs::Everything { quick: plan.quick },
+        )
+        .map_err(Failure::failed)?;
+        folder.commit().map_err(Failure::failed)?;
+    } else {
+        write_outputs(
+            folder.root(),
+            folder.root(),
+            &experiments,
+            &jobs,
+            &[store],
+            keep,
+            Outputs::StoreOnly,
+        )
+        .map_err(Failure::failed)?;
     }
-    let verdicts = Verdicts::compute(scores, &ClaimOptions::default()).map_err(Failure::failed)?;
-    write_claim_outputs(
+    println!(
+        "done in {:.1} s: {} runs ({} resumed from an earlier invocation)",
+        started.elapsed().as_secs_f64(),
+        jobs.len(),
+        counts.resumed,
+    );
+    if reporting {
+        println!("report: {}", plan.out.join("REPORT.md").display());
+    } else {
+        println!("run store: {}", plan.out.join("runs").display());
+    }
+    Ok(())
+}
+
+/// The `--list-jobs` lines of `jobs`: one JSON object per run.
+fn job_lines(
+    args: &ReproduceArgs,
+    plan: &ReproducePlan,
+    experiments: &[PlannedExperiment],
+    jobs: &[crate::jobs::Job<'_>],
+    workspace: &Workspace,
+) -> Result<Vec<String>, Failure> {
+    let arguments = plan_arguments(args, &plan.out, &workspace.current_dir);
+    jobs.iter()
+        .map(|job| {
+            let mut run = vec![
+                "run-job".to_owned(),
+                "--key".to_owned(),
+                job.key.to_string(),
+            ];
+            run.extend(arguments.iter().cloned());
+            let line = JobLine {
+                key: job.key.as_str(),
+                experiment: &experiments[job.experiment].name,
+                task: task_name(args, plan, job.experiment),
+                method: &job.method.label,
+                seed: job.seed,
+                run,
+            };
+            serde_json::to_string(&line).map_err(Failure::failed)
+        })
+        .collect()
+}
+
+/// Runs `run-job`: exactly the run `--key` of the plan, into the run store of `--out`.
+pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Failure> {
+    let (plan, experiments) = prepare(&args.plan, workspace)?;
+    let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
+    let Some(job) = jobs.iter().find(|job| job.key.as_str() == args.key) else {
+        return Err(Failure::invalid(format!(
+            "--key {}: no run of this plan has this key; list the keys with `cargo xtask              reproduce-paper --list-jobs` and the same options",
+            args.key
+        )));
+    };
+    let keep = args.plan.keep_trajectories;
+    let store = RunStore::open(&plan.out, &mut warn_on_stderr).map_err(Failure::failed)?;
+    let counts = run_jobs(
+        &experiments,
+        std::slice::from_ref(job),
+        &store,
+        keep,
+        &Progress::hidden(),
+    )
+    .map_err(Failure::failed)?;
+    println!(
+        "{} {} seed {}: {} ({})",
+        experiments[job.experiment].name,
+        job.method.label,
+        job.seed,
+        if counts.ran == 1 {
+            "ran"
+        } else {
+            "already stored"
+        },
+        store
+            .bundle_path(&experiments[job.experiment].name)
+            .display()
+    );
+    Ok(())
+}
+
+/// Runs `merge`: checks the given stores, then writes the plan's outputs from them.
+pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failure> {
+    let (plan, experiments) = prepare(&args.plan, workspace)?;
+    let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
+    let keep: KeepTrajectories = args.plan.keep_trajectories;
+    let mut stores = Vec::new();
+    for path in &args.stores {
+        let store =
+            RunStore::open_read_only(&workspace.current_dir.join(path), &mut warn_on_stderr)
+                .map_err(Failure::invalid)?;
+        println!(
+            "store {}: {} checked runs",
+            store.folder().display(),
+            store.len()
+        );
+        stores.push(store);
+    }
+    // Every run must be there before the output folder is touched.
+    let missing = crate::finish::missing_runs(&experiments, &jobs, &stores, keep);
+    if !missing.is_empty() {
+        return Err(Failure::failed(crate::finish::FinishError::Missing {
+            missing,
+            total: jobs.len(),
+        }));
+    }
+    let folder = OutputFolder::open(&plan.out, args.plan.wait).map_err(Failure::failed)?;
+    let staging = folder.staging().map_err(Failure::failed)?;
+    let started = Instant::now();
+    let runs = write_outputs(
+        folder.root(),
         &staging,
         &experiments,
-        &figures,
-        &behaviour,
-        &verdicts,
-        plan.quick,
+        &jobs,
+        &stores,
+        keep,
+        Outputs::Everything { quick: plan.quick },
     )
     .map_err(Failure::failed)?;
     folder.commit().map_err(Failure::failed)?;
-    let resumed: usize = grouped.iter().map(|g| g.resumed).sum();
     println!(
-        "done in {:.1} s: {} runs ({resumed} resumed from an earlier invocation)\nreport: {}",
+        "merged {runs} runs in {:.1} s\nreport: {}",
         started.elapsed().as_secs_f64(),
-        all.len(),
         plan.out.join("REPORT.md").display()
     );
     Ok(())
@@ -101,7 +268,11 @@ pub(crate) fn reproduce_paper(args: &ReproduceArgs, workspace: &Workspace) -> Re
 
 #[cfg(test)]
 mod tests {
+    use std::collections::BTreeMap;
+    use std::path::Path;
+
     use super::*;
+    use crate::cli::RunModeArgs;
 
     fn args(config: Option<&str>, out: &str) -> ReproduceArgs {
         ReproduceArgs {
@@ -112,7 +283,12 @@ mod tests {
             out: Some(out.into()),
             quick: true,
             wait: false,
+            keep_trajectories: KeepTrajectories::Figures,
         }
+    }
+
+    fn command(plan: ReproduceArgs, mode: RunModeArgs) -> ReproduceCommand {
+        ReproduceCommand { plan, mode }
     }
 
     fn workspace() -> (tempfile::TempDir, Workspace) {
@@ -128,12 +304,61 @@ mod tests {
         )
     }
 
+    /// Every file under `folder` (relative path → bytes).
+    fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {
+        let mut files = BTreeMap::new();
+        let mut stack = vec![folder.to_path_buf()];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else {
+                    let name = path.strip_prefix(folder).unwrap().display().to_string();
+                    files.insert(name, std::fs::read(&path).unwrap());
+                }
+            }
+        }
+        files
+    }
+
+    fn assert_same_tree(a: &Path, b: &Path) {
+        let (a, b) = (tree(a), tree(b));
+        assert_eq!(
+            a.keys().collect::<Vec<_>>(),
+            b.keys().collect::<Vec<_>>(),
+            "the same files"
+        );
+        for (name, bytes) in &a {
+            assert!(b[name] == *bytes, "{name} differs");
+        }
+    }
+
+    /// A small plan: two methods, two seeds, Task I and the robot, shortened by a config-free
+    /// --quick.
+    fn small(out: &str) -> ReproduceArgs {
+        ReproduceArgs {
+            seeds: Some(2),
+            tasks: vec![crate::cli::Task::Task1, crate::cli::Task::Robot],
+            methods: vec!["ea-madm".to_owned(), "softmax".to_owned()],
+            config: None,
+            out: Some(out.into()),
+            quick: true,
+            wait: false,
+            keep_trajectories: KeepTrajectories::Figures,
+        }
+    }
+
     #[test]
     fn an_invalid_config_names_the_field_and_writes_nothing() {
         let (_dir, ws) = workspace();
         let text = eamadm::PAPER_TASK2_TOML.replace("gamma = 0.95", "gamma = 1.5");
         std::fs::write(ws.root.join("bad.toml"), text).unwrap();
-        let failure = reproduce_paper(&args(Some("bad.toml"), "out"), &ws).unwrap_err();
+        let failure = reproduce_paper(
+            &command(args(Some("bad.toml"), "out"), RunModeArgs::default()),
+            &ws,
+        )
+        .unwrap_err();
         assert_eq!(failure.exit_code, 2);
         assert!(
             failure.message.contains("`learner.gamma` = 1.5"),
@@ -150,10 +375,14 @@ mod tests {
         config.name = "mine".to_owned();
         config.episodes = 3;
         std::fs::write(ws.root.join("mine.toml"), config.to_toml_string().unwrap()).unwrap();
-        reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap();
+        reproduce_paper(
+            &command(args(Some("mine.toml"), "out"), RunModeArgs::default()),
+            &ws,
+        )
+        .unwrap();
         for file in [
             "REPORT.md",
-            "results.json",
+            "runs/mine.jsonl",
             "mine/curves.csv",
             "mine/trajectories.csv",
             "mine/steps.svg",
@@ -192,9 +421,9 @@ mod tests {
         let (_dir, ws) = workspace();
         write_config(&ws, "first.toml", "first");
         write_config(&ws, "second.toml", "second");
-        reproduce_paper(&args(Some("first.toml"), "out"), &ws).unwrap();
+        reproduce_paper(&command(args(Some("first.toml"), "out"), RunModeArgs::default()), &ws).unwrap();
         assert!(ws.root.join("out/first/curves.csv").is_file());
-        reproduce_paper(&args(Some("second.toml"), "out"), &ws).unwrap();
+        reproduce_paper(&command(args(Some("second.toml"), "out"), RunModeArgs::default()), &ws).unwrap();
         let out = ws.root.join("out");
         assert!(
             !out.join("first").exists(),
@@ -222,7 +451,7 @@ mod tests {
                 1,
             );
             std::fs::write(ws.root.join("bad.toml"), text).unwrap();
-            let failure = reproduce_paper(&args(Some("bad.toml"), "out/sub"), &ws).unwrap_err();
+            let failure = reproduce_paper(&command(args(Some("bad.toml"), "out/sub"), RunModeArgs::default()), &ws).unwrap_err();
             assert_eq!(failure.exit_code, 2, "{name}: {}", failure.message);
             assert!(failure.message.contains("`name`"), "{}", failure.message);
             assert!(!ws.root.join("out").exists(), "{name}");
@@ -234,7 +463,7 @@ mod tests {
         let (_dir, ws) = workspace();
         write_config(&ws, "mine.toml", "mine");
         let held = OutputFolder::open(&ws.root.join("out"), false).unwrap();
-        let failure = reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap_err();
+        let failure = reproduce_paper(&command(args(Some("mine.toml"), "out"), RunModeArgs::default()), &ws).unwrap_err();
         assert_eq!(failure.exit_code, 1);
         assert!(
             failure
@@ -245,7 +474,7 @@ mod tests {
         );
         assert!(!ws.root.join("out/REPORT.md").exists());
         drop(held);
-        reproduce_paper(&args(Some("mine.toml"), "out"), &ws).unwrap();
+        reproduce_paper(&command(args(Some("mine.toml"), "out"), RunModeArgs::default()), &ws).unwrap();
     }
 
     /// Splits a line of a CSV without quoted fields (the claim and score tables have none).
@@ -269,8 +498,9 @@ mod tests {
             out: Some("out".into()),
             quick: true,
             wait: false,
+            keep_trajectories: KeepTrajectories::Figures,
         };
-        reproduce_paper(&args, &ws).unwrap();
+        reproduce_paper(&command(args, RunModeArgs::default()), &ws).unwrap();
         let out = ws.root.join("out");
         let scores =
             eamadm::scores::read_csv(std::fs::File::open(out.join("final-scores.csv")).unwrap())
@@ -346,5 +576,165 @@ mod tests {
             report.contains("## Verdicts on the paper's claims"),
             "{report}"
         );
+    }
+
+    #[test]
+    fn three_shards_merged_equal_the_unsharded_run_byte_for_byte() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
+        let mut shards = Vec::new();
+        for k in 1..=3 {
+            let out = format!("shard{k}");
+            let mode = RunModeArgs {
+                shard: Some(format!("{k}/3")),
+                ..RunModeArgs::default()
+            };
+            reproduce_paper(&command(small(&out), mode), &ws).unwrap();
+            assert!(!ws.root.join(&out).join("REPORT.md").exists(), "no report");
+            shards.push(std::path::PathBuf::from(out));
+        }
+        // Merging two of three shards names what is missing and writes nothing.
+        let failure = merge(
+            &MergeArgs {
+                plan: small("merged"),
+                stores: shards[..2].to_vec(),
+            },
+            &ws,
+        )
+        .unwrap_err();
+        assert!(
+            failure.message.contains("are in none of the stores"),
+            "{}",
+            failure.message
+        );
+        assert!(failure.message.contains("seed"), "{}", failure.message);
+        assert!(!ws.root.join("merged").exists());
+
+        merge(
+            &MergeArgs {
+                plan: small("merged"),
+                stores: shards.clone(),
+            },
+            &ws,
+        )
+        .unwrap();
+        assert_same_tree(&ws.root.join("whole"), &ws.root.join("merged"));
+    }
+
+    #[test]
+    fn run_job_over_the_job_list_rebuilds_the_same_store() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
+        let (plan, experiments) = prepare(&small("jobs"), &ws).unwrap();
+        let jobs = plan_jobs(&experiments, &plan.methods).unwrap();
+        // In reverse, so the appended order differs from job order.
+        for job in jobs.iter().rev() {
+            run_job(
+                &RunJobArgs {
+                    key: job.key.to_string(),
+                    plan: small("jobs"),
+                },
+                &ws,
+            )
+            .unwrap();
+        }
+        let failure = run_job(
+            &RunJobArgs {
+                key: "0".repeat(64),
+                plan: small("jobs"),
+            },
+            &ws,
+        )
+        .unwrap_err();
+        assert_eq!(failure.exit_code, 2);
+        assert!(
+            failure.message.contains("--list-jobs"),
+            "{}",
+            failure.message
+        );
+        // Resuming everything (nothing left to run) compacts the store into job order.
+        let mode = RunModeArgs {
+            runs_only: true,
+            ..RunModeArgs::default()
+        };
+        reproduce_paper(&command(small("jobs"), mode), &ws).unwrap();
+        assert_same_tree(&ws.root.join("whole/runs"), &ws.root.join("jobs/runs"));
+        merge(
+            &MergeArgs {
+                plan: small("merged"),
+                stores: vec!["jobs".into()],
+            },
+            &ws,
+        )
+        .unwrap();
+        assert_same_tree(&ws.root.join("whole"), &ws.root.join("merged"));
+    }
+
+    #[test]
+    fn each_listed_job_parses_back_to_the_plan_and_its_key() {
+        use clap::Parser as _;
+        let (_dir, ws) = workspace();
+        let args = small("listed");
+        let (plan, experiments) = prepare(&args, &ws).unwrap();
+        let jobs = plan_jobs(&experiments, &plan.methods).unwrap();
+        let lines = job_lines(&args, &plan, &experiments, &jobs, &ws).unwrap();
+        assert_eq!(lines.len(), 2 * 2 * 2);
+        let mut keys = std::collections::BTreeSet::new();
+        for (line, job) in lines.iter().zip(&jobs) {
+            let value: serde_json::Value = serde_json::from_str(line).unwrap();
+            assert_eq!(value["key"], job.key.as_str());
+            assert_eq!(value["method"], job.method.label.as_str());
+            assert_eq!(value["seed"], job.seed);
+            assert!(["task1", "robot"].contains(&value["task"].as_str().unwrap()));
+            keys.insert(job.key.to_string());
+            let run: Vec<String> = serde_json::from_value(value["run"].clone()).unwrap();
+            let cli =
+                crate::cli::Cli::try_parse_from(std::iter::once("xtask".to_owned()).chain(run))
+                    .unwrap();
+            let crate::cli::Command::RunJob(parsed) = cli.command else {
+                panic!("not a run-job command: {line}");
+            };
+            assert_eq!(parsed.key, job.key.as_str());
+            let expected = ReproduceArgs {
+                out: Some(ws.root.join("listed")),
+                ..small("listed")
+            };
+            assert_eq!(parsed.plan, expected);
+        }
+        assert_eq!(keys.len(), lines.len(), "keys are unique");
+    }
+
+    #[test]
+    fn an_interrupted_or_damaged_store_resumes_to_the_same_bytes() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
+        let copy = ws.root.join("resumed");
+        std::fs::create_dir_all(copy.join("runs")).unwrap();
+        let bundle = ws.root.join("whole/runs/task1.jsonl");
+        let text = std::fs::read_to_string(&bundle).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 4);
+        // As if killed mid-append: one run whole, one edited, one torn, one never written.
+        let edited = lines[1].replacen("\"steps\":", "\"steps\":1", 1);
+        let torn = &lines[2][..lines[2].len() / 2];
+        std::fs::write(
+            copy.join("runs/task1.jsonl"),
+            format!("{}\n{edited}\n{torn}", lines[0]),
+        )
+        .unwrap();
+        // What an earlier version left: results.json and a one-file-per-run store.
+        std::fs::write(copy.join("results.json"), "[]").unwrap();
+        let legacy = copy.join("runs").join(format!("{}.json", "ab".repeat(32)));
+        std::fs::write(&legacy, "{}").unwrap();
+        std::fs::write(copy.join("runs/notes.json"), "mine").unwrap();
+        reproduce_paper(&command(small("resumed"), RunModeArgs::default()), &ws).unwrap();
+        assert!(!legacy.exists());
+        // Only files of ours are removed.
+        assert_eq!(
+            std::fs::read(copy.join("runs/notes.json")).unwrap(),
+            b"mine"
+        );
+        std::fs::remove_file(copy.join("runs/notes.json")).unwrap();
+        assert_same_tree(&ws.root.join("whole"), &copy);
     }
 }

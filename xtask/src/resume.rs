@@ -1,6 +1,6 @@
-//! Resumable runs: each finished run is stored as `<out>/runs/<key>.json`, where the key is the
-//! BLAKE3 hash of the run's description (its config and seed) in canonical JSON. A restarted
-//! `reproduce-paper` computes the same keys, finds the finished runs and skips them.
+//! The identity of a run for resuming: the key is the BLAKE3 hash of the run's description (its
+//! config and seed) in canonical JSON. A restarted `reproduce-paper` computes the same keys,
+//! finds the finished runs in the run store ([`crate::store`]) and skips them.
 //!
 //! The description must contain everything the run's result depends on: the full config of the
 //! method and task, the seed, and a version of the code that computes it (e.g. the `eamadm`
@@ -12,47 +12,23 @@
 //! uninterrupted run's.
 
 use std::fmt;
-use std::path::{Path, PathBuf};
 
 use serde::Serialize;
-use serde::de::DeserializeOwned;
 use serde_json::Value;
 use thiserror::Error;
 
-use crate::atomic::{AtomicWriteError, write_atomic};
-
-/// A failure to hash, store or load a run.
+/// A run description that cannot be hashed.
 #[derive(Debug, Error)]
 pub(crate) enum ResumeError {
-    /// The description or the record could not be turned into JSON.
+    /// The description could not be turned into JSON.
     #[error("could not serialise the run {what}: {source}")]
     Serialize {
-        /// `"description"` or `"record"`.
+        /// `"description"`.
         what: &'static str,
         /// Why.
         #[source]
         source: serde_json::Error,
     },
-    /// A stored run file could not be read.
-    #[error("could not read {}: {source}", path.display())]
-    Read {
-        /// The run file.
-        path: PathBuf,
-        /// Why.
-        #[source]
-        source: std::io::Error,
-    },
-    /// A stored run file is not what [`RunStore::store`] writes.
-    #[error("{} is not a valid run file: {problem}", path.display())]
-    Corrupt {
-        /// The run file.
-        path: PathBuf,
-        /// What is wrong with it.
-        problem: String,
-    },
-    /// Writing a run file failed.
-    #[error(transparent)]
-    Write(#[from] AtomicWriteError),
 }
 
 /// The stable identity of one run: the lowercase hex BLAKE3 hash (64 characters) of its
@@ -68,6 +44,11 @@ impl RunKey {
         Ok(Self(
             blake3::hash(canonical.as_bytes()).to_hex().to_string(),
         ))
+    }
+
+    /// A key read from a run store line whose description was checked to hash to `hex`.
+    pub(crate) fn from_verified_hex(hex: String) -> Self {
+        Self(hex)
     }
 
     /// The hex digest.
@@ -127,106 +108,9 @@ fn write_canonical(value: &Value, out: &mut String) {
     }
 }
 
-/// Version of the run-file layout below; bump it when the layout changes.
-const RUN_FILE_FORMAT: u64 = 1;
-
-/// Finished runs under `<out>/runs/`, one JSON file per [`RunKey`]:
-/// `{"format": 1, "key": "<hex>", "description": …, "record": …}`. The description is kept so a
-/// reader can tell what the run was; the record is whatever the runner stores (e.g. its
-/// per-episode curves), read back with [`RunStore::load`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct RunStore {
-    folder: PathBuf,
-}
-
-impl RunStore {
-    /// The store of the output folder `out` (files in `out/runs/`; created on the first store).
-    pub(crate) fn new(out: &Path) -> Self {
-        Self {
-            folder: out.join("runs"),
-        }
-    }
-
-    /// The file of run `key`.
-    pub(crate) fn path(&self, key: &RunKey) -> PathBuf {
-        self.folder.join(format!("{key}.json"))
-    }
-
-    /// Whether run `key` has been stored. A file exists only once complete (writes are atomic).
-    pub(crate) fn is_done(&self, key: &RunKey) -> bool {
-        self.path(key).is_file()
-    }
-
-    /// Stores a finished run atomically, replacing any previous file of the same key.
-    pub(crate) fn store<D, R>(
-        &self,
-        key: &RunKey,
-        description: &D,
-        record: &R,
-    ) -> Result<(), ResumeError>
-    where
-        D: Serialize + ?Sized,
-        R: Serialize + ?Sized,
-    {
-        let as_value = |what, value: Result<Value, serde_json::Error>| {
-            value.map_err(|source| ResumeError::Serialize { what, source })
-        };
-        let file = serde_json::json!({
-            "format": RUN_FILE_FORMAT,
-            "key": key.as_str(),
-            "description": as_value("description", serde_json::to_value(description))?,
-            "record": as_value("record", serde_json::to_value(record))?,
-        });
-        let mut text =
-            serde_json::to_string_pretty(&file).map_err(|source| ResumeError::Serialize {
-                what: "record",
-                source,
-            })?;
-        text.push('\n');
-        write_atomic(&self.path(key), text.as_bytes())?;
-        Ok(())
-    }
-
-    /// Loads the record of run `key`: `Ok(None)` if it was never stored; an error naming the
-    /// file if it cannot be read or is not a run file of this key holding an `R`.
-    pub(crate) fn load<R: DeserializeOwned>(&self, key: &RunKey) -> Result<Option<R>, ResumeError> {
-        let path = self.path(key);
-        let text = match std::fs::read_to_string(&path) {
-            Ok(text) => text,
-            Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(source) => return Err(ResumeError::Read { path, source }),
-        };
-        let corrupt = |problem: String| ResumeError::Corrupt {
-            path: path.clone(),
-            problem,
-        };
-        let mut file: Value = serde_json::from_str(&text).map_err(|e| corrupt(e.to_string()))?;
-        let format = file.get("format").and_then(Value::as_u64);
-        if format != Some(RUN_FILE_FORMAT) {
-            return Err(corrupt(format!(
-                "format is {}, expected {RUN_FILE_FORMAT}",
-                file.get("format")
-                    .map_or("missing".to_owned(), Value::to_string)
-            )));
-        }
-        if file.get("key").and_then(Value::as_str) != Some(key.as_str()) {
-            return Err(corrupt(format!("it does not hold run {key}")));
-        }
-        let record = file
-            .get_mut("record")
-            .map(Value::take)
-            .ok_or_else(|| corrupt("the field `record` is missing".to_owned()))?;
-        serde_json::from_value(record)
-            .map(Some)
-            .map_err(|e| corrupt(format!("record: {e}")))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use std::collections::{BTreeMap, HashMap};
-
-    use serde::Deserialize;
 
     use super::*;
 
@@ -247,12 +131,6 @@ mod tests {
             episodes: 200,
             seed,
         }
-    }
-
-    #[derive(Debug, PartialEq, Serialize, Deserialize)]
-    struct Record {
-        steps: Vec<u32>,
-        returns: Vec<f64>,
     }
 
     #[test]
@@ -305,38 +183,14 @@ mod tests {
             r#"{"a":"s\"t","b":{"x":[2,{"p":4,"q":3}],"y":1}}"#
         );
     }
+}
 
-    #[test]
-    fn store_then_load_round_trips_and_marks_done() {
-        let dir = tempfile::tempdir().unwrap();
-        let store = RunStore::new(dir.path());
-        let key = RunKey::of(&description(3)).unwrap();
-        assert!(!store.is_done(&key));
-        assert_eq!(store.load::<Record>(&key).unwrap(), None);
-
-        let record = Record {
-            steps: vec![300, 120, 61],
-            returns: vec![-250.5, 40.0, 155.25],
-        };
-        store.store(&key, &description(3), &record).unwrap();
-        assert!(store.is_done(&key));
-        assert_eq!(
-            store.path(&key),
-            dir.path().join("runs").join(format!("{key}.json"))
-        );
-        assert_eq!(store.load::<Record>(&key).unwrap(), Some(record));
-        // Only the run file: no temporary left behind.
-        let names: Vec<_> = std::fs::read_dir(dir.path().join("runs"))
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect();
-        assert_eq!(names, vec![std::ffi::OsString::from(format!("{key}.json"))]);
-    }
-
+#[cfg(test)]
+mod float_tests {
     #[test]
     fn stored_floats_come_back_bit_for_bit() {
         // A resumed run must produce the same outputs as an uninterrupted one, so every f64 must
-        // survive the JSON round trip exactly (serde_json's `float_roundtrip` feature).
+        // survive the JSON round trip of the run store exactly (serde_json's `float_roundtrip`).
         let mut state = 0x9E37_79B9_7F4A_7C15_u64;
         let values: Vec<f64> = (0..20_000)
             .map(|_| {
@@ -348,11 +202,8 @@ mod tests {
             .filter(|v| v.is_finite())
             .chain([0.1, 1.0 / 3.0, -155.25, 5e-324, f64::MAX, f64::MIN_POSITIVE])
             .collect();
-        let dir = tempfile::tempdir().unwrap();
-        let store = RunStore::new(dir.path());
-        let key = RunKey::of(&"floats").unwrap();
-        store.store(&key, &"floats", &values).unwrap();
-        let loaded: Vec<f64> = store.load(&key).unwrap().unwrap();
+        let text = serde_json::to_vec(&values).unwrap();
+        let loaded: Vec<f64> = serde_json::from_slice(&text).unwrap();
         let differing = values
             .iter()
             .zip(&loaded)
@@ -365,32 +216,5 @@ mod tests {
             "{differing} of {} values changed",
             values.len()
         );
-    }
-
-    #[test]
-    fn bad_run_files_are_named() {
-        let dir = tempfile::tempdir().unwrap();
-        let store = RunStore::new(dir.path());
-        let key = RunKey::of(&description(1)).unwrap();
-        let other = RunKey::of(&description(2)).unwrap();
-        std::fs::create_dir_all(dir.path().join("runs")).unwrap();
-
-        std::fs::write(store.path(&key), "{ not json").unwrap();
-        let error = store.load::<Record>(&key).unwrap_err();
-        assert!(matches!(error, ResumeError::Corrupt { .. }));
-        assert!(
-            error.to_string().contains(&format!("{key}.json")),
-            "{error}"
-        );
-
-        // A file holding another run (e.g. copied by hand) is refused.
-        store.store(&other, &description(2), &vec![1, 2]).unwrap();
-        std::fs::copy(store.path(&other), store.path(&key)).unwrap();
-        let error = store.load::<Vec<u32>>(&key).unwrap_err();
-        assert!(error.to_string().contains("does not hold run"), "{error}");
-
-        // A record of the wrong shape is refused.
-        let error = store.load::<Record>(&other).unwrap_err();
-        assert!(error.to_string().contains("record:"), "{error}");
     }
 }

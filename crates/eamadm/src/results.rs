@@ -106,18 +106,53 @@ pub fn curve_rows(record: &RunRecord) -> impl Iterator<Item = CurveRow> + '_ {
 /// # Errors
 /// [`ResultsError::Csv`] when writing fails.
 pub fn write_curves_csv<W: Write>(records: &[RunRecord], writer: W) -> Result<(), ResultsError> {
-    let mut csv = csv::Writer::from_writer(writer);
+    let mut csv = CurvesCsv::new(writer);
     for record in records {
-        for row in curve_rows(record) {
-            csv.serialize(row)?;
+        csv.push(record)?;
+    }
+    csv.finish()
+}
+
+/// The curves table written run by run, so that a caller streaming records (one at a time from
+/// a run store) never holds them all; the bytes equal [`write_curves_csv`]'s over the same runs.
+pub struct CurvesCsv<W: Write> {
+    csv: csv::Writer<W>,
+    wrote_rows: bool,
+}
+
+impl<W: Write> CurvesCsv<W> {
+    /// A table writing to `writer`; nothing is written before the first run or [`Self::finish`].
+    pub fn new(writer: W) -> Self {
+        Self {
+            csv: csv::Writer::from_writer(writer),
+            wrote_rows: false,
         }
     }
-    if records.iter().all(|r| r.episodes.is_empty()) {
-        // No rows: still write the header, so the file opens as an empty table.
-        csv.write_record(CURVE_COLUMNS)?;
+
+    /// Appends the rows of one run, episode by episode.
+    ///
+    /// # Errors
+    /// [`ResultsError::Csv`] when writing fails.
+    pub fn push(&mut self, record: &RunRecord) -> Result<(), ResultsError> {
+        for row in curve_rows(record) {
+            self.csv.serialize(row)?;
+            self.wrote_rows = true;
+        }
+        Ok(())
     }
-    csv.flush().map_err(csv::Error::from)?;
-    Ok(())
+
+    /// Ends the table (a header alone when no run had an episode, so the file opens as an empty
+    /// table) and flushes it.
+    ///
+    /// # Errors
+    /// [`ResultsError::Csv`] when writing fails.
+    pub fn finish(mut self) -> Result<(), ResultsError> {
+        if !self.wrote_rows {
+            self.csv.write_record(CURVE_COLUMNS)?;
+        }
+        self.csv.flush().map_err(csv::Error::from)?;
+        Ok(())
+    }
 }
 
 /// The column names of the curves table, in order.
@@ -175,36 +210,72 @@ pub fn write_trajectories_csv<W: Write>(
     records: &[RunRecord],
     writer: W,
 ) -> Result<(), ResultsError> {
-    let mut csv = csv::Writer::from_writer(writer);
-    let mut wrote = false;
+    let mut csv = TrajectoriesCsv::new(writer);
     for record in records {
+        csv.push(record)?;
+    }
+    csv.finish()
+}
+
+/// The column names of the trajectories table, in order.
+pub const TRAJECTORY_COLUMNS: [&str; 10] = [
+    "experiment",
+    "method",
+    "seed",
+    "episode",
+    "greedy",
+    "t",
+    "state",
+    "action",
+    "x",
+    "y",
+];
+
+/// The trajectories table written run by run (see [`CurvesCsv`]); the bytes equal
+/// [`write_trajectories_csv`]'s over the same runs.
+pub struct TrajectoriesCsv<W: Write> {
+    csv: csv::Writer<W>,
+    wrote_rows: bool,
+}
+
+impl<W: Write> TrajectoriesCsv<W> {
+    /// A table writing to `writer`; nothing is written before the first run or [`Self::finish`].
+    pub fn new(writer: W) -> Self {
+        Self {
+            csv: csv::Writer::from_writer(writer),
+            wrote_rows: false,
+        }
+    }
+
+    /// Appends the rows of one run: its kept training trajectories, then its evaluation.
+    ///
+    /// # Errors
+    /// [`ResultsError::Csv`] when writing fails.
+    pub fn push(&mut self, record: &RunRecord) -> Result<(), ResultsError> {
         let all = record
             .trajectories
             .iter()
             .chain(std::iter::once(&record.evaluation_trajectory));
         for trajectory in all {
             for row in trajectory_rows(record, trajectory) {
-                csv.serialize(row)?;
-                wrote = true;
+                self.csv.serialize(row)?;
+                self.wrote_rows = true;
             }
         }
+        Ok(())
     }
-    if !wrote {
-        csv.write_record([
-            "experiment",
-            "method",
-            "seed",
-            "episode",
-            "greedy",
-            "t",
-            "state",
-            "action",
-            "x",
-            "y",
-        ])?;
+
+    /// Ends the table (a header alone when no run had a trajectory) and flushes it.
+    ///
+    /// # Errors
+    /// [`ResultsError::Csv`] when writing fails.
+    pub fn finish(mut self) -> Result<(), ResultsError> {
+        if !self.wrote_rows {
+            self.csv.write_record(TRAJECTORY_COLUMNS)?;
+        }
+        self.csv.flush().map_err(csv::Error::from)?;
+        Ok(())
     }
-    csv.flush().map_err(csv::Error::from)?;
-    Ok(())
 }
 
 fn trajectory_rows<'a>(
@@ -340,6 +411,40 @@ mod tests {
             "experiment,method,seed,episode,greedy,t,state,action,x,y\n\
              small,ea-madm,7,2,true,0,0,3,0.0,0.0\n\
              small,ea-madm,7,2,true,1,1,,1.0,0.0\n"
+        );
+    }
+
+    #[test]
+    fn streaming_tables_equal_the_whole_table_writers() {
+        let mut second = record();
+        second.seed = 8;
+        second.evaluation_trajectory.states.clear();
+        let records = vec![record(), second];
+        let mut whole = Vec::new();
+        write_curves_csv(&records, &mut whole).unwrap();
+        let mut streamed = Vec::new();
+        let mut csv = CurvesCsv::new(&mut streamed);
+        for record in &records {
+            csv.push(record).unwrap();
+        }
+        csv.finish().unwrap();
+        assert_eq!(streamed, whole);
+
+        let mut whole = Vec::new();
+        write_trajectories_csv(&records, &mut whole).unwrap();
+        let mut streamed = Vec::new();
+        let mut csv = TrajectoriesCsv::new(&mut streamed);
+        for record in &records {
+            csv.push(record).unwrap();
+        }
+        csv.finish().unwrap();
+        assert_eq!(streamed, whole);
+
+        let mut empty = Vec::new();
+        TrajectoriesCsv::new(&mut empty).finish().unwrap();
+        assert_eq!(
+            String::from_utf8(empty).unwrap().trim_end(),
+            TRAJECTORY_COLUMNS.join(",")
         );
     }
 

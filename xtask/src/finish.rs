@@ -1,0 +1,242 @@
+//! The outputs of a plan, made from run stores as a stream: one run at a time is read (in job
+//! order), written to the output's run store bundle and the CSV tables, and kept only in its
+//! compact form (per-episode curves, evaluation, sub-tasks; no training trajectories) for the
+//! figures and `REPORT.md`.
+//!
+//! `reproduce-paper` (unsharded, `--shard`, `--runs-only`) and `merge` all end here, so a merge
+//! of shards writes the bytes an unsharded run writes: the same runs, read in the same order, go
+//! through the same code. The bundles are rewritten in job order, so their bytes do not depend
+//! on which process, thread or shard ran a run, nor in which order runs completed.
+
+use std::io::Write as _;
+use std::path::Path;
+
+use eamadm::RunRecord;
+use eamadm::claims::ClaimOptions;
+use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
+use eamadm::scores::ScoresError;
+use thiserror::Error;
+
+use crate::atomic::{AtomicFile, AtomicWriteError};
+use crate::claims_report::{ClaimsReportError, Verdicts, write_claim_outputs};
+use crate::cli::KeepTrajectories;
+use crate::experiments::PlannedExperiment;
+use crate::jobs::Job;
+use crate::outputs::{OutputError, write_figures};
+use crate::store::{RunStore, StoreError, StoredRun};
+
+/// What to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Outputs {
+    /// Only the run store (`runs/<experiment>.jsonl`), compacted into job order: a shard's or
+    /// `--runs-only`'s output.
+    StoreOnly,
+    /// The run store, the CSV tables, the figures and `REPORT.md`.
+    Everything {
+        /// Whether the plan is a `--quick` smoke run (the report says so).
+        quick: bool,
+    },
+}
+
+/// Making the outputs failed.
+#[derive(Debug, Error)]
+pub(crate) enum FinishError {
+    /// Runs of the plan that no store holds.
+    #[error(
+        "{} of the plan's {total} runs are in none of the stores; run the missing shards (or \
+         `cargo xtask run-job --key KEY` with the plan's options) and merge again. Missing:\n{}",
+        missing.len(),
+        missing.join("\n")
+    )]
+    Missing {
+        /// One line per missing run: experiment, method, seed and key.
+        missing: Vec<String>,
+        /// The plan's number of runs.
+        total: usize,
+    },
+    /// Reading a store failed.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// A CSV table failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// Writing a file failed.
+    #[error(transparent)]
+    Write(#[from] AtomicWriteError),
+    /// A run's final scores could not be computed.
+    #[error("final-scores.csv: {0}")]
+    Scores(#[from] ScoresError),
+    /// The verdicts or their files failed.
+    #[error(transparent)]
+    Claims(#[from] ClaimsReportError),
+}
+
+/// The runs of `jobs` that none of `stores` holds (keeping `keep`'s trajectories), one line
+/// each, in job order.
+pub(crate) fn missing_runs(
+    experiments: &[PlannedExperiment],
+    jobs: &[Job<'_>],
+    stores: &[RunStore],
+    keep: KeepTrajectories,
+) -> Vec<String> {
+    jobs.iter()
+        .filter(|job| !stores.iter().any(|store| store.has(&job.key, keep)))
+        .map(|job| {
+            format!(
+                "  {} {} seed {} (key {})",
+                experiments[job.experiment].name, job.method.label, job.seed, job.key
+            )
+        })
+        .collect()
+}
+
+/// Removes what earlier versions wrote and this one replaces: `results.json` (every record, now
+/// in the store) and the one-file-per-run store `runs/<64 hex digits>.json` (format 1, whose
+/// runs carry no checksum; they are recomputed). Left in place they would sit beside the new
+/// outputs as a second, stale set.
+fn remove_legacy_files(out: &Path) -> Result<(), FinishError> {
+    let remove = |path: &Path| -> Result<(), FinishError> {
+        match std::fs::remove_file(path) {
+            Ok(()) => Ok(()),
+            Err(error) if error.kind() == std::io::ErrorKind::NotFound => Ok(()),
+            Err(source) => Err(FinishError::Write(AtomicWriteError {
+                path: path.to_path_buf(),
+                source,
+            })),
+        }
+    };
+    remove(&out.join("results.json"))?;
+    let Ok(entries) = std::fs::read_dir(out.join("runs")) else {
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let is_legacy_run = name
+            .strip_suffix(".json")
+            .is_some_and(|stem| stem.len() == 64 && stem.bytes().all(|b| b.is_ascii_hexdigit()));
+        if is_legacy_run {
+            remove(&entry.path())?;
+        }
+    }
+    Ok(())
+}
+
+/// Run `job` from the first store holding it.
+fn load(
+    stores: &[RunStore],
+    job: &Job<'_>,
+    keep: KeepTrajectories,
+) -> Result<Option<StoredRun>, StoreError> {
+    for store in stores {
+        if let Some(run) = store.load(&job.key, keep)? {
+            return Ok(Some(run));
+        }
+    }
+    Ok(None)
+}
+
+/// Writes `outputs` for `jobs` (in job order), reading every run from the first of `stores`
+/// that holds it: the run store bundles under `store_out/runs/`, everything else (CSV tables,
+/// figures, `final-scores.csv`, `claims.csv`, `REPORT.md`) under `out` (the staging folder
+/// that is swapped into the output folder whole). Fails listing every missing run before
+/// writing anything. Returns the number of runs written.
+pub(crate) fn write_outputs(
+    store_out: &Path,
+    out: &Path,
+    experiments: &[PlannedExperiment],
+    jobs: &[Job<'_>],
+    stores: &[RunStore],
+    keep: KeepTrajectories,
+    outputs: Outputs,
+) -> Result<usize, FinishError> {
+    let missing = missing_runs(experiments, jobs, stores, keep);
+    if !missing.is_empty() {
+        return Err(FinishError::Missing {
+            missing,
+            total: jobs.len(),
+        });
+    }
+    let runs_folder = store_out.join("runs");
+    let mut compact: Vec<Vec<RunRecord>> = Vec::with_capacity(experiments.len());
+    let mut figures = Vec::with_capacity(experiments.len());
+    for (index, planned) in experiments.iter().enumerate() {
+        let mut bundle = AtomicFile::create(&runs_folder.join(format!("{}.jsonl", planned.name)))?;
+        let everything = matches!(outputs, Outputs::Everything { .. });
+        let folder = out.join(&planned.name);
+        let mut tables = if everything {
+            Some((
+                AtomicFile::create(&folder.join("curves.csv"))?,
+                AtomicFile::create(&folder.join("trajectories.csv"))?,
+            ))
+        } else {
+            None
+        };
+        let mut records = Vec::new();
+        {
+            let mut csv = tables
+                .as_mut()
+                .map(|(curves, paths)| (CurvesCsv::new(curves), TrajectoriesCsv::new(paths)));
+            for job in jobs.iter().filter(|job| job.experiment == index) {
+                let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
+                    missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
+                    total: jobs.len(),
+                })?;
+                let line = run.line(&job.key, keep)?;
+                bundle.write_all(&line).map_err(|source| AtomicWriteError {
+                    path: bundle.path().to_path_buf(),
+                    source,
+                })?;
+                if let Some((curves, paths)) = csv.as_mut() {
+                    let table = |file: &str| {
+                        let file = format!("{}/{file}", planned.name);
+                        move |source: ResultsError| OutputError::Results { file, source }
+                    };
+                    curves.push(&run.record).map_err(table("curves.csv"))?;
+                    paths.push(&run.record).map_err(table("trajectories.csv"))?;
+                    // The figures and the report need the curves, the evaluation and the
+                    // sub-tasks, never the training trajectories.
+                    let mut record = run.record;
+                    record.trajectories = Vec::new();
+                    records.push(record);
+                }
+            }
+            if let Some((curves, paths)) = csv {
+                let table = |file: &str| {
+                    let file = format!("{}/{file}", planned.name);
+                    move |source: ResultsError| OutputError::Results { file, source }
+                };
+                curves.finish().map_err(table("curves.csv"))?;
+                paths.finish().map_err(table("trajectories.csv"))?;
+            }
+        }
+        bundle.commit()?;
+        if let Some((curves, paths)) = tables {
+            curves.commit()?;
+            paths.commit()?;
+            figures.push(write_figures(out, planned, &records)?);
+        }
+        compact.push(records);
+    }
+    remove_legacy_files(store_out)?;
+    if let Outputs::Everything { quick } = outputs {
+        let mut scores = Vec::new();
+        let mut behaviour = Vec::with_capacity(experiments.len());
+        for (planned, records) in experiments.iter().zip(&compact) {
+            scores.extend(eamadm::scores::final_scores(records, planned.config())?);
+            let mut section = String::new();
+            if matches!(planned.config().task, eamadm::TaskConfig::Robot { .. }) {
+                crate::robot_report::write_robot_behaviour(
+                    &mut section,
+                    records,
+                    planned.config().learner.gamma,
+                );
+            }
+            behaviour.push(section);
+        }
+        let verdicts =
+            Verdicts::compute(scores, &ClaimOptions::default()).map_err(ClaimsReportError::from)?;
+        write_claim_outputs(out, experiments, &figures, &behaviour, &verdicts, quick)?;
+    }
+    Ok(jobs.len())
+}
