@@ -49,6 +49,14 @@ pub(crate) fn json_to_toml(json_text: &str) -> PyResult<String> {
     toml::to_string(&table).map_err(|error| value_error("config", error))
 }
 
+/// The TOML text `toml_text` as JSON (for `paper_config(..., as_dict=True)`).
+#[pyfunction]
+pub(crate) fn toml_to_json(toml_text: &str) -> PyResult<String> {
+    let table: toml::Table =
+        toml::from_str(toml_text).map_err(|error| value_error("config", error))?;
+    serde_json::to_string(&table).map_err(|error| value_error("config", error))
+}
+
 /// Runs the experiment `toml_text`: every method in `methods` (labels; default all, in the
 /// config's order) with every seed in `seeds` (default the config's `base_seed + i`), on
 /// `threads` threads (default rayon's), with the GIL released. Returns

@@ -38,5 +38,6 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(experiment::paper_config_toml, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::check_config, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::json_to_toml, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::toml_to_json, module)?)?;
     Ok(())
 }
