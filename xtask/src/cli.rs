@@ -23,6 +23,9 @@ pub(crate) enum Command {
     ReproducePaper(ReproduceArgs),
     /// Regenerate fixtures/: maze layouts, robot scenario, reference trajectories and curves.
     RegenFixtures(RegenFixturesArgs),
+    /// Run every test: `cargo test --workspace`, then the Python package's pytest suite in
+    /// target/py-venv (made and filled from the package registry when missing).
+    Test,
 }
 
 /// Options of `reproduce-paper`.
@@ -110,6 +113,7 @@ mod tests {
         match parse(args).unwrap().command {
             Command::ReproducePaper(args) => args,
             Command::RegenFixtures(_) => panic!("parsed as regen-fixtures"),
+            Command::Test => panic!("parsed as test"),
         }
     }
 

@@ -3,6 +3,7 @@
 //! - `cargo xtask reproduce-paper [--seeds N] [--task T]... [--method M]... [--config FILE]
 //!   [--out DIR] [--quick]` reruns the paper's experiments and writes curves, figures and a report.
 //! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/`.
+//! - `cargo xtask test` runs the Rust tests and the Python package's pytest suite.
 //!
 //! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
@@ -10,7 +11,7 @@
 //! configs; [`reproduce`] drives a run: [`execute`] runs (resuming via [`resume`], showing
 //! [`progress`]), [`outputs`] writes CSV, JSON and figures ([`figures`]), [`paper_report`] writes
 //! `REPORT.md` (with [`report`]'s tables). [`fixtures`] regenerates and checks `fixtures/`,
-//! showing differences with [`text_diff`]. Every file goes through [`atomic`].
+//! showing differences with [`text_diff`]. [`test_all`] is the one test command. Every file goes through [`atomic`].
 
 use std::process::ExitCode;
 
@@ -29,6 +30,7 @@ mod progress;
 mod report;
 mod reproduce;
 mod resume;
+mod test_all;
 mod text_diff;
 
 use cli::{Cli, Command};
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
     let outcome = match cli.command {
         Command::ReproducePaper(args) => reproduce::reproduce_paper(&args, &workspace),
         Command::RegenFixtures(args) => fixtures::regen_fixtures(args.check, &workspace),
+        Command::Test => test_all::test_all(&workspace),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
