@@ -2,7 +2,7 @@
 //! on numpy arrays (`MazeVecCore`, Gymnasium's next-step autoreset).
 
 use eamadm::dql::Environment;
-use eamadm::mazes::{Maze, MazeEnv, Pos, Preset, SpecError, render_text};
+use eamadm::mazes::{Maze, MazeCursor, MazeEnv, Pos, Preset, SpecError, render_text};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -158,15 +158,16 @@ impl MazeCore {
     }
 }
 
-/// N copies of one maze task stepped together. After an episode ends, the next `step` resets
-/// that copy instead of stepping it (Gymnasium's `AutoresetMode.NEXT_STEP`): it returns the
-/// start state, reward 0, not terminated, not truncated, and ignores that copy's action.
+/// N copies of one maze task stepped together: one maze (its tables shared) and one
+/// [`MazeCursor`] per copy. After an episode ends, the next `step` resets that copy instead of
+/// stepping it (Gymnasium's `AutoresetMode.NEXT_STEP`): it returns the start state, reward 0,
+/// not terminated, not truncated, and ignores that copy's action.
 #[pyclass(module = "eamadm._native")]
 pub(crate) struct MazeVecCore {
-    envs: Vec<MazeEnv>,
+    env: MazeEnv,
+    cursors: Vec<MazeCursor>,
     /// Copy `i` ended its episode on the last step and resets on the next.
     needs_reset: Vec<bool>,
-    n_subtasks: usize,
 }
 
 /// The arrays of one vector step: states, rewards, terminated, truncated, sub-task rewards
@@ -179,6 +180,65 @@ type VecStep<'py> = (
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray2<i64>>,
 );
+
+/// One vector step's columns, filled copy by copy.
+struct Columns {
+    states: Vec<i64>,
+    rewards: Vec<f64>,
+    terminated: Vec<bool>,
+    truncated: Vec<bool>,
+    subtask: Vec<f64>,
+    positions: Vec<i64>,
+}
+
+impl Columns {
+    fn with_capacity(n: usize, n_subtasks: usize) -> Self {
+        Self {
+            states: Vec::with_capacity(n),
+            rewards: Vec::with_capacity(n),
+            terminated: Vec::with_capacity(n),
+            truncated: Vec::with_capacity(n),
+            subtask: Vec::with_capacity(n * n_subtasks),
+            positions: Vec::with_capacity(n * 2),
+        }
+    }
+
+    /// Appends one copy's row: its step and where its cursor now stands.
+    fn push(
+        &mut self,
+        env: &MazeEnv,
+        cursor: &MazeCursor,
+        reward: f64,
+        terminated: bool,
+        truncated: bool,
+    ) {
+        let state = cursor.state();
+        let width = env.maze().width();
+        self.states.push(state_i64(state));
+        self.rewards.push(reward);
+        self.terminated.push(terminated);
+        self.truncated.push(truncated);
+        self.subtask
+            .extend_from_slice(env.cursor_subtask_rewards(cursor));
+        self.positions.push(state_i64(state % width));
+        self.positions.push(state_i64(state / width));
+    }
+
+    fn into_arrays(self, py: Python<'_>, n_subtasks: usize) -> PyResult<VecStep<'_>> {
+        let n = self.states.len();
+        let shape_error = |error: numpy::ndarray::ShapeError| value_error("num_envs", error);
+        let subtask = Array2::from_shape_vec((n, n_subtasks), self.subtask).map_err(shape_error)?;
+        let positions = Array2::from_shape_vec((n, 2), self.positions).map_err(shape_error)?;
+        Ok((
+            self.states.into_pyarray(py),
+            self.rewards.into_pyarray(py),
+            self.terminated.into_pyarray(py),
+            self.truncated.into_pyarray(py),
+            subtask.into_pyarray(py),
+            positions.into_pyarray(py),
+        ))
+    }
+}
 
 #[pymethods]
 impl MazeVecCore {
@@ -196,44 +256,41 @@ impl MazeVecCore {
             return Err(value_error("num_envs", "expected at least 1, got 0"));
         }
         let env = build_env(task, map, rewards, step_cap)?;
-        let n_subtasks = env.n_subtasks();
         Ok(Self {
-            envs: vec![env; num_envs],
+            cursors: vec![env.start_cursor(); num_envs],
             needs_reset: vec![false; num_envs],
-            n_subtasks,
+            env,
         })
     }
 
     /// Number of copies.
     #[getter]
     fn num_envs(&self) -> usize {
-        self.envs.len()
+        self.cursors.len()
     }
 
     /// Number of states of one copy.
     #[getter]
     fn n_states(&self) -> usize {
-        self.envs.first().map_or(0, Environment::n_states)
+        self.env.n_states()
     }
 
     /// The sub-tasks' names.
     #[getter]
     fn subtask_names(&self) -> Vec<String> {
-        self.envs
-            .first()
-            .map(Environment::subtask_names)
-            .unwrap_or_default()
+        self.env.subtask_names()
     }
 
     /// Resets every copy; returns the arrays of a step (rewards 0, nothing ended).
     fn reset<'py>(&mut self, py: Python<'py>) -> PyResult<VecStep<'py>> {
-        let n = self.envs.len();
-        let mut states = Vec::with_capacity(n);
-        for env in &mut self.envs {
-            states.push(state_i64(env.reset(None)));
+        let n_subtasks = self.env.n_subtasks();
+        let mut columns = Columns::with_capacity(self.cursors.len(), n_subtasks);
+        for cursor in &mut self.cursors {
+            *cursor = self.env.start_cursor();
+            columns.push(&self.env, cursor, 0.0, false, false);
         }
         self.needs_reset.fill(false);
-        self.arrays(py, states, vec![0.0; n], vec![false; n], vec![false; n])
+        columns.into_arrays(py, n_subtasks)
     }
 
     /// Steps every copy with its action (`actions`: int64, one per copy, each in 0..4).
@@ -249,7 +306,7 @@ impl MazeVecCore {
         let actions = actions
             .as_slice()
             .map_err(|error| value_error("actions", error))?;
-        let n = self.envs.len();
+        let n = self.cursors.len();
         if actions.len() != n {
             return Err(value_error(
                 "actions",
@@ -262,73 +319,45 @@ impl MazeVecCore {
                 format!("expected actions in 0..4, got {bad}"),
             ));
         }
-        let mut states = Vec::with_capacity(n);
-        let mut rewards = Vec::with_capacity(n);
-        let mut terminated = Vec::with_capacity(n);
-        let mut truncated = Vec::with_capacity(n);
-        for ((env, needs_reset), &action) in
-            self.envs.iter_mut().zip(&mut self.needs_reset).zip(actions)
+        let n_subtasks = self.env.n_subtasks();
+        let mut columns = Columns::with_capacity(n, n_subtasks);
+        for ((cursor, needs_reset), &action) in self
+            .cursors
+            .iter_mut()
+            .zip(&mut self.needs_reset)
+            .zip(actions)
         {
             if *needs_reset {
                 *needs_reset = false;
-                states.push(state_i64(env.reset(None)));
-                rewards.push(0.0);
-                terminated.push(false);
-                truncated.push(false);
+                *cursor = self.env.start_cursor();
+                columns.push(&self.env, cursor, 0.0, false, false);
             } else {
                 // Checked above: 0 <= action < 4.
-                let step = env.step(action as usize);
+                let step = self.env.step_cursor(cursor, action as usize);
                 *needs_reset = step.terminated || step.truncated;
-                states.push(state_i64(step.next_state));
-                rewards.push(step.reward);
-                terminated.push(step.terminated);
-                truncated.push(step.truncated);
+                columns.push(
+                    &self.env,
+                    cursor,
+                    step.reward,
+                    step.terminated,
+                    step.truncated,
+                );
             }
         }
-        self.arrays(py, states, rewards, terminated, truncated)
+        columns.into_arrays(py, n_subtasks)
     }
 
     /// The maze as text with copy `index`'s agent marked.
     fn render(&self, index: usize) -> PyResult<String> {
-        let env = self.envs.get(index).ok_or_else(|| {
+        let cursor = self.cursors.get(index).ok_or_else(|| {
             value_error(
                 "index",
-                format!("expected a copy in 0..{}, got {index}", self.envs.len()),
+                format!("expected a copy in 0..{}, got {index}", self.cursors.len()),
             )
         })?;
-        Ok(render_text(env.maze(), &[env.position()]))
-    }
-}
-
-impl MazeVecCore {
-    /// Packs one step's columns, adding the sub-task rewards and positions of every copy.
-    fn arrays<'py>(
-        &self,
-        py: Python<'py>,
-        states: Vec<i64>,
-        rewards: Vec<f64>,
-        terminated: Vec<bool>,
-        truncated: Vec<bool>,
-    ) -> PyResult<VecStep<'py>> {
-        let n = self.envs.len();
-        let mut subtask = Vec::with_capacity(n * self.n_subtasks);
-        let mut positions = Vec::with_capacity(n * 2);
-        for env in &self.envs {
-            subtask.extend_from_slice(env.subtask_rewards());
-            let pos = env.position();
-            positions.push(state_i64(pos.x));
-            positions.push(state_i64(pos.y));
-        }
-        let shape_error = |error: numpy::ndarray::ShapeError| value_error("num_envs", error);
-        let subtask = Array2::from_shape_vec((n, self.n_subtasks), subtask).map_err(shape_error)?;
-        let positions = Array2::from_shape_vec((n, 2), positions).map_err(shape_error)?;
-        Ok((
-            states.into_pyarray(py),
-            rewards.into_pyarray(py),
-            terminated.into_pyarray(py),
-            truncated.into_pyarray(py),
-            subtask.into_pyarray(py),
-            positions.into_pyarray(py),
+        Ok(render_text(
+            self.env.maze(),
+            &[self.env.cursor_position(cursor)],
         ))
     }
 }
