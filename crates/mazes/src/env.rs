@@ -280,3 +280,32 @@ impl std::fmt::Debug for MazeEnv {
             .finish_non_exhaustive()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Preset;
+
+    /// An episode kept in a cursor walks exactly like the environment's own episode.
+    #[test]
+    fn a_cursor_steps_like_the_environment() {
+        let mut env = Preset::TaskI.env();
+        let shared = env.clone();
+        let mut cursor = shared.start_cursor();
+        env.reset(None);
+        for i in 0..500_usize {
+            let action = (i * 7 + i / 3) % N_ACTIONS;
+            let own = env.step(action);
+            let kept = shared.step_cursor(&mut cursor, action);
+            assert_eq!(own, kept);
+            assert_eq!(env.subtask_rewards(), shared.cursor_subtask_rewards(&cursor));
+            assert_eq!(env.position(), shared.cursor_position(&cursor));
+            assert_eq!(env.last_event(), shared.cursor_last_event(&cursor));
+            assert_eq!(env.steps(), cursor.steps());
+            if own.done() {
+                env.reset(None);
+                cursor = shared.start_cursor();
+            }
+        }
+    }
+}
