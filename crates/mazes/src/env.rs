@@ -298,7 +298,10 @@ mod tests {
             let own = env.step(action);
             let kept = shared.step_cursor(&mut cursor, action);
             assert_eq!(own, kept);
-            assert_eq!(env.subtask_rewards(), shared.cursor_subtask_rewards(&cursor));
+            assert_eq!(
+                env.subtask_rewards(),
+                shared.cursor_subtask_rewards(&cursor)
+            );
             assert_eq!(env.position(), shared.cursor_position(&cursor));
             assert_eq!(env.last_event(), shared.cursor_last_event(&cursor));
             assert_eq!(env.steps(), cursor.steps());
