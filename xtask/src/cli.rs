@@ -29,6 +29,9 @@ pub(crate) enum Command {
     /// Check the run stores of finished shards (or run-job folders) and write the outputs of
     /// the plan (the same options as the sharded runs) as one unsharded run would.
     Merge(MergeArgs),
+    /// Run every test: `cargo test --workspace`, then the Python package's pytest suite in
+    /// target/py-venv (made and filled from the package registry when missing).
+    Test,
 }
 
 /// What `reproduce-paper` does with its plan besides running it all and reporting.

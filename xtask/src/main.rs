@@ -8,6 +8,7 @@
 //! - `cargo xtask merge --out DIR [plan options] STORE...` checks shards' run stores and writes
 //!   the outputs an unsharded run writes.
 //! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/`.
+//! - `cargo xtask test` runs the Rust tests and the Python package's pytest suite.
 //!
 //! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
@@ -18,7 +19,8 @@
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with
 //! [`report`]'s tables and [`robot_report`]'s robot behaviour), all staged and swapped into the
 //! locked output folder by [`output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
-//! showing differences with [`text_diff`]. Every file goes through [`atomic`].
+//! showing differences with [`text_diff`]. [`test_all`] is the one test command. Every file
+//! goes through [`atomic`].
 
 use std::process::ExitCode;
 
@@ -42,6 +44,7 @@ mod reproduce;
 mod resume;
 mod robot_report;
 mod store;
+mod test_all;
 mod text_diff;
 
 use cli::{Cli, Command};
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
         Command::RegenFixtures(args) => fixtures::regen_fixtures(args.check, &workspace),
         Command::RunJob(args) => reproduce::run_job(&args, &workspace),
         Command::Merge(args) => reproduce::merge(&args, &workspace),
+        Command::Test => test_all::test_all(&workspace),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

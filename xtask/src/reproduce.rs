@@ -421,9 +421,17 @@ mod tests {
         let (_dir, ws) = workspace();
         write_config(&ws, "first.toml", "first");
         write_config(&ws, "second.toml", "second");
-        reproduce_paper(&command(args(Some("first.toml"), "out"), RunModeArgs::default()), &ws).unwrap();
+        reproduce_paper(
+            &command(args(Some("first.toml"), "out"), RunModeArgs::default()),
+            &ws,
+        )
+        .unwrap();
         assert!(ws.root.join("out/first/curves.csv").is_file());
-        reproduce_paper(&command(args(Some("second.toml"), "out"), RunModeArgs::default()), &ws).unwrap();
+        reproduce_paper(
+            &command(args(Some("second.toml"), "out"), RunModeArgs::default()),
+            &ws,
+        )
+        .unwrap();
         let out = ws.root.join("out");
         assert!(
             !out.join("first").exists(),
@@ -451,7 +459,11 @@ mod tests {
                 1,
             );
             std::fs::write(ws.root.join("bad.toml"), text).unwrap();
-            let failure = reproduce_paper(&command(args(Some("bad.toml"), "out/sub"), RunModeArgs::default()), &ws).unwrap_err();
+            let failure = reproduce_paper(
+                &command(args(Some("bad.toml"), "out/sub"), RunModeArgs::default()),
+                &ws,
+            )
+            .unwrap_err();
             assert_eq!(failure.exit_code, 2, "{name}: {}", failure.message);
             assert!(failure.message.contains("`name`"), "{}", failure.message);
             assert!(!ws.root.join("out").exists(), "{name}");
@@ -463,7 +475,11 @@ mod tests {
         let (_dir, ws) = workspace();
         write_config(&ws, "mine.toml", "mine");
         let held = OutputFolder::open(&ws.root.join("out"), false).unwrap();
-        let failure = reproduce_paper(&command(args(Some("mine.toml"), "out"), RunModeArgs::default()), &ws).unwrap_err();
+        let failure = reproduce_paper(
+            &command(args(Some("mine.toml"), "out"), RunModeArgs::default()),
+            &ws,
+        )
+        .unwrap_err();
         assert_eq!(failure.exit_code, 1);
         assert!(
             failure
@@ -474,7 +490,11 @@ mod tests {
         );
         assert!(!ws.root.join("out/REPORT.md").exists());
         drop(held);
-        reproduce_paper(&command(args(Some("mine.toml"), "out"), RunModeArgs::default()), &ws).unwrap();
+        reproduce_paper(
+            &command(args(Some("mine.toml"), "out"), RunModeArgs::default()),
+            &ws,
+        )
+        .unwrap();
     }
 
     /// Splits a line of a CSV without quoted fields (the claim and score tables have none).

@@ -44,10 +44,34 @@ pub struct MazeEnv {
     n_subtasks: usize,
     step_cap: u32,
     start: u32,
+    /// Where the current episode stands.
+    cursor: MazeCursor,
+}
+
+/// Where one episode of a maze stands: the agent's tile, the steps taken and the last step's
+/// event. [`MazeEnv`] keeps one for its own episode; a batch of episodes on the same maze (a
+/// vector environment) keeps one each and steps them with [`MazeEnv::step_cursor`], sharing
+/// the maze's tables instead of copying them per episode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MazeCursor {
     position: u32,
     steps: u32,
     /// Event index of the last step, or [`NO_EVENT`].
     last_event: u32,
+}
+
+impl MazeCursor {
+    /// The agent's state index (`y * width + x`).
+    #[must_use]
+    pub fn state(&self) -> usize {
+        self.position as usize
+    }
+
+    /// Steps taken in the episode.
+    #[must_use]
+    pub fn steps(&self) -> u32 {
+        self.steps
+    }
 }
 
 impl MazeEnv {
@@ -90,9 +114,11 @@ impl MazeEnv {
             n_subtasks: spec.subtasks.len(),
             step_cap: spec.step_cap,
             start,
-            position: start,
-            steps: 0,
-            last_event: NO_EVENT,
+            cursor: MazeCursor {
+                position: start,
+                steps: 0,
+                last_event: NO_EVENT,
+            },
             maze,
             spec,
         })
@@ -113,28 +139,80 @@ impl MazeEnv {
     /// The agent's tile.
     #[must_use]
     pub fn position(&self) -> Pos {
-        self.maze
-            .pos_of(self.position as usize)
-            .expect("the position is always a tile of the maze")
+        self.cursor_position(&self.cursor)
     }
 
     /// The agent's state index (`y * width + x`).
     #[must_use]
     pub fn state(&self) -> usize {
-        self.position as usize
+        self.cursor.state()
     }
 
     /// Steps taken in the current episode.
     #[must_use]
     pub fn steps(&self) -> u32 {
-        self.steps
+        self.cursor.steps
     }
 
     /// What the last step was (`None` before the first step of an episode). Counting
     /// [`Event::Bump`]s gives an episode's collisions.
     #[must_use]
     pub fn last_event(&self) -> Option<Event> {
-        Event::ALL.get(self.last_event as usize).copied()
+        self.cursor_last_event(&self.cursor)
+    }
+
+    /// A new episode's cursor: on the start tile, no step taken.
+    #[must_use]
+    pub fn start_cursor(&self) -> MazeCursor {
+        MazeCursor {
+            position: self.start,
+            steps: 0,
+            last_event: NO_EVENT,
+        }
+    }
+
+    /// One step of the episode `cursor` on this maze: what [`Environment::step`] does to the
+    /// environment's own episode (which it implements), for an episode kept outside.
+    ///
+    /// # Panics
+    ///
+    /// When `action >= 4` (a caller bug, as the trait allows).
+    #[inline]
+    pub fn step_cursor(&self, cursor: &mut MazeCursor, action: usize) -> Step {
+        let packed = self.transitions[cursor.position as usize][action];
+        let event = packed & EVENT_MASK;
+        cursor.position = packed >> EVENT_BITS;
+        cursor.last_event = event;
+        cursor.steps = cursor.steps.saturating_add(1);
+        let terminated = event == Event::Target as u32;
+        Step {
+            next_state: cursor.position as usize,
+            reward: self.task_rewards[event as usize],
+            terminated,
+            truncated: !terminated && cursor.steps >= self.step_cap,
+        }
+    }
+
+    /// The sub-task rewards of `cursor`'s last step (all zeros before its first).
+    #[inline]
+    #[must_use]
+    pub fn cursor_subtask_rewards(&self, cursor: &MazeCursor) -> &[f64] {
+        let start = cursor.last_event as usize * self.n_subtasks;
+        &self.subtask_rows[start..start + self.n_subtasks]
+    }
+
+    /// The tile of `cursor`'s agent.
+    #[must_use]
+    pub fn cursor_position(&self, cursor: &MazeCursor) -> Pos {
+        self.maze
+            .pos_of(cursor.position as usize)
+            .expect("the position is always a tile of the maze")
+    }
+
+    /// What `cursor`'s last step was (`None` before its first).
+    #[must_use]
+    pub fn cursor_last_event(&self, cursor: &MazeCursor) -> Option<Event> {
+        Event::ALL.get(cursor.last_event as usize).copied()
     }
 }
 
@@ -161,9 +239,7 @@ impl Environment for MazeEnv {
 
     /// Puts the agent on the start tile; `seed` is ignored (the task is deterministic).
     fn reset(&mut self, _seed: Option<u64>) -> usize {
-        self.position = self.start;
-        self.steps = 0;
-        self.last_event = NO_EVENT;
+        self.cursor = self.start_cursor();
         self.start as usize
     }
 
@@ -172,24 +248,15 @@ impl Environment for MazeEnv {
     /// When `action >= 4` (a caller bug, as the trait allows).
     #[inline]
     fn step(&mut self, action: usize) -> Step {
-        let packed = self.transitions[self.position as usize][action];
-        let event = packed & EVENT_MASK;
-        self.position = packed >> EVENT_BITS;
-        self.last_event = event;
-        self.steps = self.steps.saturating_add(1);
-        let terminated = event == Event::Target as u32;
-        Step {
-            next_state: self.position as usize,
-            reward: self.task_rewards[event as usize],
-            terminated,
-            truncated: !terminated && self.steps >= self.step_cap,
-        }
+        let mut cursor = self.cursor;
+        let step = self.step_cursor(&mut cursor, action);
+        self.cursor = cursor;
+        step
     }
 
     #[inline]
     fn subtask_rewards(&self) -> &[f64] {
-        let start = self.last_event as usize * self.n_subtasks;
-        &self.subtask_rows[start..start + self.n_subtasks]
+        self.cursor_subtask_rewards(&self.cursor)
     }
 
     /// `[x, y]`: the tile's column and row.
@@ -208,8 +275,40 @@ impl std::fmt::Debug for MazeEnv {
             .field("height", &self.maze.height())
             .field("spec", &self.spec)
             .field("position", &self.position())
-            .field("steps", &self.steps)
+            .field("steps", &self.cursor.steps)
             .field("last_event", &self.last_event())
             .finish_non_exhaustive()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Preset;
+
+    /// An episode kept in a cursor walks exactly like the environment's own episode.
+    #[test]
+    fn a_cursor_steps_like_the_environment() {
+        let mut env = Preset::TaskI.env();
+        let shared = env.clone();
+        let mut cursor = shared.start_cursor();
+        env.reset(None);
+        for i in 0..500_usize {
+            let action = (i * 7 + i / 3) % N_ACTIONS;
+            let own = env.step(action);
+            let kept = shared.step_cursor(&mut cursor, action);
+            assert_eq!(own, kept);
+            assert_eq!(
+                env.subtask_rewards(),
+                shared.cursor_subtask_rewards(&cursor)
+            );
+            assert_eq!(env.position(), shared.cursor_position(&cursor));
+            assert_eq!(env.last_event(), shared.cursor_last_event(&cursor));
+            assert_eq!(env.steps(), cursor.steps());
+            if own.done() {
+                env.reset(None);
+                cursor = shared.start_cursor();
+            }
+        }
     }
 }

@@ -150,7 +150,7 @@ mod render_svg;
 mod render_text;
 mod reward;
 
-pub use env::MazeEnv;
+pub use env::{MazeCursor, MazeEnv};
 pub use generate::{DEFAULT_MAX_ATTEMPTS, GeneratorParams, generate, generate_seeded};
 pub use geometry::{Action, N_ACTIONS, Pos};
 pub use map_text::{Marker, ParseError};

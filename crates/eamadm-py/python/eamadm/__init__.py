@@ -1,0 +1,50 @@
+"""EA-MADM from Python: the paper's tasks as Gymnasium environments and its experiments.
+
+Importing the package registers three Gymnasium ids:
+
+* ``eamadm/MazeTaskI-v0`` and ``eamadm/MazeTaskII-v0``: the 30 x 30 and 39 x 36 mazes of the
+  paper's Sec. VI.A (:class:`MazeEnv`; also as a native vector env, :class:`MazeVectorEnv`,
+  through ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``);
+* ``eamadm/Robot-v0``: the wheeled robot among obstacles of Sec. VI.B (:class:`RobotEnv`).
+
+:func:`run` runs an experiment config (the TOML schema of the Rust runner) on the Rust runner
+and :func:`paper_config` returns the paper's presets. Everything is computed by the Rust
+crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
+"""
+
+from __future__ import annotations
+
+import gymnasium
+
+from eamadm.envs import MazeEnv, RobotEnv
+from eamadm.experiment import Results, paper_config, run
+from eamadm.vector import MazeVectorEnv
+
+__all__ = ["MazeEnv", "MazeVectorEnv", "Results", "RobotEnv", "paper_config", "run"]
+
+#: The Gymnasium ids this package registers on import.
+ENV_IDS = ("eamadm/MazeTaskI-v0", "eamadm/MazeTaskII-v0", "eamadm/Robot-v0")
+
+
+def _register() -> None:
+    """Registers the three ids (once; re-importing is harmless)."""
+    registry = gymnasium.envs.registration.registry
+    if "eamadm/MazeTaskI-v0" not in registry:
+        gymnasium.register(
+            id="eamadm/MazeTaskI-v0",
+            entry_point="eamadm.envs:MazeEnv",
+            vector_entry_point="eamadm.vector:MazeVectorEnv",
+            kwargs={"task": "task1"},
+        )
+    if "eamadm/MazeTaskII-v0" not in registry:
+        gymnasium.register(
+            id="eamadm/MazeTaskII-v0",
+            entry_point="eamadm.envs:MazeEnv",
+            vector_entry_point="eamadm.vector:MazeVectorEnv",
+            kwargs={"task": "task2"},
+        )
+    if "eamadm/Robot-v0" not in registry:
+        gymnasium.register(id="eamadm/Robot-v0", entry_point="eamadm.envs:RobotEnv")
+
+
+_register()

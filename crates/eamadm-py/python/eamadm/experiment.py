@@ -1,0 +1,133 @@
+"""The paper's experiments from Python, computed by the Rust runner.
+
+A config is the Rust runner's TOML schema, given as text, as a dict of the same shape, or as
+a path to a ``.toml`` file. :func:`run` returns the same numbers ``cargo xtask reproduce-paper``
+writes to ``curves.csv`` for the same config and seeds, bit for bit.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+from typing import Any, Iterable, NamedTuple, Optional, Union
+
+from eamadm import _native
+
+Config = Union[str, dict, "os.PathLike[str]"]
+
+#: Episodes at the end of each run averaged into its final scores (as in the report).
+DEFAULT_FINAL_WINDOW = 20
+
+
+class Results(NamedTuple):
+    """What :func:`run` returns: two tables, each a pandas ``DataFrame`` (or a dict of
+    columns when pandas is missing or ``dataframe=False``)."""
+
+    #: One row per (run, episode): the columns of the Rust runner's ``curves.csv``.
+    curves: Any
+    #: One row per run: final-window means of steps, return, reached and collisions, the greedy
+    #: evaluation, and the step counts.
+    finals: Any
+
+
+def paper_config(name: str, *, as_dict: bool = False) -> Union[str, dict]:
+    """The paper's preset ``"task1"``, ``"task2"`` or ``"robot"`` (Tables 1 and 2) as TOML
+    text, or as a dict when ``as_dict`` is true."""
+    if not isinstance(name, str):
+        raise ValueError(f"name: expected a str, got {type(name).__name__}")
+    text = _native.paper_config_toml(name)
+    return json.loads(_native.toml_to_json(text)) if as_dict else text
+
+
+def config_toml(config: Config) -> str:
+    """The config as TOML text (a dict goes through the same parser as text)."""
+    if isinstance(config, dict):
+        try:
+            dumped = json.dumps(config)
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"config: not serialisable: {error}") from error
+        return _native.json_to_toml(dumped)
+    if isinstance(config, os.PathLike):
+        try:
+            return pathlib.Path(config).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as error:
+            raise ValueError(f"config: cannot read {os.fspath(config)!r}: {error}") from error
+    if isinstance(config, str):
+        return config
+    raise ValueError(
+        f"config: expected TOML text, a dict or a path, got {type(config).__name__}"
+    )
+
+
+def _seed_list(seeds: Optional[Iterable[int]]) -> Optional[list]:
+    if seeds is None:
+        return None
+    if isinstance(seeds, (str, bytes)) or not hasattr(seeds, "__iter__"):
+        raise ValueError(f"seeds: expected an iterable of ints, got {seeds!r}")
+    out = []
+    for seed in seeds:
+        if isinstance(seed, bool) or not hasattr(seed, "__index__"):
+            raise ValueError(f"seeds: expected ints, got {seed!r}")
+        seed = int(seed)
+        if not 0 <= seed < 2**64:
+            raise ValueError(f"seeds: expected ints in 0..2**64, got {seed}")
+        out.append(seed)
+    return out
+
+
+def _positive(value: Any, name: str) -> Optional[int]:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not hasattr(value, "__index__") or int(value) < 1:
+        raise ValueError(f"{name}: expected a positive int, got {value!r}")
+    return int(value)
+
+
+def run(
+    config: Config,
+    *,
+    seeds: Optional[Iterable[int]] = None,
+    methods: Optional[Iterable[str]] = None,
+    threads: Optional[int] = None,
+    window: int = DEFAULT_FINAL_WINDOW,
+    dataframe: bool = True,
+) -> Results:
+    """Runs ``config`` on the Rust runner, with Python's GIL released.
+
+    Args:
+        config: TOML text, a dict of the same schema, or a path to a TOML file.
+        seeds: the seeds to run (default: the config's ``base_seed + i`` for
+            ``i < seeds``), e.g. ``range(3)``.
+        methods: the labels of the methods to run (default: all, in the config's order).
+        threads: worker threads (default: one per core). Results do not depend on it.
+        window: training episodes at the end of each run averaged into its final scores.
+        dataframe: return pandas DataFrames when pandas is installed (``False``: dicts of
+            column lists).
+
+    Runs come in job order: method by method, seed by seed.
+    """
+    text = config_toml(config)
+    if methods is not None:
+        if isinstance(methods, str) or not hasattr(methods, "__iter__"):
+            raise ValueError(f"methods: expected an iterable of labels, got {methods!r}")
+        methods = list(methods)
+        if not all(isinstance(label, str) for label in methods):
+            raise ValueError(f"methods: expected str labels, got {methods!r}")
+    window_value = _positive(window, "window")
+    columns = _native.run_config(
+        text,
+        _seed_list(seeds),
+        methods,
+        _positive(threads, "threads"),
+        window_value if window_value is not None else DEFAULT_FINAL_WINDOW,
+    )
+    curves, finals = columns["curves"], columns["finals"]
+    if dataframe:
+        try:
+            import pandas
+        except ImportError:
+            pass
+        else:
+            return Results(pandas.DataFrame(curves), pandas.DataFrame(finals))
+    return Results(curves, finals)

@@ -1,0 +1,43 @@
+//! `eamadm._native`: the Rust half of the Python package `eamadm`.
+//!
+//! The paper's three tasks (the mazes of Task I and Task II, Sec. VI.A, and the wheeled robot
+//! of Sec. III and VI.B with its sub-task rewards, Eq. 6–8) as step-by-step cores that the
+//! Python classes in `python/eamadm/` wrap into Gymnasium environments; a vector core that
+//! steps N mazes in one call on numpy arrays; and the experiment runner (EA-MADM, Algorithm 2,
+//! with its decision of Eq. 13–16 and the standardised reward of Eq. 10–12, against the
+//! double-Q competitors of Eq. 9) with the GIL released.
+//!
+//! This layer is thin on purpose: every rule lives in the `eamadm` crates; here arguments are
+//! checked, Rust's typed errors become `ValueError`s that name the Python argument, and results
+//! become Python objects. Python users read the package's docs; from Python:
+//!
+//! ```python
+//! import gymnasium as gym
+//! import eamadm  # registers eamadm/MazeTaskI-v0, eamadm/MazeTaskII-v0, eamadm/Robot-v0
+//!
+//! env = gym.make("eamadm/MazeTaskI-v0")
+//! observation, info = env.reset(seed=0)
+//! observation, reward, terminated, truncated, info = env.step(3)
+//! print(info["subtask_rewards"], info["position"])
+//! ```
+
+mod error;
+mod experiment;
+mod maze;
+mod robot;
+
+use pyo3::prelude::*;
+
+/// The native module: the env cores, the vector core and the runner.
+#[pymodule]
+fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    module.add_class::<maze::MazeCore>()?;
+    module.add_class::<maze::MazeVecCore>()?;
+    module.add_class::<robot::RobotCore>()?;
+    module.add_function(wrap_pyfunction!(experiment::run_config, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::paper_config_toml, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::check_config, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::json_to_toml, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::toml_to_json, module)?)?;
+    Ok(())
+}

@@ -1,0 +1,66 @@
+"""The native vector env equals N single envs under Gymnasium's SyncVectorEnv, step by step."""
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.vector import AutoresetMode
+
+import eamadm
+
+SMALL_MAP = "S..#\n.#..\n...T\n"
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [{"map": SMALL_MAP, "step_cap": 7}, {"step_cap": 100}],
+    ids=["small-map-cap-7", "task1-cap-100"],
+)
+def test_vector_env_equals_sync_vector_env(kwargs):
+    n = 6
+    native = gym.make_vec(
+        "eamadm/MazeTaskI-v0", num_envs=n, vectorization_mode="vector_entry_point", **kwargs
+    )
+    sync = gym.make_vec("eamadm/MazeTaskI-v0", num_envs=n, vectorization_mode="sync", **kwargs)
+    assert native.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+    assert sync.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+    assert native.observation_space == sync.observation_space
+    assert native.action_space == sync.action_space
+    a_obs, a_info = native.reset(seed=3)
+    b_obs, b_info = sync.reset(seed=3)
+    np.testing.assert_array_equal(a_obs, b_obs)
+    rng = np.random.default_rng(0)
+    ends = 0
+    for _ in range(300):
+        actions = rng.integers(0, 4, size=n)
+        a = native.step(actions)
+        b = sync.step(actions)
+        for x, y in zip(a[:4], b[:4]):
+            np.testing.assert_array_equal(x, y)
+            assert x.dtype == y.dtype
+        for key in ("subtask_rewards", "position", "_subtask_rewards", "_position"):
+            np.testing.assert_array_equal(a[4][key], b[4][key])
+        ends += int(a[2].sum() + a[3].sum())
+    assert ends > 0, "the comparison must cover autoresets"
+
+
+def test_vector_env_bad_arguments():
+    with pytest.raises(ValueError, match="^num_envs: "):
+        eamadm.MazeVectorEnv(0)
+    with pytest.raises(ValueError, match="^step_cap: "):
+        eamadm.MazeVectorEnv(2, step_cap=0)
+    env = eamadm.MazeVectorEnv(3)
+    env.reset()
+    with pytest.raises(ValueError, match="^actions: "):
+        env.step(np.array([0, 1]))
+    with pytest.raises(ValueError, match="^actions: "):
+        env.step(np.array([0, 1, 4]))
+    with pytest.raises(ValueError, match="^actions: "):
+        env.step(["a", "b", "c"])
+
+
+def test_vector_render():
+    env = eamadm.MazeVectorEnv(2, map=SMALL_MAP, render_mode="ansi")
+    env.reset()
+    env.step(np.array([1, 3]))
+    first, second = env.render()
+    assert first != second
