@@ -1,7 +1,9 @@
 //! Experiments from Python: the paper's presets as TOML text, configs checked and converted,
 //! and runs on the Rust runner (GIL released) returned as column dicts.
 
-use eamadm::config::{PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML};
+use eamadm::config::{
+    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+};
 use eamadm::results::{CURVE_COLUMNS, curve_rows};
 use eamadm::summary::final_window_summary;
 use eamadm::{Experiment, RunRecord};
@@ -11,16 +13,20 @@ use rayon::prelude::*;
 
 use crate::error::value_error;
 
-/// The embedded paper preset `name` ("task1", "task2" or "robot") as TOML text.
+/// The embedded paper preset `name` ("task1", "task2", "robot" or "robot-paper-state") as TOML
+/// text.
 #[pyfunction]
 pub(crate) fn paper_config_toml(name: &str) -> PyResult<&'static str> {
     match name {
         "task1" => Ok(PAPER_TASK1_TOML),
         "task2" => Ok(PAPER_TASK2_TOML),
         "robot" => Ok(PAPER_ROBOT_TOML),
+        "robot-paper-state" => Ok(PAPER_ROBOT_PAPER_STATE_TOML),
         other => Err(value_error(
             "name",
-            format!("expected \"task1\", \"task2\" or \"robot\", got {other:?}"),
+            format!(
+                "expected \"task1\", \"task2\", \"robot\" or \"robot-paper-state\", got {other:?}"
+            ),
         )),
     }
 }

@@ -32,7 +32,7 @@ class Results(NamedTuple):
 
 
 def paper_config(name: str, *, as_dict: bool = False) -> Union[str, dict]:
-    """The paper's preset ``"task1"``, ``"task2"`` or ``"robot"`` (Tables 1 and 2) as TOML
+    """The paper's preset ``"task1"``, ``"task2"``, ``"robot"`` or ``"robot-paper-state"`` (Tables 1 and 2) as TOML
     text, or as a dict when ``as_dict`` is true."""
     if not isinstance(name, str):
         raise ValueError(f"name: expected a str, got {type(name).__name__}")
