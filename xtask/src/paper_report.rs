@@ -438,7 +438,7 @@ fn statement(
         )),
         _ => parts.push(format!("**{title}.** EA-MADM was not run.")),
     }
-    #[allow(clippy::cast_precision_loss)] // optimum far below 2^52
+    // optimum far below 2^52
     if let (Some(ea), Some(optimum), Some(paper)) = (ea, optimum, paper) {
         let ratio = ea.final_steps.mean / optimum as f64;
         parts.push(format!(

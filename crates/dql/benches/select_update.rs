@@ -6,7 +6,7 @@
 //! miss: the worst case) and a random walk on Task I's 30 × 30 grid (what an
 //! episode looks like: the successor is a neighbour and the next step's state).
 
-#![allow(clippy::unwrap_used)] // Benchmark set-up may unwrap.
+#![allow(clippy::unwrap_used, reason = "benchmark set-up may unwrap")]
 
 use std::hint::black_box;
 

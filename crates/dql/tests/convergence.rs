@@ -1,6 +1,9 @@
 //! Both learners reach the value-iteration Q* on a small deterministic MDP.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 mod common;
 

@@ -1,6 +1,9 @@
 //! The episode driver: reward signals, trajectories, caps, hooks and errors.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 mod common;
 

@@ -1,6 +1,9 @@
 //! Mathematical laws of the learners, the schedules and the policies.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 use dql::{
     Coin, DoubleQ, DoubleQParams, EpsilonGreedy, ExplorationPolicy, Greedy, Initialisation,

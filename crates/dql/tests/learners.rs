@@ -1,6 +1,9 @@
 //! Learner construction, accessors, behaviour values and persistence.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 use dql::{
     BehaviourValues, DoubleQ, DoubleQParams, DqlError, Initialisation, Learner, QLearning,

@@ -7,7 +7,10 @@
 //! so early in training it goes left far more often than ε-greedy exploration
 //! alone would. Double Q-learning's independent evaluation removes most of it.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 use dql::{
     DoubleQ, DoubleQParams, Environment, EpisodeOptions, EpsilonGreedy, Learner, QLearning,

@@ -1,7 +1,10 @@
 //! Value stability: fixed seeds give pinned sequences, so a change of numbers
 //! (from our code or a dependency bump) is caught.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 mod common;
 

@@ -2,7 +2,10 @@
 //! beside a field-less variant such as `{"kind": "zero"}`), the documented forms parse, and
 //! serialising gives exactly those forms back.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 use std::fmt::Debug;
 

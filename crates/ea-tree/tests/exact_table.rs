@@ -3,7 +3,10 @@
 //! Identical `(s, a)` samples merge into one cluster, so the table to compare with holds, per
 //! `(s, a)`, the *mean* of the inserted Q1 and Q2 and how many samples were inserted; a pair
 //! never inserted has no entry (the tree says "no prior experience").
-#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
+#![allow(
+    clippy::unwrap_used,
+    reason = "helpers outside #[test] fns unwrap too: tests may"
+)]
 
 mod common;
 
@@ -53,7 +56,6 @@ proptest! {
                         (None, None) => {}
                         (Some(answer), Some(&(q1, q2, n))) => {
                             prop_assert_eq!(answer.count, n);
-                            #[allow(clippy::cast_precision_loss)]
                             let n = n as f64;
                             prop_assert!(close(answer.q1, q1 / n), "q1 {} vs {}", answer.q1, q1 / n);
                             prop_assert!(close(answer.q2, q2 / n), "q2 {} vs {}", answer.q2, q2 / n);

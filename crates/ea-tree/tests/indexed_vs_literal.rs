@@ -1,7 +1,10 @@
 //! The indexed walk ends exactly where the literal walk of Fig. 4 ends: on every insert
 //! (so trees built either way are identical) and on every lookup, for random trees and
 //! thresholds.
-#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
+#![allow(
+    clippy::unwrap_used,
+    reason = "helpers outside #[test] fns unwrap too: tests may"
+)]
 
 mod common;
 

@@ -1,6 +1,9 @@
 //! Laws of the tree for any thresholds: centres are means, counts are member counts,
 //! re-inserting a sample adds no cluster, clusters never outnumber samples.
-#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
+#![allow(
+    clippy::unwrap_used,
+    reason = "helpers outside #[test] fns unwrap too: tests may"
+)]
 
 mod common;
 
@@ -31,7 +34,6 @@ proptest! {
         for (view, members) in tree.clusters().zip(&members) {
             let n = members.len() as u64;
             prop_assert_eq!(view.count(), n);
-            #[allow(clippy::cast_precision_loss)]
             let n_f = n as f64;
             let q1 = members.iter().map(|m| m.q1).sum::<f64>() / n_f;
             let q2 = members.iter().map(|m| m.q2).sum::<f64>() / n_f;

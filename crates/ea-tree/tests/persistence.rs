@@ -1,6 +1,9 @@
 //! Save/load: lossless round trips, atomic saves, and typed errors (never a panic) for
 //! truncated, corrupt and inconsistent input.
-#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
+#![allow(
+    clippy::unwrap_used,
+    reason = "helpers outside #[test] fns unwrap too: tests may"
+)]
 
 mod common;
 
@@ -58,7 +61,6 @@ proptest! {
     fn every_strict_prefix_of_a_file_is_an_error(cut in 0.0..1.0_f64) {
         let text = small_tree().to_json();
         let trimmed = text.trim_end();
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss, clippy::cast_precision_loss)]
         let at = (cut * trimmed.len() as f64) as usize;
         let result = EaTree::<WeightedJaccard>::from_json(&trimmed[..at]);
         prop_assert!(
@@ -70,7 +72,6 @@ proptest! {
     #[test]
     fn mutated_files_never_panic(position in 0.0..1.0_f64, byte in any::<u8>()) {
         let mut bytes = small_tree().to_json().into_bytes();
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss, clippy::cast_precision_loss)]
         let at = (position * bytes.len() as f64) as usize;
         bytes[at] = byte;
         if let Ok(text) = std::str::from_utf8(&bytes) {

@@ -1,5 +1,8 @@
 //! Snapshots of the text dump and the file format of small hand-built trees.
-#![allow(clippy::unwrap_used)] // Helpers outside #[test] fns unwrap too: tests may.
+#![allow(
+    clippy::unwrap_used,
+    reason = "helpers outside #[test] fns unwrap too: tests may"
+)]
 
 use ea_tree::{EaTree, EaTreeConfig, Sample};
 

@@ -5,7 +5,7 @@
 //! update). Also: one EA-MADM decision alone, and reading a state's prior experience from the
 //! precomputed table against looking it up in the trees at every step.
 
-#![allow(clippy::unwrap_used)] // Benchmark set-up may unwrap.
+#![allow(clippy::unwrap_used, reason = "benchmark set-up may unwrap")]
 
 use std::hint::black_box;
 

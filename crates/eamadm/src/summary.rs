@@ -297,7 +297,7 @@ pub fn summarise(records: &[RunRecord], window: usize) -> Result<Vec<MethodSumma
         .collect()
 }
 
-#[allow(clippy::cast_precision_loss)] // counts far below 2^52
+// counts far below 2^52
 fn summarise_method(
     experiment: &str,
     method: &str,

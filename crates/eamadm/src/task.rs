@@ -215,7 +215,7 @@ impl TaskEnv for MazeEnv {
             .states
             .iter()
             .map(|&state| {
-                #[allow(clippy::cast_precision_loss)] // maze sides are far below 2^52
+                // maze sides are far below 2^52
                 [(state % width) as f64, (state / width) as f64]
             })
             .collect()

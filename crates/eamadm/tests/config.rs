@@ -1,7 +1,10 @@
 //! Experiment configs: the embedded TOML files equal the named constructors; unknown keys and
 //! out-of-range values are rejected with messages naming them.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 use eamadm::config::{PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML};
 use eamadm::{ConfigError, Experiment, ExperimentConfig};

@@ -2,7 +2,10 @@
 //! deterministic whatever the thread count, the literal standardisation is a zero learning
 //! signal, and a short run's curve is pinned.
 
-#![allow(clippy::unwrap_used)] // Tests may unwrap: a failure is the test failing.
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
 
 mod common;
 
@@ -132,7 +135,6 @@ fn kept_trajectories_are_consistent() {
         assert_eq!(trajectory.states.len(), trajectory.actions.len() + 1);
         assert_eq!(trajectory.positions.len(), trajectory.states.len());
         let start = maze.start();
-        #[allow(clippy::cast_precision_loss)]
         let expected = [start.x as f64, start.y as f64];
         assert_eq!(trajectory.positions[0], expected);
     }

@@ -58,7 +58,7 @@ pub fn cross_sectional(rewards: &[f64], z_out: &mut [f64]) -> Result<f64, Reward
     }
     let (f1, f2) = power_of_two_scale(lo.abs().max(hi.abs()));
     let scaled = |r: f64| r * f1 * f2;
-    #[allow(clippy::cast_precision_loss)] // sub-task counts are far below 2^53
+    // sub-task counts are far below 2^53
     let m = rewards.len() as f64;
     // Two-pass mean with a correction pass: exact enough that equal deviations cancel.
     let rough_mean = rewards.iter().map(|&r| scaled(r)).sum::<f64>() / m;
@@ -88,7 +88,6 @@ pub fn cross_sectional(rewards: &[f64], z_out: &mut [f64]) -> Result<f64, Reward
 /// because the full factor can exceed the range of `f64` (for subnormal magnitudes).
 fn power_of_two_scale(magnitude: f64) -> (f64, f64) {
     // log2 of a finite positive f64 lies in [-1075, 1024].
-    #[allow(clippy::cast_possible_truncation)]
     let k = -(magnitude.log2().round() as i32);
     let half = k / 2;
     (2.0_f64.powi(half), 2.0_f64.powi(k - half))

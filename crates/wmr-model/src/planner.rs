@@ -53,7 +53,6 @@ impl Plan {
     /// Time the plan takes (s).
     #[must_use]
     pub fn duration(&self, control_period: f64) -> f64 {
-        #[allow(clippy::cast_precision_loss)]
         let steps = self.actions.len() as f64;
         steps * control_period
     }
@@ -93,7 +92,6 @@ pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan
         })
         .collect();
 
-    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
     let cells_along = |extent: f64| (extent / params.cell).ceil() as usize + 1;
     let (nx, ny) = (
         cells_along(scenario.arena.width),
@@ -109,7 +107,6 @@ pub fn shortest_plan(scenario: &Scenario, params: &PlannerParams) -> Option<Plan
         let t = pose.translation.vector;
         let turn = std::f64::consts::TAU;
         let h = pose.rotation.angle().rem_euclid(turn) / turn;
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (ix, iy, ih) = (
             ((t.x / params.cell) as usize).min(nx - 1),
             ((t.y / params.cell) as usize).min(ny - 1),

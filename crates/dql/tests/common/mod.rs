@@ -1,6 +1,10 @@
 //! Test-only environments shared by the integration tests.
 
-#![allow(dead_code, unreachable_pub)]
+#![allow(
+    dead_code,
+    unreachable_pub,
+    reason = "each test module uses part of these shared helpers"
+)]
 
 use dql::{Environment, Step};
 

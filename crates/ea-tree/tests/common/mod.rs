@@ -1,5 +1,10 @@
 //! Strategies and helpers shared by the integration tests.
-#![allow(dead_code, unreachable_pub, clippy::unwrap_used)]
+#![allow(
+    dead_code,
+    unreachable_pub,
+    clippy::unwrap_used,
+    reason = "each test module uses part of these shared helpers, and test helpers may unwrap"
+)]
 
 use ea_tree::{EaTree, EaTreeConfig, Sample, Similarity};
 use proptest::prelude::*;

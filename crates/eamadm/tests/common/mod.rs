@@ -1,6 +1,10 @@
 //! A small maze experiment that trains in milliseconds, shared by the integration tests.
 
-#![allow(dead_code, clippy::unwrap_used)] // Each test file uses part of this module.
+#![allow(
+    dead_code,
+    clippy::unwrap_used,
+    reason = "each test file uses part of this module"
+)]
 
 use eamadm::config::table1_learner;
 use eamadm::mazes::{GeneratorParams, Pos, Preset, generate_seeded};

@@ -1,6 +1,10 @@
 //! Shared proptest strategies: small random mazes.
 
-#![allow(dead_code, unreachable_pub)]
+#![allow(
+    dead_code,
+    unreachable_pub,
+    reason = "each test module uses part of these shared helpers"
+)]
 
 use mazes::{GeneratorParams, Maze, Pos, generate_seeded};
 use proptest::prelude::*;
