@@ -118,11 +118,52 @@ fn mismatched_tables_are_rejected() {
 }
 
 #[test]
-#[should_panic(expected = "action 2 out of range")]
-fn out_of_range_action_panics_instead_of_writing_the_other_estimator() {
+fn an_out_of_range_action_is_an_error_and_writes_neither_estimator() {
+    let mut learner = trained_double_q();
+    let before = learner.clone();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let error = learner
+        .try_update(0, 2, 1.0, 1, false, &mut rng)
+        .unwrap_err();
+    assert_eq!(
+        error,
+        DqlError::IndexOutOfRange {
+            argument: "action",
+            index: 2,
+            len: 2
+        }
+    );
+    assert_eq!(learner.q1_table(), before.q1_table());
+    assert_eq!(learner.q2_table(), before.q2_table());
+    assert_eq!(learner.update_counts(), before.update_counts());
+}
+
+#[test]
+fn out_of_range_states_are_errors_naming_the_argument() {
     let mut learner = trained_double_q();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    learner.update(0, 2, 1.0, 1, false, &mut rng);
+    let n_states = learner.n_states();
+    let error = learner
+        .try_update(n_states, 0, 1.0, 0, false, &mut rng)
+        .unwrap_err();
+    assert!(matches!(
+        error,
+        DqlError::IndexOutOfRange {
+            argument: "state",
+            ..
+        }
+    ));
+    let error = learner
+        .try_update(0, 0, 1.0, n_states, false, &mut rng)
+        .unwrap_err();
+    assert!(matches!(
+        error,
+        DqlError::IndexOutOfRange {
+            argument: "next_state",
+            ..
+        }
+    ));
+    learner.try_update(0, 1, 1.0, 1, false, &mut rng).unwrap();
 }
 
 #[test]

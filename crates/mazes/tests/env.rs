@@ -2,7 +2,7 @@
 
 mod common;
 
-use dql::Environment;
+use dql::{DqlError, Environment};
 use mazes::{
     Action, Event, Maze, MazeEnv, Pos, Preset, RewardScheme, SpecError, Subtask, TaskSpec,
 };
@@ -206,11 +206,21 @@ fn a_random_walk_is_truncated_at_2000_steps() {
 }
 
 #[test]
-#[should_panic(expected = "index out of bounds")]
-fn an_action_outside_the_range_panics() {
+fn an_action_outside_the_range_is_an_error_and_does_not_step() {
     let mut env = Preset::TaskI.env();
-    env.reset(None);
-    let _ = env.step(4);
+    let start = env.reset(None);
+    let error = env.try_step(4).unwrap_err();
+    assert_eq!(
+        error,
+        DqlError::IndexOutOfRange {
+            argument: "action",
+            index: 4,
+            len: 4
+        }
+    );
+    assert_eq!(env.steps(), 0);
+    assert_eq!(env.state(), start);
+    assert!(env.try_step(Action::Up.index()).is_ok());
 }
 
 #[test]
