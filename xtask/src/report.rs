@@ -168,7 +168,7 @@ pub(crate) fn format_mean_ci(summary: &SeedSummary) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use eamadm::summary::summarize;
+    use eamadm::summary::summarise_seeds;
 
     fn summary(mean: f64, half_width: Option<f64>) -> SeedSummary {
         SeedSummary {
@@ -200,7 +200,7 @@ mod tests {
 
     #[test]
     fn mean_ci_of_a_real_summary() {
-        let s = summarize(&[78.0, 82.0, 85.0, 79.0, 81.0]).unwrap();
+        let s = summarise_seeds(&[78.0, 82.0, 85.0, 79.0, 81.0]).unwrap();
         // mean 81, sd √7.5 ≈ 2.7386, half-width 2.776445 · 2.7386 / √5 ≈ 3.4004.
         assert_eq!(format_mean_ci(&s), "81.0 ± 3.4");
     }
