@@ -10,7 +10,7 @@ mod common;
 use common::TableMdp;
 use dql::{
     DoubleQ, DoubleQParams, EpisodeOptions, EpsilonGreedy, Learner, QLearning, QLearningParams,
-    QTable, TaskReward, run_episode,
+    QTable, TaskRewardSignal, run_episode,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -37,7 +37,7 @@ fn train<L: Learner>(learner: &mut L, env: &mut TableMdp, rng: &mut ChaCha8Rng, 
             env,
             learner,
             &mut policy,
-            &mut TaskReward,
+            &mut TaskRewardSignal,
             rng,
             &EpisodeOptions::new(episode),
         )
@@ -105,7 +105,7 @@ fn greedy_policy_after_training_is_optimal() {
         &mut env,
         &mut learner,
         &mut dql::Greedy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )

@@ -10,7 +10,7 @@ mod common;
 use common::TableMdp;
 use dql::{
     DoubleQ, DoubleQParams, DqlError, Environment, EpisodeOptions, ExplorationPolicy, Greedy,
-    Learner, RewardSignal, Step, SubtaskReward, TaskReward, run_episode,
+    Learner, RewardSignal, Step, SubtaskRewardSignal, TaskRewardSignal, run_episode,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -72,7 +72,7 @@ fn reports_task_return_steps_and_trajectory() {
         &mut env,
         &mut learner,
         &mut policy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )
@@ -121,7 +121,7 @@ fn subtask_signal_drives_learning_but_task_return_is_reported() {
         &mut env,
         &mut bumps,
         &mut policy,
-        &mut SubtaskReward(1),
+        &mut SubtaskRewardSignal(1),
         &mut rng,
         &options,
     )
@@ -140,7 +140,7 @@ fn subtask_signal_drives_learning_but_task_return_is_reported() {
         &mut env,
         &mut progress,
         &mut policy,
-        &mut SubtaskReward(0),
+        &mut SubtaskRewardSignal(0),
         &mut rng,
         &options,
     )
@@ -207,7 +207,7 @@ fn caps_truncate_and_learning_can_be_switched_off() {
         &mut env,
         &mut learner,
         &mut policy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &EpisodeOptions::new(0),
     )
@@ -227,7 +227,7 @@ fn caps_truncate_and_learning_can_be_switched_off() {
         &mut env,
         &mut learner,
         &mut policy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )
@@ -251,7 +251,7 @@ fn contract_violations_are_errors() {
         &mut env,
         &mut small,
         &mut Greedy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )
@@ -270,7 +270,7 @@ fn contract_violations_are_errors() {
         &mut env,
         &mut learner,
         &mut Greedy,
-        &mut SubtaskReward(2),
+        &mut SubtaskRewardSignal(2),
         &mut rng,
         &options,
     )
@@ -289,7 +289,7 @@ fn contract_violations_are_errors() {
         &mut env,
         &mut learner,
         &mut policy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )
@@ -328,7 +328,7 @@ fn contract_violations_are_errors() {
         &mut Broken,
         &mut learner,
         &mut policy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )
@@ -347,7 +347,7 @@ fn contract_violations_are_errors() {
         &mut Broken,
         &mut learner,
         &mut policy,
-        &mut TaskReward,
+        &mut TaskRewardSignal,
         &mut rng,
         &options,
     )

@@ -14,7 +14,7 @@
 
 use dql::{
     DoubleQ, DoubleQParams, Environment, EpisodeOptions, EpsilonGreedy, Learner, QLearning,
-    QLearningParams, Step, TaskReward, run_episode,
+    QLearningParams, Step, TaskRewardSignal, run_episode,
 };
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -95,7 +95,7 @@ fn left_fraction<L: Learner>(make: impl Fn(&mut ChaCha8Rng) -> L) -> f64 {
                 &mut env,
                 &mut learner,
                 &mut policy,
-                &mut TaskReward,
+                &mut TaskRewardSignal,
                 &mut rng,
                 &options,
             )

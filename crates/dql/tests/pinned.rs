@@ -13,7 +13,8 @@ use std::fmt::Write as _;
 use common::TableMdp;
 use dql::{
     DoubleQ, DoubleQParams, EpisodeOptions, EpsilonGreedy, ExplorationPolicy, Greedy,
-    Initialisation, Learner, QLearning, QLearningParams, QTable, Softmax, TaskReward, run_episode,
+    Initialisation, Learner, QLearning, QLearningParams, QTable, Softmax, TaskRewardSignal,
+    run_episode,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -45,8 +46,15 @@ fn train<L: Learner, P: ExplorationPolicy>(
     let mut out = String::new();
     for episode in 0..6 {
         let options = EpisodeOptions::new(episode).recording();
-        let outcome =
-            run_episode(&mut env, learner, policy, &mut TaskReward, rng, &options).unwrap();
+        let outcome = run_episode(
+            &mut env,
+            learner,
+            policy,
+            &mut TaskRewardSignal,
+            rng,
+            &options,
+        )
+        .unwrap();
         writeln!(
             out,
             "episode {episode}: parameter {:.6} steps {:>2} return {:>4} terminated {:<5} truncated {:<5} actions {:?}",

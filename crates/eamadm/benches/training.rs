@@ -12,7 +12,7 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use dql::{
     DoubleQ, Environment, EpisodeOptions, EpsilonGreedy, ExplorationPolicy, Learner, RewardSignal,
-    Schedule, TaskReward, run_episode,
+    Schedule, TaskRewardSignal, run_episode,
 };
 use eamadm::config::{table1_epsilon_decreasing, table1_learner};
 use eamadm::ea_tree::{EaTree, EaTreeConfig, TableEntry};
@@ -92,7 +92,13 @@ fn training(c: &mut Criterion) {
     let mut learner =
         DoubleQ::new(env.n_states(), env.n_actions(), table1_learner(), &mut rng).unwrap();
     let mut warm = EpsilonGreedy::new(table1_epsilon_decreasing()).unwrap();
-    warm_up(&mut env, &mut learner, &mut warm, &mut TaskReward, &mut rng);
+    warm_up(
+        &mut env,
+        &mut learner,
+        &mut warm,
+        &mut TaskRewardSignal,
+        &mut rng,
+    );
     let mut policy = EpsilonGreedy::constant(0.1).unwrap();
     group.bench_function("epsilon_greedy", |b| {
         b.iter(|| {
@@ -100,7 +106,7 @@ fn training(c: &mut Criterion) {
                 &mut env,
                 &mut learner,
                 &mut policy,
-                &mut TaskReward,
+                &mut TaskRewardSignal,
                 &mut rng,
                 STEPS,
             );

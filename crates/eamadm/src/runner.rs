@@ -3,7 +3,7 @@
 
 use dql::{
     DoubleQ, DqlError, EpisodeOptions, EpisodeOutcome, EpsilonGreedy, ExplorationPolicy, Greedy,
-    Learner, RewardSignal, Softmax, TaskReward, run_episode,
+    Learner, RewardSignal, Softmax, TaskRewardSignal, run_episode,
 };
 use rand::RngExt;
 use rayon::prelude::*;
@@ -223,13 +223,13 @@ fn run_on<E: TaskEnv>(
         }
         Method::EpsilonGreedy { epsilon } => {
             let mut policy = EpsilonGreedy::new(*epsilon)?;
-            let trained = session.train(&mut policy, &mut TaskReward, 0)?;
+            let trained = session.train(&mut policy, &mut TaskRewardSignal, 0)?;
             let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
             (Vec::new(), 0, trained, evaluation)
         }
         Method::Softmax { temperature } => {
             let mut policy = Softmax::new(*temperature)?;
-            let trained = session.train(&mut policy, &mut TaskReward, 0)?;
+            let trained = session.train(&mut policy, &mut TaskRewardSignal, 0)?;
             let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
             (Vec::new(), 0, trained, evaluation)
         }
@@ -321,7 +321,7 @@ impl<E: TaskEnv> Session<'_, E> {
             &mut self.env,
             &mut self.learner,
             policy,
-            &mut TaskReward,
+            &mut TaskRewardSignal,
             &mut rng,
             &options,
         )?;
