@@ -218,7 +218,7 @@ mod tests {
         let mut config = ExperimentConfig::paper_task1();
         config.task = TaskConfig::MazeFile {
             path: map.clone(),
-            rewards: eamadm::mazes::Preset::TaskI,
+            rewards: eamadm::mazes::Preset::Task1,
             step_cap: None,
         };
         let method = config.methods[1].clone();

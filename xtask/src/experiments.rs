@@ -231,7 +231,7 @@ mod tests {
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names, ["task1", "task2", "robot"]);
         assert!(planned.iter().all(|p| p.config().seeds == 2));
-        assert_eq!(planned[0].paper_maze, Some(Preset::TaskI));
+        assert_eq!(planned[0].paper_maze, Some(Preset::Task1));
         assert_eq!(planned[2].paper_maze, None);
     }
 

@@ -26,11 +26,11 @@ pub(crate) struct PaperNumbers {
 /// The paper's numbers for a maze preset.
 pub(crate) fn paper_numbers(preset: Preset) -> PaperNumbers {
     match preset {
-        Preset::TaskI => PaperNumbers {
+        Preset::Task1 => PaperNumbers {
             steps: 80.0,
             reward: 155.0,
         },
-        Preset::TaskII => PaperNumbers {
+        Preset::Task2 => PaperNumbers {
             steps: 86.0,
             reward: -71.0,
         },
@@ -619,14 +619,14 @@ mod tests {
     #[test]
     fn paper_numbers_are_the_papers() {
         assert_eq!(
-            paper_numbers(Preset::TaskI),
+            paper_numbers(Preset::Task1),
             PaperNumbers {
                 steps: 80.0,
                 reward: 155.0
             }
         );
         assert_eq!(
-            paper_numbers(Preset::TaskII),
+            paper_numbers(Preset::Task2),
             PaperNumbers {
                 steps: 86.0,
                 reward: -71.0

@@ -87,7 +87,7 @@ fn training(c: &mut Criterion) {
     let mut group = c.benchmark_group("task1_training_steps");
     group.throughput(Throughput::Elements(STEPS));
 
-    let mut env = Preset::TaskI.env();
+    let mut env = Preset::Task1.env();
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let mut learner =
         DoubleQ::new(env.n_states(), env.n_actions(), table1_learner(), &mut rng).unwrap();
@@ -142,7 +142,7 @@ fn training(c: &mut Criterion) {
 }
 
 fn decision(c: &mut Criterion) {
-    let env = Preset::TaskI.env();
+    let env = Preset::Task1.env();
     let (prior, trees) = prior_of(&env);
     let features: Vec<Vec<u32>> = (0..env.n_states()).map(|s| env.state_features(s)).collect();
     let states: Vec<usize> = (0..env.n_states()).step_by(7).collect();

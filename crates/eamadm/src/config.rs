@@ -663,14 +663,14 @@ impl ExperimentConfig {
     /// α = 0.1, γ = 0.95, and [`paper_methods`]. Equal to [`PAPER_TASK1_TOML`] parsed.
     #[must_use]
     pub fn paper_task1() -> Self {
-        Self::paper_maze("task1", Preset::TaskI)
+        Self::paper_maze("task1", Preset::Task1)
     }
 
     /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise
     /// as [`paper_task1`](Self::paper_task1). Equal to [`PAPER_TASK2_TOML`] parsed.
     #[must_use]
     pub fn paper_task2() -> Self {
-        Self::paper_maze("task2", Preset::TaskII)
+        Self::paper_maze("task2", Preset::Task2)
     }
 
     /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
@@ -685,7 +685,7 @@ impl ExperimentConfig {
                 scenario: DEFAULT_SCENARIO.to_owned(),
                 step_cap: None,
             },
-            ..Self::paper_maze("robot", Preset::TaskI)
+            ..Self::paper_maze("robot", Preset::Task1)
         }
     }
 

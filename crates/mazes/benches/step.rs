@@ -12,7 +12,7 @@ use rand_chacha::ChaCha8Rng;
 const STEPS: usize = 1 << 16;
 
 fn task_i_steps(c: &mut Criterion) {
-    let mut env = Preset::TaskI.env();
+    let mut env = Preset::Task1.env();
     env.reset(None);
     // A random walk, drawn up front so the benchmark measures the environment, not the RNG.
     let mut rng = ChaCha8Rng::seed_from_u64(0);

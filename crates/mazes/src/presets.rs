@@ -2,8 +2,8 @@
 //!
 //! | preset | size | obstacles | start | target | seed |
 //! |---|---|---|---|---|---|
-//! | [`Preset::TaskI`] | 30 × 30 | 100 (paper) | (0, 0) top-left | (29, 29) bottom-right | 1 |
-//! | [`Preset::TaskII`] | 39 × 36 | 156 | (0, 0) top-left | (38, 35) bottom-right | 2 |
+//! | [`Preset::Task1`] | 30 × 30 | 100 (paper) | (0, 0) top-left | (29, 29) bottom-right | 1 |
+//! | [`Preset::Task2`] | 39 × 36 | 156 | (0, 0) top-left | (38, 35) bottom-right | 2 |
 //!
 //! The paper gives Task II's size but no obstacle count; 156 keeps Task I's density
 //! (100 / 900 = 1/9 of the tiles, and 39 · 36 / 9 = 156 exactly). The paper's layouts are
@@ -31,22 +31,22 @@ pub const FIXTURE_DIR: &str = "fixtures/mazes";
 pub enum Preset {
     /// Task I: 30 × 30 tiles, 100 obstacles, the ±1 / −100 / +100 reward.
     #[serde(rename = "task1")]
-    TaskI,
+    Task1,
     /// Task II: 39 × 36 tiles, 156 obstacles, the −1 / +10 reward.
     #[serde(rename = "task2")]
-    TaskII,
+    Task2,
 }
 
 impl Preset {
     /// Both presets, Task I first.
-    pub const ALL: [Self; 2] = [Self::TaskI, Self::TaskII];
+    pub const ALL: [Self; 2] = [Self::Task1, Self::Task2];
 
     /// Short identifier: `"task1"` or `"task2"` (also the serde form).
     #[must_use]
     pub const fn id(self) -> &'static str {
         match self {
-            Self::TaskI => "task1",
-            Self::TaskII => "task2",
+            Self::Task1 => "task1",
+            Self::Task2 => "task2",
         }
     }
 
@@ -54,8 +54,8 @@ impl Preset {
     #[must_use]
     pub const fn title(self) -> &'static str {
         match self {
-            Self::TaskI => "Task I",
-            Self::TaskII => "Task II",
+            Self::Task1 => "Task I",
+            Self::Task2 => "Task II",
         }
     }
 
@@ -63,8 +63,8 @@ impl Preset {
     #[must_use]
     pub const fn seed(self) -> u64 {
         match self {
-            Self::TaskI => 1,
-            Self::TaskII => 2,
+            Self::Task1 => 1,
+            Self::Task2 => 2,
         }
     }
 
@@ -72,8 +72,8 @@ impl Preset {
     #[must_use]
     pub const fn generator_params(self) -> GeneratorParams {
         let (width, height, obstacles) = match self {
-            Self::TaskI => (30, 30, 100),
-            Self::TaskII => (39, 36, 156),
+            Self::Task1 => (30, 30, 100),
+            Self::Task2 => (39, 36, 156),
         };
         GeneratorParams {
             width,
@@ -89,8 +89,8 @@ impl Preset {
     #[must_use]
     pub fn task_spec(self) -> TaskSpec {
         match self {
-            Self::TaskI => TaskSpec::task_i(),
-            Self::TaskII => TaskSpec::task_ii(),
+            Self::Task1 => TaskSpec::task1(),
+            Self::Task2 => TaskSpec::task2(),
         }
     }
 
@@ -111,8 +111,8 @@ impl Preset {
     #[must_use]
     pub const fn fixture_file_name(self) -> &'static str {
         match self {
-            Self::TaskI => "task1.map",
-            Self::TaskII => "task2.map",
+            Self::Task1 => "task1.map",
+            Self::Task2 => "task2.map",
         }
     }
 

@@ -69,7 +69,7 @@ proptest! {
         maze in common::small_maze(8),
         actions in prop::collection::vec(0usize..4, 1..200),
     ) {
-        let mut env = MazeEnv::new(maze.clone(), TaskSpec::task_i()).unwrap();
+        let mut env = MazeEnv::new(maze.clone(), TaskSpec::task1()).unwrap();
         env.reset(None);
         for action in actions {
             let before = env.position();
@@ -142,8 +142,8 @@ proptest! {
 }
 
 #[test]
-fn the_dql_contract_on_task_i() {
-    let mut env = Preset::TaskI.env();
+fn the_dql_contract_on_task1() {
+    let mut env = Preset::Task1.env();
     assert_eq!(env.n_states(), 900);
     assert_eq!(env.n_actions(), 4);
     assert_eq!(env.n_subtasks(), 2);
@@ -185,7 +185,7 @@ fn the_dql_contract_on_task_i() {
 
 #[test]
 fn task_ii_pays_minus_one_for_a_bump() {
-    let mut env = Preset::TaskII.env();
+    let mut env = Preset::Task2.env();
     env.reset(None);
     let step = env.step(Action::Left.index());
     assert_eq!(env.last_event(), Some(Event::Bump));
@@ -196,7 +196,7 @@ fn task_ii_pays_minus_one_for_a_bump() {
 #[test]
 fn a_random_walk_is_truncated_at_2000_steps() {
     // Bumping the wall forever never reaches the target.
-    let mut env = Preset::TaskI.env();
+    let mut env = Preset::Task1.env();
     env.reset(None);
     for taken in 1..=2000 {
         let step = env.step(Action::Up.index());
@@ -207,7 +207,7 @@ fn a_random_walk_is_truncated_at_2000_steps() {
 
 #[test]
 fn an_action_outside_the_range_is_an_error_and_does_not_step() {
-    let mut env = Preset::TaskI.env();
+    let mut env = Preset::Task1.env();
     let start = env.reset(None);
     let error = env.try_step(4).unwrap_err();
     assert_eq!(
@@ -226,7 +226,7 @@ fn an_action_outside_the_range_is_an_error_and_does_not_step() {
 #[test]
 fn invalid_specs_are_typed_errors() {
     let maze = Maze::parse("ST\n").unwrap();
-    let mut spec = TaskSpec::task_i();
+    let mut spec = TaskSpec::task1();
     spec.subtasks[1].reward.bump = f64::NAN;
     let error = MazeEnv::new(maze.clone(), spec).unwrap_err();
     assert!(matches!(
@@ -238,7 +238,7 @@ fn invalid_specs_are_typed_errors() {
         "`subtasks[1].reward.bump` must be a finite number, got NaN"
     );
 
-    let mut spec = TaskSpec::task_ii();
+    let mut spec = TaskSpec::task2();
     spec.reward.target = f64::INFINITY;
     assert_eq!(
         MazeEnv::new(maze.clone(), spec).unwrap_err().to_string(),
@@ -247,21 +247,21 @@ fn invalid_specs_are_typed_errors() {
 
     let spec = TaskSpec {
         step_cap: 0,
-        ..TaskSpec::task_i()
+        ..TaskSpec::task1()
     };
     assert_eq!(
         MazeEnv::new(maze.clone(), spec).unwrap_err(),
         SpecError::ZeroStepCap
     );
 
-    let mut spec = TaskSpec::task_i();
+    let mut spec = TaskSpec::task1();
     spec.subtasks[0].name = "  ".to_owned();
     assert_eq!(
         MazeEnv::new(maze.clone(), spec).unwrap_err(),
         SpecError::EmptySubtaskName { index: 0 }
     );
 
-    let mut spec = TaskSpec::task_i();
+    let mut spec = TaskSpec::task1();
     spec.subtasks[1].name = spec.subtasks[0].name.clone();
     assert_eq!(
         MazeEnv::new(maze, spec).unwrap_err().to_string(),
@@ -271,9 +271,9 @@ fn invalid_specs_are_typed_errors() {
 
 #[test]
 fn specs_round_trip_through_serde() {
-    for spec in [TaskSpec::task_i(), TaskSpec::task_ii()] {
+    for spec in [TaskSpec::task1(), TaskSpec::task2()] {
         let json = serde_json::to_string(&spec).unwrap();
         assert_eq!(serde_json::from_str::<TaskSpec>(&json).unwrap(), spec);
     }
-    insta::assert_snapshot!(serde_json::to_string_pretty(&TaskSpec::task_i()).unwrap());
+    insta::assert_snapshot!(serde_json::to_string_pretty(&TaskSpec::task1()).unwrap());
 }

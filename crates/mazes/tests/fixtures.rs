@@ -35,32 +35,32 @@ fn the_committed_maps_parse_to_the_presets() {
 
 #[test]
 fn the_presets_are_the_papers_tasks() {
-    let task_i = Preset::TaskI.maze();
-    assert_eq!((task_i.width(), task_i.height()), (30, 30));
-    assert_eq!(task_i.obstacle_count(), 100);
+    let task1 = Preset::Task1.maze();
+    assert_eq!((task1.width(), task1.height()), (30, 30));
+    assert_eq!(task1.obstacle_count(), 100);
     assert_eq!(
-        (task_i.start(), task_i.target()),
+        (task1.start(), task1.target()),
         (Pos::new(0, 0), Pos::new(29, 29))
     );
 
-    let task_ii = Preset::TaskII.maze();
-    assert_eq!((task_ii.width(), task_ii.height()), (39, 36));
-    assert_eq!(task_ii.obstacle_count(), 156);
+    let task2 = Preset::Task2.maze();
+    assert_eq!((task2.width(), task2.height()), (39, 36));
+    assert_eq!(task2.obstacle_count(), 156);
     assert_eq!(
-        (task_ii.start(), task_ii.target()),
+        (task2.start(), task2.target()),
         (Pos::new(0, 0), Pos::new(38, 35))
     );
     // Same density as Task I: one obstacle in nine tiles.
-    assert_eq!(task_ii.obstacle_count() * 9, task_ii.n_tiles());
+    assert_eq!(task2.obstacle_count() * 9, task2.n_tiles());
 
-    assert_eq!(Preset::TaskI.task_spec(), mazes::TaskSpec::task_i());
-    assert_eq!(Preset::TaskII.task_spec(), mazes::TaskSpec::task_ii());
+    assert_eq!(Preset::Task1.task_spec(), mazes::TaskSpec::task1());
+    assert_eq!(Preset::Task2.task_spec(), mazes::TaskSpec::task2());
     assert_eq!(
-        Preset::TaskI.fixture_path(),
+        Preset::Task1.fixture_path(),
         format!("{FIXTURE_DIR}/task1.map")
     );
     assert_eq!(
-        Preset::TaskII.fixture_path(),
+        Preset::Task2.fixture_path(),
         format!("{FIXTURE_DIR}/task2.map")
     );
     assert_eq!(

@@ -36,7 +36,7 @@ pub(crate) fn small_config(episodes: u64, seeds: u32) -> ExperimentConfig {
         name: "small".to_owned(),
         task: TaskConfig::MazeText {
             map: small_map(),
-            rewards: Preset::TaskI,
+            rewards: Preset::Task1,
             step_cap: Some(300),
         },
         episodes,
