@@ -427,15 +427,11 @@ fn decider_rejects_bad_matrices() {
     let mut out = [0.0; 2];
     assert_eq!(
         d.evaluate(&[], 0, 2, &mut []),
-        Err(MadmError::Empty {
-            what: "decision matrix (rows)"
-        })
+        Err(MadmError::EmptyMatrix { rows: 0, cols: 2 })
     );
     assert_eq!(
         d.evaluate(&[], 2, 0, &mut out),
-        Err(MadmError::Empty {
-            what: "decision matrix (columns)"
-        })
+        Err(MadmError::EmptyMatrix { rows: 2, cols: 0 })
     );
     assert_eq!(
         d.evaluate(&[1.0; 5], 2, 3, &mut out),
