@@ -1,5 +1,6 @@
 //! Environment steps per second on the Task I maze (target: ≥ 100 M steps/s on one core).
 
+use eamadm::{dql, mazes};
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};

@@ -7,6 +7,7 @@
 
 #![allow(clippy::unwrap_used, reason = "benchmark set-up may unwrap")]
 
+use eamadm::{dql, madm_owa};
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};

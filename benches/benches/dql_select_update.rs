@@ -8,6 +8,7 @@
 
 #![allow(clippy::unwrap_used, reason = "benchmark set-up may unwrap")]
 
+use eamadm::dql;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};

@@ -1,6 +1,7 @@
 //! Speed of one full MADM decision on the robot task's shape: 5 actions x 4 attributes
 //! (3 sub-task values and the source task's own). Target: at most 200 ns per decision.
 
+use eamadm::madm_owa;
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};

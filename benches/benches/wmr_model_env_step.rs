@@ -1,5 +1,6 @@
 //! Environment steps per second in the default scenario (8 ray casts, camera, rewards, state).
 
+use eamadm::{dql, wmr_model};
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};

@@ -9,6 +9,7 @@
     reason = "benchmark set-up may unwrap, and criterion's generated main has no docs"
 )]
 
+use eamadm::ea_tree;
 use std::collections::HashMap;
 use std::hint::black_box;
 
