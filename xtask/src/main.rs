@@ -30,6 +30,8 @@ mod report;
 mod reproduce;
 mod resume;
 mod text_diff;
+#[cfg(test)]
+mod tidy;
 
 use cli::{Cli, Command};
 use plan::Workspace;
