@@ -42,8 +42,7 @@ impl TreeStats {
         if self.clusters == 0 {
             0.0
         } else {
-            let per = self.bytes() as f64 / self.clusters as f64;
-            per
+            self.bytes() as f64 / self.clusters as f64
         }
     }
 }
