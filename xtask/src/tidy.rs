@@ -361,6 +361,30 @@ fn check_lib_docs(path: &str, text: &str) -> Vec<Violation> {
     found
 }
 
+/// Rule `one-test-binary`: integration tests are modules of `tests/it/main.rs`; a file
+/// directly in a crate's `tests/` would be one more test binary to compile and link.
+fn check_test_layout(path: &str) -> Vec<Violation> {
+    let parts: Vec<&str> = path.split('/').collect();
+    let loose = parts.len() == 4 && matches!(parts[0], "crates" | "xtask") && parts[2] == "tests"
+        || parts.len() == 3 && parts[0] == "xtask" && parts[1] == "tests";
+    if loose && path.ends_with(".rs") {
+        let crate_dir = parts[..parts.len() - 2].join("/");
+        let name = parts[parts.len() - 1];
+        vec![violation(
+            path,
+            0,
+            "one-test-binary",
+            "an integration-test file outside `tests/it/` is a test binary of its own",
+            format!(
+                "`git mv {path} {crate_dir}/tests/it/{name}` and declare `mod {};` in {crate_dir}/tests/it/main.rs (rename its snapshots to it__<module>__<test>.snap)",
+                name.trim_end_matches(".rs")
+            ),
+        )]
+    } else {
+        Vec::new()
+    }
+}
+
 // ------------------------------------------------------------------ fixtures
 
 /// Rule `fixture-header`: every generated file under `fixtures/` says so in its first lines.
@@ -481,6 +505,7 @@ fn check_workspace(root: &Path) -> Vec<Violation> {
                 continue;
             };
             found.extend(check_file_doc(&path, &text));
+            found.extend(check_test_layout(&path));
             if path == SELF_PATH {
                 continue;
             }
@@ -676,6 +701,22 @@ fn the_lib_docs_rule_wants_an_example_and_a_citation() {
             "the crate docs cite none of the paper's equations, sections or figures",
         ]
     );
+}
+
+#[test]
+fn the_test_layout_rule_flags_a_loose_integration_test_file() {
+    assert!(check_test_layout("crates/dql/tests/it/laws.rs").is_empty());
+    assert!(check_test_layout("crates/dql/tests/it/common/mod.rs").is_empty());
+    assert!(check_test_layout("crates/dql/src/lib.rs").is_empty());
+    let found = check_test_layout("crates/dql/tests/laws.rs");
+    assert_eq!(found.len(), 1);
+    assert_eq!(found[0].rule, "one-test-binary");
+    assert!(
+        found[0]
+            .fix
+            .starts_with("`git mv crates/dql/tests/laws.rs crates/dql/tests/it/laws.rs`")
+    );
+    assert_eq!(check_test_layout("xtask/tests/cli.rs").len(), 1);
 }
 
 #[test]
