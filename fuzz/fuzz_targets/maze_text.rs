@@ -14,7 +14,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let _ = maze.shortest_path_len();
-    let Ok(mut env) = MazeEnv::new(maze, TaskSpec::task_i()) else {
+    let Ok(mut env) = MazeEnv::new(maze, TaskSpec::task1()) else {
         return;
     };
     env.reset(Some(1));

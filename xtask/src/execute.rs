@@ -188,7 +188,7 @@ mod tests {
         let mut config = eamadm::paper::task1();
         config.task = TaskConfig::MazeFile {
             path: map.clone(),
-            rewards: eamadm::mazes::Preset::TaskI,
+            rewards: eamadm::mazes::Preset::Task1,
             step_cap: None,
         };
         let method = config.methods[1].clone();

@@ -112,7 +112,7 @@ pub(crate) fn fixture_config(task: Task) -> ExperimentConfig {
 /// Every fixture file, in a fixed order.
 pub(crate) fn generate() -> Result<Vec<FixtureFile>, FixtureError> {
     let mut files = Vec::new();
-    for preset in [Preset::TaskI, Preset::TaskII] {
+    for preset in [Preset::Task1, Preset::Task2] {
         let path = preset.fixture_path();
         let path = path.strip_prefix("fixtures/").unwrap_or(&path).to_owned();
         files.push(FixtureFile {

@@ -46,6 +46,8 @@ mod robot_report;
 mod store;
 mod test_all;
 mod text_diff;
+#[cfg(test)]
+mod tidy;
 
 use cli::{Cli, Command};
 use plan::Workspace;

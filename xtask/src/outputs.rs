@@ -86,7 +86,7 @@ fn curves<'a>(
         .collect()
 }
 
-#[allow(clippy::cast_precision_loss)] // step counts far below 2^52
+// step counts far below 2^52
 fn steps(episode: &EpisodeRecord) -> f64 {
     episode.steps as f64
 }
@@ -188,7 +188,7 @@ pub(crate) fn experiment_figures(
         .filter(|m| *m == "ea-madm" || !planned.is_paper_method(m))
         .collect();
     let is_robot = planned.experiment.task().scenario().is_some();
-    #[allow(clippy::cast_precision_loss)] // optimum far below 2^52
+    // optimum far below 2^52
     let reference = records
         .first()
         .and_then(|r| r.optimum_steps)

@@ -30,7 +30,6 @@ impl Coin {
     pub fn new(p: f64) -> Self {
         let scaled = (p.clamp(0.0, 1.0) * TWO_POW_32).ceil();
         // `scaled` is an integer in [0, 2³²] (NaN clamps to NaN, and NaN as u64 is 0).
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let threshold = scaled as u64;
         Self { threshold }
     }

@@ -1,5 +1,7 @@
 //! The environment interface for discrete tasks, in Gymnasium's shape.
 
+use crate::error::{DqlError, check_index};
+
 /// What one call to [`Environment::step`] observed.
 ///
 /// `terminated` and `truncated` follow Gymnasium's convention: a *terminated* step
@@ -46,7 +48,8 @@ impl Step {
 /// * [`step`](Environment::step) must only be called after `reset` and before the
 ///   step that returned `done()`; the result of stepping a finished episode is
 ///   unspecified but must not panic or produce non-finite rewards. An action
-///   outside `0..n_actions()` may panic (it is a caller bug, not bad input).
+///   outside `0..n_actions()` may panic (it is a caller bug, not bad input);
+///   [`try_step`](Environment::try_step) checks it and returns an error instead.
 /// * Every state index returned is in `0..n_states()`; every reward is finite.
 /// * After each `step`, [`subtask_rewards`](Environment::subtask_rewards) holds one
 ///   reward per sub-task for that same transition (the decomposition of the task
@@ -81,6 +84,20 @@ pub trait Environment {
 
     /// Applies `action` and returns what happened.
     fn step(&mut self, action: usize) -> Step;
+
+    /// [`step`](Environment::step) with the action checked first: an action outside
+    /// `0..n_actions()` is an [`DqlError::IndexOutOfRange`] and the environment is
+    /// not stepped.
+    ///
+    /// `step` may panic on such an action (a caller bug; the hot path does not pay
+    /// for a check); this variant is for callers whose actions come from outside.
+    ///
+    /// # Errors
+    /// [`DqlError::IndexOutOfRange`] with `argument = "action"`.
+    fn try_step(&mut self, action: usize) -> Result<Step, DqlError> {
+        check_index("action", action, self.n_actions())?;
+        Ok(self.step(action))
+    }
 
     /// The sub-task rewards of the last transition, one per sub-task.
     fn subtask_rewards(&self) -> &[f64] {

@@ -121,6 +121,19 @@ pub enum DqlError {
         value: f64,
     },
 
+    /// A state or action index handed to a checked call
+    /// ([`Learner::try_update`](crate::Learner::try_update),
+    /// [`Environment::try_step`](crate::Environment::try_step)) is out of range.
+    #[error("{argument} {index} is out of range: expected an index below {len}")]
+    IndexOutOfRange {
+        /// The argument's name: `state`, `action` or `next_state`.
+        argument: &'static str,
+        /// The rejected index.
+        index: usize,
+        /// The number of valid indices.
+        len: usize,
+    },
+
     /// A sub-task reward was requested from a task that has fewer sub-tasks.
     #[error("sub-task {index} requested, but the environment has {n_subtasks} sub-tasks")]
     SubtaskOutOfRange {
@@ -145,6 +158,23 @@ pub(crate) fn check_param(
             name: name.to_owned(),
             value,
             expected,
+        })
+    }
+}
+
+/// Checks one index argument: `Ok` when `index < len`, otherwise an error naming it.
+pub(crate) fn check_index(
+    argument: &'static str,
+    index: usize,
+    len: usize,
+) -> Result<(), DqlError> {
+    if index < len {
+        Ok(())
+    } else {
+        Err(DqlError::IndexOutOfRange {
+            argument,
+            index,
+            len,
         })
     }
 }

@@ -3,6 +3,7 @@
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::error::{DqlError, check_index};
 use crate::table::QTable;
 
 /// One visited state–action pair with its final estimates: the experience sample
@@ -61,6 +62,32 @@ pub trait Learner {
         terminated: bool,
         rng: &mut R,
     );
+
+    /// [`update`](Learner::update) with its indices checked first: an out-of-range
+    /// `state`, `action` or `next_state` is an [`DqlError::IndexOutOfRange`] and
+    /// leaves the learner untouched (no random draw is taken either).
+    ///
+    /// `update` itself panics on such indices because they are a caller bug, and the
+    /// training hot path must not pay for a `Result` per step; this variant is for
+    /// callers whose indices come from outside (and for tests of the contract).
+    ///
+    /// # Errors
+    /// [`DqlError::IndexOutOfRange`] naming the first argument out of range.
+    fn try_update<R: Rng + ?Sized>(
+        &mut self,
+        state: usize,
+        action: usize,
+        reward: f64,
+        next_state: usize,
+        terminated: bool,
+        rng: &mut R,
+    ) -> Result<(), DqlError> {
+        check_index("state", state, self.n_states())?;
+        check_index("action", action, self.n_actions())?;
+        check_index("next_state", next_state, self.n_states())?;
+        self.update(state, action, reward, next_state, terminated, rng);
+        Ok(())
+    }
 
     /// `Q1(state, ·)`: the first estimator's values in `state`, one per action
     /// (the only estimator of a single-estimator learner).

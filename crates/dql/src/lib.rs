@@ -33,8 +33,8 @@
 //!   row, or as dense [`QTable`]s (with a random tie-breaking argmax).
 //! * [`ExplorationPolicy`]: an open trait; [`Greedy`], [`EpsilonGreedy`] and
 //!   [`Softmax`] built in (also as one serialisable [`BuiltinPolicy`]).
-//! * [`RewardSignal`]: what the learner learns from ([`TaskReward`],
-//!   [`SubtaskReward`], or your own), independent of the task return reported.
+//! * [`RewardSignal`]: what the learner learns from ([`TaskRewardSignal`],
+//!   [`SubtaskRewardSignal`], or your own), independent of the task return reported.
 //! * [`run_episode`]: one episode of all of the above.
 //!
 //! Every random draw comes from an RNG the caller passes in; nothing here touches
@@ -49,7 +49,7 @@
 //! ```
 //! use dql::{
 //!     DoubleQ, DoubleQParams, EpisodeOptions, EpsilonGreedy, Environment, Greedy, Learner,
-//!     Step, TaskReward, run_episode,
+//!     Step, TaskRewardSignal, run_episode,
 //! };
 //! use rand::SeedableRng;
 //! use rand_chacha::ChaCha8Rng;
@@ -94,12 +94,12 @@
 //!
 //! for episode in 0..200 {
 //!     let options = EpisodeOptions::new(episode);
-//!     run_episode(&mut env, &mut learner, &mut policy, &mut TaskReward, &mut rng, &options)?;
+//!     run_episode(&mut env, &mut learner, &mut policy, &mut TaskRewardSignal, &mut rng, &options)?;
 //! }
 //!
 //! // The greedy policy now walks straight to the goal: 3 × (−1) + 10.
 //! let options = EpisodeOptions::new(0).without_learning().recording();
-//! let outcome = run_episode(&mut env, &mut learner, &mut Greedy, &mut TaskReward, &mut rng, &options)?;
+//! let outcome = run_episode(&mut env, &mut learner, &mut Greedy, &mut TaskRewardSignal, &mut rng, &options)?;
 //! assert!(outcome.terminated);
 //! assert_eq!(outcome.steps, 4);
 //! assert_eq!(outcome.task_return, 7.0);
@@ -132,6 +132,6 @@ pub use error::DqlError;
 pub use learner::{ExperienceSample, Learner};
 pub use policy::{BuiltinPolicy, EpsilonGreedy, ExplorationPolicy, Greedy, Softmax};
 pub use q_learning::{QLearning, QLearningParams};
-pub use reward_signal::{RewardSignal, SubtaskReward, TaskReward};
+pub use reward_signal::{RewardSignal, SubtaskRewardSignal, TaskRewardSignal};
 pub use schedule::Schedule;
 pub use table::{Initialisation, MAX_ABS_INITIAL_VALUE, QTable, argmax_random_tie, max_value};

@@ -5,8 +5,8 @@ use crate::error::DqlError;
 
 /// The reward a learner is trained on, computed from each transition.
 ///
-/// Plain agents learn from the task's reward ([`TaskReward`]); a sub-task learner
-/// from one sub-task's reward ([`SubtaskReward`]); the EA-MADM source task from a
+/// Plain agents learn from the task's reward ([`TaskRewardSignal`]); a sub-task learner
+/// from one sub-task's reward ([`SubtaskRewardSignal`]); the EA-MADM source task from a
 /// standardised combination of all sub-task rewards (Eq. 10–12, implemented by
 /// the facade). The episode driver reports the *task* return whatever the signal.
 pub trait RewardSignal {
@@ -31,9 +31,9 @@ pub trait RewardSignal {
 
 /// Learn from the task's own reward, [`Step::reward`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct TaskReward;
+pub struct TaskRewardSignal;
 
-impl RewardSignal for TaskReward {
+impl RewardSignal for TaskRewardSignal {
     #[inline]
     fn learning_reward(&mut self, step: &Step, _subtask_rewards: &[f64]) -> f64 {
         step.reward
@@ -42,9 +42,9 @@ impl RewardSignal for TaskReward {
 
 /// Learn from sub-task `k`'s reward, `subtask_rewards()[k]` (sub-task pre-training).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct SubtaskReward(pub usize);
+pub struct SubtaskRewardSignal(pub usize);
 
-impl RewardSignal for SubtaskReward {
+impl RewardSignal for SubtaskRewardSignal {
     fn begin_episode(&mut self, n_subtasks: usize) -> Result<(), DqlError> {
         if self.0 < n_subtasks {
             Ok(())

@@ -164,7 +164,6 @@ pub(crate) fn running_mean(mean: f64, x: f64, n: u64) -> f64 {
     if n <= 1 {
         return x;
     }
-    #[allow(clippy::cast_precision_loss)]
     let n = n as f64;
     let step = x / n - mean / n;
     (mean + step).clamp(mean.min(x), mean.max(x))

@@ -67,9 +67,7 @@ pub fn set_jaccard(a: &[Token], b: &[Token]) -> f64 {
 pub(crate) fn count_ratio(numerator: u128, denominator: u128) -> f64 {
     // Counts stay far below 2^53 in any real tree, so the conversions are exact and
     // equal counts give exactly 1.0 (what τ = 1 relies on).
-    #[allow(clippy::cast_precision_loss)]
-    let ratio = numerator as f64 / denominator as f64;
-    ratio
+    numerator as f64 / denominator as f64
 }
 
 #[cfg(test)]

@@ -42,9 +42,7 @@ impl TreeStats {
         if self.clusters == 0 {
             0.0
         } else {
-            #[allow(clippy::cast_precision_loss)]
-            let per = self.bytes() as f64 / self.clusters as f64;
-            per
+            self.bytes() as f64 / self.clusters as f64
         }
     }
 }

@@ -564,11 +564,9 @@ pub(crate) fn index_kind<S: Similarity>(config: &EaTreeConfig, similarity: &S) -
 fn min_shared_tokens(threshold: f64, tokens: usize) -> usize {
     // Rule a count out only when it falls short by more than any rounding in the similarity
     // could make up (relative 1e-9 against errors of order 1e-16): skipping must be safe.
-    #[allow(clippy::cast_precision_loss)]
     let needed = threshold * tokens as f64 * (1.0 - 1e-9);
     (1..=tokens)
         .find(|&k| {
-            #[allow(clippy::cast_precision_loss)]
             let k = k as f64;
             k >= needed
         })

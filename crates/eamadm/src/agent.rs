@@ -116,10 +116,20 @@ pub enum PolicyError {
     /// The ε schedule is invalid.
     #[error(transparent)]
     Epsilon(#[from] DqlError),
-    /// The weighting is invalid, or gives fixed weights (`given`), which cannot follow rows
-    /// whose length changes when a sub-task has no experience.
+    /// The weighting is invalid.
     #[error(transparent)]
     Weighting(#[from] MadmError),
+    /// The weighting gives fixed weights (`given`), which cannot follow decision-matrix rows
+    /// whose length changes when a sub-task has no experience.
+    #[error(
+        "weighting `given` ({found} weights) cannot serve EA-MADM, whose decision-matrix rows vary in length (up to {max_columns}); use visibility, uniform or maximum_entropy"
+    )]
+    GivenWeights {
+        /// Number of weights given.
+        found: usize,
+        /// The longest row: one column per sub-task plus the source task's own.
+        max_columns: usize,
+    },
 }
 
 impl EaMadmPolicy {
@@ -127,7 +137,8 @@ impl EaMadmPolicy {
     ///
     /// # Errors
     /// [`PolicyError::Epsilon`] for an invalid schedule (named `epsilon.*`),
-    /// [`PolicyError::Weighting`] for an invalid or fixed-length (`given`) weighting.
+    /// [`PolicyError::Weighting`] for an invalid weighting, [`PolicyError::GivenWeights`] for a
+    /// fixed-length (`given`) one.
     pub fn new(
         prior: PriorTable,
         epsilon: Schedule,
@@ -135,11 +146,10 @@ impl EaMadmPolicy {
     ) -> Result<Self, PolicyError> {
         let exploration = EpsilonGreedy::new(epsilon)?;
         if let Weighting::Given { weights } = &weighting {
-            return Err(PolicyError::Weighting(MadmError::LengthMismatch {
-                what: "given weights (EA-MADM rows vary in length; use visibility, uniform or maximum_entropy)",
-                expected: prior.n_subtasks() + 1,
+            return Err(PolicyError::GivenWeights {
                 found: weights.len(),
-            }));
+                max_columns: prior.n_subtasks() + 1,
+            });
         }
         let decider = MadmDecider::new(weighting)?;
         let cols = prior.n_subtasks() + 1;
@@ -457,7 +467,13 @@ mod tests {
         let weights = madm_owa::OwaWeights::uniform(3).unwrap();
         let error = EaMadmPolicy::new(prior, Schedule::Constant(0.1), Weighting::Given { weights })
             .unwrap_err();
-        assert!(matches!(error, PolicyError::Weighting(_)));
+        assert_eq!(
+            error,
+            PolicyError::GivenWeights {
+                found: 3,
+                max_columns: 3
+            }
+        );
     }
 
     proptest! {

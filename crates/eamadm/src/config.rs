@@ -679,6 +679,34 @@ pub enum ConfigError {
         #[source]
         source: wmr_model::ScenarioError,
     },
+    /// A learner's or exploration's parameters that `dql` rejects for a reason other than one
+    /// parameter's value (which is [`ConfigError::Invalid`]).
+    #[error("experiment config: `{field}`: {source}")]
+    Learner {
+        /// The method's field, e.g. `methods[1].epsilon`.
+        field: String,
+        /// `dql`'s error.
+        #[source]
+        source: DqlError,
+    },
+    /// A weighting that `madm-owa` rejects.
+    #[error("experiment config: `{field}`: {source}")]
+    Weighting {
+        /// The weighting's field, e.g. `methods[0].weighting.orness`.
+        field: String,
+        /// `madm-owa`'s error (naming its own parameter).
+        #[source]
+        source: madm_owa::MadmError,
+    },
+    /// A maze task whose reward specification `mazes` rejects.
+    #[error("experiment config: `{field}`: {source}")]
+    MazeSpec {
+        /// The field naming the task (`task`).
+        field: String,
+        /// `mazes`' error (naming the spec's own field).
+        #[source]
+        source: mazes::SpecError,
+    },
     /// A maze map that does not parse.
     #[error("experiment config: `{field}`: {source}")]
     Maze {
@@ -698,7 +726,10 @@ impl ConfigError {
             Self::Invalid { field, .. }
             | Self::Read { field, .. }
             | Self::Maze { field, .. }
-            | Self::Scenario { field, .. } => Some(field),
+            | Self::Scenario { field, .. }
+            | Self::Learner { field, .. }
+            | Self::Weighting { field, .. }
+            | Self::MazeSpec { field, .. } => Some(field),
             Self::Toml(_) => None,
         }
     }
@@ -723,7 +754,10 @@ impl ConfigError {
                 value,
                 expected,
             } => Self::invalid(join(prefix, &name), readable_number(value), expected),
-            other => Self::invalid(prefix, "(see message)", other.to_string()),
+            other => Self::Learner {
+                field: prefix.to_owned(),
+                source: other,
+            },
         }
     }
 }
@@ -896,11 +930,10 @@ impl EaMadmConfig {
                 Weighting::MaximumEntropy { .. } => "weighting.orness",
                 _ => "weighting",
             };
-            return Err(ConfigError::invalid(
-                join(path, field),
-                "(see message)",
-                error.to_string(),
-            ));
+            return Err(ConfigError::Weighting {
+                field: join(path, field),
+                source: error,
+            });
         }
         if let Storage::Tree(tree) = &self.storage {
             for (name, value) in [

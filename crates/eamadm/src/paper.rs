@@ -132,14 +132,14 @@ impl PaperTask {
 /// α = 0.1, γ = 0.95, [`methods`] and the [`controls`]. Equal to [`PAPER_TASK1_TOML`] parsed.
 #[must_use]
 pub fn task1() -> ExperimentConfig {
-    maze("task1", Preset::TaskI, TASK1_PRETRAIN_BUDGET)
+    maze("task1", Preset::Task1, TASK1_PRETRAIN_BUDGET)
 }
 
 /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise as
 /// [`task1`]. Equal to [`PAPER_TASK2_TOML`] parsed.
 #[must_use]
 pub fn task2() -> ExperimentConfig {
-    maze("task2", Preset::TaskII, TASK2_PRETRAIN_BUDGET)
+    maze("task2", Preset::Task2, TASK2_PRETRAIN_BUDGET)
 }
 
 /// Training episodes of the robot presets. The paper's Fig. 13–15 plot 100 episodes that reach
@@ -164,7 +164,7 @@ pub fn robot() -> ExperimentConfig {
         },
         methods: methods(),
         episodes: ROBOT_EPISODES,
-        ..maze("robot", Preset::TaskI, 0)
+        ..maze("robot", Preset::Task1, 0)
     }
 }
 

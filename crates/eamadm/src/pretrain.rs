@@ -2,8 +2,8 @@
 //! on its own reward, trained in parallel.
 
 use dql::{
-    DoubleQ, DoubleQParams, DqlError, Environment, EpisodeOptions, EpsilonGreedy, SubtaskReward,
-    run_episode,
+    DoubleQ, DoubleQParams, DqlError, Environment, EpisodeOptions, EpsilonGreedy,
+    SubtaskRewardSignal, run_episode,
 };
 use rand::RngExt;
 use rayon::prelude::*;
@@ -27,7 +27,7 @@ pub struct PretrainedSubtask {
 }
 
 /// Trains every sub-task of `env` with double Q on its own reward
-/// ([`dql::SubtaskReward`]) and ε-greedy exploration on its own values, for
+/// ([`dql::SubtaskRewardSignal`]) and ε-greedy exploration on its own values, for
 /// `config.episodes` episodes each.
 ///
 /// Each sub-task has its own clone of `env` and its own random streams derived from
@@ -89,7 +89,7 @@ fn train_subtask<E: Environment>(
     let mut env_seeds = stream_rng(seed, Stream::PretrainEnvironment(k));
     let mut learner = DoubleQ::new(env.n_states(), env.n_actions(), params, &mut rng)?;
     let mut policy = EpsilonGreedy::new(config.epsilon)?;
-    let mut signal = SubtaskReward(k);
+    let mut signal = SubtaskRewardSignal(k);
     let mut env_steps = 0;
     let mut last_episode_steps = 0;
     for episode in 0..config.episodes {

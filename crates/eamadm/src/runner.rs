@@ -3,8 +3,8 @@
 
 use dql::{
     DoubleQ, DqlError, Environment, EpisodeOptions, EpisodeOutcome, EpsilonGreedy,
-    ExplorationPolicy, Greedy, Learner, RewardSignal, Softmax, Step, SubtaskReward, TaskReward,
-    run_episode,
+    ExplorationPolicy, Greedy, Learner, RewardSignal, Softmax, Step, SubtaskRewardSignal,
+    TaskRewardSignal, run_episode,
 };
 use rand::{Rng, RngExt};
 use rayon::prelude::*;
@@ -309,7 +309,7 @@ fn run_on<E: TaskEnv>(
             session.learner = pretrained.learner;
             let mut policy =
                 ActionTally::new(EpsilonGreedy::new(alone.epsilon)?, n_actions, final_from);
-            let mut signal = SubtaskReward(alone.subtask);
+            let mut signal = SubtaskRewardSignal(alone.subtask);
             let trained =
                 session.train(&mut policy, &mut signal, pretrain_env_steps, alone.learn)?;
             let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
@@ -437,7 +437,7 @@ impl RewardSignal for CompetitorReward {
     #[inline]
     fn learning_reward(&mut self, step: &Step, subtask_rewards: &[f64]) -> f64 {
         match self {
-            Self::Task => TaskReward.learning_reward(step, subtask_rewards),
+            Self::Task => TaskRewardSignal.learning_reward(step, subtask_rewards),
             Self::SubtaskSum => subtask_rewards.iter().sum(),
             Self::Standardised(signal) => signal.learning_reward(step, subtask_rewards),
         }
@@ -630,7 +630,14 @@ fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
         .with_seed(env_seed)
         .without_learning();
     options.record_trajectory = recording;
-    let outcome = run_episode(env, learner, policy, &mut TaskReward, &mut rng, &options)?;
+    let outcome = run_episode(
+        env,
+        learner,
+        policy,
+        &mut TaskRewardSignal,
+        &mut rng,
+        &options,
+    )?;
     let mut record = episode_record(env, episode, &outcome, outcome.steps);
     record.learning_return = 0.0;
     Ok((outcome, record))

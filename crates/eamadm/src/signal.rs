@@ -75,7 +75,7 @@ mod tests {
 
     /// The sub-task reward rows of every maze event, Task I and Task II.
     fn maze_rows() -> Vec<[f64; 2]> {
-        [TaskSpec::task_i(), TaskSpec::task_ii()]
+        [TaskSpec::task1(), TaskSpec::task2()]
             .iter()
             .flat_map(|spec| {
                 Event::ALL.map(|event| {

@@ -88,8 +88,8 @@ pub struct SeedSummary {
     pub ci95_half_width: Option<f64>,
 }
 
-/// Summarises one value per seed (`values[seed]`).
-pub fn summarize(values: &[f64]) -> Result<SeedSummary, StatsError> {
+/// Summarises one value per seed (`values[seed]`); [`summarise`] summarises whole runs per method.
+pub fn summarise_seeds(values: &[f64]) -> Result<SeedSummary, StatsError> {
     if values.is_empty() {
         return Err(StatsError::NoSeeds);
     }
@@ -100,11 +100,11 @@ pub fn summarize(values: &[f64]) -> Result<SeedSummary, StatsError> {
             value,
         });
     }
-    Ok(summarize_finite(values))
+    Ok(summarise_seeds_finite(values))
 }
 
-/// [`summarize`] for values already known to be finite and non-empty.
-fn summarize_finite(values: &[f64]) -> SeedSummary {
+/// [`summarise_seeds`] for values already known to be finite and non-empty.
+fn summarise_seeds_finite(values: &[f64]) -> SeedSummary {
     let n = values.len();
     let count = n as f64;
     // Divide before adding so that large finite values cannot overflow the sum.
@@ -147,7 +147,7 @@ fn validate_runs(runs: &[Vec<f64>]) -> Result<(), StatsError> {
 
 /// Summarises the final window over seeds: each seed contributes the mean of its last `window`
 /// episodes (all of them if its curve is shorter, e.g. in a `--quick` run), and these per-seed
-/// means are summarised by [`summarize`]. `runs[seed][episode]`; curves may differ in length.
+/// means are summarised by [`summarise_seeds`]. `runs[seed][episode]`; curves may differ in length.
 pub fn final_window_summary(runs: &[Vec<f64>], window: usize) -> Result<SeedSummary, StatsError> {
     if window == 0 {
         return Err(StatsError::ZeroWindow);
@@ -161,7 +161,7 @@ pub fn final_window_summary(runs: &[Vec<f64>], window: usize) -> Result<SeedSumm
             tail.iter().map(|v| v / count).sum()
         })
         .collect();
-    Ok(summarize_finite(&per_seed))
+    Ok(summarise_seeds_finite(&per_seed))
 }
 
 /// One episode of a mean curve with its 95% confidence band.
@@ -189,7 +189,7 @@ pub fn mean_band(runs: &[Vec<f64>]) -> Result<Vec<BandPoint>, StatsError> {
         .map(|episode| {
             column.clear();
             column.extend(runs.iter().filter_map(|curve| curve.get(episode).copied()));
-            let summary = summarize_finite(&column);
+            let summary = summarise_seeds_finite(&column);
             let half_width = summary.ci95_half_width.unwrap_or(0.0);
             BandPoint {
                 n: summary.n,
@@ -297,7 +297,7 @@ pub fn summarise(records: &[RunRecord], window: usize) -> Result<Vec<MethodSumma
         .collect()
 }
 
-#[allow(clippy::cast_precision_loss)] // counts far below 2^52
+// counts far below 2^52
 fn summarise_method(
     experiment: &str,
     method: &str,
@@ -349,7 +349,7 @@ fn summarise_method(
             time_to_reach: if reach_times.is_empty() {
                 None
             } else {
-                Some(summarize(&reach_times)?)
+                Some(summarise_seeds(&reach_times)?)
             },
         })
     } else {
@@ -366,11 +366,11 @@ fn summarise_method(
         final_collisions: final_window_summary(&curve(&|e| e.collisions as f64), window)?,
         optimum_steps,
         final_steps_to_optimum,
-        evaluation_steps: summarize(&per_run(&|run| run.evaluation.steps as f64))?,
+        evaluation_steps: summarise_seeds(&per_run(&|run| run.evaluation.steps as f64))?,
         evaluation_reached: runs.iter().filter(|run| run.evaluation.reached).count() as f64
             / runs.len() as f64,
-        pretrain_env_steps: summarize(&per_run(&|run| run.pretrain_env_steps as f64))?,
-        total_env_steps: summarize(&per_run(&|run| run.total_env_steps as f64))?,
+        pretrain_env_steps: summarise_seeds(&per_run(&|run| run.pretrain_env_steps as f64))?,
+        total_env_steps: summarise_seeds(&per_run(&|run| run.total_env_steps as f64))?,
         robot,
     })
 }
@@ -428,7 +428,7 @@ mod tests {
     fn summary_of_ten_seeds() {
         // 1..=10: mean 5.5, sd = sqrt(55/6) ≈ 3.027650, half-width 2.262157 · sd / √10.
         let values: Vec<f64> = (1..=10).map(f64::from).collect();
-        let s = summarize(&values).unwrap();
+        let s = summarise_seeds(&values).unwrap();
         assert_eq!(s.n, 10);
         assert!(close(s.mean, 5.5, 1e-12));
         let sd = (55.0_f64 / 6.0).sqrt();
@@ -443,7 +443,7 @@ mod tests {
 
     #[test]
     fn summary_of_one_seed_has_no_interval() {
-        let s = summarize(&[42.0]).unwrap();
+        let s = summarise_seeds(&[42.0]).unwrap();
         assert_eq!(
             s,
             SeedSummary {
@@ -457,16 +457,16 @@ mod tests {
 
     #[test]
     fn identical_seeds_have_zero_width() {
-        let s = summarize(&[3.0, 3.0, 3.0]).unwrap();
+        let s = summarise_seeds(&[3.0, 3.0, 3.0]).unwrap();
         assert_eq!(s.sd, Some(0.0));
         assert_eq!(s.ci95_half_width, Some(0.0));
     }
 
     #[test]
     fn bad_values_are_named() {
-        assert_eq!(summarize(&[]), Err(StatsError::NoSeeds));
+        assert_eq!(summarise_seeds(&[]), Err(StatsError::NoSeeds));
         assert!(matches!(
-            summarize(&[1.0, f64::NAN]),
+            summarise_seeds(&[1.0, f64::NAN]),
             Err(StatsError::NonFinite { seed: 1, .. })
         ));
         let runs = vec![vec![1.0, 2.0], vec![3.0, f64::INFINITY]];

@@ -107,8 +107,10 @@ impl Task {
         if let Some(cap) = step_cap {
             spec.step_cap = cap;
         }
-        let env = MazeEnv::new(maze, spec)
-            .map_err(|error| ConfigError::invalid(field, "(see message)", error.to_string()))?;
+        let env = MazeEnv::new(maze, spec).map_err(|source| ConfigError::MazeSpec {
+            field: field.to_owned(),
+            source,
+        })?;
         Ok(Self {
             optimum_steps: u64::try_from(env.maze().shortest_path_len()).ok(),
             kind: TaskKind::Maze(Box::new(env)),
@@ -219,7 +221,7 @@ impl TaskEnv for MazeEnv {
             .states
             .iter()
             .map(|&state| {
-                #[allow(clippy::cast_precision_loss)] // maze sides are far below 2^52
+                // maze sides are far below 2^52
                 [(state % width) as f64, (state / width) as f64]
             })
             .collect()

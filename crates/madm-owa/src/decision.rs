@@ -210,7 +210,7 @@ impl MadmDecider {
     ///
     /// # Errors
     ///
-    /// [`MadmError::Empty`] when `rows` or `cols` is 0, [`MadmError::ShapeMismatch`] when
+    /// [`MadmError::EmptyMatrix`] when `rows` or `cols` is 0, [`MadmError::ShapeMismatch`] when
     /// `matrix.len() != rows × cols`, [`MadmError::LengthMismatch`] when `out.len() != rows`
     /// (or given weights do not have `cols` entries), [`MadmError::NonFiniteEntry`] for a NaN
     /// or infinite entry. On error `out` is left untouched.
@@ -312,7 +312,7 @@ impl MadmDecider {
             }
             Weighting::Given { weights } if weights.len() != cols => {
                 return Err(MadmError::LengthMismatch {
-                    what: "given weights (one per decision-matrix column)",
+                    what: "weighting.weights",
                     expected: cols,
                     found: weights.len(),
                 });
@@ -388,15 +388,8 @@ fn visibility_row_value_fixed<const N: usize>(
 
 /// Checks a flat row-major matrix: non-empty shape, matching length, finite entries.
 fn check_matrix(matrix: &[f64], rows: usize, cols: usize) -> Result<(), MadmError> {
-    if rows == 0 {
-        return Err(MadmError::Empty {
-            what: "decision matrix (rows)",
-        });
-    }
-    if cols == 0 {
-        return Err(MadmError::Empty {
-            what: "decision matrix (columns)",
-        });
+    if rows == 0 || cols == 0 {
+        return Err(MadmError::EmptyMatrix { rows, cols });
     }
     if rows.checked_mul(cols) != Some(matrix.len()) {
         return Err(MadmError::ShapeMismatch {

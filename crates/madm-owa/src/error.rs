@@ -14,6 +14,16 @@ pub enum MadmError {
         /// Name of the argument.
         what: &'static str,
     },
+    /// A decision matrix with no rows (alternatives) or no columns (attributes).
+    #[error(
+        "decision matrix is {rows} x {cols}: it needs at least one row (alternative) and one column (attribute)"
+    )]
+    EmptyMatrix {
+        /// Number of rows the caller passed.
+        rows: usize,
+        /// Number of columns the caller passed.
+        cols: usize,
+    },
     /// Two inputs that must have the same length do not.
     #[error("`{what}` has length {found}, expected {expected}")]
     LengthMismatch {

@@ -117,7 +117,7 @@ pub fn andness(weights: &[f64]) -> Result<f64, MadmError> {
 }
 
 /// [`orness`] of a non-empty vector, without validation.
-#[allow(clippy::cast_precision_loss)] // lengths are far below 2^53
+// lengths are far below 2^53
 pub(crate) fn orness_unchecked(weights: &[f64]) -> f64 {
     let n = weights.len();
     if n <= 1 {

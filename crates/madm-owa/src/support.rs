@@ -190,7 +190,7 @@ pub(crate) fn visibility_owa_sorted_unchecked(
         weighted / total
     } else {
         // Uniform weights: the mean, computed without overflow.
-        #[allow(clippy::cast_precision_loss)] // lengths are far below 2^53
+        // lengths are far below 2^53
         let n = sorted.len() as f64;
         sorted.iter().map(|y| y / n).sum()
     };
@@ -282,7 +282,7 @@ fn distance_support(x: f64, y: f64, half_range: f64) -> f64 {
 }
 
 /// Fills `out` with `1 / out.len()`.
-#[allow(clippy::cast_precision_loss)] // lengths are far below 2^53
+// lengths are far below 2^53
 pub(crate) fn fill_uniform(out: &mut [f64]) {
     let w = 1.0 / out.len() as f64;
     out.fill(w);

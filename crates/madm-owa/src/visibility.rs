@@ -39,10 +39,9 @@ pub fn is_visible(series: &[f64], i: usize, k: usize) -> bool {
 #[inline(always)]
 pub(crate) fn sees(series: &[f64], a: usize, b: usize) -> bool {
     let (y_a, y_b) = (series[a], series[b]);
-    #[allow(clippy::cast_precision_loss)] // positions are far below 2^53
+    // positions are far below 2^53
     let span = (b - a) as f64;
     ((a + 1)..b).all(|f| {
-        #[allow(clippy::cast_precision_loss)]
         let to_b = (b - f) as f64;
         strictly_below_line(series[f], y_a, y_b, span, to_b)
     })

@@ -289,7 +289,7 @@ mod tests {
     /// An episode kept in a cursor walks exactly like the environment's own episode.
     #[test]
     fn a_cursor_steps_like_the_environment() {
-        let mut env = Preset::TaskI.env();
+        let mut env = Preset::Task1.env();
         let shared = env.clone();
         let mut cursor = shared.start_cursor();
         env.reset(None);

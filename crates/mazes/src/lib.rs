@@ -63,8 +63,8 @@
 //! and pays −1 too.
 //!
 //! The paper decomposes both tasks into the sub-tasks "reach the target faster" and "do
-//! not hit obstacles" without giving their rewards. Ours ([`TaskSpec::task_i`],
-//! [`TaskSpec::task_ii`]; the order of [`dql::Environment::subtask_rewards`]):
+//! not hit obstacles" without giving their rewards. Ours ([`TaskSpec::task1`],
+//! [`TaskSpec::task2`]; the order of [`dql::Environment::subtask_rewards`]):
 //!
 //! * **reach the target faster** — the distance shaping alone: +1 closer, −1 otherwise
 //!   (a bump leaves the distance unchanged, so it pays −1), plus the task's own target
@@ -91,7 +91,7 @@
 //!
 //! # Presets
 //!
-//! [`Preset::TaskI`]: 30 × 30, 100 obstacles (the paper); [`Preset::TaskII`]: 39 × 36, 156
+//! [`Preset::Task1`]: 30 × 30, 100 obstacles (the paper); [`Preset::Task2`]: 39 × 36, 156
 //! obstacles (the paper gives no count; 156 keeps Task I's density of 1/9). Start in the
 //! top-left corner, target in the bottom-right one. Layouts are generated with fixed
 //! seeds and frozen as `fixtures/mazes/task1.map` and `task2.map`
@@ -110,7 +110,7 @@
 //! )?;
 //! assert_eq!(maze.shortest_path_len(), 4);
 //!
-//! let mut env = MazeEnv::new(maze.clone(), TaskSpec::task_i())?;
+//! let mut env = MazeEnv::new(maze.clone(), TaskSpec::task1())?;
 //! let state = env.reset(None);
 //! assert_eq!(env.state_features(state), vec![0, 0]);
 //!

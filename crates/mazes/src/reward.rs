@@ -2,7 +2,7 @@
 //!
 //! Every transition of a maze falls into exactly one [`Event`]; a [`RewardScheme`] maps
 //! events to rewards. A [`TaskSpec`] bundles the task's own scheme, one scheme per
-//! sub-task and the step cap. The presets ([`TaskSpec::task_i`], [`TaskSpec::task_ii`])
+//! sub-task and the step cap. The presets ([`TaskSpec::task1`], [`TaskSpec::task2`])
 //! are the paper's Sec. VI.A tasks; the crate docs explain the sub-task definitions.
 
 use std::fmt;
@@ -207,7 +207,7 @@ impl TaskSpec {
     /// ([`RewardScheme::REACH_FASTER_TASK_I`]) and "do not hit obstacles"
     /// ([`RewardScheme::DO_NOT_HIT`]), step cap 2000.
     #[must_use]
-    pub fn task_i() -> Self {
+    pub fn task1() -> Self {
         Self {
             reward: RewardScheme::TASK_I,
             subtasks: vec![
@@ -228,7 +228,7 @@ impl TaskSpec {
     /// ([`RewardScheme::REACH_FASTER_TASK_II`]) and "do not hit obstacles"
     /// ([`RewardScheme::DO_NOT_HIT`]), step cap 2000.
     #[must_use]
-    pub fn task_ii() -> Self {
+    pub fn task2() -> Self {
         Self {
             reward: RewardScheme::TASK_II,
             subtasks: vec![

@@ -74,10 +74,7 @@ pub fn cross_sectional(rewards: &[f64], z_out: &mut [f64]) -> Result<f64, Reward
         (1.0, 1.0)
     };
     let scaled = |r: f64| ((r * f1 * f2) - centre) * g1 * g2;
-    #[expect(
-        clippy::cast_precision_loss,
-        reason = "sub-task counts are far below 2^53"
-    )]
+    // sub-task counts are far below 2^53
     let m = rewards.len() as f64;
     // Two-pass mean with a correction pass: exact enough that equal deviations cancel.
     let rough_mean = rewards.iter().map(|&r| scaled(r)).sum::<f64>() / m;
@@ -107,10 +104,6 @@ pub fn cross_sectional(rewards: &[f64], z_out: &mut [f64]) -> Result<f64, Reward
 /// because the full factor can exceed the range of `f64` (for subnormal magnitudes).
 fn power_of_two_scale(magnitude: f64) -> (f64, f64) {
     // log2 of a finite positive f64 lies in [-1075, 1024].
-    #[expect(
-        clippy::cast_possible_truncation,
-        reason = "the rounded log2 lies in [-1075, 1024]"
-    )]
     let k = -(magnitude.log2().round() as i32);
     let half = k / 2;
     (2.0_f64.powi(half), 2.0_f64.powi(k - half))

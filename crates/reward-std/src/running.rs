@@ -105,7 +105,7 @@ impl RunningStandardiser {
             });
         }
         self.count += 1;
-        #[allow(clippy::cast_precision_loss)] // exact below 2^53 steps
+        // exact below 2^53 steps
         let n = self.count as f64;
         let mut z_sum = 0.0;
         for (((&r, mean), variance), z) in rewards
@@ -127,7 +127,7 @@ impl RunningStandardiser {
             };
             z_sum += *z;
         }
-        #[allow(clippy::cast_precision_loss)] // sub-task counts are far below 2^53
+        // sub-task counts are far below 2^53
         Ok(z_sum / self.z.len() as f64)
     }
 

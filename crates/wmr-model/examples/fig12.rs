@@ -94,7 +94,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             paths.push((env.path().to_vec(), format!("random {episode}")));
         }
     }
-    #[allow(clippy::cast_precision_loss)]
     let mean = steps as f64 / episodes as f64;
     println!("random policy: {mean:.1} steps per episode on average, outcomes {outcomes:?}");
 

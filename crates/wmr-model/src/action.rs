@@ -154,7 +154,10 @@ mod tests {
     }
 
     #[test]
-    #[allow(clippy::approx_constant)]
+    #[expect(
+        clippy::approx_constant,
+        reason = "6.28 rad/s is the e-puck's maximum wheel speed, not an approximation of 2π"
+    )]
     fn left_forward_turns_left() {
         let set = ActionSet::default();
         let w = set.wheel_speeds(Action::LeftForward, 6.28);

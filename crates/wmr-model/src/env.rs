@@ -283,7 +283,7 @@ impl WmrEnv {
 
         let m = &mut self.metrics;
         m.steps += 1;
-        #[allow(clippy::cast_precision_loss)] // step counts stay far below 2⁵³
+        // step counts stay far below 2⁵³
         let time = m.steps as f64 * dt;
         m.time = time;
         m.task_return += task_reward;
@@ -297,7 +297,6 @@ impl WmrEnv {
             .is_some_and(|seen| seen.distance <= self.scenario.metrics.retention_distance);
         if obstacle_in_front && before - distance < self.retention_progress {
             m.retention_steps += 1;
-            #[allow(clippy::cast_precision_loss)]
             let retention = m.retention_steps as f64 * dt;
             m.retention_time = retention;
         }

@@ -30,7 +30,10 @@ impl Default for RobotParams {
             axle_length: 0.052,
             body_radius: 0.037,
             // Webots' e-puck MAX_SPEED, which happens to be close to 2π.
-            #[allow(clippy::approx_constant)]
+            #[expect(
+                clippy::approx_constant,
+                reason = "6.28 rad/s is Webots' e-puck MAX_SPEED, not an approximation of 2π"
+            )]
             max_wheel_speed: 6.28,
         }
     }

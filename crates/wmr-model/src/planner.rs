@@ -55,7 +55,6 @@ impl Plan {
     /// Time the plan takes (s).
     #[must_use]
     pub fn duration(&self, control_period: f64) -> f64 {
-        #[allow(clippy::cast_precision_loss)]
         let steps = self.actions.len() as f64;
         steps * control_period
     }
@@ -156,7 +155,6 @@ pub fn search(scenario: &Scenario, params: &PlannerParams) -> Result<Plan, PlanE
         let t = pose.translation.vector;
         let turn = std::f64::consts::TAU;
         let h = pose.rotation.angle().rem_euclid(turn) / turn;
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (ix, iy, ih) = (
             ((t.x / cell) as usize).min(nx - 1),
             ((t.y / cell) as usize).min(ny - 1),

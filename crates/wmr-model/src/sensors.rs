@@ -120,7 +120,7 @@ pub fn standard_normalish<R: Rng + ?Sized>(rng: &mut R) -> f64 {
     for k in 0..4 {
         let chunk = (bits >> (16 * k)) & 0xFFFF;
         // Each uniform is (chunk + ½) / 2¹⁶ ∈ (0, 1), mean ½, variance ≈ 1/12.
-        #[allow(clippy::cast_precision_loss)] // chunk < 2¹⁶ is exact in f64
+        // chunk < 2¹⁶ is exact in f64
         let chunk = chunk as f64;
         sum += (chunk + 0.5) / 65_536.0;
     }
@@ -181,7 +181,6 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let n = 200_000;
         let draws: Vec<f64> = (0..n).map(|_| standard_normalish(&mut rng)).collect();
-        #[allow(clippy::cast_precision_loss)]
         let nf = n as f64;
         let mean = draws.iter().sum::<f64>() / nf;
         let var = draws.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / nf;

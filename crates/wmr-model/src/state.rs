@@ -134,9 +134,7 @@ pub fn uniform_bin(x: f64, lo: f64, hi: f64, bins: u32) -> u32 {
         bins - 1
     } else {
         // 0 ≤ scaled < bins − 1 < 2³²: the cast is exact after `floor`.
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-        let bin = scaled.floor() as u32;
-        bin
+        scaled.floor() as u32
     }
 }
 

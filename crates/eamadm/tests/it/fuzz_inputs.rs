@@ -83,7 +83,7 @@ fn maze_corpus() -> Vec<String> {
     vec![
         "S.#\n..T\n".to_owned(),
         "; a comment\nS...\n.##.\n...T\n".to_owned(),
-        eamadm::mazes::Preset::TaskI.maze().to_text(),
+        eamadm::mazes::Preset::Task1.maze().to_text(),
     ]
 }
 
@@ -93,7 +93,7 @@ fn load_maze(text: &str) {
     };
     assert_eq!(Maze::parse(&maze.to_text()).unwrap(), maze);
     let _ = maze.shortest_path_len();
-    let mut env = MazeEnv::new(maze, TaskSpec::task_i()).unwrap();
+    let mut env = MazeEnv::new(maze, TaskSpec::task1()).unwrap();
     env.reset(Some(1));
     for step in 0..8 {
         let outcome = env.step(step % env.n_actions());

@@ -1,20 +1,21 @@
-//! The eamadm integration tests in one binary; each module is one topic.
+//! The integration tests of `eamadm`, compiled as one test binary (one module per topic)
+//! so that `cargo test` links one executable per crate instead of one per file.
 
 #![expect(
     clippy::unwrap_used,
     reason = "tests may unwrap: a failure is the test failing"
 )]
 
-#[path = "../common/mod.rs"]
-mod common;
-
 mod behaviour;
 mod bounds;
 mod claims;
+mod common;
+mod config;
 mod controls;
 mod fuzz_inputs;
 mod input_files;
 mod mutate;
 mod names;
 mod robot_refusals;
+mod run;
 mod stats;

@@ -6,7 +6,7 @@ use mazes::{MAX_ABS_REWARD, SpecError, TaskSpec};
 #[test]
 fn huge_finite_rewards_are_refused_naming_the_field() {
     for value in [1e308, -1e308, 2e9] {
-        let mut spec = TaskSpec::task_i();
+        let mut spec = TaskSpec::task1();
         spec.reward.target = value;
         match spec.validate().unwrap_err() {
             SpecError::RewardOutOfRange { field, limit, .. } => {
@@ -15,7 +15,7 @@ fn huge_finite_rewards_are_refused_naming_the_field() {
             }
             other => panic!("expected RewardOutOfRange, got {other}"),
         }
-        let mut spec = TaskSpec::task_ii();
+        let mut spec = TaskSpec::task2();
         spec.subtasks[1].reward.bump = value;
         let error = spec.validate().unwrap_err();
         assert!(
@@ -27,7 +27,7 @@ fn huge_finite_rewards_are_refused_naming_the_field() {
 
 #[test]
 fn rewards_up_to_the_bound_are_accepted() {
-    let mut spec = TaskSpec::task_i();
+    let mut spec = TaskSpec::task1();
     spec.reward.target = MAX_ABS_REWARD;
     spec.reward.bump = -MAX_ABS_REWARD;
     assert!(spec.validate().is_ok());

@@ -1,3 +1,12 @@
-//! Integration tests of `mazes`, one module per concern.
+//! The integration tests of `mazes`, compiled as one test binary (one module per topic)
+//! so that `cargo test` links one executable per crate instead of one per file.
 
 mod bounds;
+mod common;
+mod env;
+mod fixtures;
+mod generation;
+mod map_text;
+mod path;
+mod render;
+mod subtasks;
