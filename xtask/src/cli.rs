@@ -90,17 +90,19 @@ pub(crate) struct MergeArgs {
 )]
 #[serde(rename_all = "kebab-case")]
 pub(crate) enum KeepTrajectories {
-    /// Only what the figures draw (the evaluation episodes).
+    /// Only what the figures draw: the evaluation episodes (in trajectories.csv, the first
+    /// seed's).
     #[default]
     Figures,
-    /// Also every training trajectory the config records (its `trajectories` section).
+    /// Also every seed's evaluation path and every training trajectory the config records
+    /// (its `trajectories` section).
     All,
 }
 
 /// Options of `reproduce-paper`.
 #[derive(Debug, Clone, PartialEq, Eq, Args)]
 pub(crate) struct ReproduceArgs {
-    /// Seeds per task and method [default: 10, or 3 with --quick].
+    /// Seeds per task and method [default: 20, or 3 with --quick].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub(crate) seeds: Option<u32>,
     /// Run only this task; repeat for several [default: all three].

@@ -193,7 +193,12 @@ pub(crate) fn write_outputs(
                         move |source: ResultsError| OutputError::Results { file, source }
                     };
                     curves.push(&run.record).map_err(table("curves.csv"))?;
-                    paths.push(&run.record).map_err(table("trajectories.csv"))?;
+                    // The figures draw the paths of the first seed; the other seeds' paths
+                    // (up to the step cap each on a looping greedy policy) are kept only when
+                    // asked for, so a default run's tables stay small.
+                    if keep == KeepTrajectories::All || job.seed == planned.config().base_seed {
+                        paths.push(&run.record).map_err(table("trajectories.csv"))?;
+                    }
                     // The figures and the report need the curves, the evaluation and the
                     // sub-tasks, never the training trajectories.
                     let mut record = run.record;
