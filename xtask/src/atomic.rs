@@ -23,36 +23,13 @@ pub(crate) struct AtomicWriteError {
 /// file is removed and `path` is untouched. A process killed mid-write may leave a hidden
 /// `.<name>.*.tmp` file behind; nothing reads those.
 pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
-    let error = |source| AtomicWriteError {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file_name = path.file_name().ok_or_else(|| {
-        error(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "the path names no file",
-        ))
-    })?;
-    let folder = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(folder).map_err(error)?;
-    let mut prefix = std::ffi::OsString::from(".");
-    prefix.push(file_name);
-    prefix.push(".");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    // Outputs are for everyone to read, like files made by `std::fs::write` (tempfile's
-    // default is owner-only).
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
-    let mut temp = builder.tempfile_in(folder).map_err(error)?;
-    temp.write_all(contents).map_err(error)?;
-    temp.as_file().sync_all().map_err(error)?;
-    temp.persist(path).map_err(|persist| error(persist.error))?;
-    sync_folder(folder).map_err(error)?;
-    Ok(())
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(contents)
+        .map_err(|source| AtomicWriteError {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    file.commit()
 }
 
 /// Flushes a folder's entries (a rename, a new or removed file) to disk, so that a crash right
@@ -97,6 +74,8 @@ impl AtomicFile {
         prefix.push(".");
         let mut builder = tempfile::Builder::new();
         builder.prefix(&prefix).suffix(".tmp");
+        // Outputs are for everyone to read, like files made by `std::fs::write` (tempfile's
+        // default is owner-only).
         #[cfg(unix)]
         builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
         let temp = builder.tempfile_in(folder).map_err(error)?;
@@ -111,7 +90,8 @@ impl AtomicFile {
         &self.path
     }
 
-    /// Flushes, syncs and renames the temporary file over the path.
+    /// Flushes, syncs and renames the temporary file over the path, then syncs the folder so
+    /// that the rename itself is on disk.
     pub(crate) fn commit(self) -> Result<(), AtomicWriteError> {
         let path = self.path;
         let error = |source| AtomicWriteError {
@@ -125,6 +105,11 @@ impl AtomicFile {
         temp.as_file().sync_all().map_err(error)?;
         temp.persist(&path)
             .map_err(|persist| error(persist.error))?;
+        let folder = match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        sync_folder(folder).map_err(error)?;
         Ok(())
     }
 }
