@@ -103,8 +103,12 @@ def test_ansi_render_shows_the_path():
 
 
 def test_robot_info_and_state_override():
+    # The default state adds the target's image position in 7 bins to the paper's
+    # distance x (obstacle image x angle + no obstacle) state.
     env = gym.make("eamadm/Robot-v0", state={"distance_bins": 5}, step_cap=3)
-    assert env.observation_space.n == 5 * (4 * 6 + 1)
+    assert env.observation_space.n == 5 * (4 * 6 + 1) * 7
+    paper_state = gym.make("eamadm/Robot-v0", state={"distance_bins": 5, "target_bins": 0})
+    assert paper_state.observation_space.n == 5 * (4 * 6 + 1)
     _, info = env.reset(seed=0)
     assert info["position"].shape == (2,)
     assert info["subtask_rewards"].shape == (3,)

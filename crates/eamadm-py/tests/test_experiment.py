@@ -24,11 +24,12 @@ def small_task1(episodes=6, seeds=2):
 
 
 def test_paper_configs():
-    for name in ("task1", "task2", "robot"):
+    episodes = {"task1": 200, "task2": 200, "robot": 300, "robot-paper-state": 300}
+    for name, count in episodes.items():
         text = eamadm.paper_config(name)
         assert isinstance(text, str) and f'name = "{name}"' in text
         as_dict = eamadm.paper_config(name, as_dict=True)
-        assert as_dict["name"] == name and as_dict["episodes"] == 200
+        assert as_dict["name"] == name and as_dict["episodes"] == count
         _native.check_config(text)
     with pytest.raises(ValueError, match="^name: "):
         eamadm.paper_config("task3")
@@ -45,7 +46,8 @@ def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
         rust_rows = list(csv.DictReader(file))
 
     ours = eamadm.run(config_file, threads=2, dataframe=False).curves
-    assert len(rust_rows) == len(ours["episode"]) == 8 * 2 * 6
+    runs = len(config["methods"]) * config["seeds"]
+    assert len(rust_rows) == len(ours["episode"]) == runs * 6
     for column in ours:
         for i, rust_row in enumerate(rust_rows):
             cell, value = rust_row[column], ours[column][i]
