@@ -1,4 +1,4 @@
-//! The robot section's "why each method behaves as it does": formats [`eamadm::behaviour`]
+//! The robot section's "why each method behaves as it does": formats [`eamadm::behaviour()`]
 //! (computed in the library) as markdown — success with its Wilson interval, the final
 //! window's action shares, and for EA-MADM its agreement with each sub-task's best action and
 //! what each sub-task's learner learned to expect from the start.
