@@ -1,33 +1,12 @@
 //! A `reproduce-paper` killed (SIGKILL) while its runs are being stored, then started again with
 //! the same arguments, ends with outputs byte-identical to an uninterrupted run's.
 
-use std::collections::BTreeMap;
+use crate::tree;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const PLAN: [&str; 2] = ["--quick", "--keep-trajectories=all"];
-
-fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut stack = vec![folder.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).expect("a readable folder") {
-            let path = entry.expect("a folder entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                let name = path
-                    .strip_prefix(folder)
-                    .expect("under the folder")
-                    .display()
-                    .to_string();
-                files.insert(name, std::fs::read(&path).expect("a readable file"));
-            }
-        }
-    }
-    files
-}
 
 fn reproduce(out: &Path) {
     let status = Command::new(env!("CARGO_BIN_EXE_xtask"))

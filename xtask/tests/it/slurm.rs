@@ -3,7 +3,7 @@
 //! output must equal an unsharded run's byte for byte. Without SLURM the test says why and
 //! skips, except under `CI=true`, where SLURM must be there.
 
-use std::collections::BTreeMap;
+use crate::tree;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
@@ -67,28 +67,6 @@ fn slurm_missing() -> Option<String> {
         )),
         Err(error) => Some(format!("`sinfo` cannot be run ({error})")),
     }
-}
-
-/// Every file under `folder`: relative path → bytes.
-fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut stack = vec![folder.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).expect("a readable folder") {
-            let path = entry.expect("a folder entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                let name = path
-                    .strip_prefix(folder)
-                    .expect("under the folder")
-                    .display()
-                    .to_string();
-                files.insert(name, std::fs::read(&path).expect("a readable file"));
-            }
-        }
-    }
-    files
 }
 
 fn logs(folder: &Path) -> String {

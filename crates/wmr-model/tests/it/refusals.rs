@@ -6,20 +6,7 @@ use wmr_model::{
     MAX_STATES, PlanError, PlannerParams, Scenario, ScenarioError, WmrEnv, shortest_plan,
 };
 
-const MINIMAL: &str = r#"
-[arena]
-width = 1.0
-height = 0.6
-
-[start]
-x = 0.1
-y = 0.3
-heading = 0.0
-
-[target]
-x = 0.9
-y = 0.3
-"#;
+use crate::scenarios::MINIMAL;
 
 fn refused(extra: &str) -> ScenarioError {
     Scenario::from_toml_str(&format!("{MINIMAL}\n{extra}\n")).expect_err("must be refused")

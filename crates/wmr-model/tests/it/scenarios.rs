@@ -5,7 +5,8 @@ use wmr_model::{
     ScenarioError, SensorParams, StateParams, TaskReward,
 };
 
-const MINIMAL: &str = r#"
+/// The smallest valid scenario: an arena, a start and a target (every other section defaulted).
+pub(crate) const MINIMAL: &str = r#"
 [arena]
 width = 1.0
 height = 0.6
