@@ -483,9 +483,10 @@ fn write_task(
             .collect();
         let _ = writeln!(
             text,
-            "Figures: {}; tables: [curves]({task}/curves.csv), \
+            "Figures: {}; tables: [curves]({task}/{}) (gzip), \
              [trajectories]({task}/trajectories.csv).\n",
-            links.join(", ")
+            links.join(", "),
+            crate::finish::CURVES_FILE
         );
     }
 }

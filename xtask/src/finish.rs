@@ -23,12 +23,16 @@ use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
 use crate::outputs::{OutputError, write_figures};
-use crate::store::{RunStore, StoreError, StoredRun};
+use crate::store::{BUNDLE_EXTENSION, RunStore, StoreError, StoredRun};
+
+/// Each experiment's per-episode table, compressed: about 8× smaller than the CSV (23 of the
+/// default run's 62 MB were these tables), and pandas, R and `zcat` read it as it is.
+pub(crate) const CURVES_FILE: &str = "curves.csv.gz";
 
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Outputs {
-    /// Only the run store (`runs/<experiment>.jsonl`), compacted into job order: a shard's or
+    /// Only the run store (`runs/<experiment>.jsonl.gz`), compacted into job order: a shard's or
     /// `--runs-only`'s output.
     StoreOnly,
     /// The run store, the CSV tables, the figures and `REPORT.md`.
@@ -91,10 +95,12 @@ pub(crate) fn missing_runs(
 }
 
 /// Removes what earlier versions wrote and this one replaces: `results.json` (every record, now
-/// in the store) and the one-file-per-run store `runs/<64 hex digits>.json` (format 1, whose
-/// runs carry no checksum; they are recomputed). Left in place they would sit beside the new
-/// outputs as a second, stale set.
-fn remove_legacy_files(out: &Path) -> Result<(), FinishError> {
+/// in the store), the one-file-per-run store `runs/<64 hex digits>.json` (format 1, whose
+/// runs carry no checksum) and the uncompressed bundles `runs/<experiment>.jsonl` of
+/// `experiments` (their runs are recomputed, not converted). Left in place they would sit beside
+/// the new outputs as a second, stale set. (The uncompressed `curves.csv` of an earlier set goes
+/// with the output folder's swap, which removes what the previous manifest listed.)
+fn remove_legacy_files(out: &Path, experiments: &[PlannedExperiment]) -> Result<(), FinishError> {
     let remove = |path: &Path| -> Result<(), FinishError> {
         match std::fs::remove_file(path) {
             Ok(()) => Ok(()),
@@ -106,6 +112,9 @@ fn remove_legacy_files(out: &Path) -> Result<(), FinishError> {
         }
     };
     remove(&out.join("results.json"))?;
+    for planned in experiments {
+        remove(&out.join("runs").join(format!("{}.jsonl", planned.name)))?;
+    }
     let Ok(entries) = std::fs::read_dir(out.join("runs")) else {
         return Ok(());
     };
@@ -161,12 +170,13 @@ pub(crate) fn write_outputs(
     let mut compact: Vec<Vec<RunRecord>> = Vec::with_capacity(experiments.len());
     let mut figures = Vec::with_capacity(experiments.len());
     for (index, planned) in experiments.iter().enumerate() {
-        let mut bundle = AtomicFile::create(&runs_folder.join(format!("{}.jsonl", planned.name)))?;
+        let mut bundle =
+            AtomicFile::create(&runs_folder.join(format!("{}.{BUNDLE_EXTENSION}", planned.name)))?;
         let everything = matches!(outputs, Outputs::Everything { .. });
         let folder = out.join(&planned.name);
         let mut tables = if everything {
             Some((
-                AtomicFile::create(&folder.join("curves.csv"))?,
+                crate::gzip::encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
                 AtomicFile::create(&folder.join("trajectories.csv"))?,
             ))
         } else {
@@ -182,17 +192,19 @@ pub(crate) fn write_outputs(
                     missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
                     total: jobs.len(),
                 })?;
-                let line = run.line(&job.key, keep)?;
-                bundle.write_all(&line).map_err(|source| AtomicWriteError {
-                    path: bundle.path().to_path_buf(),
-                    source,
-                })?;
+                let entry = run.entry(&job.key, keep)?;
+                bundle
+                    .write_all(&entry)
+                    .map_err(|source| AtomicWriteError {
+                        path: bundle.path().to_path_buf(),
+                        source,
+                    })?;
                 if let Some((curves, paths)) = csv.as_mut() {
                     let table = |file: &str| {
                         let file = format!("{}/{file}", planned.name);
                         move |source: ResultsError| OutputError::Results { file, source }
                     };
-                    curves.push(&run.record).map_err(table("curves.csv"))?;
+                    curves.push(&run.record).map_err(table(CURVES_FILE))?;
                     // The figures draw the paths of the first seed; the other seeds' paths
                     // (up to the step cap each on a looping greedy policy) are kept only when
                     // asked for, so a default run's tables stay small.
@@ -211,19 +223,26 @@ pub(crate) fn write_outputs(
                     let file = format!("{}/{file}", planned.name);
                     move |source: ResultsError| OutputError::Results { file, source }
                 };
-                curves.finish().map_err(table("curves.csv"))?;
+                curves.finish().map_err(table(CURVES_FILE))?;
                 paths.finish().map_err(table("trajectories.csv"))?;
             }
         }
         bundle.commit()?;
         if let Some((curves, paths)) = tables {
-            curves.commit()?;
+            let curves_path = folder.join(CURVES_FILE);
+            curves
+                .finish()
+                .map_err(|source| AtomicWriteError {
+                    path: curves_path,
+                    source,
+                })?
+                .commit()?;
             paths.commit()?;
             figures.push(write_figures(out, planned, &records)?);
         }
         compact.push(records);
     }
-    remove_legacy_files(store_out)?;
+    remove_legacy_files(store_out, experiments)?;
     if let Outputs::Everything { quick } = outputs {
         let mut scores = Vec::new();
         let mut behaviour = Vec::with_capacity(experiments.len());

@@ -34,6 +34,7 @@ mod experiments;
 mod figures;
 mod finish;
 mod fixtures;
+mod gzip;
 mod jobs;
 mod output_folder;
 mod outputs;

@@ -382,8 +382,8 @@ mod tests {
         .unwrap();
         for file in [
             "REPORT.md",
-            "runs/mine.jsonl",
-            "mine/curves.csv",
+            "runs/mine.jsonl.gz",
+            "mine/curves.csv.gz",
             "mine/trajectories.csv",
             "mine/steps.svg",
             "mine/return.svg",
@@ -426,7 +426,7 @@ mod tests {
             &ws,
         )
         .unwrap();
-        assert!(ws.root.join("out/first/curves.csv").is_file());
+        assert!(ws.root.join("out/first/curves.csv.gz").is_file());
         reproduce_paper(
             &command(args(Some("second.toml"), "out"), RunModeArgs::default()),
             &ws,
@@ -437,7 +437,7 @@ mod tests {
             !out.join("first").exists(),
             "the first run's outputs are gone"
         );
-        assert!(out.join("second/curves.csv").is_file());
+        assert!(out.join("second/curves.csv.gz").is_file());
         let manifest = std::fs::read_to_string(out.join(".outputs")).unwrap();
         assert!(
             manifest.lines().all(|line| !line.starts_with("first/")),
@@ -730,25 +730,39 @@ mod tests {
         reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
         let copy = ws.root.join("resumed");
         std::fs::create_dir_all(copy.join("runs")).unwrap();
-        let bundle = ws.root.join("whole/runs/task1.jsonl");
-        let text = std::fs::read_to_string(&bundle).unwrap();
-        let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines.len(), 4);
+        let bundle = std::fs::read(ws.root.join("whole/runs/task1.jsonl.gz")).unwrap();
+        let mut entries = Vec::new();
+        let mut rest = bundle.as_slice();
+        while !rest.is_empty() {
+            let (line, len) = crate::gzip::decompress_member(rest).unwrap();
+            entries.push((rest[..len].to_vec(), String::from_utf8(line).unwrap()));
+            rest = &rest[len..];
+        }
+        assert_eq!(entries.len(), 4);
         // As if killed mid-append: one run whole, one edited, one torn, one never written.
-        let edited = lines[1].replacen("\"steps\":", "\"steps\":1", 1);
-        let torn = &lines[2][..lines[2].len() / 2];
+        let edited = entries[1].1.replacen("\"steps\":", "\"steps\":1", 1);
+        let torn = &entries[2].0[..entries[2].0.len() / 2];
         std::fs::write(
-            copy.join("runs/task1.jsonl"),
-            format!("{}\n{edited}\n{torn}", lines[0]),
+            copy.join("runs/task1.jsonl.gz"),
+            [
+                entries[0].0.as_slice(),
+                &crate::gzip::compress(edited.as_bytes()).unwrap(),
+                torn,
+            ]
+            .concat(),
         )
         .unwrap();
         // What an earlier version left: results.json and a one-file-per-run store.
         std::fs::write(copy.join("results.json"), "[]").unwrap();
         let legacy = copy.join("runs").join(format!("{}.json", "ab".repeat(32)));
         std::fs::write(&legacy, "{}").unwrap();
+        // And an uncompressed bundle (format 2 before the store was compressed).
+        let uncompressed = copy.join("runs/task1.jsonl");
+        std::fs::write(&uncompressed, &entries[0].1).unwrap();
         std::fs::write(copy.join("runs/notes.json"), "mine").unwrap();
         reproduce_paper(&command(small("resumed"), RunModeArgs::default()), &ws).unwrap();
         assert!(!legacy.exists());
+        assert!(!uncompressed.exists());
         // Only files of ours are removed.
         assert_eq!(
             std::fs::read(copy.join("runs/notes.json")).unwrap(),

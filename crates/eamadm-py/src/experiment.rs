@@ -67,7 +67,7 @@ pub(crate) fn toml_to_json(toml_text: &str) -> PyResult<String> {
 /// config's order) with every seed in `seeds` (default the config's `base_seed + i`), on
 /// `threads` threads (default rayon's), with the GIL released. Returns
 /// `{"curves": columns, "finals": columns}`: one row per (run, episode) with the columns of the
-/// Rust runner's `curves.csv`, and one row per run with its final scores (means over the last
+/// Rust runner's `curves.csv.gz`, and one row per run with its final scores (means over the last
 /// `window` training episodes, as in the report).
 #[pyfunction]
 #[expect(

@@ -1,6 +1,7 @@
 """Experiments from Python: presets, configs as text or dict, equality with the Rust runner."""
 
 import csv
+import gzip
 import math
 
 import pytest
@@ -41,8 +42,8 @@ def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
     config_file.write_text(_native.json_to_toml(__import__("json").dumps(config)))
     out = tmp_path / "out"
     run_xtask(xtask, "reproduce-paper", "--config", str(config_file), "--out", str(out))
-    [curves_csv] = list(out.rglob("curves.csv"))
-    with open(curves_csv, newline="") as file:
+    [curves_csv] = list(out.rglob("curves.csv.gz"))
+    with gzip.open(curves_csv, "rt", newline="") as file:
         rust_rows = list(csv.DictReader(file))
 
     ours = eamadm.run(config_file, threads=2, dataframe=False).curves

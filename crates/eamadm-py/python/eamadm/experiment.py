@@ -2,7 +2,7 @@
 
 A config is the Rust runner's TOML schema, given as text, as a dict of the same shape, or as
 a path to a ``.toml`` file. :func:`run` returns the same numbers ``cargo xtask reproduce-paper``
-writes to ``curves.csv`` for the same config and seeds, bit for bit.
+writes to ``<task>/curves.csv.gz`` for the same config and seeds, bit for bit.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ class Results(NamedTuple):
     """What :func:`run` returns: two tables, each a pandas ``DataFrame`` (or a dict of
     columns when pandas is missing or ``dataframe=False``)."""
 
-    #: One row per (run, episode): the columns of the Rust runner's ``curves.csv``.
+    #: One row per (run, episode): the columns of the Rust runner's ``curves.csv.gz``.
     curves: Any
     #: One row per run: final-window means of steps, return, reached and collisions, the greedy
     #: evaluation, and the step counts.

@@ -1,0 +1,80 @@
+//! Gzip as the outputs use it: the run store's entries and `curves.csv.gz`.
+//!
+//! A gzip header normally carries a timestamp and the writer's operating system, and a DEFLATE
+//! encoder's output depends on its level and implementation. Every output here must be a pure
+//! function of the plan (a merge of shards equals an unsharded run byte for byte, on any
+//! machine), so [`encoder`] fixes all of them: modification time 0, operating system 255
+//! ("unknown"), level 6, and flate2's pure-Rust backend (`miniz_oxide`), which has no
+//! platform-dependent code paths. Any gzip reader (`zcat`, Python's `gzip`, pandas, R) reads
+//! the files.
+
+use std::io::{self, Read as _, Write};
+
+use flate2::Compression;
+use flate2::GzBuilder;
+use flate2::write::GzEncoder;
+
+/// The DEFLATE level: zlib's default, about 8× on the store's JSON and the curves table at a
+/// few tens of MB/s, so compressing never dominates a run.
+const LEVEL: u32 = 6;
+
+/// A gzip encoder writing to `writer` whose bytes depend only on what is written.
+pub(crate) fn encoder<W: Write>(writer: W) -> GzEncoder<W> {
+    GzBuilder::new()
+        .mtime(0)
+        .operating_system(255)
+        .write(writer, Compression::new(LEVEL))
+}
+
+/// `bytes` as one gzip member.
+pub(crate) fn compress(bytes: &[u8]) -> io::Result<Vec<u8>> {
+    let mut encoder = encoder(Vec::with_capacity(bytes.len() / 4 + 64));
+    encoder.write_all(bytes)?;
+    encoder.finish()
+}
+
+/// The content of the first gzip member at the start of `bytes`, and how many bytes of `bytes`
+/// the member takes (header, compressed data and trailer). Fails on a damaged or incomplete
+/// member (the CRC and length in the trailer are checked).
+pub(crate) fn decompress_member(bytes: &[u8]) -> io::Result<(Vec<u8>, usize)> {
+    let mut rest = bytes;
+    let mut content = Vec::new();
+    // The bufread decoder consumes exactly the member from the slice, so what is left of
+    // `rest` says where the member ends.
+    flate2::bufread::GzDecoder::new(&mut rest).read_to_end(&mut content)?;
+    Ok((content, bytes.len() - rest.len()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compress_is_deterministic_and_round_trips() {
+        let text = b"{\"a\":1}\t{\"b\":[1,2,3]}\n".repeat(50);
+        let first = compress(&text).unwrap();
+        assert_eq!(first, compress(&text).unwrap());
+        assert!(first.len() < text.len() / 4);
+        // mtime 0, OS 255: nothing of the machine or the time in the header.
+        assert_eq!(&first[..10], &[0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255]);
+        let (content, len) = decompress_member(&first).unwrap();
+        assert_eq!((content, len), (text.clone(), first.len()));
+    }
+
+    #[test]
+    fn members_are_found_one_after_another_and_damage_is_an_error() {
+        let mut bytes = compress(b"first\n").unwrap();
+        let first_len = bytes.len();
+        bytes.extend(compress(b"second\n").unwrap());
+        let (content, len) = decompress_member(&bytes).unwrap();
+        assert_eq!((content.as_slice(), len), (&b"first\n"[..], first_len));
+        let (content, _) = decompress_member(&bytes[len..]).unwrap();
+        assert_eq!(content, b"second\n");
+        // Cut short: incomplete.
+        assert!(decompress_member(&bytes[..first_len - 3]).is_err());
+        // One flipped bit in the trailer's CRC: damaged.
+        let mut flipped = bytes.clone();
+        flipped[first_len - 8] ^= 1;
+        assert!(decompress_member(&flipped).is_err());
+    }
+}
