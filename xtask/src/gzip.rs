@@ -45,6 +45,20 @@ pub(crate) fn decompress_member(bytes: &[u8]) -> io::Result<(Vec<u8>, usize)> {
     Ok((content, bytes.len() - rest.len()))
 }
 
+/// The members of `bytes`, each as its compressed bytes and its content, for tests that damage
+/// or edit one entry of a bundle.
+#[cfg(test)]
+pub(crate) fn split_members(bytes: &[u8]) -> io::Result<Vec<(&[u8], Vec<u8>)>> {
+    let mut members = Vec::new();
+    let mut rest = bytes;
+    while !rest.is_empty() {
+        let (content, len) = decompress_member(rest)?;
+        members.push((&rest[..len], content));
+        rest = &rest[len..];
+    }
+    Ok(members)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

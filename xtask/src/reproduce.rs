@@ -731,21 +731,16 @@ mod tests {
         let copy = ws.root.join("resumed");
         std::fs::create_dir_all(copy.join("runs")).unwrap();
         let bundle = std::fs::read(ws.root.join("whole/runs/task1.jsonl.gz")).unwrap();
-        let mut entries = Vec::new();
-        let mut rest = bundle.as_slice();
-        while !rest.is_empty() {
-            let (line, len) = crate::gzip::decompress_member(rest).unwrap();
-            entries.push((rest[..len].to_vec(), String::from_utf8(line).unwrap()));
-            rest = &rest[len..];
-        }
+        let entries = crate::gzip::split_members(&bundle).unwrap();
         assert_eq!(entries.len(), 4);
         // As if killed mid-append: one run whole, one edited, one torn, one never written.
-        let edited = entries[1].1.replacen("\"steps\":", "\"steps\":1", 1);
+        let line = |i: usize| String::from_utf8(entries[i].1.clone()).unwrap();
+        let edited = line(1).replacen("\"steps\":", "\"steps\":1", 1);
         let torn = &entries[2].0[..entries[2].0.len() / 2];
         std::fs::write(
             copy.join("runs/task1.jsonl.gz"),
             [
-                entries[0].0.as_slice(),
+                entries[0].0,
                 &crate::gzip::compress(edited.as_bytes()).unwrap(),
                 torn,
             ]
@@ -758,7 +753,7 @@ mod tests {
         std::fs::write(&legacy, "{}").unwrap();
         // And an uncompressed bundle (format 2 before the store was compressed).
         let uncompressed = copy.join("runs/task1.jsonl");
-        std::fs::write(&uncompressed, &entries[0].1).unwrap();
+        std::fs::write(&uncompressed, line(0)).unwrap();
         std::fs::write(copy.join("runs/notes.json"), "mine").unwrap();
         reproduce_paper(&command(small("resumed"), RunModeArgs::default()), &ws).unwrap();
         assert!(!legacy.exists());

@@ -711,6 +711,17 @@ mod tests {
             .collect()
     }
 
+    /// A store in `dir` holding `runs`, closed, and the path of their bundle.
+    fn stored(dir: &Path, runs: &[(RunKey, RunDescription, RunRecord)]) -> PathBuf {
+        let (store, _) = open(dir);
+        for (key, description, record) in runs {
+            store
+                .append(key, description, record, KeepTrajectories::Figures)
+                .unwrap();
+        }
+        store.bundle_path(&runs[0].2.experiment)
+    }
+
     fn open(dir: &Path) -> (RunStore, Vec<String>) {
         let mut warnings = Vec::new();
         let store = RunStore::open(dir, &mut |w| warnings.push(w.to_owned())).unwrap();
@@ -769,19 +780,13 @@ mod tests {
     fn an_edited_line_is_ignored_with_a_warning_naming_the_checksum() {
         let dir = tempfile::tempdir().unwrap();
         let runs = runs();
-        let (store, _) = open(dir.path());
-        for (key, description, record) in &runs {
-            store
-                .append(key, description, record, KeepTrajectories::Figures)
-                .unwrap();
-        }
-        let bundle = store.bundle_path(&runs[0].2.experiment);
-        let mut entries = entries(&std::fs::read(&bundle).unwrap());
+        let bundle = stored(dir.path(), &runs);
+        let bytes = std::fs::read(&bundle).unwrap();
+        let entries = gzip::split_members(&bytes).unwrap();
         assert_eq!(entries.len(), 2);
         // Change one number of the first record's first episode (its steps, a digit longer) and
         // compress the line again, so the entry decompresses but its checksum fails.
-        let first_line =
-            String::from_utf8(gzip::decompress_member(&entries[0]).unwrap().0).unwrap();
+        let first_line = String::from_utf8(entries[0].1.clone()).unwrap();
         let steps = format!("\"steps\":[{},", runs[0].2.episodes[0].steps);
         assert!(first_line.contains(&steps), "{first_line}");
         let edited = first_line.replacen(
@@ -789,8 +794,8 @@ mod tests {
             &format!("\"steps\":[{}0,", runs[0].2.episodes[0].steps),
             1,
         );
-        entries[0] = gzip::compress(edited.as_bytes()).unwrap();
-        std::fs::write(&bundle, entries.concat()).unwrap();
+        let edited = gzip::compress(edited.as_bytes()).unwrap();
+        std::fs::write(&bundle, [edited.as_slice(), entries[1].0].concat()).unwrap();
         let (store, warnings) = open(dir.path());
         assert_eq!(warnings.len(), 1, "{warnings:?}");
         assert!(warnings[0].contains("checksum mismatch"), "{}", warnings[0]);
@@ -799,32 +804,13 @@ mod tests {
         assert!(store.has(&runs[1].0, KeepTrajectories::Figures));
     }
 
-    /// The gzip members of a bundle's bytes, each whole.
-    fn entries(bundle: &[u8]) -> Vec<Vec<u8>> {
-        let mut entries = Vec::new();
-        let mut rest = bundle;
-        while !rest.is_empty() {
-            let (_, len) = gzip::decompress_member(rest).unwrap();
-            entries.push(rest[..len].to_vec());
-            rest = &rest[len..];
-        }
-        entries
-    }
-
     #[test]
     fn a_damaged_entry_is_skipped_and_reading_resumes_at_the_next() {
         let dir = tempfile::tempdir().unwrap();
         let runs = runs();
-        let (store, _) = open(dir.path());
-        for (key, description, record) in &runs {
-            store
-                .append(key, description, record, KeepTrajectories::Figures)
-                .unwrap();
-        }
-        let bundle = store.bundle_path(&runs[0].2.experiment);
-        drop(store);
+        let bundle = stored(dir.path(), &runs);
         let whole = std::fs::read(&bundle).unwrap();
-        let first_len = entries(&whole)[0].len();
+        let first_len = gzip::split_members(&whole).unwrap()[0].0.len();
         // A disk error in the middle of the first entry's compressed data.
         let mut damaged = whole.clone();
         damaged[first_len / 2] ^= 0x55;
@@ -853,14 +839,8 @@ mod tests {
     fn a_bundle_reads_as_plain_gzip_whose_lines_are_the_runs() {
         let dir = tempfile::tempdir().unwrap();
         let runs = runs();
-        let (store, _) = open(dir.path());
-        for (key, description, record) in &runs {
-            store
-                .append(key, description, record, KeepTrajectories::Figures)
-                .unwrap();
-        }
         // What `zcat` does: every member in turn, concatenated.
-        let bundle = std::fs::read(store.bundle_path(&runs[0].2.experiment)).unwrap();
+        let bundle = std::fs::read(stored(dir.path(), &runs)).unwrap();
         let mut text = String::new();
         flate2::read::MultiGzDecoder::new(bundle.as_slice())
             .read_to_string(&mut text)
