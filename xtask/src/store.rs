@@ -414,12 +414,22 @@ impl RunStore {
                         source,
                     })?;
                     let path = entry.path();
-                    let is_bundle = path
-                        .file_name()
-                        .and_then(|name| name.to_str())
-                        .is_some_and(|name| name.ends_with(&format!(".{BUNDLE_EXTENSION}")));
-                    if is_bundle && path.is_file() {
+                    let name = entry.file_name();
+                    let name = name.to_string_lossy();
+                    if !path.is_file() {
+                        continue;
+                    }
+                    if name.ends_with(&format!(".{BUNDLE_EXTENSION}")) {
                         bundles.push(path);
+                    } else if name.ends_with(".jsonl") {
+                        // The uncompressed bundle of an earlier version: say why its runs do
+                        // not count, instead of silently recomputing or listing them missing.
+                        warn(&format!(
+                            "{}: an uncompressed bundle written by an earlier version; its runs \
+                             are not read (they are recomputed, and the file is removed when \
+                             its experiment's outputs are next written)",
+                            path.display()
+                        ));
                     }
                 }
             }
@@ -855,6 +865,27 @@ mod tests {
             .collect();
         let expected: Vec<String> = runs.iter().map(|(key, _, _)| key.to_string()).collect();
         assert_eq!(keys, expected);
+    }
+
+    #[test]
+    fn an_uncompressed_bundle_of_an_earlier_version_is_named_not_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let runs = runs();
+        let bundle = stored(dir.path(), &runs);
+        let line = gzip::split_members(&std::fs::read(&bundle).unwrap()).unwrap()[0]
+            .1
+            .clone();
+        std::fs::remove_file(&bundle).unwrap();
+        let old = dir.path().join("runs/task1.jsonl");
+        std::fs::write(&old, line).unwrap();
+        let (store, warnings) = open(dir.path());
+        assert_eq!(store.len(), 0);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(
+            warnings[0].contains("task1.jsonl: an uncompressed bundle"),
+            "{}",
+            warnings[0]
+        );
     }
 
     #[test]
