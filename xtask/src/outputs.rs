@@ -144,7 +144,8 @@ impl MethodCurves {
             success.push(&curve(&|e| f64::from(u8::from(e.reached))));
         }
         for (series, chart) in self.reaching.iter_mut().zip(&REACHING_CHARTS) {
-            // A NaN marks an episode that did not reach; it is dropped, as they are.
+            // The reaching episodes in order; a NaN value is left out like the episodes that
+            // did not reach (the figures have always drawn the non-NaN reaching values).
             let reaching: Vec<f64> = record
                 .episodes
                 .iter()
