@@ -9,12 +9,20 @@
 //! pure function of the chart (integer pixel coordinates, no timestamps), so equal input gives
 //! equal files.
 //!
+//! A [`Series`] takes one seed's curve at a time ([`Series::push`]) and keeps only per-episode
+//! running sums ([`eamadm::summary::BandAccumulator`]), so a chart over many seeds holds no
+//! curve: its memory grows with the episodes, not with the seeds.
+//!
 //! ```ignore
+//! let mut ea_madm = Series::new("EA-MADM", 5);
+//! for run in ea_madm_runs {
+//!     ea_madm.push(&steps_of(run));                  // one seed's curve, then dropped
+//! }
 //! LineChart::new("Task I: steps per episode", "episode", "steps")
-//!     .with_series("EA-MADM", steps_per_seed)        // Vec<Vec<f64>>: seeds × episodes
-//!     .with_series("ε-greedy", other_steps_per_seed)
-//!     .with_reference_line("BFS optimum = 58", 58.0)
 //!     .with_smoothing(5)
+//!     .with_series(ea_madm)
+//!     .with_series(epsilon_greedy)
+//!     .with_reference_line("BFS optimum = 58", 58.0)
 //!     .write_svg(&out.join("task1/steps.svg"))?;
 //! ```
 
@@ -27,7 +35,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
-use eamadm::summary::{self as stats, BandPoint, StatsError};
+use eamadm::summary::{self as stats, BandAccumulator, BandPoint, StatsError};
 
 /// Bad chart input, or a failure to draw or write it.
 #[derive(Debug, Error)]
@@ -64,6 +72,19 @@ pub(crate) enum FigureError {
     /// A smoothing window of zero episodes.
     #[error("smoothing window must be at least 1 episode, got 0")]
     ZeroSmoothingWindow,
+    /// A series smoothed over another window than its chart's.
+    #[error(
+        "series {series:?} is smoothed over {series_window} episodes but its chart over \
+         {chart_window}; make the series with the chart's window"
+    )]
+    SmoothingMismatch {
+        /// The series' name.
+        series: String,
+        /// The window the series' curves were smoothed with.
+        series_window: usize,
+        /// The chart's window.
+        chart_window: usize,
+    },
     /// A canvas too small to hold the axes and the legend.
     #[error("chart size {width}×{height} px is below the minimum {MIN_WIDTH}×{MIN_HEIGHT} px")]
     TooSmall {
@@ -90,14 +111,88 @@ const MIN_WIDTH: u32 = 400;
 /// Smallest accepted canvas.
 const MIN_HEIGHT: u32 = 250;
 
-/// One method's curves: `runs[seed][episode]`. Curves may differ in length (episode `i` is then
-/// summarised over the seeds that reach it).
+/// One method's curves over seeds, taken one seed at a time: the mean band of the raw curves
+/// and of their trailing moving averages, accumulated per episode. Curves may differ in length
+/// (episode `i` is then summarised over the seeds that reach it).
+///
+/// The first bad curve (empty, or with a NaN or infinite value) is kept as the series' failure
+/// and the curves after it are ignored; drawing the series then fails naming it, the seed (its
+/// position among the curves pushed) and the episode, as [`stats::mean_band`] would on all the
+/// curves at once. A series that is never drawn never fails.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Series {
     /// Legend label, e.g. `"EA-MADM"`.
     pub(crate) name: String,
-    /// Per-seed curves, seeds × episodes.
-    pub(crate) runs: Vec<Vec<f64>>,
+    /// Trailing moving-average window each curve is smoothed with (1: none).
+    smoothing_window: usize,
+    /// Curves pushed, failed ones included.
+    curves: usize,
+    /// Band of the raw curves: what is drawn without smoothing, and what checks every curve as
+    /// given (so errors name the episode as given).
+    raw: BandAccumulator,
+    /// Band of the smoothed curves (unused without smoothing).
+    smoothed: BandAccumulator,
+    /// The first bad curve's error.
+    failure: Option<StatsError>,
+}
+
+impl Series {
+    /// A series without curves, whose curves are smoothed over `smoothing_window` episodes
+    /// (1 = no smoothing; it must be its chart's window).
+    pub(crate) fn new(name: impl Into<String>, smoothing_window: usize) -> Self {
+        Self {
+            name: name.into(),
+            smoothing_window,
+            curves: 0,
+            raw: BandAccumulator::new(),
+            smoothed: BandAccumulator::new(),
+            failure: None,
+        }
+    }
+
+    /// Adds the next seed's curve (`curve[episode]`).
+    pub(crate) fn push(&mut self, curve: &[f64]) {
+        self.curves += 1;
+        if self.failure.is_some() {
+            return;
+        }
+        let pushed = self.raw.push(curve).and_then(|()| {
+            if self.smoothing_window > 1 {
+                self.smoothed
+                    .push(&stats::moving_average(curve, self.smoothing_window)?)
+            } else {
+                Ok(())
+            }
+        });
+        self.failure = pushed.err();
+    }
+
+    /// Curves pushed so far (seeds), failed ones included.
+    pub(crate) fn seeds(&self) -> usize {
+        self.curves
+    }
+
+    /// Numbers held per episode, over both bands (for the memory law: they do not grow with
+    /// the seeds).
+    #[cfg(test)]
+    pub(crate) fn held_episodes(&self) -> usize {
+        self.raw.episodes() + self.smoothed.episodes()
+    }
+
+    /// The band drawn: the smoothed curves' (the raw ones' without smoothing).
+    fn band(&self) -> Result<Vec<BandPoint>, StatsError> {
+        if let Some(failure) = &self.failure {
+            return Err(failure.clone());
+        }
+        if self.curves == 0 {
+            return Err(StatsError::NoSeeds);
+        }
+        Ok(if self.smoothing_window > 1 {
+            self.smoothed.band()
+        } else {
+            self.raw.band()
+        })
+    }
 }
 
 /// A dashed horizontal line with a legend label, e.g. `"BFS optimum = 58"` at 58.
@@ -127,7 +222,8 @@ pub(crate) struct LineChart {
     /// Dashed horizontal reference lines.
     pub(crate) reference_lines: Vec<ReferenceLine>,
     /// Trailing moving-average window applied to every seed's curve before averaging over seeds
-    /// ([`stats::moving_average`]); 1 means no smoothing. The legend states the window.
+    /// ([`stats::moving_average`]); 1 means no smoothing. The legend states the window; every
+    /// series is smoothed with it.
     pub(crate) smoothing_window: usize,
     /// Canvas size in pixels, (width, height).
     pub(crate) size: (u32, u32),
@@ -173,12 +269,9 @@ impl LineChart {
         }
     }
 
-    /// Adds a series: `runs[seed][episode]`.
-    pub(crate) fn with_series(mut self, name: impl Into<String>, runs: Vec<Vec<f64>>) -> Self {
-        self.series.push(Series {
-            name: name.into(),
-            runs,
-        });
+    /// Adds a series (made with this chart's smoothing window).
+    pub(crate) fn with_series(mut self, series: Series) -> Self {
+        self.series.push(series);
         self
     }
 
@@ -191,8 +284,9 @@ impl LineChart {
         self
     }
 
-    /// Smooths every seed's curve with a trailing moving average over `window` episodes before
-    /// averaging over seeds (1 = no smoothing).
+    /// States that every seed's curve is smoothed with a trailing moving average over `window`
+    /// episodes before averaging over seeds (1 = no smoothing); the series must be made with the
+    /// same window ([`Series::new`]).
     pub(crate) fn with_smoothing(mut self, window: usize) -> Self {
         self.smoothing_window = window;
         self
@@ -263,26 +357,17 @@ impl LineChart {
         self.series
             .iter()
             .map(|series| {
-                let in_series = |source| FigureError::Series {
+                if series.smoothing_window != self.smoothing_window {
+                    return Err(FigureError::SmoothingMismatch {
+                        series: series.name.clone(),
+                        series_window: series.smoothing_window,
+                        chart_window: self.smoothing_window,
+                    });
+                }
+                let band = series.band().map_err(|source| FigureError::Series {
                     series: series.name.clone(),
                     source,
-                };
-                // The raw curves first, so errors name the episode as given.
-                let raw = stats::mean_band(&series.runs).map_err(in_series)?;
-                if self.smoothing_window == 1 {
-                    return Ok(raw);
-                }
-                let smoothed = series
-                    .runs
-                    .iter()
-                    .map(|curve| stats::moving_average(curve, self.smoothing_window))
-                    .collect::<Result<Vec<_>, _>>()
-                    .map_err(in_series)?;
-                stats::mean_band(&smoothed).map_err(in_series)
-            })
-            .zip(&self.series)
-            .map(|(band, series)| {
-                let band = band?;
+                })?;
                 let finite = |p: &BandPoint| p.lower.is_finite() && p.upper.is_finite();
                 if band.iter().all(finite) {
                     Ok(band)
@@ -553,25 +638,38 @@ fn episode(i: usize) -> f64 {
 mod tests {
     use super::*;
 
-    fn tiny_chart() -> LineChart {
+    /// A series of `runs[seed][episode]`, pushed seed by seed.
+    fn series(name: &str, window: usize, runs: &[Vec<f64>]) -> Series {
+        let mut series = Series::new(name, window);
+        for curve in runs {
+            series.push(curve);
+        }
+        series
+    }
+
+    /// A chart of two methods of four episodes, smoothed over `window` episodes.
+    fn tiny_chart(window: usize) -> LineChart {
         LineChart::new("Task I: steps per episode", "episode", "steps")
-            .with_series(
+            .with_smoothing(window)
+            .with_series(series(
                 "EA-MADM",
-                vec![
+                window,
+                &[
                     vec![300.0, 120.0, 70.0, 61.0],
                     vec![280.0, 140.0, 66.0, 60.0],
                 ],
-            )
-            .with_series(
+            ))
+            .with_series(series(
                 "ε-greedy",
-                vec![vec![400.0, 260.0, 150.0], vec![380.0, 300.0, 170.0, 120.0]],
-            )
+                window,
+                &[vec![400.0, 260.0, 150.0], vec![380.0, 300.0, 170.0, 120.0]],
+            ))
             .with_reference_line("BFS optimum = 58", 58.0)
     }
 
     #[test]
     fn svg_names_every_series_and_draws_bands_lines_and_reference() {
-        let svg = tiny_chart().render_svg().unwrap();
+        let svg = tiny_chart(1).render_svg().unwrap();
         assert!(svg.starts_with("<svg"), "{}", &svg[..40]);
         for text in [
             "Task I: steps per episode",
@@ -603,11 +701,11 @@ mod tests {
 
     #[test]
     fn same_input_gives_the_same_bytes() {
-        let a = tiny_chart().with_smoothing(2).render_svg().unwrap();
-        let b = tiny_chart().with_smoothing(2).render_svg().unwrap();
+        let a = tiny_chart(2).render_svg().unwrap();
+        let b = tiny_chart(2).render_svg().unwrap();
         assert_eq!(a, b);
         assert!(a.contains("2-episode moving average"));
-        assert_ne!(a, tiny_chart().render_svg().unwrap());
+        assert_ne!(a, tiny_chart(1).render_svg().unwrap());
     }
 
     /// The texts of an SVG's `<text>` elements (plotters writes each on its own line).
@@ -623,7 +721,7 @@ mod tests {
     #[test]
     fn short_runs_get_one_tick_per_episode() {
         let svg = LineChart::new("quick", "episode", "steps")
-            .with_series("a", vec![vec![150.0, 130.0, 120.0, 110.0, 105.0]])
+            .with_series(series("a", 1, &[vec![150.0, 130.0, 120.0, 110.0, 105.0]]))
             .render_svg()
             .unwrap();
         let texts = texts(&svg);
@@ -636,7 +734,7 @@ mod tests {
     #[test]
     fn single_seed_and_flat_curves_render() {
         let svg = LineChart::new("flat", "episode", "return")
-            .with_series("only", vec![vec![5.0]])
+            .with_series(series("only", 1, &[vec![5.0]]))
             .render_svg()
             .unwrap();
         assert!(svg.contains("only"));
@@ -648,7 +746,7 @@ mod tests {
         assert!(matches!(error, FigureError::NoSeries { .. }));
 
         let error = LineChart::new("t", "x", "y")
-            .with_series("softmax", vec![vec![1.0, f64::NAN]])
+            .with_series(series("softmax", 1, &[vec![1.0, f64::NAN]]))
             .render_svg()
             .unwrap_err();
         assert_eq!(
@@ -657,27 +755,53 @@ mod tests {
         );
 
         let error = LineChart::new("t", "x", "y")
-            .with_series("softmax", vec![])
+            .with_series(series("softmax", 1, &[]))
             .render_svg()
             .unwrap_err();
         assert!(error.to_string().contains("no seeds"), "{error}");
 
-        let error = tiny_chart()
+        let error = tiny_chart(1)
             .with_reference_line("optimum", f64::INFINITY)
             .render_svg()
             .unwrap_err();
         assert!(matches!(error, FigureError::NonFiniteReference { .. }));
 
         let error = LineChart::new("t", "x", "y")
-            .with_series("huge", vec![vec![1e300], vec![-1e300]])
+            .with_series(series("huge", 1, &[vec![1e300], vec![-1e300]]))
             .render_svg()
             .unwrap_err();
         assert!(matches!(error, FigureError::TooLarge { .. }), "{error}");
 
-        let error = tiny_chart().with_smoothing(0).render_svg().unwrap_err();
+        let error = tiny_chart(0).render_svg().unwrap_err();
         assert!(matches!(error, FigureError::ZeroSmoothingWindow));
 
-        let error = tiny_chart().with_size(100, 100).render_svg().unwrap_err();
+        let error = tiny_chart(1)
+            .with_series(series("smoothed", 5, &[vec![1.0, 2.0]]))
+            .render_svg()
+            .unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "series \"smoothed\" is smoothed over 5 episodes but its chart over 1; make the \
+             series with the chart's window"
+        );
+
+        // The first bad curve is the one named, whatever comes after it; its seed is its
+        // position among the curves pushed.
+        let error = LineChart::new("t", "x", "y")
+            .with_smoothing(3)
+            .with_series(series(
+                "softmax",
+                3,
+                &[vec![1.0], vec![2.0, f64::INFINITY], vec![], vec![f64::NAN]],
+            ))
+            .render_svg()
+            .unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "series \"softmax\": seed 1, episode 1: value inf is not finite"
+        );
+
+        let error = tiny_chart(1).with_size(100, 100).render_svg().unwrap_err();
         assert!(matches!(
             error,
             FigureError::TooSmall {
@@ -712,7 +836,7 @@ mod tests {
     fn write_svg_writes_the_rendered_file() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("task1/steps.svg");
-        let chart = tiny_chart();
+        let chart = tiny_chart(1);
         chart.write_svg(&path).unwrap();
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),

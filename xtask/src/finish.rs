@@ -1,7 +1,9 @@
 //! The outputs of a plan, made from run stores as a stream: one run at a time is read (in job
-//! order), written to the output's run store bundle and the CSV tables, and kept only in its
-//! compact form (per-episode curves, evaluation, sub-tasks; no training trajectories) for the
-//! figures and `REPORT.md`.
+//! order), written to the output's run store bundle and the CSV tables, added to the
+//! experiment's figures ([`ExperimentFigures`]: per-episode bands), its final scores (one small
+//! row per run, which the verdicts' per-seed bootstrap needs) and the robot's behaviour sums
+//! ([`BehaviourAccumulator`]), then dropped. No run is held past its turn, so memory does not
+//! grow with the number of seeds.
 //!
 //! `reproduce-paper` (unsharded, `--shard`, `--runs-only`) and `merge` all end here, so a merge
 //! of shards writes the bytes an unsharded run writes: the same runs, read in the same order, go
@@ -11,10 +13,10 @@
 use std::io::Write as _;
 use std::path::Path;
 
-use eamadm::RunRecord;
+use eamadm::BehaviourAccumulator;
 use eamadm::claims::ClaimOptions;
 use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
-use eamadm::scores::ScoresError;
+use eamadm::scores::{FinalScore, ScoresError};
 use thiserror::Error;
 
 use crate::atomic::{AtomicFile, AtomicWriteError};
@@ -22,7 +24,7 @@ use crate::claims_report::{ClaimsReportError, Verdicts, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
-use crate::outputs::{OutputError, write_figures};
+use crate::outputs::{ExperimentFigures, OutputError};
 use crate::store::{BUNDLE_EXTENSION, RunStore, StoreError, StoredRun};
 
 /// Each experiment's per-episode table, compressed: about 8× smaller than the CSV (23 of the
@@ -167,8 +169,11 @@ pub(crate) fn write_outputs(
         });
     }
     let runs_folder = store_out.join("runs");
-    let mut compact: Vec<Vec<RunRecord>> = Vec::with_capacity(experiments.len());
     let mut figures = Vec::with_capacity(experiments.len());
+    // Every run's final scores (the verdicts bootstrap over seeds), and the first run whose
+    // scores failed, reported after the figures as when all runs were scored at the end.
+    let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
+    let mut behaviour = Vec::with_capacity(experiments.len());
     for (index, planned) in experiments.iter().enumerate() {
         let mut bundle =
             AtomicFile::create(&runs_folder.join(format!("{}.{BUNDLE_EXTENSION}", planned.name)))?;
@@ -182,7 +187,13 @@ pub(crate) fn write_outputs(
         } else {
             None
         };
-        let mut records = Vec::new();
+        let mut collected = everything.then(|| {
+            let is_robot = matches!(planned.config().task, eamadm::TaskConfig::Robot { .. });
+            (
+                ExperimentFigures::new(planned),
+                is_robot.then(BehaviourAccumulator::default),
+            )
+        });
         {
             let mut csv = tables
                 .as_mut()
@@ -211,11 +222,18 @@ pub(crate) fn write_outputs(
                     if keep == KeepTrajectories::All || job.seed == planned.config().base_seed {
                         paths.push(&run.record).map_err(table("trajectories.csv"))?;
                     }
-                    // The figures and the report need the curves, the evaluation and the
-                    // sub-tasks, never the training trajectories.
-                    let mut record = run.record;
-                    record.trajectories = Vec::new();
-                    records.push(record);
+                }
+                if let Some((experiment_figures, robot_behaviour)) = collected.as_mut() {
+                    experiment_figures.push(&run.record);
+                    if let Some(robot_behaviour) = robot_behaviour {
+                        robot_behaviour.push(&run.record);
+                    }
+                    if let Ok(rows) = scores.as_mut() {
+                        match eamadm::scores::final_score_of(&run.record, planned.config()) {
+                            Ok(row) => rows.push(row),
+                            Err(error) => scores = Err(error),
+                        }
+                    }
                 }
             }
             if let Some((curves, paths)) = csv {
@@ -238,26 +256,23 @@ pub(crate) fn write_outputs(
                 })?
                 .commit()?;
             paths.commit()?;
-            figures.push(write_figures(out, planned, &records)?);
         }
-        compact.push(records);
-    }
-    remove_legacy_files(store_out, experiments)?;
-    if let Outputs::Everything { quick } = outputs {
-        let mut scores = Vec::new();
-        let mut behaviour = Vec::with_capacity(experiments.len());
-        for (planned, records) in experiments.iter().zip(&compact) {
-            scores.extend(eamadm::scores::final_scores(records, planned.config())?);
+        if let Some((experiment_figures, robot_behaviour)) = collected {
+            figures.push(experiment_figures.write(out)?);
             let mut section = String::new();
-            if matches!(planned.config().task, eamadm::TaskConfig::Robot { .. }) {
+            if let Some(robot_behaviour) = robot_behaviour {
                 crate::robot_report::write_robot_behaviour(
                     &mut section,
-                    records,
+                    &robot_behaviour.finish(),
                     planned.config().learner.gamma,
                 );
             }
             behaviour.push(section);
         }
+    }
+    remove_legacy_files(store_out, experiments)?;
+    if let Outputs::Everything { quick } = outputs {
+        let scores = scores?;
         let verdicts =
             Verdicts::compute(scores, &ClaimOptions::default()).map_err(ClaimsReportError::from)?;
         write_claim_outputs(out, experiments, &figures, &behaviour, &verdicts, quick)?;

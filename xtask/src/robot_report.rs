@@ -1,12 +1,12 @@
-//! The robot section's "why each method behaves as it does": formats [`eamadm::behaviour()`]
+//! The robot section's "why each method behaves as it does": formats [`eamadm::MethodBehaviour`]
 //! (computed in the library) as markdown — success with its Wilson interval, the final
 //! window's action shares, and for EA-MADM its agreement with each sub-task's best action and
 //! what each sub-task's learner learned to expect from the start.
 
 use std::fmt::Write as _;
 
+use eamadm::MethodBehaviour;
 use eamadm::wmr_model::Action;
-use eamadm::{MethodBehaviour, RunRecord, behaviour};
 
 use crate::report::{Align, MarkdownTable, format_fixed};
 use eamadm::paper::method_title;
@@ -35,10 +35,10 @@ fn success(method: &MethodBehaviour) -> String {
     }
 }
 
-/// Appends the behaviour section of a robot experiment's `records` (discount `gamma` of the
-/// learners) to `text`.
-pub(crate) fn write_robot_behaviour(text: &mut String, records: &[RunRecord], gamma: f64) {
-    let methods = behaviour(records);
+/// Appends the behaviour section of a robot experiment (its `methods`' behaviour, from
+/// [`eamadm::behaviour()`] or a [`BehaviourAccumulator`](eamadm::BehaviourAccumulator) fed its
+/// runs; discount `gamma` of the learners) to `text`.
+pub(crate) fn write_robot_behaviour(text: &mut String, methods: &[MethodBehaviour], gamma: f64) {
     if methods.is_empty() {
         return;
     }
@@ -60,7 +60,7 @@ pub(crate) fn write_robot_behaviour(text: &mut String, records: &[RunRecord], ga
             .map(|action| (action.name().to_owned(), Align::Right)),
     );
     let mut table = MarkdownTable::new(columns);
-    for method in &methods {
+    for method in methods {
         let mut row = vec![
             method_title(&method.method),
             success(method),
@@ -199,7 +199,7 @@ mod tests {
     }
 
     #[test]
-    fn an_empty_record_set_writes_nothing() {
+    fn no_methods_write_nothing() {
         let mut text = String::new();
         write_robot_behaviour(&mut text, &[], 0.95);
         assert!(text.is_empty());

@@ -4,10 +4,12 @@
 //! dominated, and what each sub-task's learner learned to expect from the start state.
 //!
 //! Everything here is a pure function of the records, so the report (xtask) only formats it.
+//! [`BehaviourAccumulator`] takes the records one at a time and keeps only per-method sums, so
+//! a report made from a stream of runs holds none of them.
 
 use serde::{Deserialize, Serialize};
 
-use crate::record::RunRecord;
+use crate::record::{RunRecord, SubtaskRecord};
 use crate::stats::{Interval, wilson};
 
 /// Confidence of the success intervals.
@@ -97,158 +99,257 @@ fn mean(total: f64, count: usize) -> f64 {
 
 /// The behaviour of every method in `records` (runs of one experiment, any order), in the
 /// order methods first appear. Records of one method must agree on the number of actions.
+///
+/// The records go through a [`BehaviourAccumulator`] in order, so a caller that streams its
+/// runs through one gets the same numbers bit for bit.
 #[must_use]
 pub fn behaviour(records: &[RunRecord]) -> Vec<MethodBehaviour> {
-    let mut methods: Vec<&str> = Vec::new();
+    let mut accumulator = BehaviourAccumulator::default();
     for record in records {
-        if !methods.contains(&record.method.as_str()) {
-            methods.push(&record.method);
-        }
+        accumulator.push(record);
     }
-    methods
-        .into_iter()
-        .map(|method| {
-            let runs: Vec<&RunRecord> = records.iter().filter(|r| r.method == method).collect();
-            method_behaviour(method, &runs)
-        })
-        .collect()
+    accumulator.finish()
 }
 
-fn method_behaviour(method: &str, runs: &[&RunRecord]) -> MethodBehaviour {
-    let n_actions = runs
-        .iter()
-        .map(|r| r.final_window_actions.len())
-        .max()
-        .unwrap_or(0);
-    let mut action_counts = vec![0_u64; n_actions];
-    let mut endings = Endings::default();
-    let (mut final_episodes, mut final_steps, mut seeds_reaching) = (0_u64, 0_u64, 0_usize);
-    for run in runs {
-        for (total, count) in action_counts.iter_mut().zip(&run.final_window_actions) {
-            *total += count;
+/// [`behaviour`] of an experiment's runs, accumulated one run at a time: per method sums and
+/// counts (of actions, endings, agreements, start values), never the runs, so memory does not
+/// grow with the number of seeds. Sums are added in push order, so pushing the runs in the
+/// order of a slice gives [`behaviour`] of that slice bit for bit.
+#[derive(Debug, Clone, Default)]
+pub struct BehaviourAccumulator {
+    /// One per method, in the order methods were first pushed.
+    methods: Vec<MethodAccumulator>,
+}
+
+impl BehaviourAccumulator {
+    /// Adds one run (of any method of the experiment).
+    pub fn push(&mut self, record: &RunRecord) {
+        let index = match self.methods.iter().position(|m| m.method == record.method) {
+            Some(index) => index,
+            None => {
+                self.methods.push(MethodAccumulator::new(&record.method));
+                self.methods.len() - 1
+            }
+        };
+        self.methods[index].push(record);
+    }
+
+    /// The behaviour of every method pushed, in the order each was first pushed.
+    #[must_use]
+    pub fn finish(self) -> Vec<MethodBehaviour> {
+        self.methods
+            .into_iter()
+            .map(MethodAccumulator::finish)
+            .collect()
+    }
+}
+
+/// The running sums of one method.
+#[derive(Debug, Clone)]
+struct MethodAccumulator {
+    method: String,
+    seeds: usize,
+    /// Per action, its final-window count summed over runs (as long as the longest run's).
+    action_counts: Vec<u64>,
+    endings: Endings,
+    final_episodes: u64,
+    final_steps: u64,
+    seeds_reaching: usize,
+    /// The most sub-tasks of a run with an agreement record.
+    agreement_subtasks: usize,
+    decisions: u64,
+    /// Per sub-task, its agreeing decisions summed over runs (as long as the longest run's).
+    agrees: Vec<u64>,
+    /// Per sub-task index of any run, its running sums.
+    subtasks: Vec<SubtaskAccumulator>,
+}
+
+/// The running sums of sub-task `k` over the runs that have one.
+#[derive(Debug, Clone, Default)]
+struct SubtaskAccumulator {
+    /// The name in the first run that has this sub-task.
+    name: Option<String>,
+    /// Sums of the start values of the runs with the most actions seen so far (runs with
+    /// fewer are left out, as [`behaviour`] leaves out the runs with fewer than the most).
+    start_value_sums: Vec<f64>,
+    /// Runs summed into `start_value_sums`.
+    start_value_runs: usize,
+    greedy_steps: f64,
+    greedy_runs: usize,
+    greedy_endings: Endings,
+}
+
+impl MethodAccumulator {
+    fn new(method: &str) -> Self {
+        Self {
+            method: method.to_owned(),
+            seeds: 0,
+            action_counts: Vec::new(),
+            endings: Endings::default(),
+            final_episodes: 0,
+            final_steps: 0,
+            seeds_reaching: 0,
+            agreement_subtasks: 0,
+            decisions: 0,
+            agrees: Vec::new(),
+            subtasks: Vec::new(),
         }
+    }
+
+    fn push(&mut self, run: &RunRecord) {
+        self.seeds += 1;
+        add_counts(&mut self.action_counts, &run.final_window_actions);
         let window = usize::try_from(run.final_window_episodes).unwrap_or(usize::MAX);
         let from = run.episodes.len().saturating_sub(window);
         let mut reached_here = false;
         for episode in &run.episodes[from..] {
-            final_episodes += 1;
-            final_steps += episode.steps;
+            self.final_episodes += 1;
+            self.final_steps += episode.steps;
             if episode.reached {
-                endings.reached += 1;
+                self.endings.reached += 1;
                 reached_here = true;
             } else if episode.truncated {
-                endings.truncated += 1;
+                self.endings.truncated += 1;
             } else {
-                endings.failed += 1;
+                self.endings.failed += 1;
             }
         }
-        seeds_reaching += usize::from(reached_here);
-    }
-    let all_steps: u64 = action_counts.iter().sum();
-    let action_shares = action_counts.iter().map(|&c| share(c, all_steps)).collect();
-    let success = wilson(endings.reached, final_episodes, SUCCESS_CONFIDENCE).ok();
-
-    // EA-MADM's sub-tasks: agreement pooled over seeds, start values averaged.
-    let n_subtasks = runs
-        .iter()
-        .filter(|r| r.agreement.is_some())
-        .map(|r| r.subtasks.len())
-        .max()
-        .unwrap_or(0);
-    let mut decisions = 0_u64;
-    let mut agrees = vec![0_u64; n_subtasks];
-    for run in runs {
+        self.seeds_reaching += usize::from(reached_here);
         if let Some(agreement) = &run.agreement {
-            decisions += agreement.final_window.decisions;
-            for (total, count) in agrees.iter_mut().zip(&agreement.final_window.agrees) {
-                *total += count;
-            }
+            self.agreement_subtasks = self.agreement_subtasks.max(run.subtasks.len());
+            self.decisions += agreement.final_window.decisions;
+            add_counts(&mut self.agrees, &agreement.final_window.agrees);
+        }
+        if self.subtasks.len() < run.subtasks.len() {
+            self.subtasks
+                .resize_with(run.subtasks.len(), SubtaskAccumulator::default);
+        }
+        for (sums, subtask) in self.subtasks.iter_mut().zip(&run.subtasks) {
+            sums.push(subtask);
         }
     }
-    let subtasks: Vec<SubtaskBehaviour> = (0..n_subtasks)
-        .map(|k| subtask_behaviour(runs, k, share(agrees[k], decisions)))
-        .collect();
-    let dominant_subtask = (decisions > 0)
-        .then(|| (0..n_subtasks).reduce(|best, k| if agrees[k] > agrees[best] { k } else { best }))
-        .flatten();
-    #[expect(clippy::cast_precision_loss, reason = "step counts stay far below 2⁵³")]
-    let mean_final_steps = if final_episodes == 0 {
-        0.0
-    } else {
-        final_steps as f64 / final_episodes as f64
-    };
-    MethodBehaviour {
-        method: method.to_owned(),
-        seeds: runs.len(),
-        final_episodes,
-        final_endings: endings,
-        success,
-        seeds_reaching,
-        mean_final_steps,
-        action_shares,
-        subtasks,
-        dominant_subtask,
-        decisions,
+
+    fn finish(self) -> MethodBehaviour {
+        let all_steps: u64 = self.action_counts.iter().sum();
+        let action_shares = self
+            .action_counts
+            .iter()
+            .map(|&c| share(c, all_steps))
+            .collect();
+        let success = wilson(
+            self.endings.reached,
+            self.final_episodes,
+            SUCCESS_CONFIDENCE,
+        )
+        .ok();
+
+        // EA-MADM's sub-tasks: agreement pooled over seeds, start values averaged.
+        let n_subtasks = self.agreement_subtasks;
+        let mut agrees = self.agrees;
+        agrees.resize(n_subtasks, 0);
+        let decisions = self.decisions;
+        let subtasks: Vec<SubtaskBehaviour> = self
+            .subtasks
+            .into_iter()
+            .take(n_subtasks)
+            .zip(&agrees)
+            .map(|(sums, &agreeing)| sums.finish(share(agreeing, decisions)))
+            .collect();
+        let dominant_subtask = (decisions > 0)
+            .then(|| {
+                (0..n_subtasks).reduce(|best, k| if agrees[k] > agrees[best] { k } else { best })
+            })
+            .flatten();
+        #[expect(clippy::cast_precision_loss, reason = "step counts stay far below 2⁵³")]
+        let mean_final_steps = if self.final_episodes == 0 {
+            0.0
+        } else {
+            self.final_steps as f64 / self.final_episodes as f64
+        };
+        MethodBehaviour {
+            method: self.method,
+            seeds: self.seeds,
+            final_episodes: self.final_episodes,
+            final_endings: self.endings,
+            success,
+            seeds_reaching: self.seeds_reaching,
+            mean_final_steps,
+            action_shares,
+            subtasks,
+            dominant_subtask,
+            decisions,
+        }
     }
 }
 
-fn subtask_behaviour(runs: &[&RunRecord], k: usize, agreement: f64) -> SubtaskBehaviour {
-    let with_subtask: Vec<_> = runs.iter().filter_map(|r| r.subtasks.get(k)).collect();
-    let name = with_subtask
-        .first()
-        .map_or_else(String::new, |s| s.name.clone());
-    let n_actions = with_subtask
-        .iter()
-        .map(|s| s.start_values.len())
-        .max()
-        .unwrap_or(0);
-    let mut sums = vec![0.0; n_actions];
-    let mut counted = 0;
-    for subtask in &with_subtask {
-        if subtask.start_values.len() == n_actions {
-            for (sum, value) in sums.iter_mut().zip(&subtask.start_values) {
+/// Adds `counts` into `totals` element by element, growing `totals` with zeros to fit.
+fn add_counts(totals: &mut Vec<u64>, counts: &[u64]) {
+    if totals.len() < counts.len() {
+        totals.resize(counts.len(), 0);
+    }
+    for (total, count) in totals.iter_mut().zip(counts) {
+        *total += count;
+    }
+}
+
+impl SubtaskAccumulator {
+    fn push(&mut self, subtask: &SubtaskRecord) {
+        if self.name.is_none() {
+            self.name = Some(subtask.name.clone());
+        }
+        let actions = subtask.start_values.len();
+        if actions > self.start_value_sums.len() {
+            // More actions than every earlier run: those are left out of the mean.
+            self.start_value_sums = vec![0.0; actions];
+            self.start_value_runs = 0;
+        }
+        if actions == self.start_value_sums.len() {
+            for (sum, value) in self.start_value_sums.iter_mut().zip(&subtask.start_values) {
                 *sum += value;
             }
-            counted += 1;
+            self.start_value_runs += 1;
         }
-    }
-    let start_values: Vec<f64> = sums.iter().map(|&s| mean(s, counted)).collect();
-    let best_start_action =
-        start_values.iter().enumerate().fold(
-            0,
-            |best, (a, &v)| if v > start_values[best] { a } else { best },
-        );
-    let mut endings = Endings::default();
-    let mut steps = 0.0;
-    let mut greedy_runs = 0;
-    for subtask in &with_subtask {
         if let Some(episode) = &subtask.greedy_alone {
             #[expect(clippy::cast_precision_loss, reason = "step counts stay far below 2⁵³")]
             let episode_steps = episode.steps as f64;
-            steps += episode_steps;
-            greedy_runs += 1;
+            self.greedy_steps += episode_steps;
+            self.greedy_runs += 1;
             if episode.reached {
-                endings.reached += 1;
+                self.greedy_endings.reached += 1;
             } else if episode.truncated {
-                endings.truncated += 1;
+                self.greedy_endings.truncated += 1;
             } else {
-                endings.failed += 1;
+                self.greedy_endings.failed += 1;
             }
         }
     }
-    SubtaskBehaviour {
-        name,
-        start_values,
-        best_start_action,
-        agreement,
-        greedy_alone_steps: mean(steps, greedy_runs),
-        greedy_alone_endings: endings,
+
+    fn finish(self, agreement: f64) -> SubtaskBehaviour {
+        let start_values: Vec<f64> = self
+            .start_value_sums
+            .iter()
+            .map(|&s| mean(s, self.start_value_runs))
+            .collect();
+        let best_start_action =
+            start_values.iter().enumerate().fold(
+                0,
+                |best, (a, &v)| if v > start_values[best] { a } else { best },
+            );
+        SubtaskBehaviour {
+            name: self.name.unwrap_or_default(),
+            start_values,
+            best_start_action,
+            agreement,
+            greedy_alone_steps: mean(self.greedy_steps, self.greedy_runs),
+            greedy_alone_endings: self.greedy_endings,
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::record::{AgreementCounts, AgreementRecord, EpisodeRecord, TrajectoryRecord};
 
     #[test]
     fn shares_and_means_handle_empty_totals() {
@@ -257,5 +358,160 @@ mod tests {
         assert_eq!(mean(3.0, 0), 0.0);
         assert_eq!(mean(3.0, 2), 1.5);
         assert!(behaviour(&[]).is_empty());
+    }
+
+    fn episode(steps: u64, reached: bool, truncated: bool) -> EpisodeRecord {
+        EpisodeRecord {
+            episode: 0,
+            steps,
+            task_return: 0.0,
+            learning_return: 0.0,
+            terminated: !truncated,
+            truncated,
+            reached,
+            collisions: 0,
+            env_steps: 0,
+            robot: None,
+        }
+    }
+
+    fn subtask(name: &str, start_values: Vec<f64>, greedy: Option<EpisodeRecord>) -> SubtaskRecord {
+        SubtaskRecord {
+            name: name.to_owned(),
+            episodes: 1,
+            env_steps: 1,
+            last_episode_steps: 1,
+            visited_pairs: 1,
+            clusters: None,
+            answered_pairs: 0,
+            tree_samples: None,
+            tree_bytes: None,
+            table_bytes: 0,
+            greedy_alone: greedy,
+            start_values,
+        }
+    }
+
+    fn run(
+        method: &str,
+        actions: Vec<u64>,
+        subtasks: Vec<SubtaskRecord>,
+        agrees: Option<(u64, Vec<u64>)>,
+    ) -> RunRecord {
+        let counts = |(decisions, agrees): (u64, Vec<u64>)| AgreementCounts {
+            decisions,
+            agrees,
+            agrees_with_all: 0,
+            missing_experience: 0,
+        };
+        RunRecord {
+            experiment: "robot".to_owned(),
+            method: method.to_owned(),
+            seed: 0,
+            optimum_steps: None,
+            subtasks,
+            pretrain_env_steps: 0,
+            episodes: vec![
+                episode(9, false, true),
+                episode(4, true, false),
+                episode(6, false, false),
+            ],
+            total_env_steps: 19,
+            trajectories: Vec::new(),
+            evaluation: episode(4, true, false),
+            evaluation_trajectory: TrajectoryRecord {
+                episode: 3,
+                greedy: true,
+                states: vec![0],
+                actions: Vec::new(),
+                positions: vec![[0.0, 0.0]],
+            },
+            final_window_episodes: 2,
+            final_window_actions: actions,
+            agreement: agrees.map(|final_window| AgreementRecord {
+                training: counts(final_window.clone()),
+                final_window: counts(final_window),
+            }),
+        }
+    }
+
+    /// Ragged runs: the rules for runs that disagree on the number of actions, sub-tasks and
+    /// start values hold when the runs arrive one at a time.
+    #[test]
+    fn ragged_runs_are_pooled_by_the_stated_rules() {
+        let greedy = Some(episode(7, false, true));
+        let records = [
+            run("softmax", vec![1, 2], Vec::new(), None),
+            run(
+                "ea-madm",
+                vec![3, 0, 1],
+                vec![subtask("near", vec![1.0, 3.0], greedy.clone())],
+                Some((4, vec![1])),
+            ),
+            run("softmax", vec![0, 1, 5], Vec::new(), None),
+            run(
+                "ea-madm",
+                vec![1, 1, 1],
+                vec![
+                    subtask("far", vec![2.0, 1.0, 8.0], None),
+                    subtask("other", vec![0.5, 0.25], greedy.clone()),
+                ],
+                Some((6, vec![3, 6])),
+            ),
+            // A run without agreement counts its sub-tasks' start values, not their agreement.
+            run(
+                "ea-madm",
+                vec![0, 0, 0],
+                vec![
+                    subtask("far", vec![4.0, 5.0, 2.0], None),
+                    subtask("other", vec![0.25, 0.75], None),
+                    subtask("third", vec![1.0], None),
+                ],
+                None,
+            ),
+        ];
+        let methods = behaviour(&records);
+        assert_eq!(methods.len(), 2);
+        let softmax = &methods[0];
+        assert_eq!(softmax.method, "softmax");
+        assert_eq!(softmax.seeds, 2);
+        assert_eq!(softmax.action_shares, vec![1.0 / 9.0, 3.0 / 9.0, 5.0 / 9.0]);
+        // Final window: the last two episodes of each run, one reached and one failed.
+        assert_eq!(softmax.final_episodes, 4);
+        assert_eq!(
+            softmax.final_endings,
+            Endings {
+                reached: 2,
+                failed: 2,
+                truncated: 0
+            }
+        );
+        assert_eq!(softmax.seeds_reaching, 2);
+        assert_eq!(softmax.mean_final_steps, 5.0);
+        assert!(softmax.subtasks.is_empty());
+
+        let ea = &methods[1];
+        assert_eq!(ea.decisions, 10);
+        // Two sub-tasks: the most of a run with agreement counts (the third run's third is out).
+        assert_eq!(ea.subtasks.len(), 2);
+        let first = &ea.subtasks[0];
+        assert_eq!(first.name, "near");
+        // Start values of the runs with the most actions (3) only.
+        assert_eq!(first.start_values, vec![3.0, 3.0, 5.0]);
+        assert_eq!(first.best_start_action, 2);
+        assert_eq!(first.agreement, 0.4);
+        assert_eq!(first.greedy_alone_steps, 7.0);
+        assert_eq!(first.greedy_alone_endings.truncated, 1);
+        let second = &ea.subtasks[1];
+        assert_eq!(second.start_values, vec![0.375, 0.5]);
+        assert_eq!(second.agreement, 0.6);
+        assert_eq!(ea.dominant_subtask, Some(1));
+
+        // Streaming the same runs in the same order gives the same numbers, bit for bit.
+        let mut accumulator = BehaviourAccumulator::default();
+        for record in &records {
+            accumulator.push(record);
+        }
+        assert_eq!(accumulator.finish(), methods);
     }
 }

@@ -181,7 +181,7 @@ pub mod summary;
 pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
-pub use behaviour::{Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
+pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use config::{
     CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig,
     MAX_INPUT_FILE_BYTES, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML,

@@ -245,17 +245,27 @@ pub fn final_scores(
 ) -> Result<Vec<FinalScore>, ScoresError> {
     records
         .iter()
-        .map(|record| {
-            let spec = config
-                .method(&record.method)
-                .ok_or_else(|| ScoresError::UnknownMethod {
-                    task: record.experiment.clone(),
-                    method: record.method.clone(),
-                    seed: record.seed,
-                })?;
-            final_score(record, spec.role, spec.method.kind_name())
-        })
+        .map(|record| final_score_of(record, config))
         .collect()
+}
+
+/// The final score of one run of the experiment `config` (which gives its method's role and
+/// kind): one row of [`final_scores`], for a caller that streams runs and keeps only their rows.
+///
+/// # Errors
+/// As [`final_scores`].
+pub fn final_score_of(
+    record: &RunRecord,
+    config: &ExperimentConfig,
+) -> Result<FinalScore, ScoresError> {
+    let spec = config
+        .method(&record.method)
+        .ok_or_else(|| ScoresError::UnknownMethod {
+            task: record.experiment.clone(),
+            method: record.method.clone(),
+            seed: record.seed,
+        })?;
+    final_score(record, spec.role, spec.method.kind_name())
 }
 
 /// The final score of one run whose method has this `role` and `kind`.

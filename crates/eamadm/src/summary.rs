@@ -130,17 +130,22 @@ fn validate_runs(runs: &[Vec<f64>]) -> Result<(), StatsError> {
     if runs.is_empty() {
         return Err(StatsError::NoSeeds);
     }
-    for (seed, curve) in runs.iter().enumerate() {
-        if curve.is_empty() {
-            return Err(StatsError::EmptyCurve { seed });
-        }
-        if let Some((episode, &value)) = curve.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(StatsError::NonFinite {
-                seed,
-                episode,
-                value,
-            });
-        }
+    runs.iter()
+        .enumerate()
+        .try_for_each(|(seed, curve)| validate_curve(seed, curve))
+}
+
+/// Checks that the curve of seed `seed` has an episode and only finite values.
+fn validate_curve(seed: usize, curve: &[f64]) -> Result<(), StatsError> {
+    if curve.is_empty() {
+        return Err(StatsError::EmptyCurve { seed });
+    }
+    if let Some((episode, &value)) = curve.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(StatsError::NonFinite {
+            seed,
+            episode,
+            value,
+        });
     }
     Ok(())
 }
@@ -180,26 +185,118 @@ pub struct BandPoint {
 /// The mean over seeds and its 95% confidence band, episode by episode (`runs[seed][episode]`).
 ///
 /// Ragged input is allowed: episode `i` is summarised over the seeds whose curve is longer than
-/// `i`, so the result is as long as the longest curve.
+/// `i`, so the result is as long as the longest curve. The curves go through a
+/// [`BandAccumulator`] in order, so this and a figure that streams its seeds agree.
 pub fn mean_band(runs: &[Vec<f64>]) -> Result<Vec<BandPoint>, StatsError> {
-    validate_runs(runs)?;
-    let longest = runs.iter().map(Vec::len).max().unwrap_or(0);
-    let mut column = Vec::with_capacity(runs.len());
-    let band = (0..longest)
-        .map(|episode| {
-            column.clear();
-            column.extend(runs.iter().filter_map(|curve| curve.get(episode).copied()));
-            let summary = summarise_seeds_finite(&column);
-            let half_width = summary.ci95_half_width.unwrap_or(0.0);
-            BandPoint {
-                n: summary.n,
-                mean: summary.mean,
-                lower: summary.mean - half_width,
-                upper: summary.mean + half_width,
-            }
-        })
-        .collect();
-    Ok(band)
+    if runs.is_empty() {
+        return Err(StatsError::NoSeeds);
+    }
+    let mut band = BandAccumulator::new();
+    for curve in runs {
+        band.push(curve)?;
+    }
+    Ok(band.band())
+}
+
+/// The per-episode mean band of [`mean_band`], accumulated one seed's curve at a time, so a
+/// caller that reads runs one by one holds three numbers and a count per episode, never the
+/// curves: memory grows with the longest curve, not with the number of seeds.
+///
+/// Per episode it keeps Welford's running mean and sum of squared deviations (`M2`), which are
+/// exact in exact arithmetic and stable in floating point; compared with a two-pass computation
+/// (mean first, then squared deviations) the results differ by rounding only, and so does a
+/// different order of the seeds.
+///
+/// ```
+/// use eamadm::summary::{BandAccumulator, mean_band};
+///
+/// let runs = vec![vec![3.0, 2.0, 1.0], vec![5.0, 4.0]];
+/// let mut band = BandAccumulator::new();
+/// for curve in &runs {
+///     band.push(curve)?;
+/// }
+/// assert_eq!(band.seeds(), 2);
+/// assert_eq!(band.band(), mean_band(&runs)?);
+/// assert_eq!(band.band()[2].n, 1);
+/// # Ok::<(), eamadm::summary::StatsError>(())
+/// ```
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BandAccumulator {
+    /// Curves pushed so far.
+    seeds: usize,
+    /// Per episode: seeds whose curve reached it, their running mean and `M2`.
+    episodes: Vec<Welford>,
+}
+
+/// Welford's running count, mean and sum of squared deviations from the mean.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Welford {
+    n: usize,
+    mean: f64,
+    m2: f64,
+}
+
+impl BandAccumulator {
+    /// An accumulator without seeds.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the curve of the next seed (`curve[episode]`; any length of at least one episode).
+    ///
+    /// # Errors
+    /// [`StatsError::EmptyCurve`] or [`StatsError::NonFinite`], with `seed` the number of
+    /// curves pushed before this one (its index in [`mean_band`]'s input); the accumulator is
+    /// then unchanged.
+    pub fn push(&mut self, curve: &[f64]) -> Result<(), StatsError> {
+        validate_curve(self.seeds, curve)?;
+        if self.episodes.len() < curve.len() {
+            self.episodes.resize(curve.len(), Welford::default());
+        }
+        for (state, &value) in self.episodes.iter_mut().zip(curve) {
+            state.n += 1;
+            let delta = value - state.mean;
+            state.mean += delta / state.n as f64;
+            state.m2 += delta * (value - state.mean);
+        }
+        self.seeds += 1;
+        Ok(())
+    }
+
+    /// Curves pushed so far.
+    #[must_use]
+    pub fn seeds(&self) -> usize {
+        self.seeds
+    }
+
+    /// Episodes of the longest curve pushed so far (the length of [`band`](Self::band)).
+    #[must_use]
+    pub fn episodes(&self) -> usize {
+        self.episodes.len()
+    }
+
+    /// The mean over seeds and its 95% confidence band per episode, as long as the longest
+    /// curve pushed (empty before the first push).
+    #[must_use]
+    pub fn band(&self) -> Vec<BandPoint> {
+        self.episodes
+            .iter()
+            .map(|state| {
+                let half_width = student_t_975(state.n - 1).map_or(0.0, |t| {
+                    let count = state.n as f64;
+                    let sd = (state.m2 / (count - 1.0)).sqrt();
+                    t * sd / count.sqrt()
+                });
+                BandPoint {
+                    n: state.n,
+                    mean: state.mean,
+                    lower: state.mean - half_width,
+                    upper: state.mean + half_width,
+                }
+            })
+            .collect()
+    }
 }
 
 /// Trailing moving average: point `i` is the mean of `curve[i + 1 − window ..= i]`, over fewer

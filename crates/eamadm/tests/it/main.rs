@@ -6,6 +6,7 @@
     reason = "tests may unwrap: a failure is the test failing"
 )]
 
+mod band;
 mod behaviour;
 mod bounds;
 mod claims;
