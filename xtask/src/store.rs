@@ -892,14 +892,8 @@ mod tests {
     fn a_torn_tail_is_cut_off_and_appending_continues() {
         let dir = tempfile::tempdir().unwrap();
         let runs = runs();
-        let (store, _) = open(dir.path());
-        let (key, description, record) = &runs[0];
-        store
-            .append(key, description, record, KeepTrajectories::Figures)
-            .unwrap();
-        let bundle = store.bundle_path(&record.experiment);
+        let bundle = stored(dir.path(), &runs[..1]);
         let whole = std::fs::read(&bundle).unwrap();
-        drop(store);
         let mut torn = whole.clone();
         torn.extend_from_slice(&whole[..whole.len() / 2]);
         std::fs::write(&bundle, &torn).unwrap();

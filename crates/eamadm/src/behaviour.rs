@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::record::{RunRecord, SubtaskRecord};
+use crate::record::{EpisodeRecord, RunRecord, SubtaskRecord};
 use crate::stats::{Interval, wilson};
 
 /// Confidence of the success intervals.
@@ -44,6 +44,19 @@ pub struct Endings {
     pub failed: u64,
     /// Cut by the step cap.
     pub truncated: u64,
+}
+
+impl Endings {
+    /// Counts how `episode` ended.
+    fn add(&mut self, episode: &EpisodeRecord) {
+        if episode.reached {
+            self.reached += 1;
+        } else if episode.truncated {
+            self.truncated += 1;
+        } else {
+            self.failed += 1;
+        }
+    }
 }
 
 /// One method, pooled over its seeds.
@@ -205,14 +218,8 @@ impl MethodAccumulator {
         for episode in &run.episodes[from..] {
             self.final_episodes += 1;
             self.final_steps += episode.steps;
-            if episode.reached {
-                self.endings.reached += 1;
-                reached_here = true;
-            } else if episode.truncated {
-                self.endings.truncated += 1;
-            } else {
-                self.endings.failed += 1;
-            }
+            self.endings.add(episode);
+            reached_here |= episode.reached;
         }
         self.seeds_reaching += usize::from(reached_here);
         if let Some(agreement) = &run.agreement {
@@ -314,13 +321,7 @@ impl SubtaskAccumulator {
             let episode_steps = episode.steps as f64;
             self.greedy_steps += episode_steps;
             self.greedy_runs += 1;
-            if episode.reached {
-                self.greedy_endings.reached += 1;
-            } else if episode.truncated {
-                self.greedy_endings.truncated += 1;
-            } else {
-                self.greedy_endings.failed += 1;
-            }
+            self.greedy_endings.add(episode);
         }
     }
 
