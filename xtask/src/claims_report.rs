@@ -115,15 +115,22 @@ fn number(value: f64) -> String {
     format_fixed(value, decimals_for(value, 3))
 }
 
-/// `estimate [low, high]`, rounded to two significant digits of the interval's width.
+/// `estimate [low, high]`, rounded to two significant digits of the interval's width, and
+/// finer where that would round a non-zero number to 0 (each keeps at least one significant
+/// digit): a difference of 0.39 [0.31, 12.7] that decides a verdict must not read "0 [0, 13]".
 fn interval(i: &Interval) -> String {
     let width = i.high - i.low;
-    let decimals = if width > 1e-9 * i.estimate.abs().max(1.0) {
+    let by_width = if width > 1e-9 * i.estimate.abs().max(1.0) {
         // The nudge keeps a width like 73.1 − 73.0 = 0.0999… at the precision of 0.1.
         decimals_for(width * (1.0 + 1e-9), 2)
     } else {
         decimals_for(i.estimate, 3)
     };
+    let decimals = [i.estimate, i.low, i.high]
+        .into_iter()
+        .filter(|&x| x != 0.0)
+        .map(|x| decimals_for(x, 1))
+        .fold(by_width, usize::max);
     format!(
         "{} [{}, {}]",
         format_fixed(i.estimate, decimals),
@@ -1108,6 +1115,13 @@ mod tests {
             high: 73.1,
         };
         assert_eq!(interval(&tenth), "73.00 [73.00, 73.10]");
+        // A small estimate in a wide interval keeps a significant digit.
+        let small = Interval {
+            estimate: 0.385,
+            low: 0.307,
+            high: 12.68,
+        };
+        assert_eq!(interval(&small), "0.4 [0.3, 12.7]");
         assert_eq!(p_value(0.0004), "< 0.001");
         assert_eq!(p_value(0.0312), "0.031");
     }
