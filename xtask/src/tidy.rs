@@ -73,9 +73,12 @@ const ALLOWED_EDGES: &[(&str, &[&str])] = &[
     ("dql", &[]),
     ("mazes", &["dql"]),
     ("wmr-model", &["dql"]),
+    // The evaluation is pure and below the facade: records in, numbers and text out.
+    ("eamadm-eval", &[]),
     (
         "eamadm",
         &[
+            "eamadm-eval",
             "dql",
             "ea-tree",
             "madm-owa",

@@ -19,10 +19,12 @@
 //! | [`pretrain`], [`prior`] | sub-task pre-training and the sub-tasks' stored experience (Fig. 5) |
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
+//! | [`eamadm_eval`] | the evaluation, re-exported module by module: |
 //! | [`summary`], [`results`] | statistics over seeds; JSON and CSV output |
 //! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //!
 //! # A first experiment
 //!
@@ -95,6 +97,13 @@
 //! let mut csv = Vec::new();
 //! eamadm::results::write_curves_csv(&records, &mut csv)?;
 //! assert_eq!(String::from_utf8(csv)?.lines().count(), 1 + 6 * 40);
+//! // Per-seed final scores (one row per run) and `final-scores.csv`, read back unchanged.
+//! let rows = eamadm::scores::final_scores(&records, experiment.config())?;
+//! assert_eq!(rows.len(), 6);
+//! assert_eq!(rows[0].final_window, 20);
+//! let mut csv = Vec::new();
+//! eamadm::scores::write_csv(&rows, &mut csv)?;
+//! assert_eq!(eamadm::scores::read_csv(csv.as_slice())?, rows);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -162,26 +171,24 @@ pub use mazes;
 pub use reward_std;
 pub use wmr_model;
 
+pub use eamadm_eval;
+// The evaluation lives in `eamadm-eval`; its modules keep their paths here.
+pub use eamadm_eval::{behaviour, claims, record, results, scores, stats, summary};
+
 pub mod agent;
-pub mod behaviour;
-pub mod claims;
 pub mod config;
 pub mod error;
 pub mod paper;
 pub mod pretrain;
 pub mod prior;
-pub mod record;
-pub mod results;
 mod rng;
 pub mod runner;
-pub mod scores;
 pub mod signal;
-pub mod stats;
-pub mod summary;
 pub mod task;
 
 pub use agent::{EaMadmPolicy, PolicyError};
-pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
+// `behaviour` (the function) comes with the module of the same name above.
+pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour};
 pub use config::{
     CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig,
     MAX_INPUT_FILE_BYTES, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML,
@@ -199,3 +206,10 @@ pub use runner::{Experiment, run, run_all};
 pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};
 pub use task::Task;
+
+impl scores::MethodRoles for ExperimentConfig {
+    fn role_and_kind(&self, label: &str) -> Option<(Role, &'static str)> {
+        self.method(label)
+            .map(|spec| (spec.role, spec.method.kind_name()))
+    }
+}

@@ -6,10 +6,8 @@
     reason = "tests may unwrap: a failure is the test failing"
 )]
 
-mod band;
 mod behaviour;
 mod bounds;
-mod claims;
 mod common;
 mod config;
 mod controls;
@@ -19,4 +17,3 @@ mod mutate;
 mod names;
 mod robot_refusals;
 mod run;
-mod stats;

@@ -2,11 +2,11 @@
 //! the verdict follows the numbers (it flips when they flip), untestable claims say why, and the
 //! judgements are bit-identical with one and two threads.
 
-use eamadm::Role;
-use eamadm::claims::{self, ClaimOptions, Outcome, Verdict};
-use eamadm::paper::{self, CLAIMS};
-use eamadm::scores::{COLUMNS, FinalScore};
-use eamadm::stats::{Bootstrap, PermutationTest};
+use eamadm_eval::Role;
+use eamadm_eval::claims::{self, ClaimOptions, Outcome, Verdict};
+use eamadm_eval::paper_claims::{self as paper, CLAIMS};
+use eamadm_eval::scores::{COLUMNS, FinalScore};
+use eamadm_eval::stats::{Bootstrap, PermutationTest};
 
 fn row(method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {

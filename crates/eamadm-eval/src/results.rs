@@ -360,14 +360,14 @@ mod tests {
             evaluation_trajectory: trajectory,
             final_window_episodes: 2,
             final_window_actions: vec![3, 0, 1, 7],
-            agreement: Some(crate::AgreementRecord {
-                final_window: crate::AgreementCounts {
+            agreement: Some(crate::record::AgreementRecord {
+                final_window: crate::record::AgreementCounts {
                     decisions: 9,
                     agrees: vec![8, 2],
                     agrees_with_all: 2,
                     missing_experience: 1,
                 },
-                training: crate::AgreementCounts {
+                training: crate::record::AgreementCounts {
                     decisions: 20,
                     agrees: vec![15, 4],
                     agrees_with_all: 3,

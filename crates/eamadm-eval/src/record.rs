@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 /// `(config, method, seed)`: the same inputs give a bit-identical record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
-    /// The experiment's name ([`ExperimentConfig::name`](crate::ExperimentConfig::name)).
+    /// The experiment's name (`eamadm::ExperimentConfig::name`).
     pub experiment: String,
     /// The method's label.
     pub method: String,
@@ -36,7 +36,7 @@ pub struct RunRecord {
     pub evaluation_trajectory: TrajectoryRecord,
     /// Training episodes in the final window that [`final_window_actions`](Self::final_window_actions)
     /// and [`agreement`](Self::agreement) count over: the last
-    /// [`DEFAULT_FINAL_WINDOW`](crate::DEFAULT_FINAL_WINDOW) episodes (all of them in a shorter run).
+    /// [`DEFAULT_FINAL_WINDOW`](crate::summary::DEFAULT_FINAL_WINDOW) episodes (all of them in a shorter run).
     #[serde(default)]
     pub final_window_episodes: u64,
     /// How often each action was taken in the final window, one count per action (every
@@ -157,7 +157,7 @@ pub struct SubtaskRecord {
     #[serde(default)]
     pub tree_samples: Option<u64>,
     /// Estimated heap bytes of its EA tree, clusters and lookup index
-    /// ([`ea_tree::TreeStats::bytes`]); `None` with table storage.
+    /// (`ea_tree::TreeStats::bytes`); `None` with table storage.
     #[serde(default)]
     pub tree_bytes: Option<u64>,
     /// Bytes of the dense double-Q tables the tree stands in for: two `f64` per

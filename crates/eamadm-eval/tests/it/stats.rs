@@ -1,9 +1,9 @@
-//! `eamadm::stats` against independent implementations (scipy 1.17.1, statsmodels 0.15.0,
+//! `eamadm_eval::stats` against independent implementations (scipy 1.17.1, statsmodels 0.15.0,
 //! numpy 2.4.6; the values were printed by `stats_reference.py` next to this file), the laws
 //! the statistics obey (proptest), seeded reproducibility, typed errors on bad input, and the
 //! worked case of issue 11 (Task II's bimodal final steps).
 
-use eamadm::stats::{
+use eamadm_eval::stats::{
     Bootstrap, Interval, PermutationTest, Statistic, StatsError, distribution, holm, iqm, mean,
     median, normal_quantile, probability_of_improvement, sample_sd, wilson,
 };

@@ -8,37 +8,10 @@
 //! mean.
 
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
 use crate::record::RunRecord;
 
-/// Bad input to the statistics helpers.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum StatsError {
-    /// No seeds at all.
-    #[error("no seeds: need at least one curve or value")]
-    NoSeeds,
-    /// A seed whose curve has no episode.
-    #[error("seed {seed} has an empty curve")]
-    EmptyCurve {
-        /// Index of the seed (position in the input).
-        seed: usize,
-    },
-    /// A NaN or infinite value.
-    #[error("seed {seed}, episode {episode}: value {value} is not finite")]
-    NonFinite {
-        /// Index of the seed (position in the input).
-        seed: usize,
-        /// Index of the episode within that seed's curve (0-based).
-        episode: usize,
-        /// The offending value.
-        value: f64,
-    },
-    /// A window of zero episodes.
-    #[error("window must be at least 1 episode, got 0")]
-    ZeroWindow,
-}
+pub use crate::stats::StatsError;
 
 /// `z_{0.975}`, the standard normal quantile that Student's t tends to.
 const Z_975: f64 = 1.959_963_984_540_054;
@@ -94,7 +67,7 @@ pub fn summarise_seeds(values: &[f64]) -> Result<SeedSummary, StatsError> {
         return Err(StatsError::NoSeeds);
     }
     if let Some((seed, &value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(StatsError::NonFinite {
+        return Err(StatsError::NonFiniteInCurve {
             seed,
             episode: 0,
             value,
@@ -141,7 +114,7 @@ fn validate_curve(seed: usize, curve: &[f64]) -> Result<(), StatsError> {
         return Err(StatsError::EmptyCurve { seed });
     }
     if let Some((episode, &value)) = curve.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(StatsError::NonFinite {
+        return Err(StatsError::NonFiniteInCurve {
             seed,
             episode,
             value,
@@ -208,7 +181,7 @@ pub fn mean_band(runs: &[Vec<f64>]) -> Result<Vec<BandPoint>, StatsError> {
 /// different order of the seeds.
 ///
 /// ```
-/// use eamadm::summary::{BandAccumulator, mean_band};
+/// use eamadm_eval::summary::{BandAccumulator, mean_band};
 ///
 /// let runs = vec![vec![3.0, 2.0, 1.0], vec![5.0, 4.0]];
 /// let mut band = BandAccumulator::new();
@@ -218,7 +191,7 @@ pub fn mean_band(runs: &[Vec<f64>]) -> Result<Vec<BandPoint>, StatsError> {
 /// assert_eq!(band.seeds(), 2);
 /// assert_eq!(band.band(), mean_band(&runs)?);
 /// assert_eq!(band.band()[2].n, 1);
-/// # Ok::<(), eamadm::summary::StatsError>(())
+/// # Ok::<(), eamadm_eval::summary::StatsError>(())
 /// ```
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BandAccumulator {
@@ -246,7 +219,7 @@ impl BandAccumulator {
     /// Adds the curve of the next seed (`curve[episode]`; any length of at least one episode).
     ///
     /// # Errors
-    /// [`StatsError::EmptyCurve`] or [`StatsError::NonFinite`], with `seed` the number of
+    /// [`StatsError::EmptyCurve`] or [`StatsError::NonFiniteInCurve`], with `seed` the number of
     /// curves pushed before this one (its index in [`mean_band`]'s input); the accumulator is
     /// then unchanged.
     pub fn push(&mut self, curve: &[f64]) -> Result<(), StatsError> {
@@ -374,7 +347,7 @@ pub struct RobotSummary {
 ///
 /// # Errors
 /// [`StatsError::ZeroWindow`]; [`StatsError::EmptyCurve`] for a run without episodes;
-/// [`StatsError::NonFinite`] for a non-finite return.
+/// [`StatsError::NonFiniteInCurve`] for a non-finite return.
 pub fn summarise(records: &[RunRecord], window: usize) -> Result<Vec<MethodSummary>, StatsError> {
     if window == 0 {
         return Err(StatsError::ZeroWindow);
@@ -564,12 +537,12 @@ mod tests {
         assert_eq!(summarise_seeds(&[]), Err(StatsError::NoSeeds));
         assert!(matches!(
             summarise_seeds(&[1.0, f64::NAN]),
-            Err(StatsError::NonFinite { seed: 1, .. })
+            Err(StatsError::NonFiniteInCurve { seed: 1, .. })
         ));
         let runs = vec![vec![1.0, 2.0], vec![3.0, f64::INFINITY]];
         assert_eq!(
             mean_band(&runs),
-            Err(StatsError::NonFinite {
+            Err(StatsError::NonFiniteInCurve {
                 seed: 1,
                 episode: 1,
                 value: f64::INFINITY

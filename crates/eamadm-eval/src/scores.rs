@@ -27,41 +27,15 @@
 //!   undefined. More negative is a faster fall. A run with no reaching episode has empty C4
 //!   cells (never NaN); a slope needs two reaching episodes.
 //!
-//! ```
-//! use eamadm::{Experiment, scores};
-//!
-//! let experiment = Experiment::from_toml_str(r#"
-//! name = "tiny"
-//! episodes = 30
-//! seeds = 2
-//! [task]
-//! kind = "maze_text"
-//! rewards = "task1"
-//! map = "S...\n.#..\n...T\n"
-//! [learner]
-//! alpha = 0.1
-//! gamma = 0.95
-//! [[methods]]
-//! label = "softmax"
-//! kind = "softmax"
-//! temperature = { constant = 0.1 }
-//! "#)?;
-//! let records = experiment.run_all()?;
-//! let rows = scores::final_scores(&records, experiment.config())?;
-//! assert_eq!(rows.len(), 2);
-//! assert_eq!(rows[0].final_window, 20);
-//! let mut csv = Vec::new();
-//! scores::write_csv(&rows, &mut csv)?;
-//! assert_eq!(scores::read_csv(csv.as_slice())?, rows);
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
+//! `eamadm`'s crate docs compute, write and read back the scores of a tiny experiment
+//! (`eamadm::scores::final_scores(&records, experiment.config())`).
 
 use std::io::{Read, Write};
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::config::{ExperimentConfig, Role};
+use crate::Role;
 use crate::record::{EpisodeRecord, RunRecord};
 use crate::stats::{self, StatsError};
 
@@ -153,7 +127,7 @@ pub struct FinalScore {
     pub method: String,
     /// Why the method is in the experiment: `paper`, `ablation` or `control`.
     pub role: Role,
-    /// The method's kind ([`Method::kind_name`](crate::Method::kind_name)): `ea_madm`,
+    /// The method's kind (`eamadm::Method::kind_name`): `ea_madm`,
     /// `epsilon_greedy`, `softmax`, ….
     pub kind: String,
     /// The run's seed.
@@ -233,6 +207,15 @@ impl FinalScore {
     }
 }
 
+/// What [`final_scores`] needs to know of an experiment's config: each method's role and kind.
+/// `eamadm` implements it for its `ExperimentConfig`, so `final_scores(&records,
+/// experiment.config())` reads as before.
+pub trait MethodRoles {
+    /// The role and kind (`ea_madm`, `epsilon_greedy`, …: `eamadm::Method::kind_name`) of the
+    /// method labelled `label`; `None` when the experiment has no such method.
+    fn role_and_kind(&self, label: &str) -> Option<(Role, &'static str)>;
+}
+
 /// The final scores of `records`, in record order. `config` is the experiment's config (for
 /// each method's role and kind).
 ///
@@ -241,7 +224,7 @@ impl FinalScore {
 /// non-finite return.
 pub fn final_scores(
     records: &[RunRecord],
-    config: &ExperimentConfig,
+    config: &impl MethodRoles,
 ) -> Result<Vec<FinalScore>, ScoresError> {
     records
         .iter()
@@ -256,16 +239,17 @@ pub fn final_scores(
 /// As [`final_scores`].
 pub fn final_score_of(
     record: &RunRecord,
-    config: &ExperimentConfig,
+    config: &impl MethodRoles,
 ) -> Result<FinalScore, ScoresError> {
-    let spec = config
-        .method(&record.method)
-        .ok_or_else(|| ScoresError::UnknownMethod {
-            task: record.experiment.clone(),
-            method: record.method.clone(),
-            seed: record.seed,
-        })?;
-    final_score(record, spec.role, spec.method.kind_name())
+    let (role, kind) =
+        config
+            .role_and_kind(&record.method)
+            .ok_or_else(|| ScoresError::UnknownMethod {
+                task: record.experiment.clone(),
+                method: record.method.clone(),
+                seed: record.seed,
+            })?;
+    final_score(record, role, kind)
 }
 
 /// The final score of one run whose method has this `role` and `kind`.

@@ -1,10 +1,10 @@
-//! The laws of the streaming per-episode band (`eamadm::summary::BandAccumulator`, which
+//! The laws of the streaming per-episode band (`eamadm_eval::summary::BandAccumulator`, which
 //! `mean_band` is built on): it equals a two-pass computation (mean first, then squared
 //! deviations) up to rounding, the order of the seeds changes it only at rounding level, bad
 //! curves are refused with `mean_band`'s error values, and what it holds does not grow with the
 //! number of seeds.
 
-use eamadm::summary::{BandAccumulator, BandPoint, StatsError, mean_band, student_t_975};
+use eamadm_eval::summary::{BandAccumulator, BandPoint, StatsError, mean_band, student_t_975};
 use proptest::prelude::*;
 
 /// The band of `runs` computed in two passes per episode: the mean, then the sample variance
@@ -134,7 +134,7 @@ fn bad_curves_are_refused_with_mean_bands_errors_and_change_nothing() {
     let runs = vec![vec![1.0, 2.0], vec![3.0, 4.0, f64::NEG_INFINITY]];
     assert_eq!(
         mean_band(&runs),
-        Err(StatsError::NonFinite {
+        Err(StatsError::NonFiniteInCurve {
             seed: 1,
             episode: 2,
             value: f64::NEG_INFINITY

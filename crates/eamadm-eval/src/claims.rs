@@ -43,15 +43,15 @@ use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::config::Role;
-use crate::paper::{self, Claim, ClaimMetric, Direction};
+use crate::Role;
+use crate::paper_claims::{self as paper, Claim, ClaimMetric, Direction};
 use crate::scores::FinalScore;
 use crate::stats::{self, Bootstrap, Interval, PermutationTest, Statistic, StatsError};
 
 /// The significance level of the verdict rule.
 pub const ALPHA: f64 = 0.05;
 
-/// The kind of the EA-MADM methods ([`Method::kind_name`](crate::Method::kind_name)).
+/// The kind of the EA-MADM methods (`eamadm::Method::kind_name`).
 const EA_MADM_KIND: &str = "ea_madm";
 
 /// Claims that cannot be evaluated.

@@ -1,0 +1,235 @@
+//! The seeded percentile bootstrap: one sample, a difference of two, and the stratified
+//! bootstrap over groups (see [the module docs](super) for the formulas and the draw order).
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::location::{Statistic, quantile_unsorted};
+use super::{
+    Interval, StatsError, check_confidence, check_len, check_resamples, check_sample, finite,
+    sorted_copy,
+};
+
+/// Settings of the seeded percentile bootstrap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bootstrap {
+    /// Number of resamples `B` (1 to [`MAX_RESAMPLES`](super::MAX_RESAMPLES)).
+    pub resamples: u32,
+    /// Confidence level of the interval, in `(0, 1)`.
+    pub confidence: f64,
+    /// Seed of the `ChaCha8` generator the resamples are drawn from.
+    pub seed: u64,
+}
+
+impl Default for Bootstrap {
+    /// 10 000 resamples, 95 % confidence, seed 0.
+    fn default() -> Self {
+        Self {
+            resamples: 10_000,
+            confidence: 0.95,
+            seed: 0,
+        }
+    }
+}
+
+impl Bootstrap {
+    /// Checked settings: `resamples` in `1..=MAX_RESAMPLES`, `confidence` in `(0, 1)`.
+    pub fn new(resamples: u32, confidence: f64, seed: u64) -> Result<Self, StatsError> {
+        let bootstrap = Self {
+            resamples,
+            confidence,
+            seed,
+        };
+        bootstrap.validate()?;
+        Ok(bootstrap)
+    }
+
+    /// Checks the settings (the fields are public, so [`Bootstrap::new`] may have been
+    /// bypassed).
+    fn validate(&self) -> Result<(), StatsError> {
+        check_resamples(self.resamples)?;
+        check_confidence(self.confidence)
+    }
+
+    /// Percentile interval of `statistic` over seeds; estimate = statistic of the data.
+    pub fn interval(&self, x: &[f64], statistic: Statistic) -> Result<Interval, StatsError> {
+        self.validate()?;
+        check_sample(x, "x")?;
+        let sample = Resampler::new(x)?;
+        let estimate = statistic.of(x)?;
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut replicates = Vec::with_capacity(self.resamples as usize);
+        let mut counts = vec![0; x.len()];
+        for _ in 0..self.resamples {
+            let value = sample.draw(&mut rng, &mut counts, statistic);
+            replicates.push(value);
+        }
+        self.percentile_interval(estimate, &mut replicates, statistic.name())
+    }
+
+    /// Interval of statistic(x) − statistic(y), x and y resampled independently (stratified by
+    /// method).
+    pub fn difference(
+        &self,
+        x: &[f64],
+        y: &[f64],
+        statistic: Statistic,
+    ) -> Result<Interval, StatsError> {
+        self.validate()?;
+        check_sample(x, "x")?;
+        check_sample(y, "y")?;
+        let sample_x = Resampler::new(x)?;
+        let sample_y = Resampler::new(y)?;
+        let estimate = finite(statistic.of(x)? - statistic.of(y)?, "difference")?;
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut replicates = Vec::with_capacity(self.resamples as usize);
+        let mut counts_x = vec![0; x.len()];
+        let mut counts_y = vec![0; y.len()];
+        for _ in 0..self.resamples {
+            let of_x = sample_x.draw(&mut rng, &mut counts_x, statistic);
+            let of_y = sample_y.draw(&mut rng, &mut counts_y, statistic);
+            replicates.push(of_x - of_y);
+        }
+        self.percentile_interval(estimate, &mut replicates, "difference")
+    }
+
+    /// Stratified bootstrap (rliable): resample within each group (task), pool, take the
+    /// statistic. The estimate is the statistic of all groups pooled.
+    pub fn stratified_interval(
+        &self,
+        groups: &[&[f64]],
+        statistic: Statistic,
+    ) -> Result<Interval, StatsError> {
+        self.validate()?;
+        if groups.is_empty() {
+            return Err(StatsError::Empty { what: "groups" });
+        }
+        for (group, values) in groups.iter().enumerate() {
+            if values.is_empty() {
+                return Err(StatsError::EmptyGroup { group });
+            }
+            if let Some((index, &value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                return Err(StatsError::NonFiniteInGroup {
+                    group,
+                    index,
+                    value,
+                });
+            }
+            check_len(values.len(), "a group's size")?;
+        }
+        // The pool, sorted once; `positions[g][i]` is where group g's i-th smallest value sits.
+        let pooled: Vec<f64> = groups.iter().flat_map(|g| g.iter().copied()).collect();
+        let total = pooled.len();
+        check_len(total, "the pooled sample's size")?;
+        let estimate = statistic.of(&pooled)?;
+        let mut order: Vec<usize> = (0..total).collect();
+        order.sort_by(|&a, &b| pooled[a].total_cmp(&pooled[b]).then(a.cmp(&b)));
+        let sorted: Vec<f64> = order.iter().map(|&i| pooled[i]).collect();
+        let mut rank = vec![0; total];
+        for (r, &i) in order.iter().enumerate() {
+            rank[i] = r;
+        }
+        let mut positions = Vec::with_capacity(groups.len());
+        let mut offset = 0;
+        for values in groups {
+            // Ascending ranks: index i of a group draws the group's i-th smallest value, as
+            // in `interval`, so a single group gives exactly the plain bootstrap.
+            let mut group = rank[offset..offset + values.len()].to_vec();
+            group.sort_unstable();
+            positions.push(group);
+            offset += values.len();
+        }
+
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut replicates = Vec::with_capacity(self.resamples as usize);
+        let mut counts = vec![0; total];
+        for _ in 0..self.resamples {
+            counts.fill(0);
+            for group in &positions {
+                let size = group.len() as u32;
+                for _ in 0..group.len() {
+                    counts[group[uniform_below(&mut rng, size) as usize]] += 1;
+                }
+            }
+            replicates.push(statistic.of_counts(&sorted, &counts, total));
+        }
+        self.percentile_interval(estimate, &mut replicates, statistic.name())
+    }
+
+    /// The percentile interval of `replicates` (reordered in place) around `estimate`.
+    fn percentile_interval(
+        &self,
+        estimate: f64,
+        replicates: &mut [f64],
+        what: &'static str,
+    ) -> Result<Interval, StatsError> {
+        if replicates.iter().any(|v| !v.is_finite()) {
+            return Err(StatsError::Overflow { what });
+        }
+        let alpha = 1.0 - self.confidence;
+        Ok(Interval {
+            estimate,
+            low: quantile_unsorted(replicates, alpha / 2.0),
+            high: quantile_unsorted(replicates, 1.0 - alpha / 2.0),
+        })
+    }
+}
+
+/// A sample sorted once, ready to be resampled with replacement.
+struct Resampler {
+    sorted: Vec<f64>,
+    size: u32,
+}
+
+impl Resampler {
+    /// `x` must be non-empty and finite.
+    fn new(x: &[f64]) -> Result<Self, StatsError> {
+        let size = check_len(x.len(), "the sample's size")?;
+        Ok(Self {
+            sorted: sorted_copy(x),
+            size,
+        })
+    }
+
+    /// Draws one resample (its multiplicities into `counts`) and returns its statistic.
+    fn draw(&self, rng: &mut ChaCha8Rng, counts: &mut [u32], statistic: Statistic) -> f64 {
+        counts.fill(0);
+        for _ in 0..self.size {
+            counts[uniform_below(rng, self.size) as usize] += 1;
+        }
+        statistic.of_counts(&self.sorted, counts, self.sorted.len())
+    }
+}
+
+/// An index uniform on `0..k` (`k ≥ 1`) by Lemire's multiply-and-reject method: exactly
+/// uniform, one 32-bit word per draw except on the rare rejection.
+pub(crate) fn uniform_below(rng: &mut ChaCha8Rng, k: u32) -> u32 {
+    let bound = u64::from(k);
+    let mut product = u64::from(rng.next_u32()) * bound;
+    if (product as u32) < k {
+        let threshold = k.wrapping_neg() % k;
+        while (product as u32) < threshold {
+            product = u64::from(rng.next_u32()) * bound;
+        }
+    }
+    (product >> 32) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lemire_draw_covers_the_range_uniformly() {
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let mut seen = [0_u32; 7];
+        for _ in 0..70_000 {
+            seen[uniform_below(&mut rng, 7) as usize] += 1;
+        }
+        assert!(
+            seen.iter().all(|&c| (9_500..10_500).contains(&c)),
+            "{seen:?}"
+        );
+        assert_eq!(uniform_below(&mut rng, 1), 0);
+    }
+}

@@ -1,0 +1,155 @@
+//! The two-sample permutation test: exact enumeration of every split when there are few,
+//! Monte Carlo with `(b + 1)/(B + 1)` otherwise (see [the module docs](super)).
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::bootstrap::uniform_below;
+use super::location::Statistic;
+use super::{StatsError, check_len, check_resamples, check_sample};
+
+/// Settings of the permutation test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PermutationTest {
+    /// The largest number of splits enumerated exactly, and the number of random splits drawn
+    /// otherwise (1 to [`MAX_RESAMPLES`](super::MAX_RESAMPLES)).
+    pub resamples: u32,
+    /// Seed of the `ChaCha8` generator of the random splits.
+    pub seed: u64,
+}
+
+impl Default for PermutationTest {
+    /// 10 000 resamples, seed 0.
+    fn default() -> Self {
+        Self {
+            resamples: 10_000,
+            seed: 0,
+        }
+    }
+}
+
+impl PermutationTest {
+    /// Checked settings: `resamples` in `1..=MAX_RESAMPLES`.
+    pub fn new(resamples: u32, seed: u64) -> Result<Self, StatsError> {
+        check_resamples(resamples)?;
+        Ok(Self { resamples, seed })
+    }
+
+    /// Whether [`p_value`](Self::p_value) enumerates every split for samples of sizes `n` and
+    /// `m` (`C(n+m, n) ≤ resamples`) rather than drawing random ones.
+    pub fn is_exact(&self, n: usize, m: usize) -> bool {
+        binomial_at_most(n + m, n, u64::from(self.resamples)).is_some()
+    }
+
+    /// Two-sided p-value of |statistic(x) − statistic(y)| under exchangeability: exact
+    /// enumeration of all splits when C(n+m, n) ≤ resamples, else Monte Carlo with
+    /// (b+1)/(B+1).
+    pub fn p_value(&self, x: &[f64], y: &[f64], statistic: Statistic) -> Result<f64, StatsError> {
+        check_resamples(self.resamples)?;
+        check_sample(x, "x")?;
+        check_sample(y, "y")?;
+        let (n, m) = (x.len(), y.len());
+        let total = n + m;
+        check_len(total, "the pooled sample's size")?;
+        let mut pooled: Vec<f64> = x.iter().chain(y).copied().collect();
+        pooled.sort_unstable_by(f64::total_cmp);
+        let scale = pooled.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let observed = (statistic.of(x)? - statistic.of(y)?).abs();
+        // Ties within rounding count as at least as extreme (see the module docs).
+        let threshold = observed - 1e-12 * scale;
+        let mut in_x = vec![0_u32; total];
+        let mut in_y = vec![0_u32; total];
+        let as_extreme = |in_x: &[u32], in_y: &mut [u32]| {
+            for (to_y, &to_x) in in_y.iter_mut().zip(in_x) {
+                *to_y = 1 - to_x;
+            }
+            let difference =
+                statistic.of_counts(&pooled, in_x, n) - statistic.of_counts(&pooled, in_y, m);
+            difference.abs() >= threshold
+        };
+
+        if let Some(splits) = binomial_at_most(total, n, u64::from(self.resamples)) {
+            // Every n-subset of the pooled positions, in lexicographic order.
+            let mut chosen: Vec<usize> = (0..n).collect();
+            let mut hits = 0_u64;
+            loop {
+                in_x.fill(0);
+                for &i in &chosen {
+                    in_x[i] = 1;
+                }
+                if as_extreme(&in_x, &mut in_y) {
+                    hits += 1;
+                }
+                if !next_combination(&mut chosen, total) {
+                    break;
+                }
+            }
+            Ok(hits as f64 / splits as f64)
+        } else {
+            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            let mut permutation: Vec<usize> = (0..total).collect();
+            let mut hits = 0_u64;
+            for _ in 0..self.resamples {
+                for i in 0..n {
+                    let j = i + uniform_below(&mut rng, (total - i) as u32) as usize;
+                    permutation.swap(i, j);
+                }
+                in_x.fill(0);
+                for &i in &permutation[..n] {
+                    in_x[i] = 1;
+                }
+                if as_extreme(&in_x, &mut in_y) {
+                    hits += 1;
+                }
+            }
+            Ok((hits + 1) as f64 / (f64::from(self.resamples) + 1.0))
+        }
+    }
+}
+
+/// Whether `n` choose `k` is at most `limit`, and if so its value.
+fn binomial_at_most(n: usize, k: usize, limit: u64) -> Option<u64> {
+    let k = k.min(n - k);
+    let mut value = 1_u128;
+    for i in 0..k {
+        // value · (n − i) / (i + 1) is C(n, i + 1), an integer at every step.
+        value = value * (n - i) as u128 / (i + 1) as u128;
+        if value > u128::from(limit) {
+            return None;
+        }
+    }
+    u64::try_from(value).ok()
+}
+
+/// Advances `chosen` (ascending indices below `n`) to the next combination in lexicographic
+/// order; false after the last.
+fn next_combination(chosen: &mut [usize], n: usize) -> bool {
+    let k = chosen.len();
+    let Some(i) = (0..k).rev().find(|&i| chosen[i] < n - k + i) else {
+        return false;
+    };
+    chosen[i] += 1;
+    for j in i + 1..k {
+        chosen[j] = chosen[j - 1] + 1;
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn combinations_are_all_enumerated() {
+        let mut chosen = vec![0, 1, 2];
+        let mut count = 1;
+        while next_combination(&mut chosen, 6) {
+            count += 1;
+        }
+        assert_eq!(count, 20);
+        assert_eq!(binomial_at_most(6, 3, 20), Some(20));
+        assert_eq!(binomial_at_most(6, 3, 19), None);
+        assert_eq!(binomial_at_most(40, 20, 10_000), None);
+        assert_eq!(binomial_at_most(5, 0, 1), Some(1));
+    }
+}

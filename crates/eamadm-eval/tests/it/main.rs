@@ -1,0 +1,10 @@
+//! The integration tests of `eamadm-eval`, compiled as one test binary (one module per topic).
+
+#![expect(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
+
+mod band;
+mod claims;
+mod stats;
