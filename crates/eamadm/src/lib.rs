@@ -23,6 +23,7 @@
 //! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`output_names`] | the name of every file the tooling writes into an output folder |
 //!
 //! # A first experiment
 //!
@@ -167,6 +168,7 @@ pub mod behaviour;
 pub mod claims;
 pub mod config;
 pub mod error;
+pub mod output_names;
 pub mod paper;
 pub mod pretrain;
 pub mod prior;
