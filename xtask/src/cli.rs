@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use clap::builder::TypedValueParser as _;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// eamadm project tooling.
@@ -83,20 +84,14 @@ pub(crate) struct MergeArgs {
     pub(crate) stores: Vec<PathBuf>,
 }
 
-/// Which training-episode trajectories the run store and `trajectories.csv` keep. The greedy
-/// evaluation episode after training, which the figures draw, is always kept.
-#[derive(
-    Debug, Clone, Copy, Default, PartialEq, Eq, ValueEnum, serde::Serialize, serde::Deserialize,
-)]
-#[serde(rename_all = "kebab-case")]
-pub(crate) enum KeepTrajectories {
-    /// Only what the figures draw: the evaluation episodes (in trajectories.csv, the first
-    /// seed's).
-    #[default]
-    Figures,
-    /// Also every seed's evaluation path and every training trajectory the config records
-    /// (its `trajectories` section).
-    All,
+pub(crate) use eamadm_runs::KeepTrajectories;
+
+/// `--keep-trajectories`: `figures` (only what the figures draw: the evaluation episodes, in
+/// trajectories.csv the first seed's) or `all` (also every seed's evaluation path and every
+/// training trajectory the config records).
+fn keep_trajectories_values() -> impl clap::builder::TypedValueParser<Value = KeepTrajectories> {
+    clap::builder::PossibleValuesParser::new(KeepTrajectories::ALL.map(KeepTrajectories::name))
+        .map(|name| name.parse().unwrap_or_default())
 }
 
 /// Options of `reproduce-paper`.
@@ -129,7 +124,7 @@ pub(crate) struct ReproduceArgs {
     #[arg(long)]
     pub(crate) wait: bool,
     /// Which training trajectories to keep in the run store and trajectories.csv.
-    #[arg(long, value_name = "WHICH", value_enum, default_value_t)]
+    #[arg(long, value_name = "WHICH", value_parser = keep_trajectories_values(), default_value_t)]
     pub(crate) keep_trajectories: KeepTrajectories,
 }
 

@@ -6,22 +6,14 @@
 //! records are returned in job order, so the results do not depend on the number of threads,
 //! on completion order, or on which runs were resumed.
 
-use eamadm::config::{DEFAULT_SCENARIO, TaskConfig};
-use eamadm::{ExperimentConfig, MethodSpec, RunError};
+use eamadm::RunError;
+use eamadm_runs::{KeepTrajectories, RunDescription, RunStore, StoreError};
 use rayon::prelude::*;
-use serde::Serialize;
 use thiserror::Error;
 
-use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
 use crate::progress::{Progress, TaskProgress};
-use crate::store::{RunStore, StoreError};
-
-/// Version of the numbers a run produces, in the resume key: bump it when a change of code
-/// changes results without changing the config or the crate version, so that stored runs are
-/// not reused.
-pub(crate) const RESULTS_FORMAT: u32 = 1;
 
 /// A run that failed, or a run file that could not be stored or read.
 #[derive(Debug, Error)]
@@ -38,56 +30,6 @@ pub(crate) enum ExecuteError {
     /// Storing a run failed.
     #[error(transparent)]
     Store(#[from] StoreError),
-}
-
-/// What identifies a run for resuming: everything its record depends on.
-#[derive(Debug, Serialize)]
-pub(crate) struct RunDescription {
-    /// [`RESULTS_FORMAT`].
-    pub(crate) results_format: u32,
-    /// The `eamadm` (workspace) version.
-    pub(crate) crate_version: &'static str,
-    /// The experiment's config with this method only, and the seed fields neutral (the seed is
-    /// below), so the same run is recognised whatever `--seeds` or `--method` selected.
-    pub(crate) config: ExperimentConfig,
-    /// The run's seed.
-    pub(crate) seed: u64,
-    /// BLAKE3 of the file the task reads (a maze map or robot scenario named by path), whose
-    /// content the config does not hold; absent for the embedded presets.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) task_file_blake3: Option<String>,
-}
-
-impl RunDescription {
-    /// The description of running `method` with `seed` in `config`.
-    pub(crate) fn new(config: &ExperimentConfig, method: &MethodSpec, seed: u64) -> Self {
-        let config = ExperimentConfig {
-            methods: vec![method.clone()],
-            seeds: 1,
-            base_seed: 0,
-            ..config.clone()
-        };
-        Self {
-            results_format: RESULTS_FORMAT,
-            crate_version: env!("CARGO_PKG_VERSION"),
-            task_file_blake3: task_file_digest(&config.task),
-            config,
-            seed,
-        }
-    }
-}
-
-/// The hash of the file `task` reads, if it names one (relative paths resolve as `eamadm`
-/// resolves them: against the current folder). An unreadable file hashes as absent; loading
-/// the task has already failed on it then.
-fn task_file_digest(task: &TaskConfig) -> Option<String> {
-    let path = match task {
-        TaskConfig::MazeFile { path, .. } => path.clone(),
-        TaskConfig::Robot { scenario, .. } if scenario != DEFAULT_SCENARIO => scenario.into(),
-        _ => return None,
-    };
-    let text = eamadm::read_input_file(&path, "task").ok()?;
-    Some(blake3::hash(text.as_bytes()).to_hex().to_string())
 }
 
 /// What [`run_jobs`] did.
@@ -161,50 +103,6 @@ mod tests {
     use crate::cli::Task;
     use crate::experiments::{plan_experiments, shorten};
     use crate::jobs::plan_jobs;
-    use crate::resume::RunKey;
-
-    #[test]
-    fn the_key_ignores_other_methods_and_the_seed_count() {
-        let config = eamadm::paper::task1();
-        let method = config.method("softmax").unwrap().clone();
-        let key = |config: &ExperimentConfig, seed| {
-            RunKey::of(&RunDescription::new(config, &method, seed)).unwrap()
-        };
-        let mut fewer = config.clone();
-        fewer.seeds = 3;
-        fewer.methods.truncate(4);
-        assert_eq!(key(&config, 2), key(&fewer, 2));
-        assert_ne!(key(&config, 2), key(&config, 3));
-        let mut other = config.clone();
-        other.episodes = 199;
-        assert_ne!(key(&config, 2), key(&other, 2));
-    }
-
-    #[test]
-    fn the_key_follows_the_content_of_a_task_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let map = dir.path().join("maze.map");
-        std::fs::write(&map, "S..\n.#.\n..T\n").unwrap();
-        let mut config = eamadm::paper::task1();
-        config.task = TaskConfig::MazeFile {
-            path: map.clone(),
-            rewards: eamadm::mazes::Preset::Task1,
-            step_cap: None,
-        };
-        let method = config.methods[1].clone();
-        let key = || RunKey::of(&RunDescription::new(&config, &method, 0)).unwrap();
-        let before = key();
-        std::fs::write(&map, "S.#\n...\n..T\n").unwrap();
-        assert_ne!(key(), before);
-        // The presets carry no file, so their keys do not change with this field.
-        let preset = RunDescription::new(&eamadm::paper::task1(), &method, 0);
-        assert_eq!(preset.task_file_blake3, None);
-        assert!(
-            !crate::resume::canonical_json(&preset)
-                .unwrap()
-                .contains("task_file")
-        );
-    }
 
     #[test]
     fn resumed_runs_are_skipped_and_equal_fresh_ones() {
@@ -227,7 +125,7 @@ mod tests {
         for job in &jobs {
             let stored = store.load(&job.key, keep).unwrap().unwrap();
             let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
-            assert_eq!(stored.record, crate::store::compact(fresh, keep));
+            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
         }
     }
 }

@@ -19,17 +19,17 @@ use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
 use eamadm::scores::{FinalScore, ScoresError};
 use thiserror::Error;
 
-use crate::atomic::{AtomicFile, AtomicWriteError};
 use crate::claims_report::{ClaimsReportError, Verdicts, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
 use crate::outputs::{ExperimentFigures, OutputError};
-use crate::store::{BUNDLE_EXTENSION, RunStore, StoreError, StoredRun};
+use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
+use eamadm_runs::store::{BUNDLE_EXTENSION, RunStore, StoreError, StoredRun};
 
 /// Each experiment's per-episode table, compressed: about 8× smaller than the CSV (23 of the
 /// default run's 62 MB were these tables), and pandas, R and `zcat` read it as it is.
-pub(crate) const CURVES_FILE: &str = "curves.csv.gz";
+pub(crate) const CURVES_FILE: &str = eamadm_runs::names::CURVES;
 
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,7 +113,7 @@ fn remove_legacy_files(out: &Path, experiments: &[PlannedExperiment]) -> Result<
             })),
         }
     };
-    remove(&out.join("results.json"))?;
+    remove(&out.join(eamadm_runs::names::LEGACY_RESULTS))?;
     for planned in experiments {
         remove(&out.join("runs").join(format!("{}.jsonl", planned.name)))?;
     }
@@ -181,8 +181,8 @@ pub(crate) fn write_outputs(
         let folder = out.join(&planned.name);
         let mut tables = if everything {
             Some((
-                crate::gzip::encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
-                AtomicFile::create(&folder.join("trajectories.csv"))?,
+                eamadm_runs::gzip::encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
+                AtomicFile::create(&folder.join(eamadm_runs::names::TRAJECTORIES))?,
             ))
         } else {
             None
@@ -220,7 +220,9 @@ pub(crate) fn write_outputs(
                     // (up to the step cap each on a looping greedy policy) are kept only when
                     // asked for, so a default run's tables stay small.
                     if keep == KeepTrajectories::All || job.seed == planned.config().base_seed {
-                        paths.push(&run.record).map_err(table("trajectories.csv"))?;
+                        paths
+                            .push(&run.record)
+                            .map_err(table(eamadm_runs::names::TRAJECTORIES))?;
                     }
                 }
                 if let Some((experiment_figures, robot_behaviour)) = collected.as_mut() {
@@ -242,7 +244,9 @@ pub(crate) fn write_outputs(
                     move |source: ResultsError| OutputError::Results { file, source }
                 };
                 curves.finish().map_err(table(CURVES_FILE))?;
-                paths.finish().map_err(table("trajectories.csv"))?;
+                paths
+                    .finish()
+                    .map_err(table(eamadm_runs::names::TRAJECTORIES))?;
             }
         }
         bundle.commit()?;

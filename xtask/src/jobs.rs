@@ -9,9 +9,8 @@ use serde::Serialize;
 use thiserror::Error;
 
 use crate::cli::ReproduceArgs;
-use crate::execute::RunDescription;
 use crate::experiments::PlannedExperiment;
-use crate::resume::{ResumeError, RunKey};
+use eamadm_runs::key::{ResumeError, RunDescription, RunKey};
 
 /// One run to do.
 #[derive(Debug, Clone)]

@@ -26,7 +26,6 @@ use std::process::ExitCode;
 
 use clap::Parser as _;
 
-mod atomic;
 mod claims_report;
 mod cli;
 mod execute;
@@ -34,21 +33,20 @@ mod experiments;
 mod figures;
 mod finish;
 mod fixtures;
-mod gzip;
 mod jobs;
-mod output_folder;
 mod outputs;
 mod plan;
 mod progress;
 mod report;
 mod reproduce;
-mod resume;
 mod robot_report;
-mod store;
 mod test_all;
 mod text_diff;
 #[cfg(test)]
 mod tidy;
+
+// Every file goes through the run crate's atomic writes (`crate::atomic` in the modules).
+use eamadm_runs::atomic;
 
 use cli::{Cli, Command};
 use plan::Workspace;

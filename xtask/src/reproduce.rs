@@ -10,10 +10,10 @@ use crate::execute::run_jobs;
 use crate::experiments::{PlannedExperiment, load_config_file, plan_experiments};
 use crate::finish::{Outputs, write_outputs};
 use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
-use crate::output_folder::OutputFolder;
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
-use crate::store::RunStore;
+use eamadm_runs::RunStore;
+use eamadm_runs::output_folder::OutputFolder;
 
 /// Prints a warning (a damaged run that will be recomputed, a line a merge ignores).
 #[expect(
@@ -731,7 +731,7 @@ mod tests {
         let copy = ws.root.join("resumed");
         std::fs::create_dir_all(copy.join("runs")).unwrap();
         let bundle = std::fs::read(ws.root.join("whole/runs/task1.jsonl.gz")).unwrap();
-        let entries = crate::gzip::split_members(&bundle).unwrap();
+        let entries = eamadm_runs::gzip::split_members(&bundle).unwrap();
         assert_eq!(entries.len(), 4);
         // As if killed mid-append: one run whole, one edited, one torn, one never written.
         let line = |i: usize| String::from_utf8(entries[i].1.clone()).unwrap();
@@ -741,7 +741,7 @@ mod tests {
             copy.join("runs/task1.jsonl.gz"),
             [
                 entries[0].0,
-                &crate::gzip::compress(edited.as_bytes()).unwrap(),
+                &eamadm_runs::gzip::compress(edited.as_bytes()).unwrap(),
                 torn,
             ]
             .concat(),

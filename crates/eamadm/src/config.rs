@@ -1011,40 +1011,12 @@ pub fn read_input_file(path: &std::path::Path, field: &str) -> Result<String, Co
 }
 
 /// Names an experiment or method may not have, compared without regard to case: the entries
-/// the reproduction tooling keeps in its output folder beside the experiments' folders (the run
-/// store, the combined record and the report; its own bookkeeping entries are hidden names, which
+/// the reproduction tooling keeps in its output folder beside the experiments' folders
+/// ([`crate::output_names::TOP_LEVEL`]; its own bookkeeping entries are hidden names, which
 /// slugs cannot be), and the device
 /// names Windows reserves. An experiment's name becomes a folder in that output folder, so one of
 /// these would overwrite or mix with another output.
-pub const RESERVED_NAMES: &[&str] = &[
-    "runs",
-    "results.json",
-    "report.md",
-    "final-scores.csv",
-    "claims.csv",
-    "con",
-    "prn",
-    "aux",
-    "nul",
-    "com1",
-    "com2",
-    "com3",
-    "com4",
-    "com5",
-    "com6",
-    "com7",
-    "com8",
-    "com9",
-    "lpt1",
-    "lpt2",
-    "lpt3",
-    "lpt4",
-    "lpt5",
-    "lpt6",
-    "lpt7",
-    "lpt8",
-    "lpt9",
-];
+pub const RESERVED_NAMES: &[&str] = &crate::output_names::RESERVED;
 
 /// Whether `label` is a safe slug for a file or folder name: 1 to 64 characters from ASCII
 /// letters, digits, `-`, `_` and `.`, starting with a letter or digit (so never `.`, `..` or a

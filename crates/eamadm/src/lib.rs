@@ -25,6 +25,7 @@
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
+//! | [`output_names`] | the name of every file the tooling writes into an output folder |
 //!
 //! # A first experiment
 //!
@@ -178,6 +179,7 @@ pub use eamadm_eval::{behaviour, claims, record, results, scores, stats, summary
 pub mod agent;
 pub mod config;
 pub mod error;
+pub mod output_names;
 pub mod paper;
 pub mod pretrain;
 pub mod prior;

@@ -36,19 +36,68 @@ use eamadm::{
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::cli::KeepTrajectories;
-use crate::execute::RunDescription;
-use crate::resume::{RunKey, canonical_json};
+use crate::key::{RunDescription, RunKey, canonical_json};
+
+/// Which training trajectories a stored record keeps (the `--keep-trajectories` option).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KeepTrajectories {
+    /// Only what the figures draw: the evaluation episodes (in trajectories.csv, the first
+    /// seed's).
+    #[default]
+    Figures,
+    /// Also every seed's evaluation path and every training trajectory the config records
+    /// (its `trajectories` section).
+    All,
+}
+
+impl KeepTrajectories {
+    /// Every value, in the order of the command line's help.
+    pub const ALL: [Self; 2] = [Self::Figures, Self::All];
+
+    /// The value's name on the command line and in a store header.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Figures => "figures",
+            Self::All => "all",
+        }
+    }
+
+    /// Whether a record stored keeping `self` holds what `wanted` asks for: all trajectories
+    /// serve every request, the figures' only a request for the figures'.
+    #[must_use]
+    pub fn covers(self, wanted: Self) -> bool {
+        self == Self::All || wanted == Self::Figures
+    }
+}
+
+impl std::fmt::Display for KeepTrajectories {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for KeepTrajectories {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|keep| keep.name() == text)
+            .ok_or_else(|| format!("{text:?} is not one of `figures`, `all`"))
+    }
+}
 
 /// Version of the line layout above; bump it when the layout changes.
-pub(crate) const RUN_LINE_FORMAT: u64 = 2;
+pub const RUN_LINE_FORMAT: u64 = 2;
 
 /// The ending of bundle file names: JSON lines, each line its own gzip member.
-pub(crate) const BUNDLE_EXTENSION: &str = "jsonl.gz";
+pub const BUNDLE_EXTENSION: &str = crate::names::BUNDLE_EXTENSION;
 
 /// A failure to read or write the store.
 #[derive(Debug, Error)]
-pub(crate) enum StoreError {
+pub enum StoreError {
     /// A bundle could not be read.
     #[error("could not read {}: {source}", path.display())]
     Read {
@@ -160,7 +209,7 @@ fn parse_line(bytes: &[u8]) -> Result<Line<'_>, String> {
 
 /// `record` as the store keeps it under `keep`: without training trajectories unless all are
 /// kept (the figures draw only the greedy evaluation, which is always kept).
-pub(crate) fn compact(mut record: RunRecord, keep: KeepTrajectories) -> RunRecord {
+pub fn compact(mut record: RunRecord, keep: KeepTrajectories) -> RunRecord {
     if keep == KeepTrajectories::Figures {
         record.trajectories = Vec::new();
     }
@@ -340,20 +389,16 @@ fn entry_bytes(
 
 /// A run read back from a store: its description (canonical JSON) and record.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct StoredRun {
+pub struct StoredRun {
     /// The run's description, as stored (its hash is the key).
-    pub(crate) description: Vec<u8>,
+    pub description: Vec<u8>,
     /// The record, compacted as asked.
-    pub(crate) record: RunRecord,
+    pub record: RunRecord,
 }
 
 impl StoredRun {
     /// The entry of this run in a bundle (one gzip member), compacted under `keep`.
-    pub(crate) fn entry(
-        &self,
-        key: &RunKey,
-        keep: KeepTrajectories,
-    ) -> Result<Vec<u8>, StoreError> {
+    pub fn entry(&self, key: &RunKey, keep: KeepTrajectories) -> Result<Vec<u8>, StoreError> {
         entry_bytes(key, &self.description, &self.record, keep)
     }
 }
@@ -361,7 +406,7 @@ impl StoredRun {
 /// The runs of one store folder (`<out>/runs/`), indexed when opened: the index holds where each
 /// verified line is, never the records, so memory does not grow with the runs' size.
 #[derive(Debug)]
-pub(crate) struct RunStore {
+pub struct RunStore {
     folder: PathBuf,
     index: HashMap<RunKey, Location>,
     appenders: Mutex<HashMap<String, File>>,
@@ -371,16 +416,13 @@ impl RunStore {
     /// The store of the output folder `out`, opened for resuming and appending: every bundle is
     /// read and checked; a torn last entry (a kill mid-append) is cut off; each bad entry is
     /// passed to `warn` and ignored (its run will be recomputed).
-    pub(crate) fn open(out: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
+    pub fn open(out: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
         Self::open_folder(&out.join("runs"), true, warn)
     }
 
     /// A store folder opened only to read (as `merge` does): `path` is an output folder (its
     /// `runs/` is read) or a `runs/` folder itself. Nothing is changed on disk.
-    pub(crate) fn open_read_only(
-        path: &Path,
-        warn: &mut dyn FnMut(&str),
-    ) -> Result<Self, StoreError> {
+    pub fn open_read_only(path: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
         let runs = path.join("runs");
         let folder = if runs.is_dir() {
             runs
@@ -454,31 +496,37 @@ impl RunStore {
     }
 
     /// The folder of the bundles.
-    pub(crate) fn folder(&self) -> &Path {
+    pub fn folder(&self) -> &Path {
         &self.folder
     }
 
     /// The bundle file of experiment `experiment`.
-    pub(crate) fn bundle_path(&self, experiment: &str) -> PathBuf {
+    pub fn bundle_path(&self, experiment: &str) -> PathBuf {
         self.folder.join(format!("{experiment}.{BUNDLE_EXTENSION}"))
     }
 
     /// Whether run `key` was stored (and verified when the store was opened) keeping at least
     /// the trajectories `keep` asks for.
-    pub(crate) fn has(&self, key: &RunKey, keep: KeepTrajectories) -> bool {
+    pub fn has(&self, key: &RunKey, keep: KeepTrajectories) -> bool {
         self.index
             .get(key)
             .is_some_and(|location| covers(location.trajectories, keep))
     }
 
     /// How many verified runs the store holds.
-    pub(crate) fn len(&self) -> usize {
+    pub fn len(&self) -> usize {
         self.index.len()
+    }
+
+    /// Whether the store holds no verified run.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.index.is_empty()
     }
 
     /// Reads run `key`, compacted under `keep`: `Ok(None)` if the store does not hold it with
     /// the trajectories `keep` asks for.
-    pub(crate) fn load(
+    pub fn load(
         &self,
         key: &RunKey,
         keep: KeepTrajectories,
@@ -527,7 +575,7 @@ impl RunStore {
 
     /// Appends a finished run to its experiment's bundle (one write, then a sync, so a kill
     /// leaves at most a torn last entry, which the next [`RunStore::open`] cuts off).
-    pub(crate) fn append(
+    pub fn append(
         &self,
         key: &RunKey,
         description: &RunDescription,
@@ -572,7 +620,7 @@ impl RunStore {
 
 /// Whether a record stored keeping `stored` holds what `wanted` asks for.
 fn covers(stored: KeepTrajectories, wanted: KeepTrajectories) -> bool {
-    stored == KeepTrajectories::All || wanted == KeepTrajectories::Figures
+    stored.covers(wanted)
 }
 
 /// Reads and checks every entry of the bundle `path` into `index`, one entry in memory at a time.
@@ -698,24 +746,26 @@ fn next_entry(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::Task;
-    use crate::experiments::{plan_experiments, shorten};
     use crate::gzip;
 
     /// Two tiny runs of Task I and their descriptions.
-    fn runs() -> Vec<(RunKey, RunDescription, RunRecord)> {
-        let mut planned = plan_experiments(&[Task::Task1], false, None, 2, true).unwrap();
-        let mut config = planned[0].config().clone();
-        shorten(&mut config, 3, Some(40), None);
-        planned[0].experiment = eamadm::Experiment::new(config).unwrap();
-        let config = planned[0].config();
-        let method = config.method("epsilon-greedy").unwrap();
+    pub(crate) fn runs() -> Vec<(RunKey, RunDescription, RunRecord)> {
+        let mut config = eamadm::paper::task1();
+        config.episodes = 3;
+        config.seeds = 2;
+        config.trajectories.episodes.retain(|&e| e < 3);
+        if let eamadm::TaskConfig::Maze { step_cap, .. } = &mut config.task {
+            *step_cap = Some(40);
+        }
+        config.methods.retain(|m| m.label == "epsilon-greedy");
+        let experiment = eamadm::Experiment::new(config.clone()).unwrap();
+        let method = &config.methods[0];
         config
             .seed_values()
             .map(|seed| {
-                let description = RunDescription::new(config, method, seed);
+                let description = RunDescription::new(&config, method, seed);
                 let key = RunKey::of(&description).unwrap();
-                let record = planned[0].experiment.run(method, seed).unwrap();
+                let record = experiment.run(method, seed).unwrap();
                 (key, description, record)
             })
             .collect()

@@ -25,17 +25,17 @@ use thiserror::Error;
 use crate::atomic::{AtomicWriteError, sync_folder, write_atomic};
 
 /// The lock file inside the output folder.
-pub(crate) const LOCK_FILE: &str = ".reproduce-paper.lock";
+pub const LOCK_FILE: &str = ".reproduce-paper.lock";
 /// Where a set is written before it is committed.
-pub(crate) const STAGING: &str = ".staging";
+pub const STAGING: &str = ".staging";
 /// A complete set whose swap has begun.
-pub(crate) const COMMITTED: &str = ".committed";
+pub const COMMITTED: &str = ".committed";
 /// The manifest of the current set.
-pub(crate) const MANIFEST: &str = ".outputs";
+pub const MANIFEST: &str = ".outputs";
 
 /// The output folder cannot be used.
 #[derive(Debug, Error)]
-pub(crate) enum OutputFolderError {
+pub enum OutputFolderError {
     /// Another process holds the lock.
     #[error(
         "{}: another reproduce-paper is using this output folder (it holds {}); wait for it to \
@@ -70,7 +70,7 @@ fn io_error(what: &'static str, path: &Path) -> impl FnOnce(io::Error) -> Output
 
 /// An output folder this process holds the lock of. Dropping it releases the lock.
 #[derive(Debug)]
-pub(crate) struct OutputFolder {
+pub struct OutputFolder {
     root: PathBuf,
     /// Held for the lifetime of the value: the lock lives as long as the open file.
     _lock: File,
@@ -80,7 +80,7 @@ impl OutputFolder {
     /// Creates `out` if needed, takes its lock (waiting for another process to release it when
     /// `wait`, failing with [`OutputFolderError::Busy`] otherwise), then repairs what a killed
     /// earlier invocation left: finishes a committed swap, removes an unfinished staging folder.
-    pub(crate) fn open(out: &Path, wait: bool) -> Result<Self, OutputFolderError> {
+    pub fn open(out: &Path, wait: bool) -> Result<Self, OutputFolderError> {
         std::fs::create_dir_all(out).map_err(io_error("cannot create the folder", out))?;
         let lock_path = out.join(LOCK_FILE);
         let lock = File::options()
@@ -116,12 +116,12 @@ impl OutputFolder {
     }
 
     /// The output folder.
-    pub(crate) fn root(&self) -> &Path {
+    pub fn root(&self) -> &Path {
         &self.root
     }
 
     /// A fresh, empty staging folder to write the new set into.
-    pub(crate) fn staging(&self) -> Result<PathBuf, OutputFolderError> {
+    pub fn staging(&self) -> Result<PathBuf, OutputFolderError> {
         let staging = self.root.join(STAGING);
         remove_dir_if_present(&staging)?;
         std::fs::create_dir(&staging)
@@ -132,7 +132,7 @@ impl OutputFolder {
     /// Makes the staged set the folder's set: lists it in a manifest, commits it (one atomic
     /// rename of the staging folder), then swaps it in and removes the previous set's files
     /// that it does not have.
-    pub(crate) fn commit(&self) -> Result<(), OutputFolderError> {
+    pub fn commit(&self) -> Result<(), OutputFolderError> {
         let staging = self.root.join(STAGING);
         let mut files = Vec::new();
         list_files(&staging, Path::new(""), &mut files)?;

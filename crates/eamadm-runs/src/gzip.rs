@@ -19,7 +19,8 @@ use flate2::write::GzEncoder;
 const LEVEL: u32 = 6;
 
 /// A gzip encoder writing to `writer` whose bytes depend only on what is written.
-pub(crate) fn encoder<W: Write>(writer: W) -> GzEncoder<W> {
+#[must_use]
+pub fn encoder<W: Write>(writer: W) -> GzEncoder<W> {
     GzBuilder::new()
         .mtime(0)
         .operating_system(255)
@@ -27,7 +28,7 @@ pub(crate) fn encoder<W: Write>(writer: W) -> GzEncoder<W> {
 }
 
 /// `bytes` as one gzip member.
-pub(crate) fn compress(bytes: &[u8]) -> io::Result<Vec<u8>> {
+pub fn compress(bytes: &[u8]) -> io::Result<Vec<u8>> {
     let mut encoder = encoder(Vec::with_capacity(bytes.len() / 4 + 64));
     encoder.write_all(bytes)?;
     encoder.finish()
@@ -36,7 +37,7 @@ pub(crate) fn compress(bytes: &[u8]) -> io::Result<Vec<u8>> {
 /// The content of the first gzip member at the start of `bytes`, and how many bytes of `bytes`
 /// the member takes (header, compressed data and trailer). Fails on a damaged or incomplete
 /// member (the CRC and length in the trailer are checked).
-pub(crate) fn decompress_member(bytes: &[u8]) -> io::Result<(Vec<u8>, usize)> {
+pub fn decompress_member(bytes: &[u8]) -> io::Result<(Vec<u8>, usize)> {
     let mut rest = bytes;
     let mut content = Vec::new();
     // The bufread decoder consumes exactly the member from the slice, so what is left of
@@ -45,10 +46,9 @@ pub(crate) fn decompress_member(bytes: &[u8]) -> io::Result<(Vec<u8>, usize)> {
     Ok((content, bytes.len() - rest.len()))
 }
 
-/// The members of `bytes`, each as its compressed bytes and its content, for tests that damage
-/// or edit one entry of a bundle.
-#[cfg(test)]
-pub(crate) fn split_members(bytes: &[u8]) -> io::Result<Vec<(&[u8], Vec<u8>)>> {
+/// The members of `bytes`, each as its compressed bytes and its content (for tools and tests
+/// that inspect, damage or edit one entry of a bundle).
+pub fn split_members(bytes: &[u8]) -> io::Result<Vec<(&[u8], Vec<u8>)>> {
     let mut members = Vec::new();
     let mut rest = bytes;
     while !rest.is_empty() {

@@ -13,13 +13,70 @@
 
 use std::fmt;
 
+use eamadm::config::{DEFAULT_SCENARIO, TaskConfig};
+use eamadm::{ExperimentConfig, MethodSpec};
 use serde::Serialize;
 use serde_json::Value;
 use thiserror::Error;
 
+/// Version of the numbers a run produces, in the resume key: bump it when a change of code
+/// changes results without changing the config or the crate version, so that stored runs are
+/// not reused.
+pub const RESULTS_FORMAT: u32 = 1;
+
+/// What identifies a run for resuming: everything its record depends on.
+#[derive(Debug, Serialize)]
+pub struct RunDescription {
+    /// [`RESULTS_FORMAT`].
+    pub results_format: u32,
+    /// The `eamadm` (workspace) version.
+    pub crate_version: &'static str,
+    /// The experiment's config with this method only, and the seed fields neutral (the seed is
+    /// below), so the same run is recognised whatever `--seeds` or `--method` selected.
+    pub config: ExperimentConfig,
+    /// The run's seed.
+    pub seed: u64,
+    /// BLAKE3 of the file the task reads (a maze map or robot scenario named by path), whose
+    /// content the config does not hold; absent for the embedded presets.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub task_file_blake3: Option<String>,
+}
+
+impl RunDescription {
+    /// The description of running `method` with `seed` in `config`.
+    pub fn new(config: &ExperimentConfig, method: &MethodSpec, seed: u64) -> Self {
+        let config = ExperimentConfig {
+            methods: vec![method.clone()],
+            seeds: 1,
+            base_seed: 0,
+            ..config.clone()
+        };
+        Self {
+            results_format: RESULTS_FORMAT,
+            crate_version: env!("CARGO_PKG_VERSION"),
+            task_file_blake3: task_file_digest(&config.task),
+            config,
+            seed,
+        }
+    }
+}
+
+/// The hash of the file `task` reads, if it names one (relative paths resolve as `eamadm`
+/// resolves them: against the current folder). An unreadable file hashes as absent; loading
+/// the task has already failed on it then.
+fn task_file_digest(task: &TaskConfig) -> Option<String> {
+    let path = match task {
+        TaskConfig::MazeFile { path, .. } => path.clone(),
+        TaskConfig::Robot { scenario, .. } if scenario != DEFAULT_SCENARIO => scenario.into(),
+        _ => return None,
+    };
+    let text = eamadm::read_input_file(&path, "task").ok()?;
+    Some(blake3::hash(text.as_bytes()).to_hex().to_string())
+}
+
 /// A run description that cannot be hashed.
 #[derive(Debug, Error)]
-pub(crate) enum ResumeError {
+pub enum ResumeError {
     /// The description could not be turned into JSON.
     #[error("could not serialise the run {what}: {source}")]
     Serialize {
@@ -34,12 +91,12 @@ pub(crate) enum ResumeError {
 /// The stable identity of one run: the lowercase hex BLAKE3 hash (64 characters) of its
 /// description in canonical JSON (see [`canonical_json`]).
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub(crate) struct RunKey(String);
+pub struct RunKey(String);
 
 impl RunKey {
     /// The key of a run described by `description` (typically `(config, seed)` or a struct with
     /// both); equal descriptions give equal keys whatever the order of map entries.
-    pub(crate) fn of<D: Serialize + ?Sized>(description: &D) -> Result<Self, ResumeError> {
+    pub fn of<D: Serialize + ?Sized>(description: &D) -> Result<Self, ResumeError> {
         let canonical = canonical_json(description)?;
         Ok(Self(
             blake3::hash(canonical.as_bytes()).to_hex().to_string(),
@@ -47,12 +104,12 @@ impl RunKey {
     }
 
     /// A key read from a run store line whose description was checked to hash to `hex`.
-    pub(crate) fn from_verified_hex(hex: String) -> Self {
+    pub fn from_verified_hex(hex: String) -> Self {
         Self(hex)
     }
 
     /// The hex digest.
-    pub(crate) fn as_str(&self) -> &str {
+    pub fn as_str(&self) -> &str {
         &self.0
     }
 }
@@ -67,7 +124,7 @@ impl fmt::Display for RunKey {
 /// the text does not depend on field or map insertion order — nor on whether some crate in the
 /// build turned on the `preserve_order` feature of `serde_json`. Non-finite floats become `null`,
 /// as `serde_json` writes them.
-pub(crate) fn canonical_json<T: Serialize + ?Sized>(value: &T) -> Result<String, ResumeError> {
+pub fn canonical_json<T: Serialize + ?Sized>(value: &T) -> Result<String, ResumeError> {
     let value = serde_json::to_value(value).map_err(|source| ResumeError::Serialize {
         what: "description",
         source,
@@ -113,6 +170,46 @@ mod tests {
     use std::collections::{BTreeMap, HashMap};
 
     use super::*;
+    use eamadm::ExperimentConfig;
+
+    #[test]
+    fn the_key_ignores_other_methods_and_the_seed_count() {
+        let config = eamadm::paper::task1();
+        let method = config.method("softmax").unwrap().clone();
+        let key = |config: &ExperimentConfig, seed| {
+            RunKey::of(&RunDescription::new(config, &method, seed)).unwrap()
+        };
+        let mut fewer = config.clone();
+        fewer.seeds = 3;
+        fewer.methods.truncate(4);
+        assert_eq!(key(&config, 2), key(&fewer, 2));
+        assert_ne!(key(&config, 2), key(&config, 3));
+        let mut other = config.clone();
+        other.episodes = 199;
+        assert_ne!(key(&config, 2), key(&other, 2));
+    }
+
+    #[test]
+    fn the_key_follows_the_content_of_a_task_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let map = dir.path().join("maze.map");
+        std::fs::write(&map, "S..\n.#.\n..T\n").unwrap();
+        let mut config = eamadm::paper::task1();
+        config.task = TaskConfig::MazeFile {
+            path: map.clone(),
+            rewards: eamadm::mazes::Preset::Task1,
+            step_cap: None,
+        };
+        let method = config.methods[1].clone();
+        let key = || RunKey::of(&RunDescription::new(&config, &method, 0)).unwrap();
+        let before = key();
+        std::fs::write(&map, "S.#\n...\n..T\n").unwrap();
+        assert_ne!(key(), before);
+        // The presets carry no file, so their keys do not change with this field.
+        let preset = RunDescription::new(&eamadm::paper::task1(), &method, 0);
+        assert_eq!(preset.task_file_blake3, None);
+        assert!(!canonical_json(&preset).unwrap().contains("task_file"));
+    }
 
     #[derive(Serialize)]
     struct Description<'a> {

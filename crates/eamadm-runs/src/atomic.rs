@@ -9,12 +9,12 @@ use thiserror::Error;
 /// A failed atomic write, naming the file.
 #[derive(Debug, Error)]
 #[error("could not write {}: {source}", path.display())]
-pub(crate) struct AtomicWriteError {
+pub struct AtomicWriteError {
     /// The file we were writing.
-    pub(crate) path: PathBuf,
+    pub path: PathBuf,
     /// What went wrong.
     #[source]
-    pub(crate) source: io::Error,
+    pub source: io::Error,
 }
 
 /// Writes `contents` to `path` atomically: creates the parent folders, writes a temporary file in
@@ -22,7 +22,7 @@ pub(crate) struct AtomicWriteError {
 /// over `path` and syncs the folder so that the rename itself is on disk. On error the temporary
 /// file is removed and `path` is untouched. A process killed mid-write may leave a hidden
 /// `.<name>.*.tmp` file behind; nothing reads those.
-pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
+pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
     let mut file = AtomicFile::create(path)?;
     file.write_all(contents)
         .map_err(|source| AtomicWriteError {
@@ -34,7 +34,7 @@ pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWri
 
 /// Flushes a folder's entries (a rename, a new or removed file) to disk, so that a crash right
 /// after a write returned cannot lose it. A no-op where folders cannot be opened as files.
-pub(crate) fn sync_folder(folder: &Path) -> io::Result<()> {
+pub fn sync_folder(folder: &Path) -> io::Result<()> {
     #[cfg(unix)]
     std::fs::File::open(folder)?.sync_all()?;
     #[cfg(not(unix))]
@@ -46,14 +46,14 @@ pub(crate) fn sync_folder(folder: &Path) -> io::Result<()> {
 /// too large to hold in memory: writes go to a temporary file in the same folder, and
 /// [`AtomicFile::commit`] syncs it and renames it over the path. Dropped without a commit, the
 /// temporary file is removed and the path is untouched.
-pub(crate) struct AtomicFile {
+pub struct AtomicFile {
     path: PathBuf,
     writer: io::BufWriter<tempfile::NamedTempFile>,
 }
 
 impl AtomicFile {
     /// Starts writing `path` (creating its parent folders).
-    pub(crate) fn create(path: &Path) -> Result<Self, AtomicWriteError> {
+    pub fn create(path: &Path) -> Result<Self, AtomicWriteError> {
         let error = |source| AtomicWriteError {
             path: path.to_path_buf(),
             source,
@@ -86,13 +86,13 @@ impl AtomicFile {
     }
 
     /// The file being written.
-    pub(crate) fn path(&self) -> &Path {
+    pub fn path(&self) -> &Path {
         &self.path
     }
 
     /// Flushes, syncs and renames the temporary file over the path, then syncs the folder so
     /// that the rename itself is on disk.
-    pub(crate) fn commit(self) -> Result<(), AtomicWriteError> {
+    pub fn commit(self) -> Result<(), AtomicWriteError> {
         let path = self.path;
         let error = |source| AtomicWriteError {
             path: path.clone(),

@@ -1,0 +1,64 @@
+//! The names of every file and folder the reproduction tooling writes into an output folder,
+//! in one place: the run store crate `eamadm-runs` re-exports this module as its `names`, and
+//! [`crate::RESERVED_NAMES`] is derived from [`TOP_LEVEL`], so an experiment can never be named
+//! like one of them.
+//!
+//! They live here, in the facade, because the run store depends on `eamadm` (for the records it
+//! stores), so `eamadm` cannot depend on it: the names go where both can see them.
+
+/// The run store folder, `<out>/runs/`.
+pub const RUNS_FOLDER: &str = "runs";
+/// The ending of a run store bundle, `runs/<experiment>.jsonl.gz`.
+pub const BUNDLE_EXTENSION: &str = "jsonl.gz";
+/// The ending of a single run file, `runs/<experiment>/<key>.run.gz`, before it is packed.
+pub const RUN_FILE_EXTENSION: &str = "run.gz";
+/// The report.
+pub const REPORT: &str = "REPORT.md";
+/// One row per task, method and seed.
+pub const FINAL_SCORES: &str = "final-scores.csv";
+/// The verdicts on the paper's claims.
+pub const CLAIMS: &str = "claims.csv";
+/// Every record in one JSON file, written by earlier versions (removed when found).
+pub const LEGACY_RESULTS: &str = "results.json";
+/// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
+pub const CURVES: &str = "curves.csv.gz";
+/// Each experiment's evaluation paths, `<out>/<experiment>/trajectories.csv`.
+pub const TRAJECTORIES: &str = "trajectories.csv";
+/// The output folder's lock file.
+pub const LOCK_FILE: &str = ".reproduce-paper.lock";
+/// Where a set of outputs is written before it is committed.
+pub const STAGING: &str = ".staging";
+/// A complete set of outputs whose swap into the folder has begun.
+pub const COMMITTED: &str = ".committed";
+/// The manifest of the current set of outputs.
+pub const MANIFEST: &str = ".outputs";
+/// Where run files that failed their checks are set aside (inside [`RUNS_FOLDER`]), never
+/// deleted.
+pub const SET_ASIDE: &str = ".set-aside";
+
+/// The visible entries the tooling keeps at the top of an output folder, beside the
+/// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
+/// can take.)
+pub const TOP_LEVEL: [&str; 5] = [RUNS_FOLDER, LEGACY_RESULTS, REPORT, FINAL_SCORES, CLAIMS];
+
+/// The device names Windows reserves: a file or folder of that name cannot be made there.
+pub const WINDOWS_DEVICES: [&str; 22] = [
+    "con", "prn", "aux", "nul", "com1", "com2", "com3", "com4", "com5", "com6", "com7", "com8",
+    "com9", "lpt1", "lpt2", "lpt3", "lpt4", "lpt5", "lpt6", "lpt7", "lpt8", "lpt9",
+];
+
+/// [`TOP_LEVEL`] followed by [`WINDOWS_DEVICES`].
+pub(crate) const RESERVED: [&str; TOP_LEVEL.len() + WINDOWS_DEVICES.len()] = {
+    let mut all = [""; TOP_LEVEL.len() + WINDOWS_DEVICES.len()];
+    let mut i = 0;
+    while i < TOP_LEVEL.len() {
+        all[i] = TOP_LEVEL[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < WINDOWS_DEVICES.len() {
+        all[TOP_LEVEL.len() + j] = WINDOWS_DEVICES[j];
+        j += 1;
+    }
+    all
+};
