@@ -12,8 +12,8 @@ use crate::finish::{Outputs, write_outputs};
 use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
-use eamadm_runs::RunStore;
 use eamadm_runs::output_folder::OutputFolder;
+use eamadm_runs::{RunKey, RunStore};
 
 /// Prints a warning (a damaged run that will be recomputed, a line a merge ignores).
 #[expect(
@@ -108,12 +108,17 @@ pub(crate) fn reproduce_paper(
     let counts = run_jobs(&experiments, &jobs, &store, keep, &Progress::for_stdout())
         .map_err(Failure::failed)?;
     drop(store);
-    // Reopened: the index now holds the runs appended above.
-    let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    // Reopened, with the runs stored above (its damaged entries were reported by the first
+    // open), and packed: every run stored in the folder, this plan's in job order.
+    let store = RunStore::open(folder.root(), &mut |_| {}).map_err(Failure::failed)?;
+    let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();
+    let store = store
+        .pack(&folder, &[], &keys, &mut warn_on_stderr)
+        .map_err(Failure::failed)?;
     let reporting = shard.is_none() && !command.mode.runs_only;
     if reporting {
         // The set of outputs is written aside and swapped in whole (see `output_folder`); the
-        // run store is rewritten in place, in job order.
+        // run store was packed above.
         let staging = folder.staging().map_err(Failure::failed)?;
         write_outputs(
             folder.root(),
@@ -212,9 +217,7 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         } else {
             "already stored"
         },
-        store
-            .bundle_path(&experiments[job.experiment].name)
-            .display()
+        store.folder().display()
     );
     Ok(())
 }
@@ -245,14 +248,20 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         }));
     }
     let folder = OutputFolder::open(&plan.out, args.plan.wait).map_err(Failure::failed)?;
-    let staging = folder.staging().map_err(Failure::failed)?;
     let started = Instant::now();
+    // The output folder's store keeps what it holds and gains the plan's runs from the others.
+    let own = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();
+    let own = own
+        .pack(&folder, &stores, &keys, &mut warn_on_stderr)
+        .map_err(Failure::failed)?;
+    let staging = folder.staging().map_err(Failure::failed)?;
     let runs = write_outputs(
         folder.root(),
         &staging,
         &experiments,
         &jobs,
-        &stores,
+        &[own],
         keep,
         Outputs::Everything { quick: plan.quick },
     )
@@ -446,7 +455,14 @@ mod tests {
         assert!(manifest.contains("REPORT.md\n"), "{manifest}");
         assert!(!out.join(".staging").exists() && !out.join(".committed").exists());
         // The run store is not part of the set: both runs' records stay for resuming.
-        assert_eq!(std::fs::read_dir(out.join("runs")).unwrap().count(), 2);
+        let bundles = std::fs::read_dir(out.join("runs"))
+            .unwrap()
+            .filter(|e| {
+                let name = e.as_ref().unwrap().file_name();
+                name.to_string_lossy().ends_with(".jsonl.gz")
+            })
+            .count();
+        assert_eq!(bundles, 2);
     }
 
     #[test]
@@ -764,6 +780,10 @@ mod tests {
             b"mine"
         );
         std::fs::remove_file(copy.join("runs/notes.json")).unwrap();
+        // The edited and the torn entry are set aside, not deleted.
+        let aside = copy.join("runs/.set-aside");
+        assert_eq!(std::fs::read_dir(&aside).unwrap().count(), 2);
+        std::fs::remove_dir_all(&aside).unwrap();
         assert_same_tree(&ws.root.join("whole"), &copy);
     }
 }
