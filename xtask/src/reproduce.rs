@@ -786,4 +786,185 @@ mod tests {
         std::fs::remove_dir_all(&aside).unwrap();
         assert_same_tree(&ws.root.join("whole"), &copy);
     }
+
+    fn shard(k: u64, n: u64) -> RunModeArgs {
+        RunModeArgs {
+            shard: Some(format!("{k}/{n}")),
+            ..RunModeArgs::default()
+        }
+    }
+
+    /// The keys of the verified runs stored in `out`, and with which trajectories.
+    fn stored_runs(out: &Path) -> BTreeMap<String, bool> {
+        let store = RunStore::open(out, &mut |w| panic!("{w}")).unwrap();
+        let mut runs = BTreeMap::new();
+        for bundle in std::fs::read_dir(out.join("runs")).unwrap() {
+            let bundle = bundle.unwrap().path();
+            if !bundle.to_string_lossy().ends_with(".jsonl.gz") {
+                continue;
+            }
+            let bytes = std::fs::read(&bundle).unwrap();
+            for (_, line) in eamadm_runs::gzip::split_members(&bytes).unwrap() {
+                let line = String::from_utf8(line).unwrap();
+                let header: serde_json::Value =
+                    serde_json::from_str(line.split('\t').next().unwrap()).unwrap();
+                let key = header["key"].as_str().unwrap().to_owned();
+                let all = header["trajectories"] == "all";
+                assert!(
+                    store.has(
+                        &eamadm_runs::RunKey::from_verified_hex(key.clone()),
+                        KeepTrajectories::Figures
+                    ),
+                    "{key}"
+                );
+                assert!(runs.insert(key, all).is_none(), "each run once");
+            }
+        }
+        runs
+    }
+
+    #[test]
+    fn shards_into_one_folder_in_every_order_merge_to_the_unsharded_run() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
+        let whole = stored_runs(&ws.root.join("whole"));
+        assert_eq!(whole.len(), 8);
+        for (n, order) in [[3, 1, 2], [2, 3, 1], [1, 2, 3]].iter().enumerate() {
+            let out = format!("one{n}");
+            for &k in order {
+                reproduce_paper(&command(small(&out), shard(k, 3)), &ws).unwrap();
+            }
+            // Each shard added its runs; none removed another's (4dc0c45: 5 of 8 missing).
+            assert_eq!(stored_runs(&ws.root.join(&out)), whole, "order {order:?}");
+            let merged = format!("merged{n}");
+            merge(
+                &MergeArgs {
+                    plan: small(&merged),
+                    stores: vec![out.into()],
+                },
+                &ws,
+            )
+            .unwrap();
+            assert_same_tree(&ws.root.join("whole"), &ws.root.join(&merged));
+        }
+    }
+
+    #[test]
+    fn a_narrower_plan_or_a_method_a_task_lacks_keeps_every_stored_run() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
+        let before = stored_runs(&ws.root.join("out"));
+        let narrow = ReproduceArgs {
+            methods: vec!["softmax".to_owned()],
+            ..small("out")
+        };
+        reproduce_paper(&command(narrow, RunModeArgs::default()), &ws).unwrap();
+        assert_eq!(stored_runs(&ws.root.join("out")), before);
+        // The robot has no softmax-budget control: its plan there is empty (4dc0c45 emptied
+        // the robot's store).
+        let lacking = ReproduceArgs {
+            tasks: vec![crate::cli::Task::Robot],
+            methods: vec!["softmax-budget".to_owned()],
+            ..small("out")
+        };
+        let _ = reproduce_paper(&command(lacking, RunModeArgs::default()), &ws);
+        assert_eq!(stored_runs(&ws.root.join("out")), before);
+        // A wider plan runs only what is missing.
+        let wider = ReproduceArgs {
+            seeds: Some(3),
+            ..small("out")
+        };
+        reproduce_paper(&command(wider, RunModeArgs::default()), &ws).unwrap();
+        let after = stored_runs(&ws.root.join("out"));
+        assert_eq!(after.len(), 12);
+        assert!(before.keys().all(|key| after.contains_key(key)));
+    }
+
+    #[test]
+    fn keep_trajectories_switched_both_ways_keeps_the_richer_runs_once() {
+        let (_dir, ws) = workspace();
+        let all = || ReproduceArgs {
+            keep_trajectories: KeepTrajectories::All,
+            ..small("out")
+        };
+        reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
+        // Needing more: recomputed once (4dc0c45 failed every time, appending each time).
+        for _ in 0..2 {
+            reproduce_paper(&command(all(), RunModeArgs::default()), &ws).unwrap();
+            let runs = stored_runs(&ws.root.join("out"));
+            assert_eq!(runs.len(), 8);
+            assert!(runs.values().all(|&all| all), "{runs:?}");
+        }
+        // Needing less: served by the richer runs, which stay (4dc0c45 stripped them).
+        reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
+        let runs = stored_runs(&ws.root.join("out"));
+        assert_eq!(runs.len(), 8);
+        assert!(runs.values().all(|&all| all), "{runs:?}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn links_and_fifos_at_store_and_output_paths_are_refused_by_name() {
+        use std::os::unix::fs::symlink;
+        let (_dir, ws) = workspace();
+        let elsewhere = ws.root.join("elsewhere");
+        std::fs::create_dir(&elsewhere).unwrap();
+        std::fs::write(elsewhere.join("keep.txt"), b"not ours").unwrap();
+        let fifo = |path: &Path| {
+            assert!(
+                std::process::Command::new("mkfifo")
+                    .arg(path)
+                    .status()
+                    .unwrap()
+                    .success()
+            );
+        };
+        let plant: [(&str, &dyn Fn(&Path)); 8] = [
+            ("runs", &|p| symlink(&elsewhere, p).unwrap()),
+            ("runs/task1.jsonl.gz", &|p| {
+                symlink(elsewhere.join("keep.txt"), p).unwrap()
+            }),
+            ("runs/loose", &|p| symlink(&elsewhere, p).unwrap()),
+            ("task1", &|p| symlink(&elsewhere, p).unwrap()),
+            (".committed", &|p| symlink(&elsewhere, p).unwrap()),
+            (".reproduce-paper.lock", &|p| fifo(p)),
+            ("runs/task1.jsonl.gz", &|p| fifo(p)),
+            (".reproduce-paper.lock", &|p| {
+                symlink(elsewhere.join("keep.txt"), p).unwrap()
+            }),
+        ];
+        for (n, (path, make)) in plant.iter().enumerate() {
+            let out = ws.root.join(format!("out{n}"));
+            let target = out.join(path);
+            std::fs::create_dir_all(target.parent().unwrap()).unwrap();
+            make(&target);
+            let result = reproduce_paper(
+                &command(small(&format!("out{n}")), RunModeArgs::default()),
+                &ws,
+            );
+            if let Err(failure) = &result {
+                assert!(
+                    failure.message.contains(&*target.to_string_lossy())
+                        || failure.message.contains(path),
+                    "{path}: {}",
+                    failure.message
+                );
+            }
+            // Nothing outside the output folder was written, moved or removed.
+            let names: Vec<_> = std::fs::read_dir(&elsewhere)
+                .unwrap()
+                .map(|e| e.unwrap().file_name())
+                .collect();
+            assert_eq!(names, ["keep.txt"], "{path}");
+            assert_eq!(
+                std::fs::read(elsewhere.join("keep.txt")).unwrap(),
+                b"not ours",
+                "{path}"
+            );
+            assert!(
+                result.is_err() || path.ends_with(".jsonl.gz"),
+                "{path}: accepted"
+            );
+        }
+    }
 }
