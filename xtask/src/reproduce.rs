@@ -919,10 +919,11 @@ mod tests {
                     .success()
             );
         };
-        let plant: [(&str, &dyn Fn(&Path)); 8] = [
+        type Plant<'a> = (&'a str, &'a dyn Fn(&Path));
+        let plant: [Plant<'_>; 8] = [
             ("runs", &|p| symlink(&elsewhere, p).unwrap()),
             ("runs/task1.jsonl.gz", &|p| {
-                symlink(elsewhere.join("keep.txt"), p).unwrap()
+                symlink(elsewhere.join("keep.txt"), p).unwrap();
             }),
             ("runs/loose", &|p| symlink(&elsewhere, p).unwrap()),
             ("task1", &|p| symlink(&elsewhere, p).unwrap()),
@@ -930,7 +931,7 @@ mod tests {
             (".reproduce-paper.lock", &|p| fifo(p)),
             ("runs/task1.jsonl.gz", &|p| fifo(p)),
             (".reproduce-paper.lock", &|p| {
-                symlink(elsewhere.join("keep.txt"), p).unwrap()
+                symlink(elsewhere.join("keep.txt"), p).unwrap();
             }),
         ];
         for (n, (path, make)) in plant.iter().enumerate() {
