@@ -2,6 +2,7 @@
 //! tasks) before touching the output folder, run (resuming) the plan's runs — all, one shard, or
 //! one job — into the run store, then write the results, figures and `REPORT.md` from the store.
 
+use std::path::Path;
 use std::time::Instant;
 
 use crate::Failure;
@@ -40,6 +41,20 @@ fn prepare(
         Some(config) => config.methods.iter().map(|m| m.label.clone()).collect(),
         None => default_methods(),
     };
+    if let (Some(config), None) = (&custom, args.seeds)
+        && config.seeds > crate::cli::MAX_SEEDS
+    {
+        return Err(Failure::invalid(format!(
+            "{}: `seeds` = {} is more than a plan may run ({}, as for --seeds); lower it, or \
+             pass --seeds",
+            args.config
+                .as_deref()
+                .unwrap_or(Path::new("config"))
+                .display(),
+            config.seeds,
+            crate::cli::MAX_SEEDS
+        )));
+    }
     let mut plan = ReproducePlan::from_args(args, &known, workspace).map_err(Failure::invalid)?;
     if let (Some(config), None) = (&custom, args.seeds) {
         plan.seeds = if plan.quick {
@@ -278,7 +293,6 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
 #[cfg(test)]
 mod tests {
     use std::collections::BTreeMap;
-    use std::path::Path;
 
     use super::*;
     use crate::cli::RunModeArgs;
@@ -967,5 +981,24 @@ mod tests {
                 "{path}: accepted"
             );
         }
+    }
+
+    #[test]
+    fn a_config_with_more_seeds_than_the_cap_is_refused_before_planning() {
+        let (_dir, ws) = workspace();
+        let mut config = eamadm::paper::task1();
+        config.name = "many".to_owned();
+        config.seeds = 100_000;
+        std::fs::write(ws.root.join("many.toml"), config.to_toml_string().unwrap()).unwrap();
+        let mut plan = args(Some("many.toml"), "out");
+        plan.seeds = None;
+        let failure = reproduce_paper(&command(plan, RunModeArgs::default()), &ws).unwrap_err();
+        assert_eq!(failure.exit_code, 2);
+        assert!(
+            failure.message.contains("`seeds` = 100000"),
+            "{}",
+            failure.message
+        );
+        assert!(!ws.root.join("out").exists());
     }
 }
