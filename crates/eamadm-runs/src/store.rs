@@ -1009,6 +1009,37 @@ struct CheckedEntry {
     record: RunRecord,
 }
 
+/// Checks the bytes of a bundle or loose run file as [`RunStore::open`] does, in memory:
+/// how many entries verify, and one problem per entry that does not. Never panics and never
+/// holds more than [`MAX_ENTRY_BYTES`] of one entry (the fuzz target `store_bytes` calls it).
+#[must_use]
+pub fn check_bytes(bytes: &[u8]) -> (usize, Vec<String>) {
+    let mut rest = bytes;
+    let mut verified = 0;
+    let mut problems = Vec::new();
+    let mut line = Vec::new();
+    while !rest.is_empty() {
+        let start = bytes.len() - rest.len();
+        match capped_decompress(&mut rest, &mut line) {
+            Ok(()) => match line.strip_suffix(b"\n").map(parse_line) {
+                Some(Ok(_)) => verified += 1,
+                Some(Err(problem)) => problems.push(problem),
+                None => problems.push("not one whole line".to_owned()),
+            },
+            Err(error) => {
+                problems.push(error.to_string());
+                // Resume at the next byte that may start a member, as the store's reader does.
+                let next = bytes[start + 1..]
+                    .iter()
+                    .position(|&b| b == 0x1f)
+                    .map_or(bytes.len(), |skip| start + 1 + skip);
+                rest = &bytes[next..];
+            }
+        }
+    }
+    (verified, problems)
+}
+
 /// The regular files and other entries of `folder` (none when it does not exist), as path and
 /// name.
 fn list(folder: &Path) -> io::Result<Vec<(PathBuf, String)>> {
@@ -1236,6 +1267,28 @@ mod tests {
         assert!(warnings[0].contains("entry 1 (byte 0)"), "{}", warnings[0]);
         assert!(!store.has(&runs[0].0, KeepTrajectories::Figures));
         assert!(store.has(&runs[1].0, KeepTrajectories::Figures));
+    }
+
+    #[test]
+    fn check_bytes_counts_what_verifies_and_names_the_rest() {
+        let dir = tempfile::tempdir().unwrap();
+        let runs = runs();
+        let bundle = std::fs::read(stored(dir.path(), &runs)).unwrap();
+        assert_eq!(check_bytes(&bundle), (2, vec![]));
+        let (verified, problems) = check_bytes(&bundle[..bundle.len() - 5]);
+        assert_eq!(verified, 1);
+        assert!(!problems.is_empty());
+        // A small member that inflates past the cap is refused while reading.
+        let mut zeros = crate::gzip::encoder(Vec::new());
+        let block = vec![0_u8; 1 << 20];
+        for _ in 0..=(MAX_ENTRY_BYTES >> 20) {
+            zeros.write_all(&block).unwrap();
+        }
+        let zeros = zeros.finish().unwrap();
+        assert!(zeros.len() < 1 << 20);
+        let (verified, problems) = check_bytes(&zeros);
+        assert_eq!(verified, 0);
+        assert!(problems[0].contains("the cap of one entry"), "{problems:?}");
     }
 
     #[test]
