@@ -868,12 +868,17 @@ mod tests {
         let (_dir, ws) = workspace();
         reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
         let before = stored_runs(&ws.root.join("out"));
+        // What a kill during a bundle rewrite leaves: a hidden temporary file, removed by the
+        // next holder of the lock (4dc0c45 kept it for ever).
+        let leftover = ws.root.join("out/runs/.task1.jsonl.gz.Ab12Cd.tmp");
+        std::fs::write(&leftover, b"half a bundle").unwrap();
         let narrow = ReproduceArgs {
             methods: vec!["softmax".to_owned()],
             ..small("out")
         };
         reproduce_paper(&command(narrow, RunModeArgs::default()), &ws).unwrap();
         assert_eq!(stored_runs(&ws.root.join("out")), before);
+        assert!(!leftover.exists());
         // The robot has no softmax-budget control: its plan there is empty (4dc0c45 emptied
         // the robot's store).
         let lacking = ReproduceArgs {
