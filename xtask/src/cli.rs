@@ -86,6 +86,10 @@ pub(crate) struct MergeArgs {
 
 pub(crate) use eamadm_runs::KeepTrajectories;
 
+/// The most seeds per task and method a plan may have, from `--seeds` or a config's `seeds`
+/// (more would list millions of jobs before running one).
+pub(crate) const MAX_SEEDS: u32 = 1000;
+
 /// `--keep-trajectories`: `figures` (only what the figures draw: the evaluation episodes, in
 /// trajectories.csv the first seed's) or `all` (also every seed's evaluation path and every
 /// training trajectory the config records).
@@ -98,7 +102,7 @@ fn keep_trajectories_values() -> impl clap::builder::TypedValueParser<Value = Ke
 #[derive(Debug, Clone, PartialEq, Eq, Args)]
 pub(crate) struct ReproduceArgs {
     /// Seeds per task and method [default: 20, or 3 with --quick].
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1000))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SEEDS)))]
     pub(crate) seeds: Option<u32>,
     /// Run only this task; repeat for several [default: all three].
     #[arg(long = "task", value_name = "TASK", value_enum)]

@@ -1,5 +1,5 @@
 //! The outputs of a plan, made from run stores as a stream: one run at a time is read (in job
-//! order), written to the output's run store bundle and the CSV tables, added to the
+//! order), written to the CSV tables, added to the
 //! experiment's figures ([`ExperimentFigures`]: per-episode bands), its final scores (one small
 //! row per run, which the verdicts' per-seed bootstrap needs) and the robot's behaviour sums
 //! ([`BehaviourAccumulator`]), then dropped. No run is held past its turn, so memory does not
@@ -7,10 +7,10 @@
 //!
 //! `reproduce-paper` (unsharded, `--shard`, `--runs-only`) and `merge` all end here, so a merge
 //! of shards writes the bytes an unsharded run writes: the same runs, read in the same order, go
-//! through the same code. The bundles are rewritten in job order, so their bytes do not depend
-//! on which process, thread or shard ran a run, nor in which order runs completed.
+//! through the same code. The run store's bundles are packed before (`RunStore::pack`, in job
+//! order), so their bytes do not depend on which process, thread or shard ran a run, nor in
+//! which order runs completed.
 
-use std::io::Write as _;
 use std::path::Path;
 
 use eamadm::BehaviourAccumulator;
@@ -25,7 +25,7 @@ use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
 use crate::outputs::{ExperimentFigures, OutputError};
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
-use eamadm_runs::store::{BUNDLE_EXTENSION, RunStore, StoreError, StoredRun};
+use eamadm_runs::store::{RunStore, StoreError, StoredRun};
 
 /// Each experiment's per-episode table, compressed: about 8× smaller than the CSV (23 of the
 /// default run's 62 MB were these tables), and pandas, R and `zcat` read it as it is.
@@ -148,9 +148,9 @@ fn load(
 }
 
 /// Writes `outputs` for `jobs` (in job order), reading every run from the first of `stores`
-/// that holds it: the run store bundles under `store_out/runs/`, everything else (CSV tables,
-/// figures, `final-scores.csv`, `claims.csv`, `REPORT.md`) under `out` (the staging folder
-/// that is swapped into the output folder whole). Fails listing every missing run before
+/// that holds it: the CSV tables, figures, `final-scores.csv`, `claims.csv` and `REPORT.md`
+/// under `out` (the staging folder that is swapped into the output folder whole); files of
+/// earlier versions' stores are removed from `store_out/runs/`. Fails listing every missing run before
 /// writing anything. Returns the number of runs written.
 pub(crate) fn write_outputs(
     store_out: &Path,
@@ -168,15 +168,12 @@ pub(crate) fn write_outputs(
             total: jobs.len(),
         });
     }
-    let runs_folder = store_out.join("runs");
     let mut figures = Vec::with_capacity(experiments.len());
     // Every run's final scores (the verdicts bootstrap over seeds), and the first run whose
     // scores failed, reported after the figures as when all runs were scored at the end.
     let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
     let mut behaviour = Vec::with_capacity(experiments.len());
     for (index, planned) in experiments.iter().enumerate() {
-        let mut bundle =
-            AtomicFile::create(&runs_folder.join(format!("{}.{BUNDLE_EXTENSION}", planned.name)))?;
         let everything = matches!(outputs, Outputs::Everything { .. });
         let folder = out.join(&planned.name);
         let mut tables = if everything {
@@ -203,13 +200,6 @@ pub(crate) fn write_outputs(
                     missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
                     total: jobs.len(),
                 })?;
-                let entry = run.entry(&job.key, keep)?;
-                bundle
-                    .write_all(&entry)
-                    .map_err(|source| AtomicWriteError {
-                        path: bundle.path().to_path_buf(),
-                        source,
-                    })?;
                 if let Some((curves, paths)) = csv.as_mut() {
                     let table = |file: &str| {
                         let file = format!("{}/{file}", planned.name);
@@ -249,7 +239,6 @@ pub(crate) fn write_outputs(
                     .map_err(table(eamadm_runs::names::TRAJECTORIES))?;
             }
         }
-        bundle.commit()?;
         if let Some((curves, paths)) = tables {
             let curves_path = folder.join(CURVES_FILE);
             curves

@@ -2,6 +2,7 @@
 //! tasks) before touching the output folder, run (resuming) the plan's runs — all, one shard, or
 //! one job — into the run store, then write the results, figures and `REPORT.md` from the store.
 
+use std::path::Path;
 use std::time::Instant;
 
 use crate::Failure;
@@ -12,8 +13,8 @@ use crate::finish::{Outputs, write_outputs};
 use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
-use eamadm_runs::RunStore;
 use eamadm_runs::output_folder::OutputFolder;
+use eamadm_runs::{RunKey, RunStore};
 
 /// Prints a warning (a damaged run that will be recomputed, a line a merge ignores).
 #[expect(
@@ -40,6 +41,20 @@ fn prepare(
         Some(config) => config.methods.iter().map(|m| m.label.clone()).collect(),
         None => default_methods(),
     };
+    if let (Some(config), None) = (&custom, args.seeds)
+        && config.seeds > crate::cli::MAX_SEEDS
+    {
+        return Err(Failure::invalid(format!(
+            "{}: `seeds` = {} is more than a plan may run ({}, as for --seeds); lower it, or \
+             pass --seeds",
+            args.config
+                .as_deref()
+                .unwrap_or(Path::new("config"))
+                .display(),
+            config.seeds,
+            crate::cli::MAX_SEEDS
+        )));
+    }
     let mut plan = ReproducePlan::from_args(args, &known, workspace).map_err(Failure::invalid)?;
     if let (Some(config), None) = (&custom, args.seeds) {
         plan.seeds = if plan.quick {
@@ -108,12 +123,17 @@ pub(crate) fn reproduce_paper(
     let counts = run_jobs(&experiments, &jobs, &store, keep, &Progress::for_stdout())
         .map_err(Failure::failed)?;
     drop(store);
-    // Reopened: the index now holds the runs appended above.
-    let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    // Reopened, with the runs stored above (its damaged entries were reported by the first
+    // open), and packed: every run stored in the folder, this plan's in job order.
+    let store = RunStore::open(folder.root(), &mut |_| {}).map_err(Failure::failed)?;
+    let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();
+    let store = store
+        .pack(&folder, &[], &keys, &mut warn_on_stderr)
+        .map_err(Failure::failed)?;
     let reporting = shard.is_none() && !command.mode.runs_only;
     if reporting {
         // The set of outputs is written aside and swapped in whole (see `output_folder`); the
-        // run store is rewritten in place, in job order.
+        // run store was packed above.
         let staging = folder.staging().map_err(Failure::failed)?;
         write_outputs(
             folder.root(),
@@ -212,9 +232,7 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         } else {
             "already stored"
         },
-        store
-            .bundle_path(&experiments[job.experiment].name)
-            .display()
+        store.folder().display()
     );
     Ok(())
 }
@@ -245,14 +263,20 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         }));
     }
     let folder = OutputFolder::open(&plan.out, args.plan.wait).map_err(Failure::failed)?;
-    let staging = folder.staging().map_err(Failure::failed)?;
     let started = Instant::now();
+    // The output folder's store keeps what it holds and gains the plan's runs from the others.
+    let own = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();
+    let own = own
+        .pack(&folder, &stores, &keys, &mut warn_on_stderr)
+        .map_err(Failure::failed)?;
+    let staging = folder.staging().map_err(Failure::failed)?;
     let runs = write_outputs(
         folder.root(),
         &staging,
         &experiments,
         &jobs,
-        &stores,
+        &[own],
         keep,
         Outputs::Everything { quick: plan.quick },
     )
@@ -269,7 +293,6 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
 #[cfg(test)]
 mod tests {
     use std::collections::BTreeMap;
-    use std::path::Path;
 
     use super::*;
     use crate::cli::RunModeArgs;
@@ -446,7 +469,14 @@ mod tests {
         assert!(manifest.contains("REPORT.md\n"), "{manifest}");
         assert!(!out.join(".staging").exists() && !out.join(".committed").exists());
         // The run store is not part of the set: both runs' records stay for resuming.
-        assert_eq!(std::fs::read_dir(out.join("runs")).unwrap().count(), 2);
+        let bundles = std::fs::read_dir(out.join("runs"))
+            .unwrap()
+            .filter(|e| {
+                let name = e.as_ref().unwrap().file_name();
+                name.to_string_lossy().ends_with(".jsonl.gz")
+            })
+            .count();
+        assert_eq!(bundles, 2);
     }
 
     #[test]
@@ -764,6 +794,216 @@ mod tests {
             b"mine"
         );
         std::fs::remove_file(copy.join("runs/notes.json")).unwrap();
+        // The edited and the torn entry are set aside, not deleted.
+        let aside = copy.join("runs/.set-aside");
+        assert_eq!(std::fs::read_dir(&aside).unwrap().count(), 2);
+        std::fs::remove_dir_all(&aside).unwrap();
         assert_same_tree(&ws.root.join("whole"), &copy);
+    }
+
+    fn shard(k: u64, n: u64) -> RunModeArgs {
+        RunModeArgs {
+            shard: Some(format!("{k}/{n}")),
+            ..RunModeArgs::default()
+        }
+    }
+
+    /// The keys of the verified runs stored in `out`, and with which trajectories.
+    fn stored_runs(out: &Path) -> BTreeMap<String, bool> {
+        let store = RunStore::open(out, &mut |w| panic!("{w}")).unwrap();
+        let mut runs = BTreeMap::new();
+        for bundle in std::fs::read_dir(out.join("runs")).unwrap() {
+            let bundle = bundle.unwrap().path();
+            if !bundle.to_string_lossy().ends_with(".jsonl.gz") {
+                continue;
+            }
+            let bytes = std::fs::read(&bundle).unwrap();
+            for (_, line) in eamadm_runs::gzip::split_members(&bytes).unwrap() {
+                let line = String::from_utf8(line).unwrap();
+                let header: serde_json::Value =
+                    serde_json::from_str(line.split('\t').next().unwrap()).unwrap();
+                let key = header["key"].as_str().unwrap().to_owned();
+                let all = header["trajectories"] == "all";
+                assert!(
+                    store.has(
+                        &eamadm_runs::RunKey::from_verified_hex(key.clone()),
+                        KeepTrajectories::Figures
+                    ),
+                    "{key}"
+                );
+                assert!(runs.insert(key, all).is_none(), "each run once");
+            }
+        }
+        runs
+    }
+
+    #[test]
+    fn shards_into_one_folder_in_every_order_merge_to_the_unsharded_run() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
+        let whole = stored_runs(&ws.root.join("whole"));
+        assert_eq!(whole.len(), 8);
+        for (n, order) in [[3, 1, 2], [2, 3, 1], [1, 2, 3]].iter().enumerate() {
+            let out = format!("one{n}");
+            for &k in order {
+                reproduce_paper(&command(small(&out), shard(k, 3)), &ws).unwrap();
+            }
+            // Each shard added its runs; none removed another's (4dc0c45: 5 of 8 missing).
+            assert_eq!(stored_runs(&ws.root.join(&out)), whole, "order {order:?}");
+            let merged = format!("merged{n}");
+            merge(
+                &MergeArgs {
+                    plan: small(&merged),
+                    stores: vec![out.into()],
+                },
+                &ws,
+            )
+            .unwrap();
+            assert_same_tree(&ws.root.join("whole"), &ws.root.join(&merged));
+        }
+    }
+
+    #[test]
+    fn a_narrower_plan_or_a_method_a_task_lacks_keeps_every_stored_run() {
+        let (_dir, ws) = workspace();
+        reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
+        let before = stored_runs(&ws.root.join("out"));
+        // What a kill during a bundle rewrite leaves: a hidden temporary file, removed by the
+        // next holder of the lock (4dc0c45 kept it for ever).
+        let leftover = ws.root.join("out/runs/.task1.jsonl.gz.Ab12Cd.tmp");
+        std::fs::write(&leftover, b"half a bundle").unwrap();
+        let narrow = ReproduceArgs {
+            methods: vec!["softmax".to_owned()],
+            ..small("out")
+        };
+        reproduce_paper(&command(narrow, RunModeArgs::default()), &ws).unwrap();
+        assert_eq!(stored_runs(&ws.root.join("out")), before);
+        assert!(!leftover.exists());
+        // The robot has no softmax-budget control: its plan there is empty (4dc0c45 emptied
+        // the robot's store).
+        let lacking = ReproduceArgs {
+            tasks: vec![crate::cli::Task::Robot],
+            methods: vec!["softmax-budget".to_owned()],
+            ..small("out")
+        };
+        let _ = reproduce_paper(&command(lacking, RunModeArgs::default()), &ws);
+        assert_eq!(stored_runs(&ws.root.join("out")), before);
+        // A wider plan runs only what is missing.
+        let wider = ReproduceArgs {
+            seeds: Some(3),
+            ..small("out")
+        };
+        reproduce_paper(&command(wider, RunModeArgs::default()), &ws).unwrap();
+        let after = stored_runs(&ws.root.join("out"));
+        assert_eq!(after.len(), 12);
+        assert!(before.keys().all(|key| after.contains_key(key)));
+    }
+
+    #[test]
+    fn keep_trajectories_switched_both_ways_keeps_the_richer_runs_once() {
+        let (_dir, ws) = workspace();
+        let all = || ReproduceArgs {
+            keep_trajectories: KeepTrajectories::All,
+            ..small("out")
+        };
+        reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
+        // Needing more: recomputed once (4dc0c45 failed every time, appending each time).
+        for _ in 0..2 {
+            reproduce_paper(&command(all(), RunModeArgs::default()), &ws).unwrap();
+            let runs = stored_runs(&ws.root.join("out"));
+            assert_eq!(runs.len(), 8);
+            assert!(runs.values().all(|&all| all), "{runs:?}");
+        }
+        // Needing less: served by the richer runs, which stay (4dc0c45 stripped them).
+        reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
+        let runs = stored_runs(&ws.root.join("out"));
+        assert_eq!(runs.len(), 8);
+        assert!(runs.values().all(|&all| all), "{runs:?}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn links_and_fifos_at_store_and_output_paths_are_refused_by_name() {
+        use std::os::unix::fs::symlink;
+        let (_dir, ws) = workspace();
+        let elsewhere = ws.root.join("elsewhere");
+        std::fs::create_dir(&elsewhere).unwrap();
+        std::fs::write(elsewhere.join("keep.txt"), b"not ours").unwrap();
+        let fifo = |path: &Path| {
+            assert!(
+                std::process::Command::new("mkfifo")
+                    .arg(path)
+                    .status()
+                    .unwrap()
+                    .success()
+            );
+        };
+        type Plant<'a> = (&'a str, &'a dyn Fn(&Path));
+        let plant: [Plant<'_>; 8] = [
+            ("runs", &|p| symlink(&elsewhere, p).unwrap()),
+            ("runs/task1.jsonl.gz", &|p| {
+                symlink(elsewhere.join("keep.txt"), p).unwrap();
+            }),
+            ("runs/loose", &|p| symlink(&elsewhere, p).unwrap()),
+            ("task1", &|p| symlink(&elsewhere, p).unwrap()),
+            (".committed", &|p| symlink(&elsewhere, p).unwrap()),
+            (".reproduce-paper.lock", &|p| fifo(p)),
+            ("runs/task1.jsonl.gz", &|p| fifo(p)),
+            (".reproduce-paper.lock", &|p| {
+                symlink(elsewhere.join("keep.txt"), p).unwrap();
+            }),
+        ];
+        for (n, (path, make)) in plant.iter().enumerate() {
+            let out = ws.root.join(format!("out{n}"));
+            let target = out.join(path);
+            std::fs::create_dir_all(target.parent().unwrap()).unwrap();
+            make(&target);
+            let result = reproduce_paper(
+                &command(small(&format!("out{n}")), RunModeArgs::default()),
+                &ws,
+            );
+            if let Err(failure) = &result {
+                assert!(
+                    failure.message.contains(&*target.to_string_lossy())
+                        || failure.message.contains(path),
+                    "{path}: {}",
+                    failure.message
+                );
+            }
+            // Nothing outside the output folder was written, moved or removed.
+            let names: Vec<_> = std::fs::read_dir(&elsewhere)
+                .unwrap()
+                .map(|e| e.unwrap().file_name())
+                .collect();
+            assert_eq!(names, ["keep.txt"], "{path}");
+            assert_eq!(
+                std::fs::read(elsewhere.join("keep.txt")).unwrap(),
+                b"not ours",
+                "{path}"
+            );
+            assert!(
+                result.is_err() || path.ends_with(".jsonl.gz"),
+                "{path}: accepted"
+            );
+        }
+    }
+
+    #[test]
+    fn a_config_with_more_seeds_than_the_cap_is_refused_before_planning() {
+        let (_dir, ws) = workspace();
+        let mut config = eamadm::paper::task1();
+        config.name = "many".to_owned();
+        config.seeds = 100_000;
+        std::fs::write(ws.root.join("many.toml"), config.to_toml_string().unwrap()).unwrap();
+        let mut plan = args(Some("many.toml"), "out");
+        plan.seeds = None;
+        let failure = reproduce_paper(&command(plan, RunModeArgs::default()), &ws).unwrap_err();
+        assert_eq!(failure.exit_code, 2);
+        assert!(
+            failure.message.contains("`seeds` = 100000"),
+            "{}",
+            failure.message
+        );
+        assert!(!ws.root.join("out").exists());
     }
 }

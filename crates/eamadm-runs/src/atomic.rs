@@ -32,6 +32,35 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError
     file.commit()
 }
 
+/// Removes the temporary files (`.<name>.*.tmp`) that killed writers left in `folder`: those
+/// whose lock can be taken (a live writer holds its temporary file's lock until it renames
+/// it). Returns how many were removed. Links and special files are left alone.
+pub fn remove_stale_temporary_files(folder: &Path) -> io::Result<usize> {
+    let entries = match std::fs::read_dir(folder) {
+        Ok(entries) => entries,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(0),
+        Err(error) => return Err(error),
+    };
+    let mut removed = 0;
+    for entry in entries {
+        let entry = entry?;
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if !(name.starts_with('.') && name.ends_with(".tmp")) {
+            continue;
+        }
+        let path = entry.path();
+        let Ok(file) = crate::no_follow::open_regular(&path) else {
+            continue;
+        };
+        if file.try_lock().is_ok() {
+            std::fs::remove_file(&path)?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
+}
+
 /// Flushes a folder's entries (a rename, a new or removed file) to disk, so that a crash right
 /// after a write returned cannot lose it. A no-op where folders cannot be opened as files.
 pub fn sync_folder(folder: &Path) -> io::Result<()> {
@@ -69,6 +98,13 @@ impl AtomicFile {
             _ => Path::new("."),
         };
         std::fs::create_dir_all(folder).map_err(error)?;
+        // The folder itself must be a folder, not a link to one elsewhere.
+        let kind = std::fs::symlink_metadata(folder)
+            .map_err(error)?
+            .file_type();
+        if !kind.is_dir() {
+            return Err(error(crate::no_follow::refused(folder, "a symbolic link")));
+        }
         let mut prefix = std::ffi::OsString::from(".");
         prefix.push(file_name);
         prefix.push(".");
@@ -79,6 +115,12 @@ impl AtomicFile {
         #[cfg(unix)]
         builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
         let temp = builder.tempfile_in(folder).map_err(error)?;
+        // Locked while being written, so that the next holder of the output folder's lock can
+        // tell the temporary file of a killed writer (unlocked) from a live one's.
+        temp.as_file().try_lock().map_err(|e| match e {
+            std::fs::TryLockError::Error(source) => error(source),
+            std::fs::TryLockError::WouldBlock => error(io::Error::other("temp file locked")),
+        })?;
         Ok(Self {
             path: path.to_path_buf(),
             writer: io::BufWriter::new(temp),
@@ -185,6 +227,31 @@ mod tests {
         drop(dropped);
         assert_eq!(std::fs::read(&path).unwrap(), b"one\ntwo\n");
         assert_eq!(entries(&dir.path().join("runs")), vec!["task1.jsonl"]);
+    }
+
+    #[test]
+    fn only_the_temporary_files_of_dead_writers_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let live = AtomicFile::create(&dir.path().join("live")).unwrap();
+        std::fs::write(dir.path().join(".dead.x1.tmp"), b"left by a kill").unwrap();
+        std::fs::write(dir.path().join("kept.tmp"), b"not hidden: not ours").unwrap();
+        assert_eq!(remove_stale_temporary_files(dir.path()).unwrap(), 1);
+        let names = entries(dir.path());
+        assert_eq!(names.len(), 2, "{names:?}");
+        assert!(names.iter().any(|n| n.starts_with(".live.")), "{names:?}");
+        live.commit().unwrap();
+        assert_eq!(entries(dir.path()), vec!["kept.tmp", "live"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_linked_folder_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let elsewhere = tempfile::tempdir().unwrap();
+        std::os::unix::fs::symlink(elsewhere.path(), dir.path().join("task1")).unwrap();
+        let error = write_atomic(&dir.path().join("task1/curves.csv.gz"), b"x").unwrap_err();
+        assert!(error.to_string().contains("symbolic link"), "{error}");
+        assert!(entries(elsewhere.path()).is_empty());
     }
 
     #[test]

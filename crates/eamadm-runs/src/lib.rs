@@ -9,6 +9,7 @@
 //!   before it is trusted;
 //! - [`gzip`]: compression whose bytes depend only on the content;
 //! - [`atomic`]: files written aside and renamed into place;
+//! - [`no_follow`]: paths opened without following links, never hanging on a FIFO;
 //! - [`output_folder`]: the folder's lock, its staged set of outputs and their manifest;
 //! - [`names`]: the name of every file and folder in an output folder (the facade's
 //!   [`eamadm::output_names`], which the reserved experiment names derive from).
@@ -42,6 +43,7 @@
 pub mod atomic;
 pub mod gzip;
 pub mod key;
+pub mod no_follow;
 pub mod output_folder;
 pub mod store;
 

@@ -23,15 +23,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, sync_folder, write_atomic};
-
-/// The lock file inside the output folder.
-pub const LOCK_FILE: &str = ".reproduce-paper.lock";
-/// Where a set is written before it is committed.
-pub const STAGING: &str = ".staging";
-/// A complete set whose swap has begun.
-pub const COMMITTED: &str = ".committed";
-/// The manifest of the current set.
-pub const MANIFEST: &str = ".outputs";
+pub use crate::names::{COMMITTED, LOCK_FILE, MANIFEST, STAGING};
 
 /// The output folder cannot be used.
 #[derive(Debug, Error)]
@@ -83,12 +75,31 @@ impl OutputFolder {
     pub fn open(out: &Path, wait: bool) -> Result<Self, OutputFolderError> {
         std::fs::create_dir_all(out).map_err(io_error("cannot create the folder", out))?;
         let lock_path = out.join(LOCK_FILE);
-        let lock = File::options()
-            .create(true)
-            .truncate(false)
-            .write(true)
+        crate::no_follow::check_under(out, Path::new(LOCK_FILE), true)
+            .map_err(io_error("cannot use the lock file", &lock_path))?;
+        let mut options = File::options();
+        options.create(true).truncate(false).write(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt as _;
+            // Not through a link planted after the check, and no wait on a FIFO.
+            #[cfg(target_os = "linux")]
+            options.custom_flags(0o400_000 | 0o4000);
+            #[cfg(target_os = "macos")]
+            options.custom_flags(0x100 | 0x4);
+        }
+        let lock = options
             .open(&lock_path)
             .map_err(io_error("cannot open the lock file", &lock_path))?;
+        if !lock
+            .metadata()
+            .map_err(io_error("cannot open the lock file", &lock_path))?
+            .is_file()
+        {
+            return Err(io_error("cannot use the lock file", &lock_path)(
+                crate::no_follow::refused(&lock_path, "a special file"),
+            ));
+        }
         if wait {
             lock.lock()
                 .map_err(io_error("cannot lock the output folder", &lock_path))?;
@@ -153,10 +164,33 @@ impl OutputFolder {
 
     /// Repairs what a killed invocation left behind (see the module docs).
     fn recover(&self) -> Result<(), OutputFolderError> {
+        for hidden in [COMMITTED, STAGING] {
+            crate::no_follow::check_under(&self.root, Path::new(hidden), false)
+                .map_err(io_error("cannot use the folder", &self.root.join(hidden)))?;
+        }
         if self.root.join(COMMITTED).is_dir() {
             self.swap_in()?;
         }
-        remove_dir_if_present(&self.root.join(STAGING))
+        remove_dir_if_present(&self.root.join(STAGING))?;
+        // Temporary files of writers killed while this folder's outputs were written.
+        let runs = self.root.join(crate::names::RUNS_FOLDER);
+        for folder in [
+            self.root.clone(),
+            runs.clone(),
+            runs.join(crate::names::LOOSE_RUNS),
+        ] {
+            if crate::no_follow::check_under(
+                &self.root,
+                folder.strip_prefix(&self.root).unwrap_or(Path::new("")),
+                false,
+            )
+            .is_ok()
+            {
+                crate::atomic::remove_stale_temporary_files(&folder)
+                    .map_err(io_error("cannot remove temporary files", &folder))?;
+            }
+        }
+        Ok(())
     }
 
     /// Moves the committed set into the folder. Idempotent: a kill at any point is finished by
@@ -170,6 +204,13 @@ impl OutputFolder {
         }
         let new_files = read_manifest(&committed.join(MANIFEST))?;
         let old_files = read_manifest(&self.root.join(MANIFEST))?;
+        for file in old_files.iter().chain(&new_files) {
+            // A manifest line through a linked folder (or to a link) would act elsewhere.
+            crate::no_follow::check_under(&self.root, file, true).map_err(io_error(
+                "refusing to replace an output",
+                &self.root.join(file),
+            ))?;
+        }
         for stale in old_files.iter().filter(|old| !new_files.contains(old)) {
             let path = self.root.join(stale);
             match std::fs::remove_file(&path) {

@@ -1,34 +1,58 @@
-//! The run store: every finished run as one entry of a bundle file
-//! `<out>/runs/<experiment>.jsonl.gz`, so a sweep makes one file per experiment, not one per run.
+//! The run store of an output folder, `<out>/runs/`: every finished run, checked before it is
+//! trusted, never lost to another process.
 //!
-//! An entry is one gzip member (see [`crate::gzip`]) holding one line, so the bundle is a valid
-//! multi-member gzip file and `zcat runs/task1.jsonl.gz` prints the lines. Compressed, the
-//! default run's store is about 5 MB instead of 37 MB. A line is three tab-separated parts
-//! (compact JSON never holds a raw tab):
+//! # On disk
 //!
 //! ```text
-//! {"format":2,"key":…,"experiment":…,"method":…,"seed":…,"trajectories":"figures","blake3":…}<TAB><description><TAB><record>
+//! runs/<experiment>.jsonl.gz          packed bundle: the experiment's runs, one gzip member each
+//! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member (not yet packed)
+//! runs/.set-aside/…                   entries that failed their checks, kept for inspection
+//! ```
+//!
+//! A run is one *entry*: one gzip member (see [`crate::gzip`]) holding one line, so a bundle is a
+//! valid multi-member gzip file and `zcat runs/task1.jsonl.gz` prints the lines. A line is three
+//! tab-separated parts (compact JSON never holds a raw tab):
+//!
+//! ```text
+//! {"format":3,"key":…,"experiment":…,"method":…,"seed":…,"trajectories":"figures","blake3":…}<TAB><description><TAB><record>
 //! ```
 //!
 //! - the header says what the run is, which training trajectories the record keeps
-//!   ([`KeepTrajectories`]) and `blake3`, the BLAKE3 hash of the bytes `<description><TAB><record>`;
-//! - the description is the run's [`RunDescription`] in canonical JSON, whose BLAKE3 hash *is* the
-//!   run's key, so the key is checked, not trusted;
+//!   ([`KeepTrajectories`]) and `blake3`, the BLAKE3 hash of the header's other fields (as the
+//!   JSON object above without `blake3`), a tab, and `<description><TAB><record>`;
+//! - the description is the run's [`RunDescription`] in canonical JSON, whose BLAKE3 hash *is*
+//!   the run's key, so the key is checked, not trusted;
 //! - the record is the [`RunRecord`] with its per-episode curve stored as columns, training
 //!   trajectories removed unless kept for all.
 //!
-//! Entries are appended while a run goes (one `write` of the whole entry, then a sync), so a kill
-//! loses at most the entry being written; opening the store for writing cuts such a torn tail.
-//! An entry that does not decompress (gzip checks its CRC), or whose format, key or checksum is
-//! wrong, is reported as a warning and ignored, and its run is recomputed; reading resumes at the
-//! next entry that decompresses. At the end of an invocation the bundle is rewritten in job order
-//! (see [`crate::finish`]), so its bytes do not depend on completion order or thread count.
+//! # Guarantees and what they rest on
+//!
+//! - **Writers never share a file.** A finished run is written to a temporary file in
+//!   `runs/loose/`, synced, and renamed to its content-addressed name `<key>.<keep>.run.gz`
+//!   ([`RunStore::append`]); two processes storing the same run write the same bytes. Bundles are
+//!   written only by [`RunStore::pack`], which needs the output folder's lock, and only by an
+//!   atomic rename. This rests on `rename` being atomic within a folder (POSIX; NFS and Lustre
+//!   keep it) and on the folder lock being exclusive (`flock`, which NFS emulates with
+//!   byte-range locks). No append is ever shared.
+//! - **Readers never change anything.** [`RunStore::open`] only reads; a damaged or torn entry is
+//!   reported and skipped.
+//! - **Nothing removes a run.** Packing writes the union of the bundle's verified entries and
+//!   the loose runs, each run once with the richest trajectories stored, then removes only the
+//!   loose files now in the bundle. A narrower plan, another shard or another
+//!   `--keep-trajectories` adds runs, never drops them.
+//! - **A run is trusted only when everything checks**: the entry decompresses (gzip's CRC) to at
+//!   most [`MAX_ENTRY_BYTES`], the format is known, the checksum covers header and content, the
+//!   description hashes to the key, the record loads, and the record's and description's
+//!   experiment, method and seed agree with the header. Anything else is reported once (the
+//!   next [`RunStore::pack`] sets it aside in `runs/.set-aside/`, never deleting it) and the run
+//!   is recomputed.
+//! - **No link is followed inside the store** ([`crate::no_follow`]).
 
 use std::collections::HashMap;
-use std::fs::{File, OpenOptions};
-use std::io::{self, BufRead as _, BufReader, Read as _, Seek as _, SeekFrom, Write as _};
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read as _, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::Arc;
 
 use eamadm::{
     AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord, TrajectoryRecord,
@@ -89,8 +113,16 @@ impl std::str::FromStr for KeepTrajectories {
     }
 }
 
-/// Version of the line layout above; bump it when the layout changes.
-pub const RUN_LINE_FORMAT: u64 = 2;
+/// Version of the line layout above; bump it when the layout changes. Format 3 (this one)
+/// checksums the header's fields too; entries of earlier formats are reported and recomputed.
+pub const RUN_LINE_FORMAT: u64 = 3;
+
+/// The most bytes one entry may decompress to: far above any run's line (the largest, a robot
+/// run keeping all trajectories, is a few MB), far below what would strain memory.
+pub const MAX_ENTRY_BYTES: u64 = 256 << 20;
+
+/// The folder inside `runs/` of runs stored one file each, before they are packed.
+pub const LOOSE_FOLDER: &str = crate::names::LOOSE_RUNS;
 
 /// The ending of bundle file names: JSON lines, each line its own gzip member.
 pub const BUNDLE_EXTENSION: &str = crate::names::BUNDLE_EXTENSION;
@@ -153,23 +185,69 @@ struct LineHeader {
     blake3: String,
 }
 
-/// Where a verified entry is: its offset and compressed length in the bundle.
-#[derive(Debug, Clone)]
-struct Location {
-    file: Arc<PathBuf>,
-    offset: u64,
-    len: usize,
+/// The header's fields the checksum covers (all but the checksum), in the header's order.
+#[derive(Serialize)]
+struct HashedHeader<'a> {
+    format: u64,
+    key: &'a str,
+    experiment: &'a str,
+    method: &'a str,
+    seed: u64,
     trajectories: KeepTrajectories,
 }
 
-/// One line taken apart and checked: its header, description and record bytes.
+impl LineHeader {
+    /// The checksum of this header's fields and `content` (`<description><TAB><record>`).
+    fn checksum(&self, content: &[u8]) -> String {
+        let fields = HashedHeader {
+            format: self.format,
+            key: &self.key,
+            experiment: &self.experiment,
+            method: &self.method,
+            seed: self.seed,
+            trajectories: self.trajectories,
+        };
+        let mut hasher = blake3::Hasher::new();
+        // Serialising plain strings and numbers cannot fail; an empty hash input would only
+        // make the check fail.
+        hasher.update(&serde_json::to_vec(&fields).unwrap_or_default());
+        hasher.update(b"\t");
+        hasher.update(content);
+        hasher.finalize().to_hex().to_string()
+    }
+}
+
+/// Where a verified entry is.
+#[derive(Debug, Clone)]
+struct Location {
+    /// The bundle or loose run file.
+    file: Arc<PathBuf>,
+    /// Whether `file` is a loose run file (removed once packed) rather than a bundle.
+    loose: bool,
+    offset: u64,
+    len: usize,
+    trajectories: KeepTrajectories,
+    experiment: String,
+}
+
+/// An entry that failed its checks, to be set aside by the next [`RunStore::pack`].
+#[derive(Debug, Clone)]
+struct Rejected {
+    file: PathBuf,
+    loose: bool,
+    offset: u64,
+    len: usize,
+}
+
+/// One line taken apart and checked: its header, description and record.
 struct Line<'a> {
     header: LineHeader,
     description: &'a [u8],
-    record: &'a [u8],
+    record: RunRecord,
 }
 
-/// Splits and checks one line (without its newline): format, checksum, key.
+/// Splits and checks one line (without its newline): format, checksum, key, and that the record
+/// loads and agrees with the header and description.
 fn parse_line(bytes: &[u8]) -> Result<Line<'_>, String> {
     let mut parts = bytes.splitn(3, |&b| b == b'\t');
     let (Some(header), Some(description), Some(record)) =
@@ -185,11 +263,11 @@ fn parse_line(bytes: &[u8]) -> Result<Line<'_>, String> {
         ));
     }
     let content = &bytes[bytes.len() - description.len() - 1 - record.len()..];
-    let digest = blake3::hash(content).to_hex();
-    if digest.as_str() != header.blake3 {
+    let digest = header.checksum(content);
+    if digest != header.blake3 {
         return Err(format!(
-            "checksum mismatch for run {} (stored {}, content hashes to {digest}): the line was \
-             edited or damaged",
+            "checksum mismatch for run {} (stored {}, header and content hash to {digest}): the \
+             line was edited or damaged",
             header.key, header.blake3
         ));
     }
@@ -200,11 +278,56 @@ fn parse_line(bytes: &[u8]) -> Result<Line<'_>, String> {
             header.key
         ));
     }
+    let record = serde_json::from_slice::<StoredRecord>(record)
+        .map_err(|e| format!("record: {e}"))?
+        .into_record()?;
+    let about: DescriptionFields =
+        serde_json::from_slice(description).map_err(|e| format!("description: {e}"))?;
+    let described_method = about.config.methods.first().map(|m| m.label.as_str());
+    let agree = record.experiment == header.experiment
+        && record.method == header.method
+        && record.seed == header.seed
+        && about.seed == header.seed
+        && about.config.name == header.experiment
+        && described_method == Some(header.method.as_str());
+    if !agree {
+        return Err(format!(
+            "the header says {} {} seed {}, but the record is {} {} seed {} and the description \
+             {} {} seed {}",
+            header.experiment,
+            header.method,
+            header.seed,
+            record.experiment,
+            record.method,
+            record.seed,
+            about.config.name,
+            described_method.unwrap_or("(no method)"),
+            about.seed
+        ));
+    }
     Ok(Line {
         header,
         description,
         record,
     })
+}
+
+/// What a line's description says of the run, to check it against the header.
+#[derive(Deserialize)]
+struct DescriptionFields {
+    seed: u64,
+    config: DescribedConfig,
+}
+
+#[derive(Deserialize)]
+struct DescribedConfig {
+    name: String,
+    methods: Vec<DescribedMethod>,
+}
+
+#[derive(Deserialize)]
+struct DescribedMethod {
+    label: String,
 }
 
 /// `record` as the store keeps it under `keep`: without training trajectories unless all are
@@ -357,15 +480,16 @@ fn line_bytes(
     content.push(b'\t');
     serde_json::to_writer(&mut content, &StoredRecord::from_record(record, keep))
         .map_err(serialize)?;
-    let header = LineHeader {
+    let mut header = LineHeader {
         format: RUN_LINE_FORMAT,
         key: key.as_str().to_owned(),
         experiment: record.experiment.clone(),
         method: record.method.clone(),
         seed: record.seed,
         trajectories: keep,
-        blake3: blake3::hash(&content).to_hex().to_string(),
+        blake3: String::new(),
     };
+    header.blake3 = header.checksum(&content);
     let mut line = serde_json::to_vec(&header).map_err(serialize)?;
     line.push(b'\t');
     line.extend_from_slice(&content);
@@ -404,26 +528,33 @@ impl StoredRun {
 }
 
 /// The runs of one store folder (`<out>/runs/`), indexed when opened: the index holds where each
-/// verified line is, never the records, so memory does not grow with the runs' size.
+/// verified entry is, never the records, so memory does not grow with the runs' size.
 #[derive(Debug)]
 pub struct RunStore {
     folder: PathBuf,
     index: HashMap<RunKey, Location>,
-    appenders: Mutex<HashMap<String, File>>,
+    rejected: Vec<Rejected>,
 }
 
 impl RunStore {
-    /// The store of the output folder `out`, opened for resuming and appending: every bundle is
-    /// read and checked; a torn last entry (a kill mid-append) is cut off; each bad entry is
-    /// passed to `warn` and ignored (its run will be recomputed).
+    /// The store of the output folder `out` (its `runs/`; none yet is an empty store). Every
+    /// bundle and loose run is read and checked; each bad entry is passed to `warn` and ignored
+    /// (its run will be recomputed). Nothing is changed on disk.
     pub fn open(out: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
-        Self::open_folder(&out.join("runs"), true, warn)
+        let folder = out.join(crate::names::RUNS_FOLDER);
+        crate::no_follow::check_under(out, Path::new(crate::names::RUNS_FOLDER), false).map_err(
+            |source| StoreError::Read {
+                path: folder.clone(),
+                source,
+            },
+        )?;
+        Self::open_folder(&folder, warn)
     }
 
-    /// A store folder opened only to read (as `merge` does): `path` is an output folder (its
-    /// `runs/` is read) or a `runs/` folder itself. Nothing is changed on disk.
+    /// A store opened only to read (as `merge` does): `path` is an output folder (its `runs/` is
+    /// read) or a `runs/` folder itself. Nothing is changed on disk.
     pub fn open_read_only(path: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
-        let runs = path.join("runs");
+        let runs = path.join(crate::names::RUNS_FOLDER);
         let folder = if runs.is_dir() {
             runs
         } else {
@@ -438,82 +569,199 @@ impl RunStore {
                 ),
             });
         }
-        Self::open_folder(&folder, false, warn)
+        Self::open_folder(&folder, warn)
     }
 
-    fn open_folder(
-        folder: &Path,
-        repair: bool,
-        warn: &mut dyn FnMut(&str),
-    ) -> Result<Self, StoreError> {
-        let mut index = HashMap::new();
+    fn open_folder(folder: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
+        let mut store = Self {
+            folder: folder.to_path_buf(),
+            index: HashMap::new(),
+            rejected: Vec::new(),
+        };
+        let read = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| StoreError::Read { path, source }
+        };
         let mut bundles = Vec::new();
-        match std::fs::read_dir(folder) {
-            Ok(entries) => {
-                for entry in entries {
-                    let entry = entry.map_err(|source| StoreError::Read {
-                        path: folder.to_path_buf(),
-                        source,
-                    })?;
-                    let path = entry.path();
-                    let name = entry.file_name();
-                    let name = name.to_string_lossy();
-                    if !path.is_file() {
-                        continue;
-                    }
-                    if name.ends_with(&format!(".{BUNDLE_EXTENSION}")) {
-                        bundles.push(path);
-                    } else if name.ends_with(".jsonl") {
-                        // The uncompressed bundle of an earlier version: say why its runs do
-                        // not count, instead of silently recomputing or listing them missing.
-                        warn(&format!(
-                            "{}: an uncompressed bundle written by an earlier version; its runs \
-                             are not read (they are recomputed, and the file is removed when \
-                             its experiment's outputs are next written)",
-                            path.display()
-                        ));
-                    }
-                }
+        for (path, name) in list(folder).map_err(read(folder))? {
+            if name.ends_with(&format!(".{BUNDLE_EXTENSION}")) {
+                bundles.push(path);
+            } else if name.ends_with(".jsonl") {
+                // The uncompressed bundle of an earlier version: say why its runs do not count,
+                // instead of silently recomputing or listing them missing.
+                warn(&format!(
+                    "{}: an uncompressed bundle written by an earlier version; its runs are not \
+                     read (they are recomputed, and the file is removed when its experiment's \
+                     outputs are next written)",
+                    path.display()
+                ));
             }
-            Err(error) if error.kind() == io::ErrorKind::NotFound => {}
+        }
+        // Sorted, so which of two equal entries is indexed does not depend on directory order.
+        bundles.sort();
+        for path in bundles {
+            store.index_file(&path, false, warn)?;
+        }
+        let loose_folder = folder.join(LOOSE_FOLDER);
+        crate::no_follow::check_under(folder, Path::new(LOOSE_FOLDER), false)
+            .map_err(read(&loose_folder))?;
+        let mut loose: Vec<PathBuf> = list(&loose_folder)
+            .map_err(read(&loose_folder))?
+            .into_iter()
+            .filter(|(_, name)| name.ends_with(&format!(".{}", crate::names::RUN_FILE_EXTENSION)))
+            .map(|(path, _)| path)
+            .collect();
+        loose.sort();
+        for path in loose {
+            store.index_file(&path, true, warn)?;
+        }
+        Ok(store)
+    }
+
+    /// Reads and checks every entry of the bundle or loose file `path` into the index, one
+    /// entry in memory at a time.
+    fn index_file(
+        &mut self,
+        path: &Path,
+        loose: bool,
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<(), StoreError> {
+        let file = match crate::no_follow::open_regular(path) {
+            Ok(file) => file,
+            Err(error) if error.kind() == io::ErrorKind::InvalidInput => {
+                // A link or special file where a store file belongs: named, never followed.
+                warn(&format!("{error}"));
+                return Ok(());
+            }
+            // Packed and removed by another process since it was listed.
+            Err(error) if loose && error.kind() == io::ErrorKind::NotFound => return Ok(()),
             Err(source) => {
                 return Err(StoreError::Read {
-                    path: folder.to_path_buf(),
+                    path: path.to_path_buf(),
                     source,
                 });
             }
+        };
+        let shared = Arc::new(path.to_path_buf());
+        let end = file
+            .metadata()
+            .map_err(|source| StoreError::Read {
+                path: path.to_path_buf(),
+                source,
+            })?
+            .len();
+        let mut reader = BufReader::new(file);
+        let mut offset = 0_u64;
+        let mut line = Vec::new();
+        let mut number = 0_usize;
+        while offset < end {
+            number += 1;
+            let next = match read_entry(&mut reader, offset, &mut line) {
+                Ok(next) => next,
+                Err(problem) => {
+                    // Damaged or incomplete: go on at the next entry that decompresses whole.
+                    let next = next_entry(&mut reader, offset + 1, &mut line)
+                        .map_err(|source| StoreError::Read {
+                            path: path.to_path_buf(),
+                            source,
+                        })?
+                        .unwrap_or(end);
+                    warn(&format!(
+                        "{} entry {number} (byte {offset}): {} ({problem}); ignored, the run \
+                         will be recomputed",
+                        path.display(),
+                        if next < end {
+                            "damaged"
+                        } else {
+                            "incomplete or damaged"
+                        }
+                    ));
+                    self.reject(path, loose, offset, next);
+                    offset = next;
+                    continue;
+                }
+            };
+            let checked = match line.strip_suffix(b"\n") {
+                Some(text) => parse_line(text),
+                None => Err("not one whole line (no newline at its end)".to_owned()),
+            };
+            match checked {
+                Ok(parsed) => {
+                    let key = RunKey::from_verified_hex(parsed.header.key);
+                    let location = Location {
+                        file: Arc::clone(&shared),
+                        loose,
+                        offset,
+                        len: usize::try_from(next - offset).unwrap_or(usize::MAX),
+                        trajectories: parsed.header.trajectories,
+                        experiment: parsed.header.experiment,
+                    };
+                    // The richest stored version serves; the first of equals stays.
+                    match self.index.entry(key) {
+                        std::collections::hash_map::Entry::Vacant(entry) => {
+                            entry.insert(location);
+                        }
+                        std::collections::hash_map::Entry::Occupied(mut entry) => {
+                            if !entry.get().trajectories.covers(location.trajectories) {
+                                entry.insert(location);
+                            }
+                        }
+                    }
+                }
+                Err(problem) => {
+                    warn(&format!(
+                        "{} entry {number} (byte {offset}): {problem}; ignored, the run will be \
+                         recomputed",
+                        path.display()
+                    ));
+                    self.reject(path, loose, offset, next);
+                }
+            }
+            offset = next;
         }
-        // Sorted, so which of two equal lines is indexed does not depend on directory order.
-        bundles.sort();
-        for path in bundles {
-            index_bundle(&path, repair, &mut index, warn)?;
-        }
-        Ok(Self {
-            folder: folder.to_path_buf(),
-            index,
-            appenders: Mutex::new(HashMap::new()),
-        })
+        Ok(())
+    }
+
+    fn reject(&mut self, path: &Path, loose: bool, offset: u64, next: u64) {
+        self.rejected.push(Rejected {
+            file: path.to_path_buf(),
+            loose,
+            offset,
+            len: usize::try_from(next.saturating_sub(offset)).unwrap_or(usize::MAX),
+        });
     }
 
     /// The folder of the bundles.
+    #[must_use]
     pub fn folder(&self) -> &Path {
         &self.folder
     }
 
     /// The bundle file of experiment `experiment`.
+    #[must_use]
     pub fn bundle_path(&self, experiment: &str) -> PathBuf {
         self.folder.join(format!("{experiment}.{BUNDLE_EXTENSION}"))
     }
 
+    /// The loose run file of run `key` keeping `keep`.
+    #[must_use]
+    pub fn loose_path(&self, key: &RunKey, keep: KeepTrajectories) -> PathBuf {
+        self.folder
+            .join(LOOSE_FOLDER)
+            .join(format!("{key}.{keep}.{}", crate::names::RUN_FILE_EXTENSION))
+    }
+
     /// Whether run `key` was stored (and verified when the store was opened) keeping at least
     /// the trajectories `keep` asks for.
+    #[must_use]
     pub fn has(&self, key: &RunKey, keep: KeepTrajectories) -> bool {
         self.index
             .get(key)
-            .is_some_and(|location| covers(location.trajectories, keep))
+            .is_some_and(|location| location.trajectories.covers(keep))
     }
 
     /// How many verified runs the store holds.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.index.len()
     }
@@ -522,6 +770,41 @@ impl RunStore {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.index.is_empty()
+    }
+
+    /// The entry at `location`, read and checked again (a loose file may have been replaced
+    /// by another process's identical copy since it was indexed).
+    fn entry_at(location: &Location) -> Result<CheckedEntry, StoreError> {
+        let path: &Path = &location.file;
+        let read = |source| StoreError::Read {
+            path: path.to_path_buf(),
+            source,
+        };
+        let mut file = crate::no_follow::open_regular(path).map_err(read)?;
+        file.seek(SeekFrom::Start(location.offset)).map_err(read)?;
+        let mut entry = vec![0; location.len];
+        file.read_exact(&mut entry).map_err(read)?;
+        let changed = |problem: String| StoreError::Changed {
+            path: path.to_path_buf(),
+            offset: location.offset,
+            problem,
+        };
+        let mut rest = entry.as_slice();
+        let mut bytes = Vec::new();
+        capped_decompress(&mut rest, &mut bytes)
+            .map_err(|e| changed(format!("the entry no longer decompresses: {e}")))?;
+        if !rest.is_empty() || bytes.last() != Some(&b'\n') {
+            return Err(changed("the entry is not one whole line".to_owned()));
+        }
+        bytes.pop();
+        let line = parse_line(&bytes).map_err(&changed)?;
+        let (header, description, record) = (line.header, line.description.to_vec(), line.record);
+        Ok(CheckedEntry {
+            entry,
+            header,
+            description,
+            record,
+        })
     }
 
     /// Reads run `key`, compacted under `keep`: `Ok(None)` if the store does not hold it with
@@ -534,47 +817,27 @@ impl RunStore {
         let Some(location) = self.index.get(key) else {
             return Ok(None);
         };
-        if !covers(location.trajectories, keep) {
+        if !location.trajectories.covers(keep) {
             return Ok(None);
         }
-        let path: &Path = &location.file;
-        let read = |source| StoreError::Read {
-            path: path.to_path_buf(),
-            source,
-        };
-        let mut file = File::open(path).map_err(read)?;
-        file.seek(SeekFrom::Start(location.offset)).map_err(read)?;
-        let mut entry = vec![0; location.len];
-        file.read_exact(&mut entry).map_err(read)?;
-        let changed = |problem: String| StoreError::Changed {
-            path: path.to_path_buf(),
-            offset: location.offset,
-            problem,
-        };
-        let (bytes, used) = crate::gzip::decompress_member(&entry)
-            .map_err(|e| changed(format!("the entry no longer decompresses: {e}")))?;
-        let Some(bytes) = bytes.strip_suffix(b"\n").filter(|_| used == entry.len()) else {
-            return Err(changed("the entry is not one whole line".to_owned()));
-        };
-        let line = parse_line(bytes).map_err(&changed)?;
-        if line.header.key != key.as_str() {
-            return Err(changed(format!(
-                "it holds run {}, not {key}",
-                line.header.key
-            )));
+        let checked = Self::entry_at(location)?;
+        if checked.header.key != key.as_str() {
+            return Err(StoreError::Changed {
+                path: location.file.to_path_buf(),
+                offset: location.offset,
+                problem: format!("it holds run {}, not {key}", checked.header.key),
+            });
         }
-        let record = serde_json::from_slice::<StoredRecord>(line.record)
-            .map_err(|e| changed(format!("record: {e}")))?
-            .into_record()
-            .map_err(&changed)?;
         Ok(Some(StoredRun {
-            description: line.description.to_vec(),
-            record: compact(record, keep),
+            description: checked.description,
+            record: compact(checked.record, keep),
         }))
     }
 
-    /// Appends a finished run to its experiment's bundle (one write, then a sync, so a kill
-    /// leaves at most a torn last entry, which the next [`RunStore::open`] cuts off).
+    /// Stores a finished run in a file of its own, `runs/loose/<key>.<keep>.run.gz`: written
+    /// aside, synced, then renamed into place, so no other process ever sees it half written and
+    /// no two processes write the same file. (Two storing the same run write the same bytes.)
+    /// Needs no lock; [`RunStore::pack`] moves it into its bundle later.
     pub fn append(
         &self,
         key: &RunKey,
@@ -582,136 +845,246 @@ impl RunStore {
         record: &RunRecord,
         keep: KeepTrajectories,
     ) -> Result<(), StoreError> {
-        let description = canonical_json(description).map_err(|e| StoreError::Write {
-            path: self.folder.clone(),
-            source: io::Error::other(e.to_string()),
-        })?;
-        let entry = entry_bytes(key, description.as_bytes(), record, keep)?;
-        let path = self.bundle_path(&record.experiment);
+        let path = self.loose_path(key, keep);
         let write = |source| StoreError::Write {
             path: path.clone(),
             source,
         };
-        let mut appenders = self
-            .appenders
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner);
-        let file = match appenders.entry(record.experiment.clone()) {
-            std::collections::hash_map::Entry::Occupied(entry) => entry.into_mut(),
-            std::collections::hash_map::Entry::Vacant(entry) => {
-                std::fs::create_dir_all(&self.folder).map_err(write)?;
-                let file = OpenOptions::new()
-                    .create(true)
-                    .append(true)
-                    .open(&path)
-                    .map_err(write)?;
-                entry.insert(file)
-            }
+        let description =
+            canonical_json(description).map_err(|e| write(io::Error::other(e.to_string())))?;
+        let entry = entry_bytes(key, description.as_bytes(), record, keep)?;
+        let out = self.folder.parent().unwrap_or(Path::new("."));
+        crate::no_follow::ensure_folders(
+            out,
+            &Path::new(crate::names::RUNS_FOLDER).join(LOOSE_FOLDER),
+        )
+        .map_err(write)?;
+        crate::atomic::write_atomic(&path, &entry).map_err(|e| write(e.source))
+    }
+
+    /// Packs the store into its bundles, one per experiment: the union of every verified entry
+    /// of this store and of the runs `wanted` that `sources` hold (as `merge` takes them from
+    /// other stores), each run once with the richest trajectories stored. A bundle lists first
+    /// the runs of `wanted` in that order (the plan's job order), then any other runs by key, so
+    /// its bytes are a function of the set of runs. Entries are copied byte for byte (checked
+    /// again on the way). Then the loose files now in a bundle are removed, the entries that
+    /// failed their checks are set aside in `runs/.set-aside/`, and temporary files of killed
+    /// writers are removed. Needs the output folder's lock (`_lock`), so no two packs overlap;
+    /// writers of loose runs may go on meanwhile (their new files stay loose). Returns the store
+    /// reopened.
+    pub fn pack(
+        self,
+        _lock: &crate::output_folder::OutputFolder,
+        sources: &[RunStore],
+        wanted: &[RunKey],
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<Self, StoreError> {
+        let folder = self.folder.clone();
+        let write = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| StoreError::Write { path, source }
         };
-        file.write_all(&entry).map_err(write)?;
-        // Synced outside the lock, so that runs finishing together do not wait on each other's
-        // disk flush.
-        let handle = file.try_clone().map_err(write)?;
-        drop(appenders);
-        handle.sync_data().map_err(write)?;
+        let out = folder.parent().unwrap_or(Path::new(".")).to_path_buf();
+        crate::no_follow::ensure_folders(&out, Path::new(crate::names::RUNS_FOLDER))
+            .map_err(write(&folder))?;
+        // Every run to pack and where its entry is, per experiment.
+        let mut chosen: HashMap<RunKey, &Location> = self
+            .index
+            .iter()
+            .map(|(key, at)| (key.clone(), at))
+            .collect();
+        for key in wanted {
+            let better = sources
+                .iter()
+                .filter_map(|store| store.index.get(key))
+                .find(|at| {
+                    chosen
+                        .get(key)
+                        .is_none_or(|own| !own.trajectories.covers(at.trajectories))
+                });
+            if let Some(at) = better {
+                chosen.insert(key.clone(), at);
+            }
+        }
+        let position: HashMap<&RunKey, usize> =
+            wanted.iter().enumerate().map(|(i, key)| (key, i)).collect();
+        let mut experiments: Vec<&str> = chosen.values().map(|at| at.experiment.as_str()).collect();
+        experiments.sort_unstable();
+        experiments.dedup();
+        for experiment in experiments {
+            let mut keys: Vec<&RunKey> = chosen
+                .iter()
+                .filter(|(_, at)| at.experiment == experiment)
+                .map(|(key, _)| key)
+                .collect();
+            keys.sort_by_key(|key| {
+                (
+                    position.get(key).copied().unwrap_or(usize::MAX),
+                    (*key).clone(),
+                )
+            });
+            let path = self.bundle_path(experiment);
+            let mut bundle =
+                crate::atomic::AtomicFile::create(&path).map_err(|e| write(&path)(e.source))?;
+            for key in &keys {
+                let checked = Self::entry_at(chosen[*key])?;
+                bundle.write_all(&checked.entry).map_err(write(&path))?;
+            }
+            bundle.commit().map_err(|e| write(&path)(e.source))?;
+        }
+        // The loose runs now packed, and the rejected entries, leave the loose folder.
+        let mut packed: Vec<&Path> = self
+            .index
+            .values()
+            .filter(|at| at.loose)
+            .map(|at| at.file.as_path())
+            .collect();
+        packed.sort_unstable();
+        packed.dedup();
+        for path in packed {
+            match std::fs::remove_file(path) {
+                Ok(()) => {}
+                Err(error) if error.kind() == io::ErrorKind::NotFound => {}
+                Err(source) => return Err(write(path)(source)),
+            }
+        }
+        self.set_aside(warn)?;
+        for dir in [folder.clone(), folder.join(LOOSE_FOLDER)] {
+            crate::atomic::remove_stale_temporary_files(&dir).map_err(write(&dir))?;
+        }
+        drop(chosen);
+        Self::open_folder(&folder, &mut |_| {})
+    }
+
+    /// Copies each rejected entry into `runs/.set-aside/` (a loose file is moved there whole),
+    /// so it is reported once and kept for inspection, never deleted.
+    fn set_aside(&self, warn: &mut dyn FnMut(&str)) -> Result<(), StoreError> {
+        if self.rejected.is_empty() {
+            return Ok(());
+        }
+        let aside = self.folder.join(crate::names::SET_ASIDE);
+        let write = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| StoreError::Write { path, source }
+        };
+        crate::no_follow::ensure_folder(&aside).map_err(write(&aside))?;
+        for rejected in &self.rejected {
+            let name = rejected
+                .file
+                .file_name()
+                .map_or_else(|| "entry".into(), |n| n.to_string_lossy().into_owned());
+            let target = aside.join(format!("{name}.at-{}", rejected.offset));
+            if rejected.loose {
+                std::fs::rename(&rejected.file, &target).map_err(write(&target))?;
+            } else {
+                let read = |source| StoreError::Read {
+                    path: rejected.file.clone(),
+                    source,
+                };
+                let mut file = crate::no_follow::open_regular(&rejected.file).map_err(read)?;
+                file.seek(SeekFrom::Start(rejected.offset)).map_err(read)?;
+                let mut bytes = Vec::new();
+                file.take(rejected.len as u64)
+                    .read_to_end(&mut bytes)
+                    .map_err(read)?;
+                crate::atomic::write_atomic(&target, &bytes)
+                    .map_err(|e| write(&target)(e.source))?;
+            }
+            warn(&format!(
+                "{} (byte {}): set aside as {}",
+                rejected.file.display(),
+                rejected.offset,
+                target.display()
+            ));
+        }
         Ok(())
     }
 }
 
-/// Whether a record stored keeping `stored` holds what `wanted` asks for.
-fn covers(stored: KeepTrajectories, wanted: KeepTrajectories) -> bool {
-    stored.covers(wanted)
+/// An entry read and checked: its compressed bytes and what they hold.
+struct CheckedEntry {
+    entry: Vec<u8>,
+    header: LineHeader,
+    description: Vec<u8>,
+    record: RunRecord,
 }
 
-/// Reads and checks every entry of the bundle `path` into `index`, one entry in memory at a time.
-fn index_bundle(
-    path: &Path,
-    repair: bool,
-    index: &mut HashMap<RunKey, Location>,
-    warn: &mut dyn FnMut(&str),
-) -> Result<(), StoreError> {
-    let read = |source| StoreError::Read {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = Arc::new(path.to_path_buf());
-    let mut reader = BufReader::new(File::open(path).map_err(read)?);
-    let end = reader.get_ref().metadata().map_err(read)?.len();
-    let mut offset = 0_u64;
+/// Checks the bytes of a bundle or loose run file as [`RunStore::open`] does, in memory:
+/// how many entries verify, and one problem per entry that does not. Never panics and never
+/// holds more than [`MAX_ENTRY_BYTES`] of one entry (the fuzz target `store_bytes` calls it).
+#[must_use]
+pub fn check_bytes(bytes: &[u8]) -> (usize, Vec<String>) {
+    let mut rest = bytes;
+    let mut verified = 0;
+    let mut problems = Vec::new();
     let mut line = Vec::new();
-    let mut number = 0_usize;
-    while offset < end {
-        number += 1;
-        let next = match read_entry(&mut reader, offset, &mut line) {
-            Ok(next) => next,
-            Err(problem) => {
-                // Damaged or incomplete: go on at the next entry that decompresses whole; none
-                // means this is the torn tail of a kill mid-append.
-                if let Some(next) = next_entry(&mut reader, offset + 1, &mut line).map_err(read)? {
-                    warn(&format!(
-                        "{} entry {number} (byte {offset}): damaged ({problem}); ignored, the \
-                         run will be recomputed",
-                        path.display()
-                    ));
-                    offset = next;
-                    continue;
-                }
-                if repair {
-                    warn(&format!(
-                        "{} entry {number} (byte {offset}): incomplete (an interrupted write); \
-                         cut off, the run will be recomputed",
-                        path.display()
-                    ));
-                    let file = OpenOptions::new().write(true).open(path).map_err(read)?;
-                    file.set_len(offset).map_err(read)?;
-                    file.sync_all().map_err(read)?;
-                } else {
-                    warn(&format!(
-                        "{} entry {number} (byte {offset}): incomplete (an interrupted write); \
-                         ignored",
-                        path.display()
-                    ));
-                }
-                break;
+    while !rest.is_empty() {
+        let start = bytes.len() - rest.len();
+        match capped_decompress(&mut rest, &mut line) {
+            Ok(()) => match line.strip_suffix(b"\n").map(parse_line) {
+                Some(Ok(_)) => verified += 1,
+                Some(Err(problem)) => problems.push(problem),
+                None => problems.push("not one whole line".to_owned()),
+            },
+            Err(error) => {
+                problems.push(error.to_string());
+                // Resume at the next byte that may start a member, as the store's reader does.
+                let next = bytes[start + 1..]
+                    .iter()
+                    .position(|&b| b == 0x1f)
+                    .map_or(bytes.len(), |skip| start + 1 + skip);
+                rest = &bytes[next..];
             }
-        };
-        let checked = match line.strip_suffix(b"\n") {
-            Some(text) => parse_line(text),
-            None => Err("not one whole line (no newline at its end)".to_owned()),
-        };
-        match checked {
-            Ok(parsed) => {
-                let key = RunKey::from_verified_hex(parsed.header.key);
-                index.entry(key).or_insert_with(|| Location {
-                    file: Arc::clone(&file),
-                    offset,
-                    len: usize::try_from(next - offset).unwrap_or(usize::MAX),
-                    trajectories: parsed.header.trajectories,
-                });
-            }
-            Err(problem) => warn(&format!(
-                "{} entry {number} (byte {offset}): {problem}; ignored, the run will be recomputed",
-                path.display()
-            )),
         }
-        offset = next;
+    }
+    (verified, problems)
+}
+
+/// The regular files and other entries of `folder` (none when it does not exist), as path and
+/// name.
+fn list(folder: &Path) -> io::Result<Vec<(PathBuf, String)>> {
+    let entries = match std::fs::read_dir(folder) {
+        Ok(entries) => entries,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(error) => return Err(error),
+    };
+    let mut found = Vec::new();
+    for entry in entries {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if entry.file_type()?.is_dir() {
+            continue;
+        }
+        found.push((entry.path(), name));
+    }
+    Ok(found)
+}
+
+/// Decompresses one gzip member from the start of `reader` into `line`, refusing more than
+/// [`MAX_ENTRY_BYTES`] (checked while reading, so a small file that inflates enormously never
+/// fills memory).
+fn capped_decompress<R: BufRead>(reader: &mut R, line: &mut Vec<u8>) -> io::Result<()> {
+    line.clear();
+    // The bufread decoder takes exactly one member's bytes from the reader, so the reader's
+    // position afterwards is where the next member starts.
+    let mut decoder = flate2::bufread::GzDecoder::new(reader);
+    let read = (&mut decoder).take(MAX_ENTRY_BYTES + 1).read_to_end(line)?;
+    if read as u64 > MAX_ENTRY_BYTES {
+        return Err(io::Error::other(format!(
+            "it decompresses to more than {MAX_ENTRY_BYTES} bytes, the cap of one entry"
+        )));
     }
     Ok(())
 }
 
-/// Decompresses the entry at byte `at` of the bundle into `line`; returns where the next entry
+/// Decompresses the entry at byte `at` of the file into `line`; returns where the next entry
 /// starts, or why the entry is damaged or incomplete.
 fn read_entry(reader: &mut BufReader<File>, at: u64, line: &mut Vec<u8>) -> Result<u64, String> {
     let io = |e: io::Error| e.to_string();
     if reader.stream_position().map_err(io)? != at {
         reader.seek(SeekFrom::Start(at)).map_err(io)?;
     }
-    line.clear();
-    // The bufread decoder takes exactly one member's bytes from the reader, so the reader's
-    // position afterwards is where the next member starts.
-    flate2::bufread::GzDecoder::new(&mut *reader)
-        .read_to_end(line)
-        .map_err(io)?;
+    capped_decompress(reader, line).map_err(io)?;
     reader.stream_position().map_err(io)
 }
 
@@ -771,7 +1144,7 @@ mod tests {
             .collect()
     }
 
-    /// A store in `dir` holding `runs`, closed, and the path of their bundle.
+    /// A store in `dir` holding `runs`, packed, and the path of their bundle.
     fn stored(dir: &Path, runs: &[(RunKey, RunDescription, RunRecord)]) -> PathBuf {
         let (store, _) = open(dir);
         for (key, description, record) in runs {
@@ -779,7 +1152,22 @@ mod tests {
                 .append(key, description, record, KeepTrajectories::Figures)
                 .unwrap();
         }
+        pack(dir, &keys(runs));
         store.bundle_path(&runs[0].2.experiment)
+    }
+
+    fn keys(runs: &[(RunKey, RunDescription, RunRecord)]) -> Vec<RunKey> {
+        runs.iter().map(|(key, _, _)| key.clone()).collect()
+    }
+
+    /// Packs the store of `dir` under its lock; returns the warnings.
+    fn pack(dir: &Path, wanted: &[RunKey]) -> Vec<String> {
+        let folder = crate::output_folder::OutputFolder::open(dir, false).unwrap();
+        let (store, mut warnings) = open(dir);
+        store
+            .pack(&folder, &[], wanted, &mut |w| warnings.push(w.to_owned()))
+            .unwrap();
+        warnings
     }
 
     fn open(dir: &Path) -> (RunStore, Vec<String>) {
@@ -812,12 +1200,29 @@ mod tests {
         // A record stored without its training trajectories cannot serve a request for all.
         assert!(!store.has(key, KeepTrajectories::All));
         assert_eq!(store.load(key, KeepTrajectories::All).unwrap(), None);
-        // One bundle for the experiment, not one file per run.
-        let names: Vec<_> = std::fs::read_dir(dir.path().join("runs"))
-            .unwrap()
-            .map(|e| e.unwrap().file_name().into_string().unwrap())
-            .collect();
-        assert_eq!(names, vec![format!("{}.jsonl.gz", record.experiment)]);
+        // One file per run until packed, then one bundle for the experiment.
+        let names = |folder: &str| -> Vec<String> {
+            let mut names: Vec<_> = std::fs::read_dir(dir.path().join(folder))
+                .unwrap()
+                .map(|e| e.unwrap().file_name().into_string().unwrap())
+                .collect();
+            names.sort();
+            names
+        };
+        assert_eq!(names("runs/loose").len(), 2);
+        assert_eq!(names("runs"), vec!["loose"]);
+        assert!(pack(dir.path(), &keys(&runs)).is_empty());
+        assert_eq!(
+            names("runs"),
+            vec![
+                "loose".to_owned(),
+                format!("{}.jsonl.gz", record.experiment)
+            ]
+        );
+        assert!(names("runs/loose").is_empty());
+        let (store, warnings) = open(dir.path());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(store.len(), 2);
     }
 
     #[test]
@@ -862,6 +1267,28 @@ mod tests {
         assert!(warnings[0].contains("entry 1 (byte 0)"), "{}", warnings[0]);
         assert!(!store.has(&runs[0].0, KeepTrajectories::Figures));
         assert!(store.has(&runs[1].0, KeepTrajectories::Figures));
+    }
+
+    #[test]
+    fn check_bytes_counts_what_verifies_and_names_the_rest() {
+        let dir = tempfile::tempdir().unwrap();
+        let runs = runs();
+        let bundle = std::fs::read(stored(dir.path(), &runs)).unwrap();
+        assert_eq!(check_bytes(&bundle), (2, vec![]));
+        let (verified, problems) = check_bytes(&bundle[..bundle.len() - 5]);
+        assert_eq!(verified, 1);
+        assert!(!problems.is_empty());
+        // A small member that inflates past the cap is refused while reading.
+        let mut zeros = crate::gzip::encoder(Vec::new());
+        let block = vec![0_u8; 1 << 20];
+        for _ in 0..=(MAX_ENTRY_BYTES >> 20) {
+            zeros.write_all(&block).unwrap();
+        }
+        let zeros = zeros.finish().unwrap();
+        assert!(zeros.len() < 1 << 20);
+        let (verified, problems) = check_bytes(&zeros);
+        assert_eq!(verified, 0);
+        assert!(problems[0].contains("the cap of one entry"), "{problems:?}");
     }
 
     #[test]
@@ -939,7 +1366,7 @@ mod tests {
     }
 
     #[test]
-    fn a_torn_tail_is_cut_off_and_appending_continues() {
+    fn a_torn_tail_is_never_cut_by_a_reader_and_is_set_aside_by_the_packer() {
         let dir = tempfile::tempdir().unwrap();
         let runs = runs();
         let bundle = stored(dir.path(), &runs[..1]);
@@ -951,14 +1378,24 @@ mod tests {
         let (store, warnings) = open(dir.path());
         assert_eq!(warnings.len(), 1, "{warnings:?}");
         assert!(warnings[0].contains("incomplete"), "{}", warnings[0]);
-        assert_eq!(std::fs::read(&bundle).unwrap(), whole);
+        // A reader changes nothing: the tail may be another process's entry being written.
+        assert_eq!(std::fs::read(&bundle).unwrap(), torn);
         let (key, description, record) = &runs[1];
         store
             .append(key, description, record, KeepTrajectories::Figures)
             .unwrap();
+        let warnings = pack(dir.path(), &keys(&runs));
+        assert!(
+            warnings.iter().any(|w| w.contains("set aside")),
+            "{warnings:?}"
+        );
         let (store, warnings) = open(dir.path());
-        assert!(warnings.is_empty(), "{warnings:?}");
+        assert!(warnings.is_empty(), "reported once: {warnings:?}");
         assert_eq!(store.len(), 2);
+        let aside: Vec<_> = std::fs::read_dir(dir.path().join("runs/.set-aside"))
+            .unwrap()
+            .collect();
+        assert_eq!(aside.len(), 1);
     }
 
     #[test]
@@ -976,28 +1413,69 @@ mod tests {
         assert!(problem.contains("differ in length"), "{problem}");
     }
 
-    #[test]
-    fn a_line_under_another_key_or_format_is_refused() {
-        let runs = runs();
-        let (key, description, record) = &runs[0];
-        let description = canonical_json(description).unwrap();
+    /// `text` (a line without newline) with its header edited by `edit` and, when `rehash`,
+    /// its checksum recomputed (what a careful forger does).
+    fn edited(text: &str, rehash: bool, edit: impl Fn(&mut LineHeader)) -> String {
+        let (header, content) = text.split_once('\t').unwrap();
+        let mut header: LineHeader = serde_json::from_str(header).unwrap();
+        edit(&mut header);
+        if rehash {
+            header.blake3 = header.checksum(content.as_bytes());
+        }
+        format!("{}\t{content}", serde_json::to_string(&header).unwrap())
+    }
+
+    fn line_of(run: &(RunKey, RunDescription, RunRecord), record: &RunRecord) -> String {
+        let description = canonical_json(&run.1).unwrap();
         let line = line_bytes(
-            key,
+            &run.0,
             description.as_bytes(),
             record,
             KeepTrajectories::Figures,
         )
         .unwrap();
-        let text = String::from_utf8(line).unwrap();
-        let text = text.trim_end();
+        String::from_utf8(line).unwrap().trim_end().to_owned()
+    }
+
+    #[test]
+    fn a_line_under_another_key_or_format_or_with_an_edited_header_is_refused() {
+        let runs = runs();
+        let text = line_of(&runs[0], &runs[0].2);
         assert!(parse_line(text.as_bytes()).is_ok());
-        let other_key = text.replacen(key.as_str(), runs[1].0.as_str(), 1);
-        let problem = parse_line(other_key.as_bytes()).err().unwrap();
-        assert!(problem.contains("not to the key"), "{problem}");
-        let old_format = text.replacen("\"format\":2", "\"format\":1", 1);
-        let problem = parse_line(old_format.as_bytes()).err().unwrap();
-        assert!(problem.contains("format is 1"), "{problem}");
-        let problem = parse_line(b"{}").err().unwrap();
-        assert!(problem.contains("three"), "{problem}");
+        let problem = |line: &str| parse_line(line.as_bytes()).err().unwrap();
+        // The header is checksummed: its `trajectories` or key cannot be edited alone.
+        let all = edited(&text, false, |h| h.trajectories = KeepTrajectories::All);
+        assert!(
+            problem(&all).contains("checksum mismatch"),
+            "{}",
+            problem(&all)
+        );
+        let other_key = edited(&text, false, |h| h.key = runs[1].0.to_string());
+        assert!(problem(&other_key).contains("checksum mismatch"));
+        let other_key = edited(&text, true, |h| h.key = runs[1].0.to_string());
+        assert!(
+            problem(&other_key).contains("not to the key"),
+            "{}",
+            problem(&other_key)
+        );
+        let old_format = edited(&text, true, |h| h.format = 2);
+        assert!(problem(&old_format).contains("format is 2"));
+        assert!(problem("{}").contains("three"));
+        // A valid record under another run's key and description, checksum recomputed.
+        let swapped = line_of(&runs[1], &runs[0].2);
+        let swapped = edited(&swapped, true, |h| h.seed = runs[1].2.seed);
+        assert!(
+            problem(&swapped).contains("but the record is"),
+            "{}",
+            problem(&swapped)
+        );
+        // A record that does not load (columns of different lengths), checksum recomputed.
+        let short = text.replacen("\"steps\":[", "\"steps\":[7,", 1);
+        let short = edited(&short, true, |_| {});
+        assert!(
+            problem(&short).contains("differ in length"),
+            "{}",
+            problem(&short)
+        );
     }
 }

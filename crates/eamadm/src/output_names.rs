@@ -10,7 +10,10 @@
 pub const RUNS_FOLDER: &str = "runs";
 /// The ending of a run store bundle, `runs/<experiment>.jsonl.gz`.
 pub const BUNDLE_EXTENSION: &str = "jsonl.gz";
-/// The ending of a single run file, `runs/<experiment>/<key>.run.gz`, before it is packed.
+/// Inside [`RUNS_FOLDER`], the folder of runs stored one file each before they are packed into
+/// their bundles.
+pub const LOOSE_RUNS: &str = "loose";
+/// The ending of a single run file, `runs/loose/<key>.<trajectories>.run.gz`.
 pub const RUN_FILE_EXTENSION: &str = "run.gz";
 /// The report.
 pub const REPORT: &str = "REPORT.md";

@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+mod concurrent_store;
 mod kill_resume;
 mod slurm;
 
