@@ -163,8 +163,9 @@ impl Experiment {
     /// # Errors
     /// The first failing run in job order.
     ///
-    /// The methods of one seed share their pre-training ([`share_pretraining`]
-    /// (Self::share_pretraining)), held only while that seed's runs are in flight.
+    /// The methods of one seed share their pre-training
+    /// ([`share_pretraining`](Self::share_pretraining)), held only while that seed's runs are
+    /// in flight.
     pub fn run_all_with(
         &self,
         on_done: impl Fn(&RunRecord) + Sync,
@@ -300,7 +301,7 @@ impl SharedPretraining {
         let mut priors: Vec<(PretrainConfig, Storage)> = Vec::new();
         let mut need = |pretrain: &PretrainConfig, k: usize| {
             if !trainings.iter().any(|(p, j)| *j == k && p == pretrain) {
-                trainings.push((pretrain.clone(), k));
+                trainings.push((*pretrain, k));
             }
         };
         for method in methods {
@@ -318,7 +319,7 @@ impl SharedPretraining {
                         .iter()
                         .any(|(p, s)| *p == ea.pretrain && *s == ea.storage)
                     {
-                        priors.push((ea.pretrain.clone(), ea.storage));
+                        priors.push((ea.pretrain, ea.storage));
                     }
                 }
                 Method::SubtaskGreedy(alone) => need(&alone.pretrain, alone.subtask),

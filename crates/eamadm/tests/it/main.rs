@@ -19,4 +19,5 @@ mod mutate;
 mod names;
 mod robot_refusals;
 mod run;
+mod shared;
 mod stats;
