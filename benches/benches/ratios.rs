@@ -11,8 +11,10 @@
 //!    [`eamadm_benches::reference_double_q`] loop.
 //!
 //! Everything runs on one thread (a one-thread rayon pool, `RAYON_NUM_THREADS=1` for the
-//! subprocess), so the ratios compare work, not scheduling. Timings are wall-clock: on a
-//! shared machine run it twice and read the ratios, not the absolute times.
+//! subprocess), so the ratios compare work, not scheduling. Times are CPU times where Linux
+//! gives them (`/proc/thread-self/schedstat` in process, `/usr/bin/time` for the subprocess),
+//! wall-clock otherwise, so a shared machine slows the figures less; read the ratios, not the
+//! absolute times.
 
 #![allow(clippy::unwrap_used, reason = "benchmark set-up may unwrap")]
 #![allow(clippy::print_stderr, reason = "the benchmark reports on the terminal")]
@@ -42,6 +44,34 @@ fn main() {
     });
 }
 
+/// A clock of this thread's CPU time (nanoseconds on the CPU, from the kernel's scheduler
+/// statistics), or of wall time where that file cannot be read.
+struct Clock {
+    cpu: Option<u64>,
+    wall: Instant,
+}
+
+fn thread_cpu_ns() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    text.split_whitespace().next()?.parse().ok()
+}
+
+impl Clock {
+    fn start() -> Self {
+        Self {
+            cpu: thread_cpu_ns(),
+            wall: Instant::now(),
+        }
+    }
+
+    fn elapsed(&self) -> Duration {
+        match (self.cpu, thread_cpu_ns()) {
+            (Some(start), Some(now)) => Duration::from_nanos(now.saturating_sub(start)),
+            _ => self.wall.elapsed(),
+        }
+    }
+}
+
 fn per(duration: Duration, count: u64) -> f64 {
     duration.as_secs_f64() * 1e9 / count.max(1) as f64
 }
@@ -66,14 +96,14 @@ fn shared_pretraining(tiny: bool) {
     let experiment = Experiment::new(config).unwrap();
     let methods: Vec<&MethodSpec> = experiment.config().methods.iter().collect();
     let seeds: Vec<u64> = experiment.config().seed_values().collect();
-    let start = Instant::now();
+    let start = Clock::start();
     for &seed in &seeds {
         for method in &methods {
             black_box(experiment.run(method, seed).unwrap());
         }
     }
     let unshared = start.elapsed();
-    let start = Instant::now();
+    let start = Clock::start();
     for &seed in &seeds {
         let shared = experiment.share_pretraining(&methods, seed);
         for method in &methods {
@@ -102,7 +132,7 @@ fn robot_over_maze(tiny: bool) {
         (200_000, 20_000_000)
     };
     let mut robot = WmrEnv::default();
-    let start = Instant::now();
+    let start = Clock::start();
     let mut total = 0.0;
     for _ in 0..robot_steps {
         let step = robot.step(black_box(rng.random_range(0..5)));
@@ -115,7 +145,7 @@ fn robot_over_maze(tiny: bool) {
     let mut maze = Preset::Task1.env();
     maze.reset(None);
     let actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..4)).collect();
-    let start = Instant::now();
+    let start = Clock::start();
     for i in 0..maze_steps {
         let step = maze.step(black_box(actions[i as usize % actions.len()]));
         total += step.reward + maze.subtask_rewards()[1];
@@ -146,14 +176,14 @@ fn end_to_end(tiny: bool) {
     };
     let episodes = config.episodes;
     let experiment = Experiment::new(config).unwrap();
-    let start = Instant::now();
+    let start = Clock::start();
     let records = experiment.run_all().unwrap();
     let learning = start.elapsed();
     let steps: u64 = records.iter().map(|r| r.total_env_steps).sum();
     let learning_ns = per(learning, steps);
 
     let env = Preset::Task1.env();
-    let start = Instant::now();
+    let start = Clock::start();
     let mut reference_steps = 0;
     for seed in 0..u64::from(seeds) {
         reference_steps += eamadm_benches::reference_double_q(&env, episodes, epsilon, seed);
@@ -174,8 +204,17 @@ fn end_to_end(tiny: bool) {
         return;
     }
     let out = std::env::temp_dir().join(format!("eamadm-bench-{}", std::process::id()));
-    let start = Instant::now();
-    let status = Command::new(&xtask)
+    // `/usr/bin/time -f "%U %S"` reports the subprocess's CPU seconds; without it, wall time.
+    let timer = PathBuf::from("/usr/bin/time");
+    let mut command = if timer.exists() {
+        let mut command = Command::new(&timer);
+        command.args(["-f", "cpu %U %S"]).arg(&xtask);
+        command
+    } else {
+        Command::new(&xtask)
+    };
+    let wall = Instant::now();
+    let output = command
         .args([
             "reproduce-paper",
             "--task",
@@ -189,11 +228,19 @@ fn end_to_end(tiny: bool) {
         .arg(&out)
         .env("RAYON_NUM_THREADS", "1")
         .stdout(std::process::Stdio::null())
-        .status()
+        .output()
         .unwrap();
-    let whole = start.elapsed();
+    let wall = wall.elapsed();
     let _ = std::fs::remove_dir_all(&out);
-    assert!(status.success(), "reproduce-paper failed");
+    assert!(output.status.success(), "reproduce-paper failed");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let cpu = stderr.lines().rev().find_map(|line| {
+        let mut fields = line.strip_prefix("cpu ")?.split_whitespace();
+        let user: f64 = fields.next()?.parse().ok()?;
+        let system: f64 = fields.next()?.parse().ok()?;
+        Some(Duration::from_secs_f64(user + system))
+    });
+    let whole = cpu.unwrap_or(wall);
     let whole_ns = per(whole, steps);
     eprintln!(
         "end to end (reproduce-paper, {seeds} seeds): {whole_ns:.1} ns/step = {:.2}× the \
