@@ -6,7 +6,7 @@
 //! records are returned in job order, so the results do not depend on the number of threads,
 //! on completion order, or on which runs were resumed.
 
-use eamadm::RunError;
+use eamadm::{MethodSpec, RunError};
 use eamadm_runs::{KeepTrajectories, RunDescription, RunStore, StoreError};
 use rayon::prelude::*;
 use thiserror::Error;
@@ -69,24 +69,47 @@ pub(crate) fn run_jobs(
         .iter()
         .filter(|job| !store.has(&job.key, keep))
         .collect();
-    todo.par_iter()
-        .try_for_each(|job| -> Result<(), ExecuteError> {
-            let planned = &experiments[job.experiment];
-            let record = planned
+    // The runs of one (experiment, seed) share their pre-training: it is computed once per
+    // group and dropped when the group's last run is stored, so memory holds the sub-task
+    // tables of the seeds in flight only. Each record is still the pure function of
+    // (config, method, seed) that `Experiment::run` computes.
+    let mut groups: Vec<Vec<&Job<'_>>> = Vec::new();
+    for job in &todo {
+        match groups
+            .iter_mut()
+            .find(|group| group[0].experiment == job.experiment && group[0].seed == job.seed)
+        {
+            Some(group) => group.push(job),
+            None => groups.push(vec![job]),
+        }
+    }
+    groups
+        .par_iter()
+        .try_for_each(|group| -> Result<(), ExecuteError> {
+            let planned = &experiments[group[0].experiment];
+            let methods: Vec<&MethodSpec> = group.iter().map(|job| job.method).collect();
+            let shared = planned
                 .experiment
-                .run(job.method, job.seed)
-                .map_err(|source| ExecuteError::Run {
-                    experiment: planned.name.clone(),
-                    source,
-                })?;
-            store.append(
-                &job.key,
-                &RunDescription::new(planned.config(), job.method, job.seed),
-                &record,
-                keep,
-            )?;
-            bars[job.experiment].inc();
-            Ok(())
+                .share_pretraining(&methods, group[0].seed);
+            group
+                .par_iter()
+                .try_for_each(|job| -> Result<(), ExecuteError> {
+                    let record = planned
+                        .experiment
+                        .run_shared(job.method, job.seed, &shared)
+                        .map_err(|source| ExecuteError::Run {
+                            experiment: planned.name.clone(),
+                            source,
+                        })?;
+                    store.append(
+                        &job.key,
+                        &RunDescription::new(planned.config(), job.method, job.seed),
+                        &record,
+                        keep,
+                    )?;
+                    bars[job.experiment].inc();
+                    Ok(())
+                })
         })?;
     for bar in &bars {
         bar.finish();

@@ -69,6 +69,8 @@ impl ExplorationPolicy for Greedy {
 pub struct EpsilonGreedy {
     schedule: Schedule,
     epsilon: f64,
+    /// The episode `epsilon` is the schedule's value of (0 before any episode).
+    episode: u64,
     /// Heads with probability `epsilon`.
     explore: Coin,
 }
@@ -106,6 +108,7 @@ impl EpsilonGreedy {
         Ok(Self {
             schedule,
             epsilon: schedule.start(),
+            episode: 0,
             explore: Coin::new(schedule.start()),
         })
     }
@@ -157,7 +160,10 @@ impl EpsilonGreedy {
 
 impl ExplorationPolicy for EpsilonGreedy {
     fn begin_episode(&mut self, episode: u64) {
-        self.epsilon = self.schedule.value(episode);
+        self.epsilon = self
+            .schedule
+            .value_from(self.episode, self.epsilon, episode);
+        self.episode = episode;
         self.explore = Coin::new(self.epsilon);
     }
 
@@ -191,6 +197,8 @@ impl ExplorationPolicy for EpsilonGreedy {
 pub struct Softmax {
     schedule: Schedule,
     temperature: f64,
+    /// The episode `temperature` is the schedule's value of (0 before any episode).
+    episode: u64,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -226,6 +234,7 @@ impl Softmax {
         Ok(Self {
             schedule,
             temperature: schedule.start(),
+            episode: 0,
         })
     }
 
@@ -291,7 +300,10 @@ impl Softmax {
 
 impl ExplorationPolicy for Softmax {
     fn begin_episode(&mut self, episode: u64) {
-        self.temperature = self.schedule.value(episode);
+        self.temperature = self
+            .schedule
+            .value_from(self.episode, self.temperature, episode);
+        self.episode = episode;
     }
 
     fn select<R: Rng + ?Sized>(

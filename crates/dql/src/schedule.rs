@@ -60,7 +60,10 @@ impl Schedule {
     ///
     /// Exponential schedules cost at most `min(episode, n)` multiplications, `n`
     /// being the number of episodes until the floor is reached (45 for Table 1's
-    /// temperature 0.1 → 0.01 with factor 0.95).
+    /// temperature 0.1 → 0.01 with factor 0.95). A caller walking the episodes in order
+    /// pays one multiplication per episode with [`value_from`](Self::value_from) (no
+    /// closed form `start · factor^k` does: `powi` rounds once where this rounds `k` times,
+    /// so it differs in the last bits).
     #[must_use]
     pub fn value(&self, episode: u64) -> f64 {
         match *self {
@@ -83,6 +86,42 @@ impl Schedule {
                 }
                 value.max(floor)
             }
+        }
+    }
+
+    /// The value in episode `episode + 1` given `value`, the value in episode `episode`
+    /// (any episode): one multiplication, bit for bit what [`value`](Self::value) gives for
+    /// the next episode.
+    ///
+    /// [`value`](Self::value) stops multiplying once the product is at or below `floor`, and
+    /// returns `max(floor, product)`; so a value above `floor` is the product itself and the
+    /// next one is `max(floor, value · factor)`, and a value at `floor` stays there.
+    #[must_use]
+    pub fn next_value(&self, value: f64) -> f64 {
+        match *self {
+            Self::Constant(value) => value,
+            Self::Exponential { factor, floor, .. } => {
+                if factor < 1.0 && value > floor {
+                    (value * factor).max(floor)
+                } else {
+                    value
+                }
+            }
+        }
+    }
+
+    /// The value in episode `episode`, knowing `known`, the value in episode `at`: O(1) when
+    /// `episode` is `at` or `at + 1` (policies count episodes up one by one), else
+    /// [`value`](Self::value). Bit for bit `self.value(episode)` whenever
+    /// `known == self.value(at)`.
+    #[must_use]
+    pub fn value_from(&self, at: u64, known: f64, episode: u64) -> f64 {
+        if episode == at {
+            known
+        } else if Some(episode) == at.checked_add(1) {
+            self.next_value(known)
+        } else {
+            self.value(episode)
         }
     }
 

@@ -4,7 +4,7 @@
 //! encoder's output depends on its level and implementation. Every output here must be a pure
 //! function of the plan (a merge of shards equals an unsharded run byte for byte, on any
 //! machine), so [`encoder`] fixes all of them: modification time 0, operating system 255
-//! ("unknown"), level 6, and flate2's pure-Rust backend (`miniz_oxide`), which has no
+//! ("unknown"), level 1, and flate2's pure-Rust backend (`miniz_oxide`), which has no
 //! platform-dependent code paths. Any gzip reader (`zcat`, Python's `gzip`, pandas, R) reads
 //! the files.
 
@@ -14,9 +14,10 @@ use flate2::Compression;
 use flate2::GzBuilder;
 use flate2::write::GzEncoder;
 
-/// The DEFLATE level: zlib's default, about 8× on the store's JSON and the curves table at a
-/// few tens of MB/s, so compressing never dominates a run.
-const LEVEL: u32 = 6;
+/// The DEFLATE level: the fastest, measured on the default run's store entries (docs/paper-notes.md
+/// §"Per-run overhead"): level 1 compresses them 5.05× at 45 % of level 6's CPU, level 6 5.62×;
+/// at level 6 deflate was 27.6 % of a 1000-seed ε-greedy run.
+const LEVEL: u32 = 1;
 
 /// A gzip encoder writing to `writer` whose bytes depend only on what is written.
 #[must_use]

@@ -13,10 +13,11 @@ use reward_std::Standardisation;
 use crate::agent::EaMadmPolicy;
 use crate::config::{
     CompetitorSignal, CompetitorTraining, ConfigError, ExperimentConfig, Method, MethodSpec,
+    PretrainConfig, Storage, TaskConfig,
 };
 use crate::error::{RunError, RunFailure};
-use crate::pretrain::{pretrain_subtask, pretrain_subtasks};
-use crate::prior::build_prior;
+use crate::pretrain::{PretrainedSubtask, pretrain_subtask};
+use crate::prior::{PriorTable, build_prior};
 use crate::record::{AgreementRecord, EpisodeRecord, RunRecord, SubtaskRecord, TrajectoryRecord};
 use crate::rng::{Stream, stream_rng};
 use crate::signal::StandardisedReward;
@@ -87,17 +88,63 @@ impl Experiment {
     /// # Errors
     /// [`RunError`] naming the method and seed: an invalid method, or a failure of learning.
     pub fn run(&self, method: &MethodSpec, seed: u64) -> Result<RunRecord, RunError> {
+        self.run_shared(method, seed, &SharedPretraining::none())
+    }
+
+    /// [`run`](Self::run), taking the trained sub-tasks and priors it needs from `shared`
+    /// where `shared` holds them for this experiment's task, learner and `seed` (and
+    /// computing the rest itself).
+    ///
+    /// The record is bit-identical to [`run`](Self::run)'s: `shared` holds exactly what
+    /// the run would compute (the same function of the same inputs), so sharing only saves
+    /// the work.
+    ///
+    /// # Errors
+    /// As [`run`](Self::run).
+    pub fn run_shared(
+        &self,
+        method: &MethodSpec,
+        seed: u64,
+        shared: &SharedPretraining,
+    ) -> Result<RunRecord, RunError> {
         let fail = |source: RunFailure| RunError::new(&method.label, seed, source);
         method
             .validate("method")
             .and_then(|()| check_method_fits(&self.task, method, "method"))
             .map_err(|error| fail(RunFailure::from(error)))?;
         let optimum = self.task.optimum_steps();
+        let shared = shared.fits(&self.config, seed);
         match self.task.kind() {
-            TaskKind::Maze(env) => run_on(env.as_ref(), &self.config, method, seed, optimum),
-            TaskKind::Robot(env) => run_on(env.as_ref(), &self.config, method, seed, optimum),
+            TaskKind::Maze(env) => {
+                run_on(env.as_ref(), &self.config, method, seed, optimum, shared)
+            }
+            TaskKind::Robot(env) => {
+                run_on(env.as_ref(), &self.config, method, seed, optimum, shared)
+            }
         }
         .map_err(fail)
+    }
+
+    /// The pre-training (and the priors built from it) that the runs of `methods` with
+    /// `seed` would each do, done once: every distinct `(pre-training config, sub-task)`
+    /// trained once, every distinct `(pre-training config, storage)` prior built once, in
+    /// parallel on the current rayon pool. Pass the result to
+    /// [`run_shared`](Self::run_shared) for each of those runs, and drop it when they are
+    /// done.
+    ///
+    /// Methods that fail validation, and pre-trainings that fail, are left out: their runs
+    /// then compute (and report) them themselves, so errors are those of
+    /// [`run`](Self::run).
+    #[must_use]
+    pub fn share_pretraining(&self, methods: &[&MethodSpec], seed: u64) -> SharedPretraining {
+        match self.task.kind() {
+            TaskKind::Maze(env) => {
+                SharedPretraining::compute(env.as_ref(), &self.config, &self.task, methods, seed)
+            }
+            TaskKind::Robot(env) => {
+                SharedPretraining::compute(env.as_ref(), &self.config, &self.task, methods, seed)
+            }
+        }
     }
 
     /// Every run of the experiment ([`jobs`](Self::jobs)), in parallel on the current rayon
@@ -115,18 +162,204 @@ impl Experiment {
     ///
     /// # Errors
     /// The first failing run in job order.
+    ///
+    /// The methods of one seed share their pre-training
+    /// ([`share_pretraining`](Self::share_pretraining)), held only while that seed's runs are
+    /// in flight.
     pub fn run_all_with(
         &self,
         on_done: impl Fn(&RunRecord) + Sync,
     ) -> Result<Vec<RunRecord>, RunError> {
-        self.jobs()
+        let methods: Vec<&MethodSpec> = self.config.methods.iter().collect();
+        let by_seed: Vec<Vec<Result<RunRecord, RunError>>> = self
+            .config
+            .seed_values()
+            .collect::<Vec<_>>()
             .into_par_iter()
-            .map(|(method, seed)| {
-                let record = self.run(method, seed)?;
-                on_done(&record);
-                Ok(record)
+            .map(|seed| {
+                let shared = self.share_pretraining(&methods, seed);
+                methods
+                    .par_iter()
+                    .map(|method| {
+                        let record = self.run_shared(method, seed, &shared)?;
+                        on_done(&record);
+                        Ok(record)
+                    })
+                    .collect()
             })
-            .collect()
+            .collect();
+        // Job order is method by method, seed by seed within a method.
+        let mut by_seed: Vec<_> = by_seed.into_iter().map(Vec::into_iter).collect();
+        let mut records = Vec::with_capacity(methods.len() * by_seed.len());
+        for _ in &methods {
+            for runs in &mut by_seed {
+                if let Some(record) = runs.next() {
+                    records.push(record?);
+                }
+            }
+        }
+        Ok(records)
+    }
+}
+
+/// Pre-training shared by the runs of one seed of one experiment: trained sub-task learners
+/// keyed by `(pre-training config, sub-task)` and the priors built from them keyed by
+/// `(pre-training config, storage)` ([`Experiment::share_pretraining`]).
+///
+/// It remembers the task, learner parameters and seed it was computed for, and
+/// [`Experiment::run_shared`] uses it only for a run that matches all three, so a mismatched
+/// one costs time, never a wrong bit.
+#[derive(Debug, Clone, Default)]
+pub struct SharedPretraining {
+    /// What it was computed for: task, learner parameters and seed (`None`: nothing).
+    basis: Option<(TaskConfig, dql::DoubleQParams, u64)>,
+    subtasks: Vec<SharedSubtask>,
+    priors: Vec<SharedPrior>,
+}
+
+/// One trained sub-task and the pre-training config it was trained with.
+#[derive(Debug, Clone)]
+struct SharedSubtask {
+    pretrain: PretrainConfig,
+    subtask: PretrainedSubtask,
+    k: usize,
+}
+
+/// One prior and what it was built from.
+#[derive(Debug, Clone)]
+struct SharedPrior {
+    pretrain: PretrainConfig,
+    storage: Storage,
+    prior: PriorTable,
+    tree_stats: Vec<Option<ea_tree::TreeStats>>,
+}
+
+impl SharedPretraining {
+    /// Nothing shared: every run computes its own pre-training.
+    #[must_use]
+    pub fn none() -> Self {
+        Self::default()
+    }
+
+    /// Number of trained sub-tasks held.
+    #[must_use]
+    pub fn subtask_count(&self) -> usize {
+        self.subtasks.len()
+    }
+
+    /// Number of priors held.
+    #[must_use]
+    pub fn prior_count(&self) -> usize {
+        self.priors.len()
+    }
+
+    /// `self` if it was computed for `config`'s task and learner and `seed`, else nothing.
+    fn fits(&self, config: &ExperimentConfig, seed: u64) -> &Self {
+        static NONE: SharedPretraining = SharedPretraining {
+            basis: None,
+            subtasks: Vec::new(),
+            priors: Vec::new(),
+        };
+        match &self.basis {
+            Some((task, learner, at))
+                if *task == config.task && *learner == config.learner && *at == seed =>
+            {
+                self
+            }
+            _ => &NONE,
+        }
+    }
+
+    fn subtask(&self, pretrain: &PretrainConfig, k: usize) -> Option<&PretrainedSubtask> {
+        self.subtasks
+            .iter()
+            .find(|shared| shared.k == k && shared.pretrain == *pretrain)
+            .map(|shared| &shared.subtask)
+    }
+
+    fn prior(
+        &self,
+        pretrain: &PretrainConfig,
+        storage: &Storage,
+    ) -> Option<(&PriorTable, &[Option<ea_tree::TreeStats>])> {
+        self.priors
+            .iter()
+            .find(|shared| shared.pretrain == *pretrain && shared.storage == *storage)
+            .map(|shared| (&shared.prior, shared.tree_stats.as_slice()))
+    }
+
+    fn compute<E: TaskEnv>(
+        prototype: &E,
+        config: &ExperimentConfig,
+        task: &Task,
+        methods: &[&MethodSpec],
+        seed: u64,
+    ) -> Self {
+        // What the valid methods pre-train: (config, sub-task) pairs, and (config, storage)
+        // priors, each once, in the order first met.
+        let mut trainings: Vec<(PretrainConfig, usize)> = Vec::new();
+        let mut priors: Vec<(PretrainConfig, Storage)> = Vec::new();
+        let mut need = |pretrain: &PretrainConfig, k: usize| {
+            if !trainings.iter().any(|(p, j)| *j == k && p == pretrain) {
+                trainings.push((*pretrain, k));
+            }
+        };
+        for method in methods {
+            if method.validate("method").is_err()
+                || check_method_fits(task, method, "method").is_err()
+            {
+                continue;
+            }
+            match &method.method {
+                Method::EaMadm(ea) => {
+                    for k in 0..prototype.n_subtasks() {
+                        need(&ea.pretrain, k);
+                    }
+                    if !priors
+                        .iter()
+                        .any(|(p, s)| *p == ea.pretrain && *s == ea.storage)
+                    {
+                        priors.push((ea.pretrain, ea.storage));
+                    }
+                }
+                Method::SubtaskGreedy(alone) => need(&alone.pretrain, alone.subtask),
+                Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {}
+            }
+        }
+        let subtasks: Vec<SharedSubtask> = trainings
+            .into_par_iter()
+            .filter_map(|(pretrain, k)| {
+                let subtask =
+                    pretrain_subtask(prototype, k, config.learner, &pretrain, seed).ok()?;
+                Some(SharedSubtask {
+                    pretrain,
+                    subtask,
+                    k,
+                })
+            })
+            .collect();
+        let mut shared = Self {
+            basis: Some((config.task.clone(), config.learner, seed)),
+            subtasks,
+            priors: Vec::new(),
+        };
+        let built: Vec<SharedPrior> = priors
+            .into_par_iter()
+            .filter_map(|(pretrain, storage)| {
+                let learners: Vec<&DoubleQ> = (0..prototype.n_subtasks())
+                    .map(|k| shared.subtask(&pretrain, k).map(|s| &s.learner))
+                    .collect::<Option<_>>()?;
+                let (prior, tree_stats) = build_prior(prototype, &learners, &storage).ok()?;
+                Some(SharedPrior {
+                    pretrain,
+                    storage,
+                    prior,
+                    tree_stats,
+                })
+            })
+            .collect();
+        shared.priors = built;
+        shared
     }
 }
 
@@ -206,6 +439,7 @@ fn run_on<E: TaskEnv>(
     spec: &MethodSpec,
     seed: u64,
     optimum_steps: Option<u64>,
+    shared: &SharedPretraining,
 ) -> Result<RunRecord, RunFailure> {
     let mut init_rng = stream_rng(seed, Stream::SourceInit);
     let learner = DoubleQ::new(
@@ -226,9 +460,14 @@ fn run_on<E: TaskEnv>(
     let table_bytes = (prototype.n_states() * n_actions * 2 * std::mem::size_of::<f64>()) as u64;
     let outcome = match &spec.method {
         Method::EaMadm(ea) => {
-            let pretrained = pretrain_subtasks(prototype, config.learner, &ea.pretrain, seed)?;
+            let pretrained = shared_subtasks(prototype, config, &ea.pretrain, seed, shared)?;
+            let pretrained: Vec<&PretrainedSubtask> =
+                pretrained.iter().map(AsRef::as_ref).collect();
             let learners: Vec<&DoubleQ> = pretrained.iter().map(|s| &s.learner).collect();
-            let (prior, tree_stats) = build_prior(prototype, &learners, &ea.storage)?;
+            let (prior, tree_stats) = match shared.prior(&ea.pretrain, &ea.storage) {
+                Some((prior, tree_stats)) => (prior.clone(), tree_stats.to_vec()),
+                None => build_prior(prototype, &learners, &ea.storage)?,
+            };
             let mut subtasks = Vec::with_capacity(pretrained.len());
             for (k, (subtask, stats)) in pretrained.iter().zip(tree_stats).enumerate() {
                 subtasks.push(SubtaskRecord {
@@ -282,13 +521,16 @@ fn run_on<E: TaskEnv>(
             session.competitor(policy, *training, final_from)?
         }
         Method::SubtaskGreedy(alone) => {
-            let pretrained = pretrain_subtask(
-                prototype,
-                alone.subtask,
-                config.learner,
-                &alone.pretrain,
-                seed,
-            )?;
+            let pretrained = match shared.subtask(&alone.pretrain, alone.subtask) {
+                Some(subtask) => subtask.clone(),
+                None => pretrain_subtask(
+                    prototype,
+                    alone.subtask,
+                    config.learner,
+                    &alone.pretrain,
+                    seed,
+                )?,
+            };
             let subtask = SubtaskRecord {
                 name: pretrained.name.clone(),
                 episodes: pretrained.episodes,
@@ -347,6 +589,25 @@ fn run_on<E: TaskEnv>(
         final_window_actions: actions,
         agreement,
     })
+}
+
+/// Every sub-task of `prototype` trained with `pretrain`: taken from `shared` where it holds
+/// it, trained here (in parallel, as [`crate::pretrain_subtasks`] does) otherwise.
+fn shared_subtasks<'s, E: TaskEnv>(
+    prototype: &E,
+    config: &ExperimentConfig,
+    pretrain: &PretrainConfig,
+    seed: u64,
+    shared: &'s SharedPretraining,
+) -> Result<Vec<std::borrow::Cow<'s, PretrainedSubtask>>, DqlError> {
+    (0..prototype.n_subtasks())
+        .into_par_iter()
+        .map(|k| match shared.subtask(pretrain, k) {
+            Some(subtask) => Ok(std::borrow::Cow::Borrowed(subtask)),
+            None => pretrain_subtask(prototype, k, config.learner, pretrain, seed)
+                .map(std::borrow::Cow::Owned),
+        })
+        .collect()
 }
 
 /// What one method's run produced, before it becomes a [`RunRecord`].

@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::action::Action;
 use crate::camera::{Camera, CameraView};
-use crate::kinematics::Twist;
+use crate::kinematics::FixedArc;
 use crate::metrics::{EpisodeMetrics, Outcome};
 use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES, TaskStep};
 use crate::scenario::{Scenario, ScenarioError};
@@ -52,7 +52,12 @@ pub struct WmrEnv {
     sensors: DistanceSensors,
     camera: Camera,
     discretiser: Discretiser,
-    twists: [Twist; Action::COUNT],
+    /// Each action's arc over one control period.
+    arcs: [FixedArc; Action::COUNT],
+    /// The clearance of the body at `pose`, when known (from the last move).
+    clearance: Option<f64>,
+    /// The distance from `pose` to the target (set by `sense`).
+    target_distance: f64,
     target: Point2<f64>,
     retention_progress: f64,
     rng: ChaCha8Rng,
@@ -84,6 +89,7 @@ impl WmrEnv {
         let twists = Action::ALL.map(|action| {
             robot.twist(scenario.actions.wheel_speeds(action, robot.max_wheel_speed))
         });
+        let arcs = twists.map(|twist| FixedArc::new(twist, scenario.control_period));
         let camera = Camera::new(scenario.camera);
         let retention_progress = scenario.metrics.retention_progress
             * robot.max_linear_speed()
@@ -93,7 +99,9 @@ impl WmrEnv {
             sensors: DistanceSensors::new(scenario.sensors),
             camera,
             discretiser: Discretiser::new(scenario.state, &scenario.camera),
-            twists,
+            arcs,
+            clearance: None,
+            target_distance: 0.0,
             target: scenario.target_point(),
             retention_progress,
             rng: ChaCha8Rng::seed_from_u64(DEFAULT_SEED),
@@ -226,6 +234,7 @@ impl WmrEnv {
             self.view.target_ratio,
             self.view.obstacle.as_ref(),
         ));
+        self.target_distance = distance;
         distance
     }
 
@@ -242,15 +251,17 @@ impl WmrEnv {
             };
         }
         let dt = self.scenario.control_period;
-        let before = self.target_distance();
+        // `sense` measured it at this pose.
+        let before = self.target_distance;
         let from = Point2::from(self.pose.translation.vector);
-        let motion = self.world.move_disc(
+        let motion = self.world.move_disc_along(
             &self.pose,
-            self.twists[action.index()],
-            dt,
+            &self.arcs[action.index()],
             self.scenario.robot.body_radius,
+            self.clearance,
         );
         self.pose = motion.pose;
+        self.clearance = motion.clearance;
         let to = Point2::from(self.pose.translation.vector);
         self.path.push(to);
         let distance = self.sense();
@@ -344,6 +355,7 @@ impl Environment for WmrEnv {
             self.rng = ChaCha8Rng::seed_from_u64(seed);
         }
         self.pose = self.scenario.start_pose();
+        self.clearance = None;
         self.metrics = EpisodeMetrics::default();
         self.subtask_rewards = [0.0; SUBTASK_COUNT];
         self.path.clear();

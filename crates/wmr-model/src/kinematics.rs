@@ -90,6 +90,12 @@ impl Twist {
 /// finite) as `ω → 0`.
 #[must_use]
 pub fn integrate_arc(pose: &Isometry2<f64>, twist: Twist, duration: f64) -> Isometry2<f64> {
+    pose * arc_displacement(twist, duration)
+}
+
+/// The body-frame pose change of holding `twist` for `duration` ([`integrate_arc`] composes it
+/// with the start pose).
+fn arc_displacement(twist: Twist, duration: f64) -> Isometry2<f64> {
     let theta = twist.angular * duration;
     let distance = twist.linear * duration;
     let (sin_over, one_minus_cos_over) = if theta == 0.0 {
@@ -99,11 +105,50 @@ pub fn integrate_arc(pose: &Isometry2<f64>, twist: Twist, duration: f64) -> Isom
         let half_sin = (theta / 2.0).sin();
         (theta.sin() / theta, 2.0 * half_sin * half_sin / theta)
     };
-    let local = Isometry2::new(
+    Isometry2::new(
         Vector2::new(distance * sin_over, distance * one_minus_cos_over),
         theta,
-    );
-    pose * local
+    )
+}
+
+/// `twist` held for `duration`, with its body-frame pose change computed once: a robot's
+/// actions repeat the same few arcs every control period, so their sines and cosines need
+/// not be taken again at every step. [`end`](Self::end) is bit for bit [`integrate_arc`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixedArc {
+    twist: Twist,
+    duration: f64,
+    displacement: Isometry2<f64>,
+}
+
+impl FixedArc {
+    /// The arc of `twist` held for `duration` seconds.
+    #[must_use]
+    pub fn new(twist: Twist, duration: f64) -> Self {
+        Self {
+            twist,
+            duration,
+            displacement: arc_displacement(twist, duration),
+        }
+    }
+
+    /// The twist.
+    #[must_use]
+    pub fn twist(&self) -> Twist {
+        self.twist
+    }
+
+    /// How long it is held (s).
+    #[must_use]
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// The pose reached from `pose`: `integrate_arc(pose, twist, duration)`.
+    #[must_use]
+    pub fn end(&self, pose: &Isometry2<f64>) -> Isometry2<f64> {
+        pose * self.displacement
+    }
 }
 
 #[cfg(test)]

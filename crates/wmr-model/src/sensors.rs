@@ -77,14 +77,8 @@ impl DistanceSensors {
         body_radius: f64,
     ) -> [f64; SENSOR_COUNT] {
         let centre = Point2::from(pose.translation.vector);
-        self.directions.map(|local| {
-            let direction = pose.rotation * local;
-            world.ray_cast(
-                &(centre + direction * body_radius),
-                &direction,
-                self.params.range,
-            )
-        })
+        let directions = self.directions.map(|local| pose.rotation * local);
+        world.ray_cast_fan(&centre, body_radius, &directions, self.params.range)
     }
 
     /// Noise-free proximity readings `1 − distance / range`, each in `[0, 1]`.

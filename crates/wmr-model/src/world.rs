@@ -9,7 +9,7 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::{Circle, Rect};
-use crate::kinematics::{Twist, integrate_arc};
+use crate::kinematics::{FixedArc, Twist, integrate_arc};
 
 /// One obstacle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -72,6 +72,9 @@ pub struct Motion {
     pub pose: Isometry2<f64>,
     /// The body would have overlapped a wall or an obstacle during the move.
     pub hit: bool,
+    /// The clearance at `pose` ([`World::clearance`] with the body's radius) when the move
+    /// computed it (every move that is not a hit), to be passed to the next move.
+    pub clearance: Option<f64>,
 }
 
 /// Sub-step length (m) used near obstacles. Between two checked poses `h` apart, a disc of
@@ -156,6 +159,62 @@ impl World {
         nearest
     }
 
+    /// [`ray_cast`](Self::ray_cast) of the rays leaving the rim of the disc of radius `rim`
+    /// about `centre` along each unit direction of `directions` (ray `i` starts at
+    /// `centre + directions[i] · rim`), each capped at `max_range`: the same distances, bit
+    /// for bit.
+    ///
+    /// One broad phase serves every ray: walls and obstacles farther from `centre` than the
+    /// rays can reach (with a 1 µm margin, far above rounding) are left out, which
+    /// [`ray_cast`](Self::ray_cast) would have skipped or capped at `max_range` anyway.
+    #[must_use]
+    pub fn ray_cast_fan<const N: usize>(
+        &self,
+        centre: &Point2<f64>,
+        rim: f64,
+        directions: &[Vector2<f64>; N],
+        max_range: f64,
+    ) -> [f64; N] {
+        const MARGIN: f64 = 1e-6;
+        let reach = rim + max_range + MARGIN;
+        // Written as "not beyond" so that a NaN keeps everything in (and as `ray_cast` does).
+        let walls_beyond = self.arena.inner_clearance(centre) > reach;
+        let walls_near = !walls_beyond;
+        // Obstacles the fan may reach, as a bit set over the first 64 (more are always
+        // checked, in order, as `ray_cast` checks them).
+        let mut near: u64 = 0;
+        for (index, bound) in self.bounds.iter().enumerate().take(64) {
+            let limit = reach + bound.radius;
+            let beyond = (bound.centre - centre).norm_squared() > limit * limit;
+            if !beyond {
+                near |= 1 << index;
+            }
+        }
+        directions.map(|direction| {
+            let origin = centre + direction * rim;
+            let mut nearest = if walls_near {
+                self.arena
+                    .ray_exit_distance(&origin, &direction)
+                    .min(max_range)
+            } else {
+                max_range
+            };
+            for (index, (obstacle, bound)) in self.obstacles.iter().zip(&self.bounds).enumerate() {
+                if index < 64 && near & (1 << index) == 0 {
+                    continue;
+                }
+                let reach = nearest + bound.radius;
+                if (bound.centre - origin).norm_squared() > reach * reach {
+                    continue;
+                }
+                if let Some(t) = obstacle.ray_distance(&origin, &direction) {
+                    nearest = nearest.min(t);
+                }
+            }
+            nearest
+        })
+    }
+
     /// Moves a disc of `radius` from `pose` along the exact arc of `twist` for `duration`.
     ///
     /// If the disc would overlap a wall or an obstacle anywhere along the way (checked by
@@ -171,22 +230,43 @@ impl World {
         duration: f64,
         radius: f64,
     ) -> Motion {
+        self.move_disc_along(pose, &FixedArc::new(twist, duration), radius, None)
+    }
+
+    /// [`move_disc`](Self::move_disc) along a precomputed arc, given the clearance at `pose`
+    /// if it is known (the previous move's [`Motion::clearance`]): the same motion, bit for
+    /// bit, without recomputing the arc's trigonometry or the start clearance.
+    #[must_use]
+    pub fn move_disc_along(
+        &self,
+        pose: &Isometry2<f64>,
+        arc: &FixedArc,
+        radius: f64,
+        start_clearance: Option<f64>,
+    ) -> Motion {
+        let (twist, duration) = (arc.twist(), arc.duration());
         let centre_of = |p: &Isometry2<f64>| Point2::from(p.translation.vector);
-        let start_clearance = self.clearance(&centre_of(pose), radius);
+        let start_clearance =
+            start_clearance.unwrap_or_else(|| self.clearance(&centre_of(pose), radius));
         if start_clearance < 0.0 {
             return Motion {
                 pose: *pose,
                 hit: true,
+                clearance: Some(start_clearance),
             };
         }
         let length = (twist.linear * duration).abs();
-        let end = integrate_arc(pose, twist, duration);
-        if length <= start_clearance && self.clearance(&centre_of(&end), radius) >= 0.0 {
-            // The centre moves at most `length` (an arc is never shorter than its chord).
-            return Motion {
-                pose: end,
-                hit: false,
-            };
+        let end = arc.end(pose);
+        if length <= start_clearance {
+            let end_clearance = self.clearance(&centre_of(&end), radius);
+            if end_clearance >= 0.0 {
+                // The centre moves at most `length` (an arc is never shorter than its chord).
+                return Motion {
+                    pose: end,
+                    hit: false,
+                    clearance: Some(end_clearance),
+                };
+            }
         }
         let pose_at = |s: f64| integrate_arc(pose, twist, duration * (s / length));
         let mut travelled = 0.0;
@@ -216,12 +296,14 @@ impl World {
                 return Motion {
                     pose: stop,
                     hit: true,
+                    clearance: None,
                 };
             }
             if advance >= remaining {
                 return Motion {
                     pose: end,
                     hit: false,
+                    clearance: Some(next_clearance),
                 };
             }
             travelled = next;

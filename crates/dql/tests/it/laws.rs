@@ -288,6 +288,55 @@ proptest! {
         }
     }
 
+    /// The O(1) step agrees bit for bit with the definition (`value`, repeated
+    /// multiplication), walking the episodes in order and jumping about.
+    #[test]
+    fn the_incremental_schedule_value_is_the_definition(
+        start in prop_oneof![0.0_f64..=1.0, Just(1.0), Just(0.0), 1e-300_f64..1e-290],
+        factor in prop_oneof![0.001_f64..=1.0, Just(1.0), 0.999_f64..1.0],
+        floor_share in prop_oneof![0.0_f64..=1.0, Just(0.0), Just(1.0)],
+        jumps in prop::collection::vec(0_u64..50, 0..20),
+    ) {
+        let floor = start * floor_share;
+        let schedule = Schedule::Exponential { start, factor, floor };
+        let mut value = schedule.value(0);
+        for episode in 0..1500 {
+            prop_assert_eq!(value.to_bits(), schedule.value(episode).to_bits(), "episode {}", episode);
+            prop_assert_eq!(schedule.value_from(episode, value, episode).to_bits(), value.to_bits());
+            value = schedule.value_from(episode, value, episode + 1);
+        }
+        let (mut at, mut known) = (0_u64, schedule.value(0));
+        for jump in jumps {
+            let episode = if jump % 3 == 0 { at.saturating_sub(jump) } else { at + jump };
+            let value = schedule.value_from(at, known, episode);
+            prop_assert_eq!(value.to_bits(), schedule.value(episode).to_bits());
+            (at, known) = (episode, value);
+        }
+        let constant = Schedule::Constant(start);
+        prop_assert_eq!(constant.value_from(3, start, 4), start);
+    }
+
+    /// Policies walking episodes in order use the schedule's values exactly.
+    #[test]
+    fn policies_follow_their_schedule_bit_for_bit(
+        start in 0.0_f64..=1.0,
+        factor in 0.5_f64..=1.0,
+        floor_share in 0.0_f64..=1.0,
+        order in prop::collection::vec(0_u64..300, 1..30),
+    ) {
+        let floor = start * floor_share;
+        let schedule = Schedule::Exponential { start, factor, floor };
+        let mut greedy = EpsilonGreedy::new(schedule).unwrap();
+        let mut softmax = Softmax::new(Schedule::Exponential { start: start + 0.01, factor, floor }).unwrap();
+        let episodes = (0..300).chain(order);
+        for episode in episodes {
+            greedy.begin_episode(episode);
+            softmax.begin_episode(episode);
+            prop_assert_eq!(greedy.epsilon().to_bits(), schedule.value(episode).to_bits());
+            prop_assert_eq!(softmax.temperature().to_bits(), softmax.schedule().value(episode).to_bits());
+        }
+    }
+
     #[test]
     fn softmax_probabilities_are_finite_and_sum_to_one(
         values in prop::collection::vec(-1e9_f64..=1e9, 1..10),

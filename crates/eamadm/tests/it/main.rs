@@ -17,3 +17,4 @@ mod mutate;
 mod names;
 mod robot_refusals;
 mod run;
+mod shared;

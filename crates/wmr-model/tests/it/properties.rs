@@ -5,8 +5,8 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use proptest::prelude::*;
 use wmr_model::world::MAX_SUBSTEP;
 use wmr_model::{
-    Camera, CameraParams, Circle, DeltaAxis, Discretiser, Obstacle, ObstacleSighting, ObstacleSpec,
-    Rect, Scenario, StateParams, Twist, WmrEnv, World, integrate_arc,
+    Camera, CameraParams, Circle, DeltaAxis, Discretiser, FixedArc, Obstacle, ObstacleSighting,
+    ObstacleSpec, Rect, Scenario, StateParams, Twist, WmrEnv, World, integrate_arc,
 };
 
 fn obstacle() -> impl Strategy<Value = Obstacle> {
@@ -29,6 +29,53 @@ fn centre(pose: &Isometry2<f64>) -> Point2<f64> {
 }
 
 proptest! {
+    /// A fan of rays cast with one broad phase gives each ray's `ray_cast`, bit for bit.
+    #[test]
+    fn a_ray_fan_is_its_rays_cast_one_by_one(
+        world in world(),
+        (x, y) in (-0.1..1.1, -0.1..1.1),
+        headings in prop::array::uniform8(-4.0..4.0),
+        rim in 0.0..0.05,
+        range in prop_oneof![0.001..0.2, Just(0.07), 0.5..2.0],
+    ) {
+        let centre = Point2::new(x, y);
+        let directions = headings.map(|h: f64| Vector2::new(h.cos(), h.sin()));
+        let fan = world.ray_cast_fan(&centre, rim, &directions, range);
+        for (direction, distance) in directions.iter().zip(fan) {
+            let one = world.ray_cast(&(centre + direction * rim), direction, range);
+            prop_assert_eq!(one.to_bits(), distance.to_bits());
+        }
+    }
+
+    /// Moving along a precomputed arc from a known clearance is `move_disc`, bit for bit,
+    /// and the clearance it reports is the end pose's; chained as the environment chains them.
+    #[test]
+    fn moves_along_fixed_arcs_are_move_disc(
+        world in world(),
+        (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
+        radius in 0.01..0.05,
+        twists in prop::collection::vec((-0.2..0.2, -6.0..6.0), 1..12),
+        duration in 0.01..0.3,
+    ) {
+        let mut pose = Isometry2::new(Vector2::new(x, y), heading);
+        let mut known = None;
+        for (linear, angular) in twists {
+            let twist = Twist { linear, angular };
+            let arc = FixedArc::new(twist, duration);
+            prop_assert_eq!(arc.end(&pose), integrate_arc(&pose, twist, duration));
+            let reference = world.move_disc(&pose, twist, duration, radius);
+            let motion = world.move_disc_along(&pose, &arc, radius, known);
+            prop_assert_eq!(motion.pose, reference.pose);
+            prop_assert_eq!(motion.hit, reference.hit);
+            if let Some(clearance) = motion.clearance {
+                let direct = world.clearance(&centre(&motion.pose), radius);
+                prop_assert_eq!(clearance.to_bits(), direct.to_bits());
+            }
+            pose = motion.pose;
+            known = motion.clearance;
+        }
+    }
+
     /// The body is never left overlapping anything without a hit, and a move reported free
     /// never passed through anything: anywhere along the arc the body penetrates by at most
     /// half a sub-step (tunnelling through an obstacle would need a penetration of the whole

@@ -1,0 +1,250 @@
+//! The ratios of issue 24, printed in one run so that every later change is judged by the same
+//! numbers (`cargo bench -p eamadm-benches --bench ratios`; `-- --tiny` for a quick smoke run):
+//!
+//! 1. the maze EA-MADM family (every method that pre-trains: EA-MADM, its ablations, the
+//!    sub-tasks alone) on Task I, with the pre-training shared per seed
+//!    ([`eamadm::Experiment::share_pretraining`]) against each run pre-training for itself;
+//! 2. a robot step ÷ a maze step (random actions, resetting at episode ends);
+//! 3. ns per environment step of the Task I ε-greedy runs (learning only, in process; and end
+//!    to end, `reproduce-paper --task task1 --method epsilon-greedy`, store and report
+//!    included, when the release `xtask` binary is built) ÷ the hand-written
+//!    [`eamadm_benches::reference_double_q`] loop.
+//!
+//! Everything runs on one thread (a one-thread rayon pool, `RAYON_NUM_THREADS=1` for the
+//! subprocess), so the ratios compare work, not scheduling. Times are CPU times where Linux
+//! gives them (`/proc/thread-self/schedstat` in process, `/usr/bin/time` for the subprocess),
+//! wall-clock otherwise, so a shared machine slows the figures less; read the ratios, not the
+//! absolute times.
+
+#![allow(clippy::unwrap_used, reason = "benchmark set-up may unwrap")]
+#![allow(clippy::print_stderr, reason = "the benchmark reports on the terminal")]
+
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use eamadm::dql::Environment;
+use eamadm::mazes::Preset;
+use eamadm::wmr_model::WmrEnv;
+use eamadm::{Experiment, Method, MethodSpec, SharedPretraining};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn main() {
+    let tiny = std::env::args().any(|arg| arg == "--tiny");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        shared_pretraining(tiny);
+        robot_over_maze(tiny);
+        end_to_end(tiny);
+    });
+}
+
+/// A clock of this thread's CPU time (nanoseconds on the CPU, from the kernel's scheduler
+/// statistics), or of wall time where that file cannot be read.
+struct Clock {
+    cpu: Option<u64>,
+    wall: Instant,
+}
+
+fn thread_cpu_ns() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    text.split_whitespace().next()?.parse().ok()
+}
+
+impl Clock {
+    fn start() -> Self {
+        Self {
+            cpu: thread_cpu_ns(),
+            wall: Instant::now(),
+        }
+    }
+
+    fn elapsed(&self) -> Duration {
+        match (self.cpu, thread_cpu_ns()) {
+            (Some(start), Some(now)) => Duration::from_nanos(now.saturating_sub(start)),
+            _ => self.wall.elapsed(),
+        }
+    }
+}
+
+fn per(duration: Duration, count: u64) -> f64 {
+    duration.as_secs_f64() * 1e9 / count.max(1) as f64
+}
+
+/// Ratio 1: the pre-training family, shared against unshared.
+fn shared_pretraining(tiny: bool) {
+    let mut config = eamadm::paper::task1();
+    config.seeds = if tiny { 1 } else { 3 };
+    if tiny {
+        config.episodes = 5;
+        for spec in &mut config.methods {
+            match &mut spec.method {
+                Method::EaMadm(ea) => ea.pretrain.episodes = 5,
+                Method::SubtaskGreedy(alone) => alone.pretrain.episodes = 5,
+                _ => {}
+            }
+        }
+    }
+    config
+        .methods
+        .retain(|spec| matches!(spec.method, Method::EaMadm(_) | Method::SubtaskGreedy(_)));
+    let experiment = Experiment::new(config).unwrap();
+    let methods: Vec<&MethodSpec> = experiment.config().methods.iter().collect();
+    let seeds: Vec<u64> = experiment.config().seed_values().collect();
+    let start = Clock::start();
+    for &seed in &seeds {
+        for method in &methods {
+            black_box(experiment.run(method, seed).unwrap());
+        }
+    }
+    let unshared = start.elapsed();
+    let start = Clock::start();
+    for &seed in &seeds {
+        let shared = experiment.share_pretraining(&methods, seed);
+        for method in &methods {
+            black_box(experiment.run_shared(method, seed, &shared).unwrap());
+        }
+    }
+    let shared = start.elapsed();
+    black_box(SharedPretraining::none());
+    eprintln!(
+        "maze EA-MADM family ({} methods × {} seeds): shared {:.2} s, unshared {:.2} s, \
+         shared ÷ unshared = {:.3}",
+        methods.len(),
+        seeds.len(),
+        shared.as_secs_f64(),
+        unshared.as_secs_f64(),
+        shared.as_secs_f64() / unshared.as_secs_f64()
+    );
+}
+
+/// Ratio 2: a robot step against a maze step.
+fn robot_over_maze(tiny: bool) {
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let (robot_steps, maze_steps) = if tiny {
+        (2_000, 20_000)
+    } else {
+        (200_000, 20_000_000)
+    };
+    let mut robot = WmrEnv::default();
+    let start = Clock::start();
+    let mut total = 0.0;
+    for _ in 0..robot_steps {
+        let step = robot.step(black_box(rng.random_range(0..5)));
+        total += step.reward;
+        if step.done() {
+            robot.reset(None);
+        }
+    }
+    let robot_ns = per(start.elapsed(), robot_steps);
+    let mut maze = Preset::Task1.env();
+    maze.reset(None);
+    let actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..4)).collect();
+    let start = Clock::start();
+    for i in 0..maze_steps {
+        let step = maze.step(black_box(actions[i as usize % actions.len()]));
+        total += step.reward + maze.subtask_rewards()[1];
+        if step.done() {
+            maze.reset(None);
+        }
+    }
+    let maze_ns = per(start.elapsed(), maze_steps);
+    black_box(total);
+    eprintln!(
+        "robot step {robot_ns:.1} ns, maze step {maze_ns:.2} ns: robot ÷ maze = {:.1}",
+        robot_ns / maze_ns
+    );
+}
+
+/// Ratio 3: the ε-greedy runs per step against the hand-written loop.
+fn end_to_end(tiny: bool) {
+    let seeds: u32 = if tiny { 5 } else { 1000 };
+    let mut config = eamadm::paper::task1();
+    config.seeds = seeds;
+    config.methods.retain(|spec| spec.label == "epsilon-greedy");
+    let epsilon = match config.methods[0].method {
+        Method::EpsilonGreedy {
+            epsilon: eamadm::dql::Schedule::Constant(epsilon),
+            ..
+        } => epsilon,
+        _ => 0.1,
+    };
+    let episodes = config.episodes;
+    let experiment = Experiment::new(config).unwrap();
+    let start = Clock::start();
+    let records = experiment.run_all().unwrap();
+    let learning = start.elapsed();
+    let steps: u64 = records.iter().map(|r| r.total_env_steps).sum();
+    let learning_ns = per(learning, steps);
+
+    let env = Preset::Task1.env();
+    let start = Clock::start();
+    let mut reference_steps = 0;
+    for seed in 0..u64::from(seeds) {
+        reference_steps += eamadm_benches::reference_double_q(&env, episodes, epsilon, seed);
+    }
+    let reference_ns = per(start.elapsed(), reference_steps);
+    eprintln!(
+        "hand-written double Q: {reference_ns:.1} ns/step; runner (learning only, {seeds} \
+         seeds): {learning_ns:.1} ns/step = {:.2}×",
+        learning_ns / reference_ns
+    );
+
+    let xtask = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/release/xtask");
+    if !xtask.exists() {
+        eprintln!(
+            "end to end: skipped ({} not built; `cargo build --release -p xtask`)",
+            xtask.display()
+        );
+        return;
+    }
+    let out = std::env::temp_dir().join(format!("eamadm-bench-{}", std::process::id()));
+    // `/usr/bin/time -f "%U %S"` reports the subprocess's CPU seconds; without it, wall time.
+    let timer = PathBuf::from("/usr/bin/time");
+    let mut command = if timer.exists() {
+        let mut command = Command::new(&timer);
+        command.args(["-f", "cpu %U %S"]).arg(&xtask);
+        command
+    } else {
+        Command::new(&xtask)
+    };
+    let wall = Instant::now();
+    let output = command
+        .args([
+            "reproduce-paper",
+            "--task",
+            "task1",
+            "--method",
+            "epsilon-greedy",
+        ])
+        .arg("--seeds")
+        .arg(seeds.to_string())
+        .arg("--out")
+        .arg(&out)
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let wall = wall.elapsed();
+    let _ = std::fs::remove_dir_all(&out);
+    assert!(output.status.success(), "reproduce-paper failed");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let cpu = stderr.lines().rev().find_map(|line| {
+        let mut fields = line.strip_prefix("cpu ")?.split_whitespace();
+        let user: f64 = fields.next()?.parse().ok()?;
+        let system: f64 = fields.next()?.parse().ok()?;
+        Some(Duration::from_secs_f64(user + system))
+    });
+    let whole = cpu.unwrap_or(wall);
+    let whole_ns = per(whole, steps);
+    eprintln!(
+        "end to end (reproduce-paper, {seeds} seeds): {whole_ns:.1} ns/step = {:.2}× the \
+         hand-written loop",
+        whole_ns / reference_ns
+    );
+}
