@@ -72,11 +72,23 @@ pub(crate) fn load_config_file(path: &Path) -> Result<ExperimentConfig, Experime
     ExperimentConfig::from_toml_str(&text).map_err(error)
 }
 
+/// The most warm-up steps a competitor takes in a `--quick` run: far above the presets'
+/// shortened budgets (tens of thousands), so a config's budget cannot make a smoke run take
+/// minutes per run.
+pub(crate) const QUICK_MAX_WARMUP_ENV_STEPS: u64 = 1_000_000;
+
 /// `config` shortened to a smoke run: [`QUICK_EPISODES`] episodes (and pre-training episodes),
-/// maze episodes capped at [`QUICK_MAZE_STEP_CAP`] steps, trajectory episodes past the end
-/// dropped.
+/// maze episodes capped at [`QUICK_MAZE_STEP_CAP`] steps, warm-ups at
+/// [`QUICK_MAX_WARMUP_ENV_STEPS`], trajectory episodes past the end dropped.
 pub(crate) fn quick(mut config: ExperimentConfig) -> ExperimentConfig {
     shorten(&mut config, QUICK_EPISODES, Some(QUICK_MAZE_STEP_CAP), None);
+    for spec in &mut config.methods {
+        if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+            &mut spec.method
+        {
+            training.warmup_env_steps = training.warmup_env_steps.min(QUICK_MAX_WARMUP_ENV_STEPS);
+        }
+    }
     config
 }
 
@@ -178,6 +190,38 @@ pub(crate) fn plan_experiments(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quick_bounds_every_warm_up_and_leaves_the_presets_alone() {
+        for preset in [eamadm::paper::task1(), eamadm::paper::task2()] {
+            let shortened = {
+                let mut config = preset.clone();
+                shorten(&mut config, QUICK_EPISODES, Some(QUICK_MAZE_STEP_CAP), None);
+                config
+            };
+            assert_eq!(
+                quick(preset.clone()),
+                shortened,
+                "the cap does not bind on presets"
+            );
+            let mut huge = preset;
+            huge.episodes = QUICK_EPISODES;
+            for spec in &mut huge.methods {
+                if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+                    &mut spec.method
+                {
+                    training.warmup_env_steps = 1_000_000_000;
+                }
+            }
+            for spec in &quick(huge).methods {
+                if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+                    &spec.method
+                {
+                    assert!(training.warmup_env_steps <= QUICK_MAX_WARMUP_ENV_STEPS);
+                }
+            }
+        }
+    }
 
     #[test]
     fn quick_shortens_every_part() {

@@ -14,11 +14,11 @@
 //!
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
 //! configs; [`reproduce`] drives a run: [`jobs`] lists and shards the runs, [`execute`] runs
-//! them (resuming by [`resume`]'s keys from the [`store`], showing [`progress`]), [`finish`]
+//! them (resuming by [`eamadm_runs::key`]'s keys from the [`eamadm_runs::store`], showing [`progress`]), [`finish`]
 //! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with
 //! [`report`]'s tables and [`robot_report`]'s robot behaviour), all staged and swapped into the
-//! locked output folder by [`output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
+//! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
 //! showing differences with [`text_diff`]. [`test_all`] is the one test command. Every file
 //! goes through [`atomic`].
 
