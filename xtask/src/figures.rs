@@ -216,6 +216,23 @@ impl Series {
         self.pushed
     }
 
+    /// The IQM over seeds of the last episode of the longest curves (their smoothed value
+    /// there), and how many seeds hit the step cap in that episode; `None` without curves.
+    pub(crate) fn final_iqm(&self) -> Option<(f64, u32)> {
+        let longest = self.curves_len();
+        let values: Vec<f64> = self
+            .curves
+            .iter()
+            .filter_map(|c| c.get(longest.checked_sub(1)?).copied())
+            .collect();
+        let at_cap = self
+            .at_cap
+            .get(longest.wrapping_sub(1))
+            .copied()
+            .unwrap_or(0);
+        Some((stats::iqm(&values).ok()?, at_cap))
+    }
+
     /// Episodes of the longest curve.
     pub(crate) fn curves_len(&self) -> usize {
         self.curves.iter().map(Vec::len).max().unwrap_or(0)

@@ -89,6 +89,41 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
     },
 ];
 
+/// The figures written for one experiment: their file names and the Markdown that shows the
+/// key ones in `REPORT.md` ([`gallery`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct WrittenFigures {
+    /// File names under the experiment's folder.
+    pub(crate) files: Vec<String>,
+    /// Markdown: the key figures inline with their captions, then links to the others.
+    pub(crate) gallery: String,
+}
+
+/// Markdown for `REPORT.md`: each figure that has a caption, in the captions' order, as an
+/// inline image (a relative path, so the report shows it wherever the folder is) with its
+/// one-line caption; then links to the other figures.
+pub(crate) fn gallery(task: &str, files: &[String], captions: &[(&str, String)]) -> String {
+    let mut text = String::new();
+    for (file, caption) in captions {
+        if files.iter().any(|f| f == file) {
+            let _ = writeln!(
+                text,
+                "![{}]({task}/{file})\n\n*{caption}*\n",
+                file.trim_end_matches(".svg")
+            );
+        }
+    }
+    let others: Vec<String> = files
+        .iter()
+        .filter(|f| !captions.iter().any(|(c, _)| c == f))
+        .map(|f| format!("[{}]({task}/{f})", f.trim_end_matches(".svg")))
+        .collect();
+    if !others.is_empty() {
+        let _ = writeln!(text, "More figures: {}.\n", others.join(", "));
+    }
+    text
+}
+
 /// The most series in one figure: more cannot be told apart.
 pub(crate) const MAX_SERIES: usize = 8;
 
@@ -294,15 +329,101 @@ impl<'a> ExperimentFigures<'a> {
     }
 
     /// Writes the SVG figures under `<out>/<name>/` (the experiment's CSV tables are streamed by
-    /// [`crate::finish`]) and returns their file names.
-    pub(crate) fn write(self, out: &Path) -> Result<Vec<String>, OutputError> {
+    /// [`crate::finish`]) and returns their file names and the report's gallery of them.
+    pub(crate) fn write(self, out: &Path) -> Result<WrittenFigures, OutputError> {
         let folder = out.join(&self.planned.name);
-        let mut written = Vec::new();
+        let captions = self.captions();
+        let task = self.planned.name.clone();
+        let mut files = Vec::new();
         for (file, svg) in self.render()? {
             write_atomic(&folder.join(&file), svg.as_bytes())?;
-            written.push(file);
+            files.push(file);
         }
-        Ok(written)
+        let gallery = gallery(&task, &files, &captions);
+        Ok(WrittenFigures { files, gallery })
+    }
+
+    /// One-line captions of the key figures, computed from what they draw: each paper
+    /// method's value at the last episode and the seeds at the step cap there.
+    fn captions(&self) -> Vec<(&'static str, String)> {
+        let planned = self.planned;
+        let paper: Vec<&MethodCurves> = self
+            .methods
+            .iter()
+            .filter(|m| planned.is_paper_method(&m.method))
+            .take(MAX_SERIES)
+            .collect();
+        let ending = |series: fn(&MethodCurves) -> Option<&Series>, decimals: usize| {
+            paper
+                .iter()
+                .filter_map(|m| {
+                    let (value, at_cap) = series(m)?.final_iqm()?;
+                    let cap = if at_cap > 0 {
+                        format!(
+                            " ({at_cap} of {} seeds at the step cap)",
+                            series(m)?.seeds()
+                        )
+                    } else {
+                        String::new()
+                    };
+                    Some(format!(
+                        "{} {value:.decimals$}{cap}",
+                        method_title(&m.method)
+                    ))
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let task = planned.name.as_str();
+        let figure = |kind: &str| {
+            paper_figure(task, kind).map_or_else(String::new, |f| format!(" (analogue of {f})"))
+        };
+        let optimum = self
+            .optimum
+            .flatten()
+            .map_or_else(String::new, |o| format!("; optimum {o}"));
+        let mut captions = vec![
+            (
+                "steps.svg",
+                format!(
+                    "Steps per episode{}, IQM over seeds of the {FIGURE_SMOOTHING}-episode moving average at the last episode: {}{optimum}.",
+                    figure("steps"),
+                    ending(|m| Some(&m.steps), 0)
+                ),
+            ),
+            (
+                "return.svg",
+                format!(
+                    "Return per episode{}, IQM over seeds of the {FIGURE_SMOOTHING}-episode moving average at the last episode: {}.",
+                    figure("return"),
+                    ending(|m| Some(&m.task_return), 0)
+                ),
+            ),
+        ];
+        if self.is_robot {
+            captions.insert(
+                0,
+                (
+                    "success.svg",
+                    format!(
+                        "Share of episodes that reached the target, IQM over seeds of the \
+                         {FIGURE_SMOOTHING}-episode moving average at the last episode: {}.",
+                        ending(|m| m.success.as_ref(), 2)
+                    ),
+                ),
+            );
+        }
+        let unreached = paper.iter().filter(|m| !m.first.reached).count();
+        captions.push((
+            "trajectories.svg",
+            format!(
+                "Greedy paths of each method's first seed{}: {} of {} reach the target.",
+                figure("trajectories"),
+                paper.len() - unreached,
+                paper.len()
+            ),
+        ));
+        captions
     }
 
     /// The figures: file name and SVG text (none without runs).
