@@ -331,6 +331,19 @@ mod tests {
         assert!(problems.is_empty(), "{}", problems.join("\n"));
     }
 
+    /// The same checks on any output folder, e.g. a default run's:
+    /// `EAMADM_FIGURES=target/reproduce-paper cargo test -p xtask figure_checks -- --ignored`.
+    #[test]
+    #[ignore = "checks the output folder named by EAMADM_FIGURES"]
+    fn every_figure_of_a_named_folder_passes_the_checks() {
+        let folder =
+            std::env::var("EAMADM_FIGURES").expect("set EAMADM_FIGURES to an output folder");
+        let figures = svg_files(Path::new(&folder));
+        assert!(!figures.is_empty(), "no SVG under {folder}");
+        let problems = check_figures(&figures);
+        assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+
     fn svg(body: &str) -> String {
         format!(
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"400\" height=\"300\" \

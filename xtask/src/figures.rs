@@ -805,7 +805,7 @@ impl LineChart {
                 &self.subtitle,
             );
         }
-        let plot_top = y + 16.0;
+        let plot_top = y + 26.0;
         let plot_left = PAD + Y_AXIS_ROOM;
         let plot_right = width - LEGEND_WIDTH - PAD;
         let longest = drawn.iter().map(|d| d.line.len()).max().unwrap_or(1);

@@ -466,6 +466,14 @@ impl<'a> ExperimentFigures<'a> {
             paper_figure(task, kind)
                 .map_or_else(String::new, |f| format!("Analogue of the paper's {f}. "))
         };
+        let longest = self
+            .methods
+            .iter()
+            .map(|m| m.task_return.curves_len())
+            .max()
+            .unwrap_or(0);
+        // The end of training, zoomed: the final fifth of the episodes, at least 10.
+        let zoom = (longest / 5).max(10);
         let steps_chart = |methods: &[&MethodCurves], subtitle: String| {
             let mut chart = LineChart::new(
                 format!("{title}: steps per episode"),
@@ -475,7 +483,8 @@ impl<'a> ExperimentFigures<'a> {
             .with_subtitle(subtitle)
             .with_smoothing(FIGURE_SMOOTHING)
             .with_metric_range(steps_range.0, steps_range.1)
-            .with_cap_panel(cap_text.clone());
+            .with_cap_panel(cap_text.clone())
+            .with_final_zoom(zoom);
             for m in methods {
                 chart = chart.with_series(m.steps.clone());
             }
@@ -490,17 +499,12 @@ impl<'a> ExperimentFigures<'a> {
                 &shown,
                 format!(
                     "{}EA-MADM and the paper's competitors; thin lines show every seed, so \
-                     collapses and seeds at the step cap stay visible.",
+                     collapses and seeds at the step cap stay visible; the right panel zooms \
+                     on the end of training.",
                     analogue("steps")
                 ),
             )?,
         )];
-        let longest = self
-            .methods
-            .iter()
-            .map(|m| m.task_return.curves_len())
-            .max()
-            .unwrap_or(0);
         let mut return_chart = LineChart::new(
             format!("{title}: return per episode"),
             "episode",
@@ -511,7 +515,7 @@ impl<'a> ExperimentFigures<'a> {
             analogue("return")
         ))
         .with_smoothing(FIGURE_SMOOTHING)
-        .with_final_zoom((longest / 5).max(10));
+        .with_final_zoom(zoom);
         for m in &shown {
             return_chart = return_chart.with_series(m.task_return.clone());
         }
@@ -678,10 +682,11 @@ fn path_summary(first: &FirstRun, visits: &[(Pos, u64)]) -> String {
     };
     if most > 2 {
         format!(
-            "seed {}: {} steps over {} tiles, loops (a tile visited {most}×); {outcome}",
+            "seed {}: {} steps over {} tile{}, loops (a tile visited {most}×); {outcome}",
             first.seed,
             first.steps,
-            visits.len()
+            visits.len(),
+            if visits.len() == 1 { "" } else { "s" }
         )
     } else {
         format!("seed {}: {} steps; {outcome}", first.seed, first.steps)
@@ -793,6 +798,29 @@ fn maze_trajectories(
             );
         }
         body.push_str("</g>\n");
+        // The loop's count beside its most visited tile, inside the panel.
+        if let Some((pos, n)) = counts
+            .iter()
+            .max_by_key(|(_, n)| *n)
+            .filter(|(_, n)| *n > 2)
+        {
+            let tile = f64::from(TILE_PX);
+            let x = x0 + MAZE_MARGIN + tile * pos.x as f64;
+            let y = panel_top + MAZE_MARGIN + tile * pos.y as f64 + tile * 0.8;
+            let (x, anchor) = if pos.x * 2 < maze.width() {
+                (x + tile + 3.0, "start")
+            } else {
+                (x - 3.0, "end")
+            };
+            let _ = writeln!(
+                body,
+                "<text x=\"{}\" y=\"{}\" font-size=\"12\" font-weight=\"bold\" text-anchor=\"{anchor}\" \
+                 fill=\"{}\" stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\">{n}×</text>",
+                px(x),
+                px(y),
+                style.colour
+            );
+        }
     }
     let bottom = top + rows as f64 * (panel_h + caption_lines + gap);
     let height = (bottom + PAD).ceil();
