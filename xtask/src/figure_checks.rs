@@ -107,7 +107,7 @@ fn place_of(node: roxmltree::Node<'_, '_>) -> Place {
         let (mut min_x, mut min_y, mut scale) = (0.0, 0.0, 1.0);
         if let Some(view_box) = viewport.attribute("viewBox") {
             let v: Vec<f64> = view_box
-                .split(|c: char| c == ' ' || c == ',')
+                .split([' ', ','])
                 .filter_map(|s| s.parse().ok())
                 .collect();
             if let (4, Some(w)) = (v.len(), number(viewport, "width")) {
@@ -136,7 +136,7 @@ fn check_texts(
     for text in root.descendants().filter(|n| n.has_tag_name("text")) {
         let content: String = text
             .descendants()
-            .filter(|n| n.is_text())
+            .filter(roxmltree::Node::is_text)
             .filter_map(|n| n.text())
             .collect();
         let content = content.trim();

@@ -350,7 +350,7 @@ const CAP_PANEL_HEIGHT: f64 = 80.0;
 const ZOOM_SHARE: f64 = 0.3;
 
 /// Conservative estimate of the width in pixels of `text` at `font` px in a sans-serif face:
-/// 0.85 em for capitals and `m`/`w`, 0.65 em for every other character (DejaVu Sans, the
+/// 0.85 em for capitals and `m`/`w`, 0.65 em for every other character (the `DejaVu Sans` face, the
 /// widest common default, averages about 0.6 em for lower case and digits).
 pub(crate) fn text_width(text: &str, font: f64) -> f64 {
     text.chars()
