@@ -728,39 +728,52 @@ fn maze_trajectories(
         ),
     );
     let top = y + 10.0;
-    let caption_lines = 2.0 * 13.0 * 1.25 + 8.0;
-    for (index, m) in methods.iter().enumerate() {
+    let summaries: Vec<(String, Vec<Pos>, Vec<(Pos, u64)>)> = methods
+        .iter()
+        .map(|m| {
+            let path: Vec<Pos> = m
+                .first
+                .trajectory
+                .states
+                .iter()
+                .filter_map(|&s| maze.pos_of(s))
+                .collect();
+            let counts = visits(&path);
+            let caption = format!(
+                "{}, {}",
+                method_title(&m.method),
+                path_summary(&m.first, &counts)
+            );
+            (caption, path, counts)
+        })
+        .collect();
+    // Room for the longest caption above every panel, each as wide as its column.
+    let caption_w = panel_w.max((width - PAD) / columns as f64 - gap);
+    let lines = summaries
+        .iter()
+        .map(|(caption, ..)| crate::figures::wrap(caption, caption_w, 13.0).len())
+        .max()
+        .unwrap_or(1);
+    let caption_lines = lines as f64 * 13.0 * 1.25 + 8.0;
+    for (index, (m, (caption, path, counts))) in methods.iter().zip(&summaries).enumerate() {
         let style = method_style(&m.method, m.role);
-        let path: Vec<Pos> = m
-            .first
-            .trajectory
-            .states
-            .iter()
-            .filter_map(|&s| maze.pos_of(s))
-            .collect();
-        let counts = visits(&path);
         let x0 = PAD + (index % columns) as f64 * (panel_w + gap);
         let y0 = top + (index / columns) as f64 * (panel_h + caption_lines + gap);
-        let caption = format!(
-            "{}, {}",
-            method_title(&m.method),
-            path_summary(&m.first, &counts)
-        );
         wrapped_text(
             &mut body,
             (x0, y0 - 4.0),
-            panel_w,
+            caption_w,
             13.0,
             "start",
             "#111111",
-            &caption,
+            caption,
         );
         let label = method_title(&m.method);
         let inner = mazes::render_svg(
             maze,
             &[SvgTrajectory {
                 label: &label,
-                path: &path,
+                path,
                 color: Some(style.colour),
             }],
             &SvgOptions {
@@ -1043,6 +1056,40 @@ epsilon = {{ constant = 0.1 }}
                 "controls-steps.svg",
                 "trajectories.svg"
             ]
+        );
+    }
+
+    /// A greedy path that stays on the start tile shades exactly the start tile of the maze
+    /// drawn beneath, and its count is written beside it.
+    #[test]
+    fn a_loop_is_shaded_on_its_tile_and_counted() {
+        let planned = planned(1);
+        let mut runs = planned.experiment.run_all().unwrap();
+        let start = runs[0].evaluation_trajectory.states[0];
+        runs[0].evaluation_trajectory.states = vec![start; 6];
+        runs[0].evaluation.steps = 5;
+        let figures = collect(&planned, &runs);
+        let maze = planned.experiment.task().maze().unwrap();
+        let first: Vec<&MethodCurves> = figures.methods.iter().take(1).collect();
+        let svg = maze_trajectories(maze, &first, "t", "");
+        assert!(svg.contains(">6×</text>"), "{svg}");
+        assert!(svg.contains("over 1 tile, loops (a tile visited"), "{svg}");
+        let number = |text: &str, key: &str| -> f64 {
+            let start = text.find(key).unwrap() + key.len();
+            text[start..].split('"').next().unwrap().parse().unwrap()
+        };
+        // The nested maze's offset plus its start tile's position…
+        let nested = &svg[svg.find("<svg x=").unwrap()..];
+        let (dx, dy) = (number(nested, "<svg x=\""), number(nested, "\" y=\""));
+        let fill = nested.find("fill=\"#7fc97f\"").unwrap();
+        let tile = &nested[nested[..fill].rfind("<rect").unwrap()..];
+        let tile = &tile[..tile.find("/>").unwrap()];
+        let (tx, ty) = (number(tile, " x=\""), number(tile, " y=\""));
+        // …is where the visits are shaded.
+        let shade = &svg[svg.find("class=\"visits\"").unwrap()..];
+        assert_eq!(
+            (number(shade, " x=\""), number(shade, " y=\"")),
+            (dx + tx, dy + ty)
         );
     }
 
