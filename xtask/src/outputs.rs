@@ -660,6 +660,9 @@ const TILE_PX: u32 = 12;
 /// Margin `mazes::render_svg` leaves around the grid without a title: `max(tile, 12)`.
 const MAZE_MARGIN: f64 = 12.0;
 
+/// One method's maze panel: its caption, its path and its visits per tile.
+type PathPanel = (String, Vec<Pos>, Vec<(Pos, u64)>);
+
 /// How a path visits tiles: per tile its visits, in first-visit order.
 fn visits(path: &[Pos]) -> Vec<(Pos, u64)> {
     let mut counts: Vec<(Pos, u64)> = Vec::new();
@@ -728,7 +731,7 @@ fn maze_trajectories(
         ),
     );
     let top = y + 10.0;
-    let summaries: Vec<(String, Vec<Pos>, Vec<(Pos, u64)>)> = methods
+    let summaries: Vec<PathPanel> = methods
         .iter()
         .map(|m| {
             let path: Vec<Pos> = m
