@@ -21,6 +21,7 @@ use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
 use crate::experiments::PlannedExperiment;
+use crate::outputs::WrittenFigures;
 use crate::report::{Align, MarkdownTable, decimals_for, format_fixed};
 
 /// Writing the claim outputs failed.
@@ -91,7 +92,7 @@ impl Verdicts {
 pub(crate) fn write_claim_outputs(
     out: &Path,
     experiments: &[PlannedExperiment],
-    figures: &[Vec<String>],
+    figures: &[WrittenFigures],
     behaviour: &[String],
     verdicts: &Verdicts,
     quick: bool,
@@ -190,7 +191,7 @@ fn comparison_in_words(c: &Comparison) -> String {
 /// Renders `REPORT.md`.
 pub(crate) fn render_report(
     experiments: &[PlannedExperiment],
-    figures: &[Vec<String>],
+    figures: &[WrittenFigures],
     behaviour: &[String],
     verdicts: &Verdicts,
     quick: bool,
@@ -213,7 +214,7 @@ pub(crate) fn render_report(
         write_task(
             &mut text,
             planned,
-            figures.get(index).map_or(&[][..], Vec::as_slice),
+            figures.get(index),
             behaviour.get(index).map_or("", String::as_str),
             verdicts,
         );
@@ -380,7 +381,7 @@ fn estimate_cell(verdicts: &Verdicts, task: &str, method: &str, metric: &str) ->
 fn write_task(
     text: &mut String,
     planned: &PlannedExperiment,
-    figures: &[String],
+    figures: Option<&WrittenFigures>,
     behaviour: &str,
     verdicts: &Verdicts,
 ) {
@@ -483,16 +484,11 @@ fn write_task(
         write_robot(text, task, &overviews, verdicts);
     }
     text.push_str(behaviour);
-    if !figures.is_empty() {
-        let links: Vec<String> = figures
-            .iter()
-            .map(|f| format!("[{}]({task}/{f})", f.trim_end_matches(".svg")))
-            .collect();
+    if let Some(figures) = figures.filter(|f| !f.files.is_empty()) {
+        text.push_str(&figures.gallery);
         let _ = writeln!(
             text,
-            "Figures: {}; tables: [curves]({task}/{}) (gzip), \
-             [trajectories]({task}/trajectories.csv).\n",
-            links.join(", "),
+            "Tables: [curves]({task}/{}) (gzip), [trajectories]({task}/trajectories.csv).\n",
             crate::finish::CURVES_FILE
         );
     }

@@ -1,43 +1,49 @@
-//! SVG line charts of per-episode curves over seeds: for each named series, the mean over seeds
-//! as a line and its 95% confidence band (see [`eamadm::summary`]) as a translucent area; optional
-//! dashed horizontal reference lines (e.g. the BFS optimum); a title, axis labels and a legend in
-//! its own panel to the right of the plot, so it never covers data.
+//! SVG line charts of per-episode curves over seeds, drawn with the estimator the tables use:
+//! for each method the **interquartile mean** (IQM) over seeds as a line and the 95 %
+//! percentile-bootstrap interval of that IQM as a translucent band ([`eamadm::stats`], the
+//! functions behind `REPORT.md`'s numbers). A bootstrap interval of a statistic of the seeds'
+//! values lies between the smallest and largest value, so a band can never leave its metric's
+//! range (no negative steps, no success share above 1).
 //!
-//! Plotters' SVG backend writes text as `<text>` elements in the generic `sans-serif` family and
-//! only *estimates* text extents for layout, so rendering needs no font file and no font
-//! features (`ttf`/`ab_glyph` stay off): it works on a headless machine. The output bytes are a
-//! pure function of the chart (integer pixel coordinates, no timestamps), so equal input gives
-//! equal files.
+//! What a chart can add: thin per-seed lines (so a collapse or a seed stuck at the step cap is
+//! seen, not averaged away), a panel of the number of seeds at the step cap per episode, a
+//! zoomed panel of the final episodes (so the end of training is readable when the first
+//! episodes span orders of magnitude more), dashed reference lines (the optimum).
 //!
-//! A [`Series`] takes one seed's curve at a time ([`Series::push`]) and keeps only per-episode
-//! running sums ([`eamadm::summary::BandAccumulator`]), so a chart over many seeds holds no
-//! curve: its memory grows with the episodes, not with the seeds.
+//! Every method has one look ([`eamadm::theme`]): its colour and dash are the same in every
+//! figure. EA-MADM is drawn last, on top. Titles, legends and captions are wrapped to the
+//! canvas with a conservative estimate of the text's width ([`text_width`]), and the figure
+//! checks (`figure_checks`) verify it on every figure of a run.
+//!
+//! The SVG is written directly (no plotting library): it needs `stroke-dasharray` for the
+//! methods' dashes and carries, for the checks, the data coordinates of each plot
+//! (`data-x0`…) and the method of each line (`data-method`). Coordinates are rounded to a
+//! tenth of a pixel and nothing depends on time or the machine, so equal input gives equal
+//! bytes.
 //!
 //! ```ignore
-//! let mut ea_madm = Series::new("EA-MADM", 5);
+//! let mut ea_madm = Series::new("ea-madm", "EA-MADM", style, 5);
 //! for run in ea_madm_runs {
-//!     ea_madm.push(&steps_of(run));                  // one seed's curve, then dropped
+//!     ea_madm.push(&steps_of(run));
 //! }
-//! LineChart::new("Task I: steps per episode", "episode", "steps")
+//! LineChart::new("Task I: steps per episode", "episode", "steps per episode")
 //!     .with_smoothing(5)
 //!     .with_series(ea_madm)
-//!     .with_series(epsilon_greedy)
 //!     .with_reference_line("BFS optimum = 58", 58.0)
 //!     .write_svg(&out.join("task1/steps.svg"))?;
 //! ```
 
+use std::fmt::Write as _;
 use std::path::Path;
 
-use plotters::coord::Shift;
-use plotters::element::DashedPathElement;
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use eamadm::stats::{self, Bootstrap, Statistic};
+use eamadm::summary::{self, StatsError};
+use eamadm::theme::MethodStyle;
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
-use eamadm::summary::{self as stats, BandAccumulator, BandPoint, StatsError};
 
-/// Bad chart input, or a failure to draw or write it.
+/// Bad chart input, or a failure to write it.
 #[derive(Debug, Error)]
 pub(crate) enum FigureError {
     /// A chart with no series.
@@ -55,6 +61,17 @@ pub(crate) enum FigureError {
         #[source]
         source: StatsError,
     },
+    /// The bootstrap band of a series failed (values near `f64::MAX`).
+    #[error("series {series:?}, episode {episode}: {source}")]
+    Band {
+        /// The series' name.
+        series: String,
+        /// The episode (from 1).
+        episode: usize,
+        /// Why.
+        #[source]
+        source: stats::StatsError,
+    },
     /// A reference line at a NaN or infinite height.
     #[error("reference line {label:?}: value {value} is not finite")]
     NonFiniteReference {
@@ -62,12 +79,6 @@ pub(crate) enum FigureError {
         label: String,
         /// Its value.
         value: f64,
-    },
-    /// Values so large that the band's arithmetic overflows (beyond about 1e150).
-    #[error("series {series:?}: values too large to plot (the confidence band overflows)")]
-    TooLarge {
-        /// The series' name.
-        series: String,
     },
     /// A smoothing window of zero episodes.
     #[error("smoothing window must be at least 1 episode, got 0")]
@@ -85,113 +96,193 @@ pub(crate) enum FigureError {
         /// The chart's window.
         chart_window: usize,
     },
-    /// A canvas too small to hold the axes and the legend.
-    #[error("chart size {width}×{height} px is below the minimum {MIN_WIDTH}×{MIN_HEIGHT} px")]
+    /// A canvas too narrow for the plot and the legend.
+    #[error("chart width {width} px is below the minimum {MIN_WIDTH} px")]
     TooSmall {
         /// Requested width in pixels.
         width: u32,
-        /// Requested height in pixels.
-        height: u32,
-    },
-    /// Plotters failed while drawing.
-    #[error("drawing chart {title:?}: {message}")]
-    Draw {
-        /// The chart's title.
-        title: String,
-        /// Plotters' error message.
-        message: String,
     },
     /// Writing the SVG file failed.
     #[error(transparent)]
     Write(#[from] AtomicWriteError),
 }
 
-/// Smallest accepted canvas.
-const MIN_WIDTH: u32 = 400;
-/// Smallest accepted canvas.
-const MIN_HEIGHT: u32 = 250;
+/// Narrowest accepted canvas.
+const MIN_WIDTH: u32 = 600;
+/// Bootstrap resamples of each band point: enough for a figure's 95 % band (its ends move by
+/// well under a line's width between seeds of the bootstrap).
+pub(crate) const FIGURE_RESAMPLES: u32 = 1_000;
+/// The most episodes per series at which the band is bootstrapped; on longer curves it is
+/// computed every `⌈episodes / MAX_BAND_POINTS⌉` episodes (and at the last) and the caption
+/// says so. The curves are moving averages, so the band changes slowly between those points.
+pub(crate) const MAX_BAND_POINTS: usize = 100;
+/// Seed of the bootstrap of every band point (the episode index is added).
+const BAND_SEED: u64 = 0x0F16_0BAD;
 
-/// One method's curves over seeds, taken one seed at a time: the mean band of the raw curves
-/// and of their trailing moving averages, accumulated per episode. Curves may differ in length
-/// (episode `i` is then summarised over the seeds that reach it).
+/// One method's curves over seeds, taken one seed at a time and kept smoothed (one number per
+/// seed and episode): the IQM and its bootstrap band need every seed's value at each episode.
 ///
 /// The first bad curve (empty, or with a NaN or infinite value) is kept as the series' failure
 /// and the curves after it are ignored; drawing the series then fails naming it, the seed (its
-/// position among the curves pushed) and the episode, as [`stats::mean_band`] would on all the
-/// curves at once. A series that is never drawn never fails.
+/// position among the curves pushed) and the episode. A series that is never drawn never fails.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Series {
+    /// The method's label (`data-method` in the SVG, for the checks).
+    pub(crate) method: String,
     /// Legend label, e.g. `"EA-MADM"`.
     pub(crate) name: String,
+    /// The method's colour and dash.
+    pub(crate) style: MethodStyle,
     /// Trailing moving-average window each curve is smoothed with (1: none).
     smoothing_window: usize,
     /// Curves pushed, failed ones included.
-    curves: usize,
-    /// Band of the raw curves: what is drawn without smoothing, and what checks every curve as
-    /// given (so errors name the episode as given).
-    raw: BandAccumulator,
-    /// Band of the smoothed curves (unused without smoothing).
-    smoothed: BandAccumulator,
+    pushed: usize,
+    /// The smoothed curves, in the order pushed.
+    curves: Vec<Vec<f64>>,
+    /// Per episode, the number of seeds whose episode hit the step cap.
+    at_cap: Vec<u32>,
     /// The first bad curve's error.
     failure: Option<StatsError>,
+    /// Whether the chart draws a thin line per seed.
+    pub(crate) per_seed: bool,
+}
+
+/// What is drawn of a series: the IQM per episode and band points (episode index, low, high).
+#[derive(Debug, Clone, PartialEq)]
+struct Drawn {
+    line: Vec<f64>,
+    band: Vec<(usize, f64, f64)>,
 }
 
 impl Series {
-    /// A series without curves, whose curves are smoothed over `smoothing_window` episodes
-    /// (1 = no smoothing; it must be its chart's window).
-    pub(crate) fn new(name: impl Into<String>, smoothing_window: usize) -> Self {
+    /// A series without curves of the method labelled `method`, shown as `name`, whose curves
+    /// are smoothed over `smoothing_window` episodes (1 = none; it must be its chart's window).
+    pub(crate) fn new(
+        method: impl Into<String>,
+        name: impl Into<String>,
+        style: MethodStyle,
+        smoothing_window: usize,
+    ) -> Self {
         Self {
+            method: method.into(),
             name: name.into(),
+            style,
             smoothing_window,
-            curves: 0,
-            raw: BandAccumulator::new(),
-            smoothed: BandAccumulator::new(),
+            pushed: 0,
+            curves: Vec::new(),
+            at_cap: Vec::new(),
             failure: None,
+            per_seed: false,
         }
     }
 
     /// Adds the next seed's curve (`curve[episode]`).
     pub(crate) fn push(&mut self, curve: &[f64]) {
-        self.curves += 1;
+        let seed = self.pushed;
+        self.pushed += 1;
         if self.failure.is_some() {
             return;
         }
-        let pushed = self.raw.push(curve).and_then(|()| {
-            if self.smoothing_window > 1 {
-                self.smoothed
-                    .push(&stats::moving_average(curve, self.smoothing_window)?)
-            } else {
-                Ok(())
-            }
-        });
-        self.failure = pushed.err();
+        if curve.is_empty() {
+            self.failure = Some(StatsError::EmptyCurve { seed });
+            return;
+        }
+        if let Some((episode, &value)) = curve.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            self.failure = Some(StatsError::NonFinite {
+                seed,
+                episode,
+                value,
+            });
+            return;
+        }
+        match summary::moving_average(curve, self.smoothing_window.max(1)) {
+            Ok(smoothed) => self.curves.push(smoothed),
+            Err(error) => self.failure = Some(error),
+        }
+    }
+
+    /// Counts, per episode, the seed's episodes that hit the step cap (`at_cap[episode]`).
+    pub(crate) fn count_at_cap(&mut self, at_cap: &[bool]) {
+        if self.at_cap.len() < at_cap.len() {
+            self.at_cap.resize(at_cap.len(), 0);
+        }
+        for (count, &capped) in self.at_cap.iter_mut().zip(at_cap) {
+            *count += u32::from(capped);
+        }
     }
 
     /// Curves pushed so far (seeds), failed ones included.
     pub(crate) fn seeds(&self) -> usize {
-        self.curves
+        self.pushed
     }
 
-    /// Numbers held per episode, over both bands (for the memory law: they do not grow with
-    /// the seeds).
+    /// The IQM over seeds of the last episode of the longest curves (their smoothed value
+    /// there), and how many seeds hit the step cap in that episode; `None` without curves.
+    pub(crate) fn final_iqm(&self) -> Option<(f64, u32)> {
+        let longest = self.curves_len();
+        let values: Vec<f64> = self
+            .curves
+            .iter()
+            .filter_map(|c| c.get(longest.checked_sub(1)?).copied())
+            .collect();
+        let at_cap = self
+            .at_cap
+            .get(longest.wrapping_sub(1))
+            .copied()
+            .unwrap_or(0);
+        Some((stats::iqm(&values).ok()?, at_cap))
+    }
+
+    /// Episodes of the longest curve.
+    pub(crate) fn curves_len(&self) -> usize {
+        self.curves.iter().map(Vec::len).max().unwrap_or(0)
+    }
+
+    /// Numbers held (for the memory law: one per seed and episode).
     #[cfg(test)]
-    pub(crate) fn held_episodes(&self) -> usize {
-        self.raw.episodes() + self.smoothed.episodes()
+    pub(crate) fn held_numbers(&self) -> usize {
+        self.curves.iter().map(Vec::len).sum::<usize>() + self.at_cap.len()
     }
 
-    /// The band drawn: the smoothed curves' (the raw ones' without smoothing).
-    fn band(&self) -> Result<Vec<BandPoint>, StatsError> {
+    /// The IQM per episode over the seeds that reach it, and its bootstrap band every `stride`
+    /// episodes (and at the last).
+    fn drawn(&self, stride: usize) -> Result<Drawn, FigureError> {
         if let Some(failure) = &self.failure {
-            return Err(failure.clone());
+            return Err(self.error(failure.clone()));
         }
-        if self.curves == 0 {
-            return Err(StatsError::NoSeeds);
+        if self.curves.is_empty() {
+            return Err(self.error(StatsError::NoSeeds));
         }
-        Ok(if self.smoothing_window > 1 {
-            self.smoothed.band()
-        } else {
-            self.raw.band()
-        })
+        let longest = self.curves.iter().map(Vec::len).max().unwrap_or(0);
+        let mut line = Vec::with_capacity(longest);
+        let mut band = Vec::new();
+        let mut values = Vec::with_capacity(self.curves.len());
+        for episode in 0..longest {
+            values.clear();
+            values.extend(self.curves.iter().filter_map(|c| c.get(episode).copied()));
+            let band_error = |source| FigureError::Band {
+                series: self.name.clone(),
+                episode: episode + 1,
+                source,
+            };
+            line.push(stats::iqm(&values).map_err(band_error)?);
+            if episode % stride == 0 || episode + 1 == longest {
+                let bootstrap = Bootstrap::new(FIGURE_RESAMPLES, 0.95, BAND_SEED + episode as u64)
+                    .map_err(band_error)?;
+                let interval = bootstrap
+                    .interval(&values, Statistic::Iqm)
+                    .map_err(band_error)?;
+                band.push((episode, interval.low, interval.high));
+            }
+        }
+        Ok(Drawn { line, band })
+    }
+
+    fn error(&self, source: StatsError) -> FigureError {
+        FigureError::Series {
+            series: self.name.clone(),
+            source,
+        }
     }
 }
 
@@ -206,53 +297,321 @@ pub(crate) struct ReferenceLine {
 
 /// A line chart of per-episode curves over seeds; build it with [`LineChart::new`] and the
 /// `with_*` methods, then call [`LineChart::render_svg`] or [`LineChart::write_svg`].
-///
-/// Colours follow the order of the series (Okabe–Ito palette, readable by colour-blind
-/// readers): give the methods in the same order in every figure and each keeps its colour.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct LineChart {
-    /// Title above the chart.
+    /// Title above the chart (wrapped to the canvas).
     pub(crate) title: String,
-    /// Label of the x axis (episodes, numbered from 1).
+    /// Smaller text under the title (wrapped), e.g. what the figure is the analogue of.
+    pub(crate) subtitle: String,
+    /// Label of the x axis (episodes, numbered from 1), with its unit.
     pub(crate) x_label: String,
-    /// Label of the y axis.
+    /// Label of the y axis, with its unit.
     pub(crate) y_label: String,
-    /// The series, drawn in this order (later ones on top).
+    /// The metric's range, `(lowest, highest)` where bounded: the y axis never leaves it and
+    /// the checks hold every band inside it.
+    pub(crate) metric_range: (Option<f64>, Option<f64>),
+    /// The series, in legend order (EA-MADM is drawn last whatever its place).
     pub(crate) series: Vec<Series>,
     /// Dashed horizontal reference lines.
     pub(crate) reference_lines: Vec<ReferenceLine>,
-    /// Trailing moving-average window applied to every seed's curve before averaging over seeds
-    /// ([`stats::moving_average`]); 1 means no smoothing. The legend states the window; every
-    /// series is smoothed with it.
+    /// Trailing moving-average window applied to every seed's curve before the IQM over seeds
+    /// ([`summary::moving_average`]); 1 means no smoothing.
     pub(crate) smoothing_window: usize,
-    /// Canvas size in pixels, (width, height).
-    pub(crate) size: (u32, u32),
+    /// A panel of the seeds at the step cap per episode, titled with this text.
+    pub(crate) cap_panel: Option<String>,
+    /// A panel zoomed on the final this-many episodes, beside the whole run.
+    pub(crate) final_zoom: Option<usize>,
+    /// Canvas width in pixels (the height follows from the content).
+    pub(crate) width: u32,
 }
 
-/// Okabe–Ito colours (black last, kept for an eighth series).
-const PALETTE: [RGBColor; 8] = [
-    RGBColor(0x00, 0x72, 0xB2), // blue
-    RGBColor(0xD5, 0x5E, 0x00), // vermillion
-    RGBColor(0x00, 0x9E, 0x73), // bluish green
-    RGBColor(0xCC, 0x79, 0xA7), // reddish purple
-    RGBColor(0xE6, 0x9F, 0x00), // orange
-    RGBColor(0x56, 0xB4, 0xE9), // sky blue
-    RGBColor(0xF0, 0xE4, 0x42), // yellow
-    RGBColor(0x00, 0x00, 0x00), // black
-];
-/// Reference lines are dark grey and dashed, unlike any series.
-const REFERENCE_COLOR: RGBColor = RGBColor(0x44, 0x44, 0x44);
-/// Opacity of the confidence bands.
-const BAND_OPACITY: f64 = 0.18;
-/// Font sizes as plotters counts them (the SVG backend writes `size / 1.24` px).
-const TITLE_FONT: f64 = 26.0;
-const AXIS_FONT: f64 = 18.0;
-const TICK_FONT: f64 = 15.0;
-const LEGEND_FONT: f64 = 16.0;
-const NOTE_FONT: f64 = 14.0;
+/// Colour of reference lines (dark grey, dashed) and of secondary text.
+const REFERENCE_COLOUR: &str = "#444444";
+const NOTE_COLOUR: &str = "#444444";
+/// Opacity of the bands and of the per-seed lines.
+const BAND_OPACITY: f64 = 0.16;
+const SEED_OPACITY: f64 = 0.35;
+/// Font sizes in pixels.
+const TITLE_FONT: f64 = 18.0;
+const SUBTITLE_FONT: f64 = 13.0;
+const AXIS_FONT: f64 = 14.0;
+const TICK_FONT: f64 = 12.0;
+const LEGEND_FONT: f64 = 13.0;
+const CAPTION_FONT: f64 = 12.0;
+/// Layout in pixels.
+const PAD: f64 = 12.0;
+const LEGEND_WIDTH: f64 = 250.0;
+const LEGEND_SAMPLE: f64 = 30.0;
+const Y_AXIS_ROOM: f64 = 66.0;
+const X_AXIS_ROOM: f64 = 46.0;
+const PLOT_HEIGHT: f64 = 330.0;
+const CAP_PANEL_HEIGHT: f64 = 80.0;
+/// Share of the plot's width the zoomed panel takes.
+const ZOOM_SHARE: f64 = 0.3;
+
+/// Conservative estimate of the width in pixels of `text` at `font` px in a sans-serif face:
+/// 0.85 em for capitals and `m`/`w`, 0.65 em for every other character (the `DejaVu Sans` face, the
+/// widest common default, averages about 0.6 em for lower case and digits).
+pub(crate) fn text_width(text: &str, font: f64) -> f64 {
+    text.chars()
+        .map(|c| {
+            if c.is_uppercase() || c == 'm' || c == 'w' {
+                0.85
+            } else {
+                0.65
+            }
+        })
+        .sum::<f64>()
+        * font
+}
+
+/// Greedy word wrap to lines at most `width` px wide at `font` px (a longer word keeps its
+/// own line).
+pub(crate) fn wrap(text: &str, width: f64, font: f64) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(line) if text_width(&format!("{line} {word}"), font) <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_owned()),
+        }
+    }
+    lines
+}
+
+/// Escapes text for SVG.
+pub(crate) fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A number rounded to a tenth, as SVG coordinates are written.
+pub(crate) fn px(value: f64) -> String {
+    let rounded = (value * 10.0).round() / 10.0;
+    if rounded == rounded.trunc() {
+        format!("{rounded:.0}")
+    } else {
+        format!("{rounded:.1}")
+    }
+}
+
+/// A `<text>` element (`anchor`: `start`, `middle` or `end`).
+pub(crate) fn text_element(
+    svg: &mut String,
+    (x, y): (f64, f64),
+    font: f64,
+    anchor: &str,
+    colour: &str,
+    text: &str,
+) {
+    let _ = writeln!(
+        svg,
+        "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"{anchor}\" fill=\"{colour}\">{}</text>",
+        px(x),
+        px(y),
+        px(font),
+        escape(text)
+    );
+}
+
+/// Wrapped lines of `text` starting at baseline `y`; returns the `y` below the last line.
+pub(crate) fn wrapped_text(
+    svg: &mut String,
+    (x, y): (f64, f64),
+    width: f64,
+    font: f64,
+    anchor: &str,
+    colour: &str,
+    text: &str,
+) -> f64 {
+    let mut y = y;
+    for line in wrap(text, width, font) {
+        y += font * 1.25;
+        text_element(svg, (x, y), font, anchor, colour, &line);
+    }
+    y
+}
+
+/// The SVG attributes of a method's stroke: colour and dash.
+pub(crate) fn stroke_attributes(style: &MethodStyle) -> String {
+    let mut attributes = format!("stroke=\"{}\"", style.colour);
+    if let Some(dash) = style.dash.dasharray() {
+        let _ = write!(attributes, " stroke-dasharray=\"{dash}\"");
+    }
+    attributes
+}
+
+/// A round tick step (1, 2 or 5 × 10ⁿ) giving about `target` intervals over `span`.
+fn tick_step(span: f64, target: f64) -> f64 {
+    if !(span.is_finite() && span > 0.0) {
+        return 1.0;
+    }
+    let raw = span / target;
+    let decade = 10_f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&step| step >= raw)
+        .unwrap_or(10.0 * decade)
+}
+
+/// Decimals to print ticks `step` apart.
+fn tick_decimals(step: f64) -> usize {
+    if step >= 1.0 || !(step.is_finite() && step > 0.0) {
+        0
+    } else {
+        (-step.log10().floor()).min(6.0) as usize
+    }
+}
+
+/// A rectangle of the canvas holding a plot, and the data range it shows.
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    left: f64,
+    right: f64,
+    top: f64,
+    bottom: f64,
+    x: (f64, f64),
+    y: (f64, f64),
+}
+
+impl Frame {
+    fn at(&self, x: f64, y: f64) -> (f64, f64) {
+        let fx = (x - self.x.0) / (self.x.1 - self.x.0);
+        let fy = (y - self.y.0) / (self.y.1 - self.y.0);
+        (
+            self.left + fx * (self.right - self.left),
+            self.bottom - fy * (self.bottom - self.top),
+        )
+    }
+
+    fn points(&self, points: impl Iterator<Item = (f64, f64)>) -> String {
+        let mut text = String::new();
+        for (x, y) in points {
+            let (a, b) = self.at(x, y);
+            let _ = write!(text, "{},{} ", px(a), px(b));
+        }
+        text.trim_end().to_owned()
+    }
+
+    /// Opens the plot's group, with the data attributes the checks read, and draws its frame,
+    /// grid and ticks.
+    fn open(&self, svg: &mut String, class: &str, metric: (Option<f64>, Option<f64>)) {
+        let _ = write!(
+            svg,
+            "<g class=\"{class}\" data-left=\"{}\" data-right=\"{}\" data-top=\"{}\" \
+             data-bottom=\"{}\" data-x0=\"{}\" data-x1=\"{}\" data-y0=\"{}\" data-y1=\"{}\"",
+            self.left, self.right, self.top, self.bottom, self.x.0, self.x.1, self.y.0, self.y.1
+        );
+        if let Some(low) = metric.0 {
+            let _ = write!(svg, " data-metric-min=\"{low}\"");
+        }
+        if let Some(high) = metric.1 {
+            let _ = write!(svg, " data-metric-max=\"{high}\"");
+        }
+        svg.push_str(">\n");
+        let _ = writeln!(
+            svg,
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"white\" stroke=\"#888888\"/>",
+            px(self.left),
+            px(self.top),
+            px(self.right - self.left),
+            px(self.bottom - self.top)
+        );
+        let y_step = tick_step(self.y.1 - self.y.0, 5.0);
+        let y_decimals = tick_decimals(y_step);
+        let mut tick = (self.y.0 / y_step).ceil() * y_step;
+        while tick <= self.y.1 + y_step * 1e-9 {
+            let (_, y) = self.at(self.x.0, tick);
+            let _ = writeln!(
+                svg,
+                "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#e4e4e4\"/>",
+                px(self.left),
+                px(y),
+                px(self.right),
+                px(y)
+            );
+            let label = format!("{:.*}", y_decimals, if tick == 0.0 { 0.0 } else { tick });
+            text_element(
+                svg,
+                (self.left - 5.0, y + TICK_FONT * 0.35),
+                TICK_FONT,
+                "end",
+                "#333333",
+                &label,
+            );
+            tick += y_step;
+        }
+        let width = self.right - self.left;
+        let x_step = tick_step(self.x.1 - self.x.0, (width / 90.0).clamp(2.0, 10.0)).max(1.0);
+        let mut tick = (self.x.0 / x_step).ceil() * x_step;
+        while tick <= self.x.1 + 1e-9 {
+            let (x, _) = self.at(tick, self.y.0);
+            text_element(
+                svg,
+                (x, self.bottom + TICK_FONT + 4.0),
+                TICK_FONT,
+                "middle",
+                "#333333",
+                &format!("{tick:.0}"),
+            );
+            tick += x_step;
+        }
+    }
+}
+
+/// A y-axis label, rotated, centred on the frame's height.
+fn y_label(svg: &mut String, frame: &Frame, label: &str) {
+    let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+    let y = (frame.top + frame.bottom) / 2.0;
+    let _ = writeln!(
+        svg,
+        "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
+         transform=\"rotate(-90 {} {})\">{}</text>",
+        px(x),
+        px(y),
+        px(AXIS_FONT),
+        px(x),
+        px(y),
+        escape(label)
+    );
+}
+
+/// The y range of `values` padded by 4 %, kept inside the metric's range.
+fn padded_range(
+    values: impl Iterator<Item = f64>,
+    metric: (Option<f64>, Option<f64>),
+) -> (f64, f64) {
+    let (low, high) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
+        (lo.min(y), hi.max(y))
+    });
+    if !(low.is_finite() && high.is_finite()) {
+        return (0.0, 1.0);
+    }
+    let pad = if high > low {
+        0.04 * high - 0.04 * low
+    } else {
+        (0.1 * low.abs()).max(1.0)
+    };
+    let mut range = (low - pad, high + pad);
+    if let Some(min) = metric.0 {
+        range.0 = range.0.max(min.min(low));
+    }
+    if let Some(max) = metric.1 {
+        range.1 = range.1.min(max.max(high));
+    }
+    if range.1 <= range.0 {
+        range.1 = range.0 + 1.0;
+    }
+    range
+}
 
 impl LineChart {
-    /// An empty 900×500 px chart with no smoothing.
+    /// An empty 960 px wide chart with no smoothing.
     pub(crate) fn new(
         title: impl Into<String>,
         x_label: impl Into<String>,
@@ -260,12 +619,16 @@ impl LineChart {
     ) -> Self {
         Self {
             title: title.into(),
+            subtitle: String::new(),
             x_label: x_label.into(),
             y_label: y_label.into(),
+            metric_range: (None, None),
             series: Vec::new(),
             reference_lines: Vec::new(),
             smoothing_window: 1,
-            size: (900, 500),
+            cap_panel: None,
+            final_zoom: None,
+            width: 960,
         }
     }
 
@@ -284,62 +647,59 @@ impl LineChart {
         self
     }
 
-    /// States that every seed's curve is smoothed with a trailing moving average over `window`
-    /// episodes before averaging over seeds (1 = no smoothing); the series must be made with the
-    /// same window ([`Series::new`]).
+    /// States that every seed's curve is smoothed over `window` episodes.
     pub(crate) fn with_smoothing(mut self, window: usize) -> Self {
         self.smoothing_window = window;
         self
     }
 
-    #[cfg_attr(
-        not(test),
-        expect(
-            dead_code,
-            reason = "the figures of reproduce-paper use the default size and are written via outputs"
-        )
-    )]
-    /// Sets the canvas size in pixels.
-    pub(crate) fn with_size(mut self, width: u32, height: u32) -> Self {
-        self.size = (width, height);
+    /// Sets the subtitle.
+    pub(crate) fn with_subtitle(mut self, subtitle: impl Into<String>) -> Self {
+        self.subtitle = subtitle.into();
         self
     }
 
-    /// Renders the chart as an SVG document.
-    pub(crate) fn render_svg(&self) -> Result<String, FigureError> {
-        let bands = self.bands()?;
-        let (width, height) = self.size;
-        if width < MIN_WIDTH || height < MIN_HEIGHT {
-            return Err(FigureError::TooSmall { width, height });
-        }
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, self.size).into_drawing_area();
-            self.draw(&root, &bands)
-                .map_err(|message| FigureError::Draw {
-                    title: self.title.clone(),
-                    message,
-                })?;
-        }
-        Ok(svg)
+    /// Sets the metric's range.
+    pub(crate) fn with_metric_range(mut self, low: Option<f64>, high: Option<f64>) -> Self {
+        self.metric_range = (low, high);
+        self
     }
 
+    /// Adds the panel of seeds at the step cap.
+    pub(crate) fn with_cap_panel(mut self, title: impl Into<String>) -> Self {
+        self.cap_panel = Some(title.into());
+        self
+    }
+
+    /// Adds a panel zoomed on the final `episodes` episodes.
+    pub(crate) fn with_final_zoom(mut self, episodes: usize) -> Self {
+        self.final_zoom = Some(episodes);
+        self
+    }
+
+    /// Sets the canvas width in pixels.
     #[cfg_attr(
         not(test),
-        expect(
-            dead_code,
-            reason = "the figures of reproduce-paper use the default size and are written via outputs"
-        )
+        expect(dead_code, reason = "the run's figures use the default width")
     )]
+    pub(crate) fn with_width(mut self, width: u32) -> Self {
+        self.width = width;
+        self
+    }
+
     /// Renders the chart and writes it to `path` atomically (creating parent folders).
+    #[cfg_attr(
+        not(test),
+        expect(dead_code, reason = "figures are written via outputs")
+    )]
     pub(crate) fn write_svg(&self, path: &Path) -> Result<(), FigureError> {
         let svg = self.render_svg()?;
         write_atomic(path, svg.as_bytes())?;
         Ok(())
     }
 
-    /// Validates the input and computes each series' smoothed mean band.
-    fn bands(&self) -> Result<Vec<Vec<BandPoint>>, FigureError> {
+    /// Validates the input and computes each series' IQM line and band.
+    fn drawn(&self) -> Result<(Vec<Drawn>, usize), FigureError> {
         if self.series.is_empty() {
             return Err(FigureError::NoSeries {
                 title: self.title.clone(),
@@ -348,13 +708,24 @@ impl LineChart {
         if self.smoothing_window == 0 {
             return Err(FigureError::ZeroSmoothingWindow);
         }
+        if self.width < MIN_WIDTH {
+            return Err(FigureError::TooSmall { width: self.width });
+        }
         if let Some(line) = self.reference_lines.iter().find(|l| !l.y.is_finite()) {
             return Err(FigureError::NonFiniteReference {
                 label: line.label.clone(),
                 value: line.y,
             });
         }
-        self.series
+        let longest = self
+            .series
+            .iter()
+            .flat_map(|s| s.curves.iter().map(Vec::len))
+            .max()
+            .unwrap_or(1);
+        let stride = longest.div_ceil(MAX_BAND_POINTS).max(1);
+        let drawn = self
+            .series
             .iter()
             .map(|series| {
                 if series.smoothing_window != self.smoothing_window {
@@ -364,269 +735,452 @@ impl LineChart {
                         chart_window: self.smoothing_window,
                     });
                 }
-                let band = series.band().map_err(|source| FigureError::Series {
-                    series: series.name.clone(),
-                    source,
-                })?;
-                let finite = |p: &BandPoint| p.lower.is_finite() && p.upper.is_finite();
-                if band.iter().all(finite) {
-                    Ok(band)
-                } else {
-                    Err(FigureError::TooLarge {
-                        series: series.name.clone(),
-                    })
-                }
+                series.drawn(stride)
             })
-            .collect()
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((drawn, stride))
     }
 
-    /// The data ranges: x over episodes 1..=longest, y over every band and reference line,
-    /// padded by 5% so nothing touches the frame.
-    fn ranges(&self, bands: &[Vec<BandPoint>]) -> ((f64, f64), (f64, f64)) {
-        let longest = bands.iter().map(Vec::len).max().unwrap_or(1);
-        let x_max = (longest as f64).max(2.0);
-        let ys = bands
-            .iter()
-            .flatten()
-            .flat_map(|p| [p.lower, p.upper])
-            .chain(self.reference_lines.iter().map(|l| l.y));
-        let (low, high) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
-            (lo.min(y), hi.max(y))
-        });
-        // 5% of each end separately: `high - low` itself could overflow.
-        let pad = if high > low {
-            0.05 * high - 0.05 * low
+    /// The caption's sentences: estimator, band, smoothing, what the thin lines are.
+    fn notes(&self, stride: usize) -> Vec<String> {
+        let seeds: Vec<usize> = self.series.iter().map(Series::seeds).collect();
+        let (fewest, most) = (
+            seeds.iter().copied().min().unwrap_or(0),
+            seeds.iter().copied().max().unwrap_or(0),
+        );
+        let over = if fewest == most {
+            format!("{most} seeds")
         } else {
-            (0.1 * low.abs()).max(1.0)
+            format!("{fewest}–{most} seeds")
         };
-        ((1.0, x_max), (low - pad, high + pad))
-    }
-
-    /// Width of the legend panel: enough for the longest label (estimated, the SVG viewer picks
-    /// the real font), at most 40% of the canvas; longer labels are wrapped at spaces.
-    fn legend_width(&self) -> u32 {
-        let labels = self
-            .series
-            .iter()
-            .map(|s| s.name.as_str())
-            .chain(self.reference_lines.iter().map(|l| l.label.as_str()))
-            .map(|label| f64::from(LEGEND_SAMPLE + LEGEND_GAP) + text_width(label, LEGEND_FONT));
-        let notes = self.notes();
-        let widest = labels
-            .chain(notes.iter().map(|note| text_width(note, NOTE_FONT)))
-            .fold(0.0, f64::max);
-        (widest.ceil() as u32 + 2 * LEGEND_PAD).clamp(140, self.size.0 * 2 / 5)
-    }
-
-    /// Small print under the legend: what the lines and bands are.
-    fn notes(&self) -> Vec<String> {
-        let mut notes = vec![
-            "line: mean over seeds".to_owned(),
-            "band: 95% CI of the mean".to_owned(),
-        ];
-        if self.smoothing_window > 1 {
-            notes.push(format!("{}-episode moving average", self.smoothing_window));
+        let smoothing = if self.smoothing_window > 1 {
+            format!(
+                "each seed's {}-episode trailing moving average",
+                self.smoothing_window
+            )
+        } else {
+            "each seed's value".to_owned()
+        };
+        let band_points = if stride > 1 {
+            format!(", computed every {stride} episodes")
+        } else {
+            String::new()
+        };
+        let mut notes = vec![format!(
+            "Line: interquartile mean (IQM) over {over} of {smoothing}, as in the tables. \
+             Band: 95% percentile bootstrap interval of the IQM ({FIGURE_RESAMPLES} \
+             resamples{band_points})."
+        )];
+        if self.series.iter().any(|s| s.per_seed) {
+            notes.push("Thin lines: one per seed.".to_owned());
         }
         notes
     }
 
-    fn draw(
-        &self,
-        root: &DrawingArea<SVGBackend<'_>, Shift>,
-        bands: &[Vec<BandPoint>],
-    ) -> Result<(), String> {
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let body = if self.title.is_empty() {
-            root.clone()
+    /// Renders the chart as an SVG document.
+    pub(crate) fn render_svg(&self) -> Result<String, FigureError> {
+        let (drawn, stride) = self.drawn()?;
+        let width = f64::from(self.width);
+        let mut body = String::new();
+
+        // Title and subtitle, wrapped to the canvas.
+        let mut y = PAD - TITLE_FONT * 0.25;
+        y = wrapped_text(
+            &mut body,
+            (width / 2.0, y),
+            width - 2.0 * PAD,
+            TITLE_FONT,
+            "middle",
+            "#111111",
+            &self.title,
+        );
+        if !self.subtitle.is_empty() {
+            y = wrapped_text(
+                &mut body,
+                (width / 2.0, y),
+                width - 2.0 * PAD,
+                SUBTITLE_FONT,
+                "middle",
+                NOTE_COLOUR,
+                &self.subtitle,
+            );
+        }
+        let plot_top = y + 26.0;
+        let plot_left = PAD + Y_AXIS_ROOM;
+        let plot_right = width - LEGEND_WIDTH - PAD;
+        let longest = drawn.iter().map(|d| d.line.len()).max().unwrap_or(1);
+        let x_range = (1.0, (longest as f64).max(2.0));
+
+        // The draw order: EA-MADM last, on top.
+        let mut order: Vec<usize> = (0..self.series.len()).collect();
+        order.sort_by_key(|&i| self.series[i].method == "ea-madm");
+
+        let zoom = self
+            .final_zoom
+            .filter(|&episodes| episodes >= 2 && longest > 2 * episodes);
+        let main_right = if zoom.is_some() {
+            plot_right - (plot_right - plot_left) * ZOOM_SHARE
         } else {
-            root.titled(&self.title, ("sans-serif", TITLE_FONT))
-                .map_err(|e| e.to_string())?
+            plot_right
         };
-        let body_width = body.dim_in_pixel().0;
-        let (plot_area, legend_area) =
-            body.split_horizontally(body_width.saturating_sub(self.legend_width()));
-        self.draw_plot(&plot_area, bands)
-            .map_err(|e| e.to_string())?;
-        self.draw_legend(&legend_area).map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())
+        let values_in = |from: usize| {
+            let lines = drawn
+                .iter()
+                .flat_map(move |d| d.line.iter().skip(from).copied());
+            let bands = drawn.iter().flat_map(move |d| {
+                d.band
+                    .iter()
+                    .filter(move |(e, ..)| *e >= from)
+                    .flat_map(|&(_, low, high)| [low, high])
+            });
+            lines.chain(bands)
+        };
+        let seed_values = self
+            .series
+            .iter()
+            .filter(|s| s.per_seed)
+            .flat_map(|s| s.curves.iter().flatten().copied());
+        let references = self.reference_lines.iter().map(|l| l.y);
+        let main = Frame {
+            left: plot_left,
+            right: main_right,
+            top: plot_top,
+            bottom: plot_top + PLOT_HEIGHT,
+            x: x_range,
+            y: padded_range(
+                values_in(0).chain(seed_values).chain(references),
+                self.metric_range,
+            ),
+        };
+        self.draw_plot(&mut body, &main, &drawn, &order, 0, true);
+        y_label(&mut body, &main, &self.y_label);
+        let mut bottom = main.bottom + X_AXIS_ROOM;
+        text_element(
+            &mut body,
+            (
+                (main.left + main.right) / 2.0,
+                main.bottom + TICK_FONT + 4.0 + AXIS_FONT + 8.0,
+            ),
+            AXIS_FONT,
+            "middle",
+            "#222222",
+            &self.x_label,
+        );
+        if let Some(episodes) = zoom {
+            let from = longest - episodes;
+            let references = self.reference_lines.iter().map(|l| l.y);
+            let zoomed = Frame {
+                left: main_right + Y_AXIS_ROOM - 6.0,
+                right: plot_right,
+                x: ((from + 1) as f64, longest as f64),
+                y: padded_range(values_in(from).chain(references), self.metric_range),
+                ..main
+            };
+            self.draw_plot(&mut body, &zoomed, &drawn, &order, from, false);
+            text_element(
+                &mut body,
+                ((zoomed.left + zoomed.right) / 2.0, zoomed.top - 5.0),
+                SUBTITLE_FONT,
+                "middle",
+                NOTE_COLOUR,
+                &format!("final {episodes} episodes, zoomed"),
+            );
+            text_element(
+                &mut body,
+                (
+                    (zoomed.left + zoomed.right) / 2.0,
+                    zoomed.bottom + TICK_FONT + 4.0 + AXIS_FONT + 8.0,
+                ),
+                AXIS_FONT,
+                "middle",
+                "#222222",
+                &self.x_label,
+            );
+        }
+        if let Some(title) = &self.cap_panel {
+            bottom = self.draw_cap_panel(&mut body, title, &main, bottom);
+        }
+        let legend_bottom = self.draw_legend(&mut body, plot_right + PAD, plot_top);
+        let mut caption_y = bottom.max(legend_bottom) + 4.0;
+        for note in self.notes(stride) {
+            caption_y = wrapped_text(
+                &mut body,
+                (PAD, caption_y),
+                width - 2.0 * PAD,
+                CAPTION_FONT,
+                "start",
+                NOTE_COLOUR,
+                &note,
+            );
+        }
+        let height = (caption_y + PAD).ceil();
+        let mut svg = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" \
+             viewBox=\"0 0 {} {height}\" font-family=\"sans-serif\">\n\
+             <title>{}</title>\n<rect width=\"{}\" height=\"{height}\" fill=\"white\"/>\n",
+            self.width,
+            self.width,
+            escape(&self.title),
+            self.width
+        );
+        svg.push_str(&body);
+        svg.push_str("</svg>\n");
+        Ok(svg)
     }
 
+    /// One plot: bands, per-seed lines, reference lines, IQM lines, from episode index `from`.
     fn draw_plot(
         &self,
-        area: &DrawingArea<SVGBackend<'_>, Shift>,
-        bands: &[Vec<BandPoint>],
-    ) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
-        let ((x_min, x_max), (y_min, y_max)) = self.ranges(bands);
-        let y_decimals = tick_decimals(y_max - y_min);
-        let mut chart = ChartBuilder::on(area)
-            .margin(PLOT_MARGIN)
-            .x_label_area_size(50)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x_min..x_max, y_min..y_max)?;
-        chart
-            .configure_mesh()
-            .x_desc(self.x_label.as_str())
-            .y_desc(self.y_label.as_str())
-            .axis_desc_style(("sans-serif", AXIS_FONT))
-            .label_style(("sans-serif", TICK_FONT))
-            // Episodes are whole numbers: at most one tick per episode, so no label repeats.
-            .x_labels(((x_max - x_min) as usize + 1).clamp(2, 10))
-            .x_label_formatter(&|x| format!("{x:.0}"))
-            .y_label_formatter(&|y| format!("{y:.y_decimals$}"))
-            .bold_line_style(RGBColor(0xDD, 0xDD, 0xDD))
-            .light_line_style(RGBColor(0xF2, 0xF2, 0xF2))
-            .draw()?;
+        svg: &mut String,
+        frame: &Frame,
+        drawn: &[Drawn],
+        order: &[usize],
+        from: usize,
+        per_seed: bool,
+    ) {
+        frame.open(svg, "plot", self.metric_range);
+        for &i in order {
+            let (series, d) = (&self.series[i], &drawn[i]);
+            let band: Vec<&(usize, f64, f64)> =
+                d.band.iter().filter(|(e, ..)| *e >= from).collect();
+            if band.len() < 2 {
+                continue;
+            }
+            let outline = band
+                .iter()
+                .map(|&&(e, _, high)| (episode(e), high))
+                .chain(band.iter().rev().map(|&&(e, low, _)| (episode(e), low)));
+            let _ = writeln!(
+                svg,
+                "<polygon class=\"band\" data-method=\"{}\" fill=\"{}\" fill-opacity=\"{BAND_OPACITY}\" points=\"{}\"/>",
+                escape(&series.method),
+                series.style.colour,
+                frame.points(outline)
+            );
+        }
+        if per_seed {
+            for &i in order {
+                let series = &self.series[i];
+                if !series.per_seed {
+                    continue;
+                }
+                for curve in &series.curves {
+                    let _ = writeln!(
+                        svg,
+                        "<polyline class=\"seed\" data-method=\"{}\" fill=\"none\" stroke=\"{}\" \
+                         stroke-width=\"0.8\" stroke-opacity=\"{SEED_OPACITY}\" points=\"{}\"/>",
+                        escape(&series.method),
+                        series.style.colour,
+                        frame.points(
+                            curve
+                                .iter()
+                                .enumerate()
+                                .skip(from)
+                                .map(|(e, &v)| (episode(e), v))
+                        )
+                    );
+                }
+            }
+        }
+        for line in &self.reference_lines {
+            let _ = writeln!(
+                svg,
+                "<polyline class=\"reference\" fill=\"none\" stroke=\"{REFERENCE_COLOUR}\" \
+                 stroke-width=\"1.5\" stroke-dasharray=\"6 4\" points=\"{}\"/>",
+                frame.points([(frame.x.0, line.y), (frame.x.1, line.y)].into_iter())
+            );
+        }
+        for &i in order {
+            let (series, d) = (&self.series[i], &drawn[i]);
+            let width = if series.method == "ea-madm" { 2.6 } else { 2.0 };
+            let _ = writeln!(
+                svg,
+                "<polyline class=\"line\" data-method=\"{}\" fill=\"none\" {} stroke-width=\"{width}\" \
+                 points=\"{}\"/>",
+                escape(&series.method),
+                stroke_attributes(&series.style),
+                frame.points(
+                    d.line
+                        .iter()
+                        .enumerate()
+                        .skip(from)
+                        .map(|(e, &v)| (episode(e), v))
+                )
+            );
+        }
+        svg.push_str("</g>\n");
+    }
 
-        // Bands first, so every mean line is drawn on top of every band.
-        for (index, band) in bands.iter().enumerate() {
-            let color = PALETTE[index % PALETTE.len()];
-            let outline: Vec<(f64, f64)> = band
+    /// The panel of seeds at the step cap per episode under `main`; returns its bottom.
+    fn draw_cap_panel(&self, svg: &mut String, title: &str, main: &Frame, top: f64) -> f64 {
+        let capped: Vec<&Series> = self
+            .series
+            .iter()
+            .filter(|s| s.at_cap.iter().any(|&n| n > 0))
+            .collect();
+        let label_y = top + SUBTITLE_FONT + 2.0;
+        if capped.is_empty() {
+            text_element(
+                svg,
+                (main.left, label_y),
+                SUBTITLE_FONT,
+                "start",
+                NOTE_COLOUR,
+                &format!("{title}: none in any episode"),
+            );
+            return label_y + 8.0;
+        }
+        let most = self.series.iter().map(Series::seeds).max().unwrap_or(1);
+        text_element(
+            svg,
+            (main.left, label_y),
+            SUBTITLE_FONT,
+            "start",
+            NOTE_COLOUR,
+            &format!("{title} (methods with any; of {most} seeds)"),
+        );
+        let frame = Frame {
+            top: label_y + 8.0,
+            bottom: label_y + 8.0 + CAP_PANEL_HEIGHT,
+            y: (0.0, most as f64),
+            ..*main
+        };
+        frame.open(svg, "plot cap", (Some(0.0), Some(most as f64)));
+        let mut order: Vec<&&Series> = capped.iter().collect();
+        order.sort_by_key(|s| s.method == "ea-madm");
+        for series in order {
+            let points = series
+                .at_cap
                 .iter()
                 .enumerate()
-                .map(|(i, p)| (episode(i), p.upper))
-                .chain(
-                    band.iter()
-                        .enumerate()
-                        .rev()
-                        .map(|(i, p)| (episode(i), p.lower)),
-                )
-                .collect();
-            chart.draw_series(std::iter::once(Polygon::new(
-                outline,
-                color.mix(BAND_OPACITY).filled(),
-            )))?;
+                .map(|(e, &n)| (episode(e), f64::from(n)));
+            let _ = writeln!(
+                svg,
+                "<polyline class=\"line\" data-method=\"{}\" fill=\"none\" {} stroke-width=\"1.5\" \
+                 points=\"{}\"/>",
+                escape(&series.method),
+                stroke_attributes(&series.style),
+                frame.points(points)
+            );
+        }
+        svg.push_str("</g>\n");
+        let y = (frame.top + frame.bottom) / 2.0;
+        let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+        let _ = writeln!(
+            svg,
+            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
+             transform=\"rotate(-90 {} {})\">seeds</text>",
+            px(x),
+            px(y),
+            px(AXIS_FONT),
+            px(x),
+            px(y)
+        );
+        frame.bottom + TICK_FONT + 10.0
+    }
+
+    /// The legend in its own column at `x`, from `top`; returns its bottom.
+    fn draw_legend(&self, svg: &mut String, x: f64, top: f64) -> f64 {
+        let text_x = x + LEGEND_SAMPLE + 8.0;
+        let text_width = f64::from(self.width) - PAD - text_x;
+        let mut y = top;
+        svg.push_str("<g class=\"legend\">\n");
+        for series in &self.series {
+            let lines = wrap(&series.name, text_width, LEGEND_FONT);
+            let middle = y + LEGEND_FONT * 0.8;
+            let _ = writeln!(
+                svg,
+                "<rect x=\"{}\" y=\"{}\" width=\"{LEGEND_SAMPLE}\" height=\"12\" fill=\"{}\" fill-opacity=\"{BAND_OPACITY}\"/>",
+                px(x),
+                px(middle - 6.0),
+                series.style.colour
+            );
+            let _ = writeln!(
+                svg,
+                "<line class=\"sample\" data-method=\"{}\" x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" {} stroke-width=\"2.4\"/>",
+                escape(&series.method),
+                px(x),
+                px(middle),
+                px(x + LEGEND_SAMPLE),
+                px(middle),
+                stroke_attributes(&series.style)
+            );
+            for (index, line) in lines.iter().enumerate() {
+                text_element(
+                    svg,
+                    (
+                        text_x,
+                        middle + LEGEND_FONT * 0.35 + index as f64 * LEGEND_FONT * 1.2,
+                    ),
+                    LEGEND_FONT,
+                    "start",
+                    "#111111",
+                    line,
+                );
+            }
+            y += LEGEND_FONT * 1.2 * lines.len().max(1) as f64 + 8.0;
         }
         for line in &self.reference_lines {
-            chart.draw_series(std::iter::once(DashedPathElement::new(
-                [(x_min, line.y), (x_max, line.y)],
-                8,
-                5,
-                REFERENCE_COLOR.stroke_width(2),
-            )))?;
-        }
-        for (index, band) in bands.iter().enumerate() {
-            let color = PALETTE[index % PALETTE.len()];
-            chart.draw_series(LineSeries::new(
-                band.iter().enumerate().map(|(i, p)| (episode(i), p.mean)),
-                color.stroke_width(2),
-            ))?;
-        }
-        Ok(())
-    }
-
-    fn draw_legend(
-        &self,
-        area: &DrawingArea<SVGBackend<'_>, Shift>,
-    ) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
-        let label_style =
-            TextStyle::from(("sans-serif", LEGEND_FONT)).pos(Pos::new(HPos::Left, VPos::Center));
-        let note_style = TextStyle::from(("sans-serif", NOTE_FONT).into_font())
-            .color(&RGBColor(0x55, 0x55, 0x55))
-            .pos(Pos::new(HPos::Left, VPos::Center));
-        let x0 = LEGEND_PAD as i32;
-        let x1 = x0 + LEGEND_SAMPLE as i32;
-        let text_x = x1 + LEGEND_GAP as i32;
-        let width = f64::from(area.dim_in_pixel().0) - f64::from(LEGEND_PAD);
-        let chars_that_fit = |from: i32, font: f64| {
-            ((width - f64::from(from)) / text_width("m", font))
-                .floor()
-                .max(1.0) as usize
-        };
-        let label_chars = chars_that_fit(text_x, LEGEND_FONT);
-        let note_chars = chars_that_fit(x0, NOTE_FONT);
-        // Start level with the top of the plot.
-        let mut y = PLOT_MARGIN as i32 + LEGEND_ROW / 2;
-        for (index, series) in self.series.iter().enumerate() {
-            let color = PALETTE[index % PALETTE.len()];
-            area.draw(&Rectangle::new(
-                [(x0, y - 7), (x1, y + 7)],
-                color.mix(BAND_OPACITY).filled(),
-            ))?;
-            area.draw(&PathElement::new(
-                vec![(x0, y), (x1, y)],
-                color.stroke_width(2),
-            ))?;
-            y = draw_wrapped(area, &series.name, label_chars, (text_x, y), &label_style)?;
-        }
-        for line in &self.reference_lines {
-            area.draw(&DashedPathElement::new(
-                [(x0, y), (x1, y)],
-                8,
-                5,
-                REFERENCE_COLOR.stroke_width(2),
-            ))?;
-            y = draw_wrapped(area, &line.label, label_chars, (text_x, y), &label_style)?;
-        }
-        y += LEGEND_ROW / 2;
-        for note in self.notes() {
-            for line in wrap(&note, note_chars) {
-                area.draw(&Text::new(line, (x0, y), &note_style))?;
-                y += LEGEND_LINE;
+            let middle = y + LEGEND_FONT * 0.8;
+            let _ = writeln!(
+                svg,
+                "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{REFERENCE_COLOUR}\" stroke-width=\"1.5\" stroke-dasharray=\"6 4\"/>",
+                px(x),
+                px(middle),
+                px(x + LEGEND_SAMPLE),
+                px(middle)
+            );
+            let lines = wrap(&line.label, text_width, LEGEND_FONT);
+            for (index, text) in lines.iter().enumerate() {
+                text_element(
+                    svg,
+                    (
+                        text_x,
+                        middle + LEGEND_FONT * 0.35 + index as f64 * LEGEND_FONT * 1.2,
+                    ),
+                    LEGEND_FONT,
+                    "start",
+                    "#111111",
+                    text,
+                );
             }
+            y += LEGEND_FONT * 1.2 * lines.len().max(1) as f64 + 8.0;
         }
-        Ok(())
+        svg.push_str("</g>\n");
+        y
     }
 }
 
-/// Margin around the plot, in pixels.
-const PLOT_MARGIN: u32 = 12;
-/// Legend layout, in pixels: padding, line-sample length, gap before the text, row height.
-const LEGEND_PAD: u32 = 10;
-const LEGEND_SAMPLE: u32 = 28;
-const LEGEND_GAP: u32 = 8;
-const LEGEND_ROW: i32 = 24;
-const LEGEND_LINE: i32 = 18;
-
-/// Estimated width in pixels of `text` at plotters font size `font` (0.6 em per character).
-fn text_width(text: &str, font: f64) -> f64 {
-    text.chars().count() as f64 * 0.6 * font / 1.24
-}
-
-/// Greedy word wrap to lines of at most `max_chars` characters (a longer word keeps its line).
-fn wrap(text: &str, max_chars: usize) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    for word in text.split_whitespace() {
-        match lines.last_mut() {
-            Some(line) if line.chars().count() + 1 + word.chars().count() <= max_chars => {
-                line.push(' ');
-                line.push_str(word);
-            }
-            _ => lines.push(word.to_owned()),
-        }
-    }
-    lines
-}
-
-/// Draws a legend label wrapped to `max_chars` per line, the first line centred on `at`;
-/// returns the `y` of the next legend row.
-fn draw_wrapped(
-    area: &DrawingArea<SVGBackend<'_>, Shift>,
-    label: &str,
-    max_chars: usize,
-    at: (i32, i32),
-    style: &TextStyle<'_>,
-) -> Result<i32, DrawingAreaErrorKind<std::io::Error>> {
-    let (x, mut y) = at;
-    let lines = wrap(label, max_chars);
-    for (index, line) in lines.iter().enumerate() {
-        if index > 0 {
-            y += LEGEND_LINE;
-        }
-        area.draw(&Text::new(line.as_str(), (x, y), style))?;
-    }
-    Ok(y + LEGEND_ROW)
-}
-
-/// Decimals for tick labels on an axis spanning `span`: enough to tell apart ticks about a
-/// tenth of the span apart, and none for spans of 10 or more.
-fn tick_decimals(span: f64) -> usize {
-    let step = span / 10.0;
-    if step >= 1.0 || step <= 0.0 || !step.is_finite() {
-        0
-    } else {
-        // step in [10^-k, 10^-(k-1)) needs k decimals.
-        (-step.log10().floor()).min(6.0) as usize
-    }
+/// A figure of only a title and a message, for a chart with nothing to draw (e.g. no method
+/// ever reached the target).
+pub(crate) fn message_svg(title: &str, message: &str, width: u32) -> String {
+    let w = f64::from(width);
+    let mut body = String::new();
+    let mut y = wrapped_text(
+        &mut body,
+        (w / 2.0, PAD - TITLE_FONT * 0.25),
+        w - 2.0 * PAD,
+        TITLE_FONT,
+        "middle",
+        "#111111",
+        title,
+    );
+    y = wrapped_text(
+        &mut body,
+        (w / 2.0, y + 30.0),
+        w - 2.0 * PAD,
+        SUBTITLE_FONT,
+        "middle",
+        NOTE_COLOUR,
+        message,
+    );
+    let height = (y + 40.0).ceil();
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" \
+         viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\">\n<title>{}</title>\n\
+         <rect width=\"{width}\" height=\"{height}\" fill=\"white\"/>\n{body}</svg>\n",
+        escape(title)
+    )
 }
 
 /// Episode number (from 1) of curve index `i`.
@@ -636,11 +1190,19 @@ fn episode(i: usize) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use eamadm::config::Role;
+    use eamadm::theme::method_style;
+
     use super::*;
 
     /// A series of `runs[seed][episode]`, pushed seed by seed.
-    fn series(name: &str, window: usize, runs: &[Vec<f64>]) -> Series {
-        let mut series = Series::new(name, window);
+    fn series(method: &str, window: usize, runs: &[Vec<f64>]) -> Series {
+        let mut series = Series::new(
+            method,
+            eamadm::paper::method_title(method),
+            method_style(method, Role::Paper),
+            window,
+        );
         for curve in runs {
             series.push(curve);
         }
@@ -649,18 +1211,20 @@ mod tests {
 
     /// A chart of two methods of four episodes, smoothed over `window` episodes.
     fn tiny_chart(window: usize) -> LineChart {
-        LineChart::new("Task I: steps per episode", "episode", "steps")
+        LineChart::new("Task I: steps per episode", "episode", "steps per episode")
             .with_smoothing(window)
+            .with_metric_range(Some(0.0), Some(2000.0))
             .with_series(series(
-                "EA-MADM",
+                "ea-madm",
                 window,
                 &[
                     vec![300.0, 120.0, 70.0, 61.0],
                     vec![280.0, 140.0, 66.0, 60.0],
+                    vec![2000.0, 2000.0, 2000.0, 2000.0],
                 ],
             ))
             .with_series(series(
-                "ε-greedy",
+                "epsilon-greedy",
                 window,
                 &[vec![400.0, 260.0, 150.0], vec![380.0, 300.0, 170.0, 120.0]],
             ))
@@ -677,26 +1241,58 @@ mod tests {
             "ε-greedy",
             "BFS optimum = 58",
             "episode",
-            "steps",
-            "band: 95% CI of the mean",
+            "steps per episode",
+            "interquartile mean (IQM)",
         ] {
             assert!(svg.contains(text), "missing {text:?}");
         }
-        // One translucent band polygon per series, in the series' colour.
-        assert_eq!(svg.matches("<polygon").count(), 2, "{svg}");
-        assert!(
-            svg.contains(r##"<polygon opacity="0.18" fill="#0072B2""##),
-            "{svg}"
-        );
-        assert!(
-            svg.contains(r##"<polygon opacity="0.18" fill="#D55E00""##),
-            "{svg}"
-        );
-        // Mean lines are polylines in the series' colours.
-        assert!(svg.contains(r##"<polyline fill="none" opacity="1" stroke="#0072B2""##));
-        assert!(svg.contains(r##"<polyline fill="none" opacity="1" stroke="#D55E00""##));
-        // No smoothing note unless smoothing is on.
+        assert_eq!(svg.matches("class=\"band\"").count(), 2, "{svg}");
+        assert!(svg.contains(
+            "class=\"line\" data-method=\"ea-madm\" fill=\"none\" stroke=\"#0072B2\" stroke-width=\"2.6\""
+        ));
+        // EA-MADM is drawn last although it is listed first.
+        let ea = svg.find("class=\"line\" data-method=\"ea-madm\"").unwrap();
+        let eg = svg
+            .find("class=\"line\" data-method=\"epsilon-greedy\"")
+            .unwrap();
+        assert!(eg < ea);
         assert!(!svg.contains("moving average"));
+    }
+
+    #[test]
+    fn the_line_is_the_iqm_and_the_band_stays_within_the_seeds() {
+        let chart = tiny_chart(1);
+        let (drawn, stride) = chart.drawn().unwrap();
+        assert_eq!(stride, 1);
+        // Episode 1 of EA-MADM: seeds 300, 280, 2000; IQM of 3 values is their mean.
+        assert!((drawn[0].line[0] - 860.0).abs() < 1e-9);
+        for (d, s) in drawn.iter().zip(&chart.series) {
+            for &(e, low, high) in &d.band {
+                let values: Vec<f64> = s.curves.iter().filter_map(|c| c.get(e).copied()).collect();
+                let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+                let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                assert!(min <= low && low <= d.line[e] && d.line[e] <= high && high <= max);
+            }
+        }
+    }
+
+    #[test]
+    fn long_curves_get_bands_at_most_every_hundredth_and_say_so() {
+        let curve: Vec<f64> = (0..250).map(|i| f64::from(i % 7)).collect();
+        let chart = LineChart::new("long", "episode", "steps").with_series(series(
+            "softmax",
+            1,
+            &[curve.clone(), curve],
+        ));
+        let (drawn, stride) = chart.drawn().unwrap();
+        assert_eq!(stride, 3);
+        assert_eq!(drawn[0].band.len(), 84);
+        assert!(
+            chart
+                .render_svg()
+                .unwrap()
+                .contains("computed every 3 episodes")
+        );
     }
 
     #[test]
@@ -704,40 +1300,56 @@ mod tests {
         let a = tiny_chart(2).render_svg().unwrap();
         let b = tiny_chart(2).render_svg().unwrap();
         assert_eq!(a, b);
-        assert!(a.contains("2-episode moving average"));
+        assert!(a.contains("2-episode trailing moving average"));
         assert_ne!(a, tiny_chart(1).render_svg().unwrap());
     }
 
-    /// The texts of an SVG's `<text>` elements (plotters writes each on its own line).
-    fn texts(svg: &str) -> Vec<&str> {
-        let lines: Vec<&str> = svg.lines().collect();
-        lines
-            .windows(2)
-            .filter(|pair| pair[0].starts_with("<text"))
-            .map(|pair| pair[1])
-            .collect()
-    }
-
     #[test]
-    fn short_runs_get_one_tick_per_episode() {
-        let svg = LineChart::new("quick", "episode", "steps")
-            .with_series(series("a", 1, &[vec![150.0, 130.0, 120.0, 110.0, 105.0]]))
+    fn long_titles_wrap_inside_the_canvas() {
+        let title = "Task II: EA-MADM and its ablations, steps per episode ".repeat(4);
+        let svg = tiny_chart(1)
+            .with_subtitle(title.clone())
             .render_svg()
             .unwrap();
-        let texts = texts(&svg);
-        for tick in ["1", "2", "3", "4", "5"] {
-            let count = texts.iter().filter(|text| **text == tick).count();
-            assert_eq!(count, 1, "tick {tick} in {texts:?}");
+        for line in svg.lines().filter(|l| l.starts_with("<text")) {
+            let x: f64 = attribute(line, "x");
+            let font: f64 = attribute(line, "font-size");
+            let content = line.split('>').nth(1).unwrap().split('<').next().unwrap();
+            let w = text_width(content, font);
+            if line.contains("rotate") {
+                continue;
+            }
+            let (start, end) = if line.contains("\"middle\"") {
+                (x - w / 2.0, x + w / 2.0)
+            } else if line.contains("\"end\"") {
+                (x - w, x)
+            } else {
+                (x, x + w)
+            };
+            assert!(start >= 0.0 && end <= 960.0, "{line}");
         }
     }
 
+    fn attribute(line: &str, name: &str) -> f64 {
+        let key = format!(" {name}=\"");
+        let start = line.find(&key).unwrap() + key.len();
+        line[start..].split('"').next().unwrap().parse().unwrap()
+    }
+
     #[test]
-    fn single_seed_and_flat_curves_render() {
-        let svg = LineChart::new("flat", "episode", "return")
-            .with_series(series("only", 1, &[vec![5.0]]))
+    fn cap_panel_and_zoom_are_drawn_when_asked() {
+        let mut ea = series("ea-madm", 1, &[vec![2000.0; 30], vec![100.0; 30]]);
+        ea.count_at_cap(&[true; 30]);
+        ea.count_at_cap(&[false; 30]);
+        let svg = LineChart::new("t", "episode", "steps")
+            .with_series(ea)
+            .with_cap_panel("seeds at the step cap")
+            .with_final_zoom(10)
             .render_svg()
             .unwrap();
-        assert!(svg.contains("only"));
+        assert!(svg.contains("class=\"plot cap\""));
+        assert!(svg.contains("final 10 episodes, zoomed"));
+        assert_eq!(svg.matches("<g class=\"plot").count(), 3);
     }
 
     #[test]
@@ -766,12 +1378,6 @@ mod tests {
             .unwrap_err();
         assert!(matches!(error, FigureError::NonFiniteReference { .. }));
 
-        let error = LineChart::new("t", "x", "y")
-            .with_series(series("huge", 1, &[vec![1e300], vec![-1e300]]))
-            .render_svg()
-            .unwrap_err();
-        assert!(matches!(error, FigureError::TooLarge { .. }), "{error}");
-
         let error = tiny_chart(0).render_svg().unwrap_err();
         assert!(matches!(error, FigureError::ZeroSmoothingWindow));
 
@@ -785,8 +1391,7 @@ mod tests {
              series with the chart's window"
         );
 
-        // The first bad curve is the one named, whatever comes after it; its seed is its
-        // position among the curves pushed.
+        // The first bad curve is the one named, whatever comes after it.
         let error = LineChart::new("t", "x", "y")
             .with_smoothing(3)
             .with_series(series(
@@ -801,35 +1406,28 @@ mod tests {
             "series \"softmax\": seed 1, episode 1: value inf is not finite"
         );
 
-        let error = tiny_chart(1).with_size(100, 100).render_svg().unwrap_err();
-        assert!(matches!(
-            error,
-            FigureError::TooSmall {
-                width: 100,
-                height: 100
-            }
-        ));
+        let error = tiny_chart(1).with_width(100).render_svg().unwrap_err();
+        assert!(matches!(error, FigureError::TooSmall { width: 100 }));
     }
 
     #[test]
     fn wrap_breaks_at_spaces() {
         assert_eq!(
-            wrap("EA-MADM without trees (table)", 14),
+            wrap("EA-MADM without trees (table)", 120.0, 13.0),
             vec!["EA-MADM", "without trees", "(table)"]
         );
-        assert_eq!(wrap("softmax", 3), vec!["softmax"]);
-        assert_eq!(wrap("a  b", 10), vec!["a b"]);
-        assert!(wrap("", 10).is_empty());
+        assert_eq!(wrap("softmax", 3.0, 13.0), vec!["softmax"]);
+        assert_eq!(wrap("a  b", 100.0, 13.0), vec!["a b"]);
+        assert!(wrap("", 100.0, 13.0).is_empty());
     }
 
     #[test]
-    fn tick_decimals_follow_the_span() {
-        assert_eq!(tick_decimals(1300.0), 0);
-        assert_eq!(tick_decimals(10.0), 0);
-        assert_eq!(tick_decimals(2.0), 1);
-        assert_eq!(tick_decimals(0.05), 3);
-        assert_eq!(tick_decimals(0.0), 0);
-        assert_eq!(tick_decimals(1e-300), 6);
+    fn ticks_are_round() {
+        assert_eq!(tick_step(1300.0, 5.0), 500.0);
+        assert_eq!(tick_step(10.0, 5.0), 2.0);
+        assert_eq!(tick_step(0.05, 5.0), 0.01);
+        assert_eq!(tick_decimals(0.01), 2);
+        assert_eq!(tick_decimals(500.0), 0);
     }
 
     #[test]

@@ -30,6 +30,8 @@ mod claims_report;
 mod cli;
 mod execute;
 mod experiments;
+#[cfg(test)]
+mod figure_checks;
 mod figures;
 mod finish;
 mod fixtures;

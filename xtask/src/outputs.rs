@@ -1,22 +1,26 @@
 //! The figures of an output folder, written atomically: per experiment the SVG charts and the
-//! greedy paths under `<name>/`, collected run by run ([`ExperimentFigures`]) so that no run is
-//! held until the figures are drawn. The CSV tables and the run store are streamed by
+//! greedy paths under `<name>/`, collected run by run ([`ExperimentFigures`]: each seed's
+//! smoothed curves, no run record) and drawn at the end. Every method keeps its look
+//! ([`eamadm::theme`]) in every figure; no figure has more than [`MAX_SERIES`] series (the
+//! ablations and the controls get figures of their own, with EA-MADM in each). The CSV tables and the run store are streamed by
 //! [`crate::finish`].
 
 use std::fmt::Write as _;
 use std::path::Path;
 
+use eamadm::config::Role;
 use eamadm::mazes::{self, Pos, SvgOptions, SvgTrajectory};
-use eamadm::wmr_model::{self, RenderedPath};
+use eamadm::paper::{PaperTask, method_title};
+use eamadm::theme::method_style;
+use eamadm::wmr_model;
 use eamadm::{EpisodeRecord, RobotEpisodeMetrics, RunRecord, TrajectoryRecord, results};
-use nalgebra::Point2;
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
-use eamadm::paper::method_title;
-
 use crate::experiments::PlannedExperiment;
-use crate::figures::{FigureError, LineChart, Series};
+use crate::figures::{
+    FigureError, LineChart, Series, escape, message_svg, px, stroke_attributes, wrapped_text,
+};
 
 /// Episodes of the trailing moving average drawn in the per-episode figures.
 pub(crate) const FIGURE_SMOOTHING: usize = 5;
@@ -47,8 +51,12 @@ struct ReachingChart {
     file: &'static str,
     /// What is drawn, for the title.
     what: &'static str,
-    /// The y axis label.
+    /// The y axis label, with its unit.
     y_label: &'static str,
+    /// The paper's figure.
+    figure: &'static str,
+    /// The metric's lowest value, if bounded.
+    lowest: Option<f64>,
     /// The value of a reaching episode.
     value: fn(&RobotEpisodeMetrics) -> f64,
 }
@@ -59,30 +67,77 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
         file: "average-reward.svg",
         what: "average reward",
         y_label: "average reward (return per second)",
+        figure: "Fig. 13",
+        lowest: None,
         value: |m| m.average_reward,
     },
     ReachingChart {
         file: "reaching-time.svg",
         what: "reaching time",
-        y_label: "time to reach (s)",
+        y_label: "time to reach the target (s)",
+        figure: "Fig. 14",
+        lowest: Some(0.0),
         value: |m| m.time_to_reach.unwrap_or(m.time),
     },
     ReachingChart {
         file: "retention-time.svg",
         what: "retention time",
-        y_label: "retention time (s)",
+        y_label: "retention time in front of obstacles (s)",
+        figure: "Fig. 15",
+        lowest: Some(0.0),
         value: |m| m.retention_time,
     },
 ];
 
+/// The figures written for one experiment: their file names and the Markdown that shows the
+/// key ones in `REPORT.md` ([`gallery`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct WrittenFigures {
+    /// File names under the experiment's folder.
+    pub(crate) files: Vec<String>,
+    /// Markdown: the key figures inline with their captions, then links to the others.
+    pub(crate) gallery: String,
+}
+
+/// Markdown for `REPORT.md`: each figure that has a caption, in the captions' order, as an
+/// inline image (a relative path, so the report shows it wherever the folder is) with its
+/// one-line caption; then links to the other figures.
+pub(crate) fn gallery(task: &str, files: &[String], captions: &[(&str, String)]) -> String {
+    let mut text = String::new();
+    for (file, caption) in captions {
+        if files.iter().any(|f| f == file) {
+            let _ = writeln!(
+                text,
+                "![{}]({task}/{file})\n\n*{caption}*\n",
+                file.trim_end_matches(".svg")
+            );
+        }
+    }
+    let others: Vec<String> = files
+        .iter()
+        .filter(|f| !captions.iter().any(|(c, _)| c == f))
+        .map(|f| format!("[{}]({task}/{f})", f.trim_end_matches(".svg")))
+        .collect();
+    if !others.is_empty() {
+        let _ = writeln!(text, "More figures: {}.\n", others.join(", "));
+    }
+    text
+}
+
+/// The most series in one figure: more cannot be told apart.
+pub(crate) const MAX_SERIES: usize = 8;
+
 /// The figures of one experiment, collected run by run in job order and drawn at the end:
-/// per method the per-episode mean bands of what the charts draw ([`Series`]), and the greedy
-/// evaluation path of its first run. No run is held, so memory does not grow with the seeds.
+/// per method each seed's smoothed curve of what the charts draw ([`Series`]: one number per
+/// seed and episode, what the IQM and its bootstrap band need), and the greedy evaluation
+/// path of its first run. No run record is held.
 pub(crate) struct ExperimentFigures<'a> {
     planned: &'a PlannedExperiment,
     is_robot: bool,
     /// The first run's optimum (the charts' reference line); `None` before the first run.
     optimum: Option<Option<u64>>,
+    /// The step cap: the most steps of any truncated episode seen.
+    step_cap: Option<u64>,
     /// One per method, in the order methods first came.
     methods: Vec<MethodCurves>,
 }
@@ -91,6 +146,8 @@ pub(crate) struct ExperimentFigures<'a> {
 struct MethodCurves {
     /// The method's label.
     method: String,
+    /// Its role in the experiment.
+    role: Role,
     steps: Series,
     task_return: Series,
     /// Robot only: 1 for an episode that reached the target, else 0.
@@ -111,12 +168,25 @@ struct FirstRun {
 }
 
 impl MethodCurves {
-    fn new(record: &RunRecord, is_robot: bool) -> Self {
+    fn new(record: &RunRecord, role: Role, is_robot: bool) -> Self {
         let title = method_title(&record.method);
-        let series = || Series::new(title.clone(), FIGURE_SMOOTHING);
+        let style = method_style(&record.method, role);
+        let series = || {
+            Series::new(
+                record.method.clone(),
+                title.clone(),
+                style,
+                FIGURE_SMOOTHING,
+            )
+        };
+        let mut steps = series();
+        // The per-seed story is the story for the paper's methods: collapses and seeds stuck
+        // at the step cap.
+        steps.per_seed = role == Role::Paper;
         Self {
             method: record.method.clone(),
-            steps: series(),
+            role,
+            steps,
             task_return: series(),
             success: is_robot.then(series),
             reaching: if is_robot {
@@ -139,13 +209,15 @@ impl MethodCurves {
         };
         // step counts far below 2^52
         self.steps.push(&curve(&|e| e.steps as f64));
+        let at_cap: Vec<bool> = record.episodes.iter().map(|e| e.truncated).collect();
+        self.steps.count_at_cap(&at_cap);
         self.task_return.push(&curve(&|e| e.task_return));
         if let Some(success) = &mut self.success {
             success.push(&curve(&|e| f64::from(u8::from(e.reached))));
         }
         for (series, chart) in self.reaching.iter_mut().zip(&REACHING_CHARTS) {
             // The reaching episodes in order; a NaN value is left out like the episodes that
-            // did not reach (the figures have always drawn the non-NaN reaching values).
+            // did not reach (it has no time to draw).
             let reaching: Vec<f64> = record
                 .episodes
                 .iter()
@@ -160,6 +232,47 @@ impl MethodCurves {
     }
 }
 
+/// The paper's figure a figure of `task` is the analogue of: `kind` is `steps`, `return` or
+/// `trajectories`.
+fn paper_figure(task: &str, kind: &str) -> Option<&'static str> {
+    Some(match (PaperTask::from_name(task)?, kind) {
+        (PaperTask::Task1, "trajectories") => "Fig. 6",
+        (PaperTask::Task1, "steps") => "Fig. 7",
+        (PaperTask::Task1, "return") => "Fig. 8",
+        (PaperTask::Task2, "trajectories") => "Fig. 9",
+        (PaperTask::Task2, "steps") => "Fig. 10",
+        (PaperTask::Task2, "return") => "Fig. 11",
+        _ => return None,
+    })
+}
+
+/// `methods` split into figures of at most [`MAX_SERIES`] with EA-MADM (when there is one)
+/// in each, as evenly as possible.
+fn chunks<'m>(
+    ea_madm: Option<&'m MethodCurves>,
+    methods: &[&'m MethodCurves],
+) -> Vec<Vec<&'m MethodCurves>> {
+    if methods.is_empty() {
+        return Vec::new();
+    }
+    let room = MAX_SERIES - usize::from(ea_madm.is_some());
+    let figures = methods.len().div_ceil(room);
+    let size = methods.len().div_ceil(figures);
+    methods
+        .chunks(size)
+        .map(|chunk| ea_madm.into_iter().chain(chunk.iter().copied()).collect())
+        .collect()
+}
+
+/// `name.svg`, or `name-k.svg` when there are several.
+fn numbered(name: &str, index: usize, count: usize) -> String {
+    if count == 1 {
+        format!("{name}.svg")
+    } else {
+        format!("{name}-{}.svg", index + 1)
+    }
+}
+
 impl<'a> ExperimentFigures<'a> {
     /// A collector for the figures of `planned`, without runs.
     pub(crate) fn new(planned: &'a PlannedExperiment) -> Self {
@@ -167,6 +280,7 @@ impl<'a> ExperimentFigures<'a> {
             planned,
             is_robot: planned.experiment.task().scenario().is_some(),
             optimum: None,
+            step_cap: None,
             methods: Vec::new(),
         }
     }
@@ -174,18 +288,30 @@ impl<'a> ExperimentFigures<'a> {
     /// Adds one run (runs come in job order: method by method, seed by seed).
     pub(crate) fn push(&mut self, record: &RunRecord) {
         self.optimum.get_or_insert(record.optimum_steps);
+        let truncated = record
+            .episodes
+            .iter()
+            .filter(|e| e.truncated)
+            .map(|e| e.steps);
+        self.step_cap = self.step_cap.into_iter().chain(truncated).max();
         let index = match self.methods.iter().position(|m| m.method == record.method) {
             Some(index) => index,
             None => {
-                self.methods.push(MethodCurves::new(record, self.is_robot));
+                let role = self
+                    .planned
+                    .config()
+                    .method(&record.method)
+                    .map_or(Role::Paper, |spec| spec.role);
+                self.methods
+                    .push(MethodCurves::new(record, role, self.is_robot));
                 self.methods.len() - 1
             }
         };
         self.methods[index].push(record);
     }
 
-    /// Numbers held per episode and per path point over every series and first run: what the
-    /// collector keeps, which depends on methods and episodes, not on seeds.
+    /// Numbers held over every series and first run: one per seed and episode of each curve
+    /// drawn, and the first run's path per method; no run record.
     #[cfg(test)]
     pub(crate) fn held_size(&self) -> usize {
         self.methods
@@ -195,7 +321,7 @@ impl<'a> ExperimentFigures<'a> {
                     .into_iter()
                     .chain(&m.success)
                     .chain(&m.reaching);
-                series.map(Series::held_episodes).sum::<usize>()
+                series.map(Series::held_numbers).sum::<usize>()
                     + m.first.trajectory.states.len()
                     + m.first.trajectory.positions.len()
             })
@@ -203,15 +329,101 @@ impl<'a> ExperimentFigures<'a> {
     }
 
     /// Writes the SVG figures under `<out>/<name>/` (the experiment's CSV tables are streamed by
-    /// [`crate::finish`]) and returns their file names.
-    pub(crate) fn write(self, out: &Path) -> Result<Vec<String>, OutputError> {
+    /// [`crate::finish`]) and returns their file names and the report's gallery of them.
+    pub(crate) fn write(self, out: &Path) -> Result<WrittenFigures, OutputError> {
         let folder = out.join(&self.planned.name);
-        let mut written = Vec::new();
+        let captions = self.captions();
+        let task = self.planned.name.clone();
+        let mut files = Vec::new();
         for (file, svg) in self.render()? {
             write_atomic(&folder.join(&file), svg.as_bytes())?;
-            written.push(file);
+            files.push(file);
         }
-        Ok(written)
+        let gallery = gallery(&task, &files, &captions);
+        Ok(WrittenFigures { files, gallery })
+    }
+
+    /// One-line captions of the key figures, computed from what they draw: each paper
+    /// method's value at the last episode and the seeds at the step cap there.
+    fn captions(&self) -> Vec<(&'static str, String)> {
+        let planned = self.planned;
+        let paper: Vec<&MethodCurves> = self
+            .methods
+            .iter()
+            .filter(|m| planned.is_paper_method(&m.method))
+            .take(MAX_SERIES)
+            .collect();
+        let ending = |series: fn(&MethodCurves) -> Option<&Series>, decimals: usize| {
+            paper
+                .iter()
+                .filter_map(|m| {
+                    let (value, at_cap) = series(m)?.final_iqm()?;
+                    let cap = if at_cap > 0 {
+                        format!(
+                            " ({at_cap} of {} seeds at the step cap)",
+                            series(m)?.seeds()
+                        )
+                    } else {
+                        String::new()
+                    };
+                    Some(format!(
+                        "{} {value:.decimals$}{cap}",
+                        method_title(&m.method)
+                    ))
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let task = planned.name.as_str();
+        let figure = |kind: &str| {
+            paper_figure(task, kind).map_or_else(String::new, |f| format!(" (analogue of {f})"))
+        };
+        let optimum = self
+            .optimum
+            .flatten()
+            .map_or_else(String::new, |o| format!("; optimum {o}"));
+        let mut captions = vec![
+            (
+                "steps.svg",
+                format!(
+                    "Steps per episode{}, IQM over seeds of the {FIGURE_SMOOTHING}-episode moving average at the last episode: {}{optimum}.",
+                    figure("steps"),
+                    ending(|m| Some(&m.steps), 0)
+                ),
+            ),
+            (
+                "return.svg",
+                format!(
+                    "Return per episode{}, IQM over seeds of the {FIGURE_SMOOTHING}-episode moving average at the last episode: {}.",
+                    figure("return"),
+                    ending(|m| Some(&m.task_return), 0)
+                ),
+            ),
+        ];
+        if self.is_robot {
+            captions.insert(
+                0,
+                (
+                    "success.svg",
+                    format!(
+                        "Share of episodes that reached the target, IQM over seeds of the \
+                         {FIGURE_SMOOTHING}-episode moving average at the last episode: {}.",
+                        ending(|m| m.success.as_ref(), 2)
+                    ),
+                ),
+            );
+        }
+        let unreached = paper.iter().filter(|m| !m.first.reached).count();
+        captions.push((
+            "trajectories.svg",
+            format!(
+                "Greedy paths of each method's first seed{}: {} of {} reach the target.",
+                figure("trajectories"),
+                paper.len() - unreached,
+                paper.len()
+            ),
+        ));
+        captions
     }
 
     /// The figures: file name and SVG text (none without runs).
@@ -220,78 +432,138 @@ impl<'a> ExperimentFigures<'a> {
         if self.methods.is_empty() {
             return Ok(Vec::new());
         }
-        let is_paper = |m: &&MethodCurves| planned.is_paper_method(&m.method);
-        let main: Vec<&MethodCurves> = self.methods.iter().filter(is_paper).collect();
-        let shown = if main.is_empty() {
-            self.methods.iter().collect()
-        } else {
-            main
+        let of_role = |role: Role| -> Vec<&MethodCurves> {
+            self.methods.iter().filter(|m| m.role == role).collect()
         };
-        let ablations: Vec<&MethodCurves> = self
+        let paper: Vec<&MethodCurves> = self
             .methods
             .iter()
-            .filter(|m| m.method == "ea-madm" || !planned.is_paper_method(&m.method))
+            .filter(|m| planned.is_paper_method(&m.method))
             .collect();
+        let shown: Vec<&MethodCurves> = if paper.is_empty() {
+            self.methods.iter().take(MAX_SERIES).collect()
+        } else {
+            paper.into_iter().take(MAX_SERIES).collect()
+        };
+        let ea_madm = self.methods.iter().find(|m| m.method == "ea-madm");
         let is_robot = self.is_robot;
         // optimum far below 2^52
         let reference = self.optimum.flatten().map(|optimum| {
             let source = if is_robot { "planner" } else { "BFS" };
-            (format!("{source} optimum = {optimum}"), optimum as f64)
+            (
+                format!("{source} optimum = {optimum} steps"),
+                optimum as f64,
+            )
         });
         let title = &planned.title;
-        let smoothing =
-            format!("(mean over seeds, 95% CI; {FIGURE_SMOOTHING}-episode moving average)");
-        let of = |methods: &[&MethodCurves], series: fn(&MethodCurves) -> &Series| {
-            methods.iter().map(|&m| series(m).clone()).collect()
+        let task = planned.name.as_str();
+        let cap_text = self.step_cap.map_or_else(
+            || "seeds whose episode hit the step cap".to_owned(),
+            |cap| format!("seeds whose episode hit the step cap ({cap} steps)"),
+        );
+        let steps_range = (Some(0.0), self.step_cap.map(|cap| cap as f64));
+        let analogue = |kind: &str| {
+            paper_figure(task, kind)
+                .map_or_else(String::new, |f| format!("Analogue of the paper's {f}. "))
         };
-        let mut figures = vec![
+        let longest = self
+            .methods
+            .iter()
+            .map(|m| m.task_return.curves_len())
+            .max()
+            .unwrap_or(0);
+        // The end of training, zoomed: the final fifth of the episodes, at least 10.
+        let zoom = (longest / 5).max(10);
+        let steps_chart = |methods: &[&MethodCurves], subtitle: String| {
+            let mut chart = LineChart::new(
+                format!("{title}: steps per episode"),
+                "episode",
+                "steps per episode",
+            )
+            .with_subtitle(subtitle)
+            .with_smoothing(FIGURE_SMOOTHING)
+            .with_metric_range(steps_range.0, steps_range.1)
+            .with_cap_panel(cap_text.clone())
+            .with_final_zoom(zoom);
+            for m in methods {
+                chart = chart.with_series(m.steps.clone());
+            }
+            if let Some((label, y)) = &reference {
+                chart = chart.with_reference_line(label.clone(), *y);
+            }
+            chart.render_svg()
+        };
+        let mut figures = vec![(
+            "steps.svg".to_owned(),
+            steps_chart(
+                &shown,
+                format!(
+                    "{}EA-MADM and the paper's competitors; thin lines show every seed, so \
+                     collapses and seeds at the step cap stay visible; the right panel zooms \
+                     on the end of training.",
+                    analogue("steps")
+                ),
+            )?,
+        )];
+        let mut return_chart = LineChart::new(
+            format!("{title}: return per episode"),
+            "episode",
+            "return per episode (task reward)",
+        )
+        .with_subtitle(format!(
+            "{}EA-MADM and the paper's competitors; the right panel zooms on the end of training.",
+            analogue("return")
+        ))
+        .with_smoothing(FIGURE_SMOOTHING)
+        .with_final_zoom(zoom);
+        for m in &shown {
+            return_chart = return_chart.with_series(m.task_return.clone());
+        }
+        figures.push(("return.svg".to_owned(), return_chart.render_svg()?));
+
+        for (role, name, what) in [
             (
-                "steps.svg".to_owned(),
-                chart(
-                    format!("{title}: steps per episode {smoothing}"),
-                    "steps",
-                    of(&shown, |m| &m.steps),
-                    reference.clone(),
-                )?,
+                Role::Ablation,
+                "ablations-steps",
+                "EA-MADM and its ablations (dashed)",
             ),
             (
-                "return.svg".to_owned(),
-                chart(
-                    format!("{title}: return per episode {smoothing}"),
-                    "return",
-                    of(&shown, |m| &m.task_return),
-                    None,
-                )?,
+                Role::Control,
+                "controls-steps",
+                "EA-MADM and controls the paper does not run (dotted)",
             ),
-        ];
-        let has_ea_madm = ablations.iter().any(|m| m.method == "ea-madm");
-        if ablations.len() > 1 || (ablations.len() == 1 && !has_ea_madm) {
-            figures.push((
-                "ablations-steps.svg".to_owned(),
-                chart(
-                    format!("{title}: EA-MADM and its ablations, steps per episode {smoothing}"),
-                    "steps",
-                    of(&ablations, |m| &m.steps),
-                    reference,
-                )?,
-            ));
+        ] {
+            let groups = chunks(ea_madm, &of_role(role));
+            let count = groups.len();
+            for (index, group) in groups.iter().enumerate() {
+                let part = if count > 1 {
+                    format!(", part {} of {count}", index + 1)
+                } else {
+                    String::new()
+                };
+                figures.push((
+                    numbered(name, index, count),
+                    steps_chart(group, format!("{what}{part}."))?,
+                ));
+            }
         }
         if is_robot {
             // The robot's first figure is success per episode: with no success, more steps
             // only means surviving longer.
-            let success = shown.iter().filter_map(|m| m.success.clone()).collect();
-            figures.insert(
-                0,
-                (
-                    "success.svg".to_owned(),
-                    chart(
-                        format!("{title}: success per episode"),
-                        "share of seeds that reached the target",
-                        success,
-                        None,
-                    )?,
-                ),
-            );
+            let mut chart = LineChart::new(
+                format!("{title}: success per episode"),
+                "episode",
+                "share of episodes that reached the target",
+            )
+            .with_subtitle("1 if the episode reached the target, else 0, per seed.")
+            .with_smoothing(FIGURE_SMOOTHING)
+            .with_metric_range(Some(0.0), Some(1.0));
+            for m in &shown {
+                if let Some(success) = &m.success {
+                    chart = chart.with_series(success.clone());
+                }
+            }
+            figures.insert(0, ("success.svg".to_owned(), chart.render_svg()?));
             // Fig. 13–15 plot "episodes that are to reach the target": x is the
             // reaching-episode index, each seed contributing its own reaching episodes in
             // order.
@@ -302,223 +574,413 @@ impl<'a> ExperimentFigures<'a> {
                     .collect();
                 figures.push((
                     reaching.file.to_owned(),
-                    reaching_chart(
-                        &format!("{title}: {} over reaching episodes", reaching.what),
-                        reaching.y_label,
-                        series,
-                    )?,
+                    reaching_chart(title, reaching, series)?,
                 ));
             }
         }
-        if let Some(svg) = trajectory_figure(planned, &shown) {
-            figures.push(("trajectories.svg".to_owned(), svg));
-        }
+        figures.push((
+            "trajectories.svg".to_owned(),
+            match trajectory_figure(planned, &shown, &analogue("trajectories")) {
+                Some(svg) => svg,
+                None => return Ok(figures),
+            },
+        ));
         Ok(figures)
     }
 }
 
-/// A chart of one per-episode quantity, one series per method.
-fn chart(
-    title: String,
-    y_label: &str,
-    series: Vec<Series>,
-    reference: Option<(String, f64)>,
-) -> Result<String, FigureError> {
-    let mut chart = LineChart::new(title, "episode", y_label).with_smoothing(FIGURE_SMOOTHING);
-    for series in series {
-        chart = chart.with_series(series);
-    }
-    if let Some((label, y)) = reference {
-        chart = chart.with_reference_line(label, y);
-    }
-    chart.render_svg()
-}
-
 /// A chart of one robot metric over *reaching* episodes (x = the n-th episode of a seed that
 /// reached the target; seeds with fewer reaching episodes drop out to the right), from each
-/// method's label and series. Methods that never reach are not drawn; the title names them.
+/// method's label and series. Methods that never reach are not drawn; the subtitle names them.
 fn reaching_chart(
     title: &str,
-    y_label: &str,
+    reaching: &ReachingChart,
     series: Vec<(&str, Series)>,
 ) -> Result<String, FigureError> {
     let mut never = Vec::new();
-    let mut chart =
-        LineChart::new(String::new(), "reaching episode", y_label).with_smoothing(FIGURE_SMOOTHING);
-    let mut drawn = 0;
-    for (method, mut reaching) in series {
-        let seeds = reaching.seeds();
+    let mut chart = LineChart::new(
+        format!("{title}: {} over reaching episodes", reaching.what),
+        "reaching episode (the n-th episode of a seed that reached the target)",
+        reaching.y_label,
+    )
+    .with_smoothing(FIGURE_SMOOTHING)
+    .with_metric_range(reaching.lowest, None);
+    for (method, mut series) in series {
+        let seeds = series.seeds();
         if seeds == 0 {
             never.push(method_title(method));
         } else {
-            reaching.name = format!(
-                "{} ({seeds} seed{})",
+            series.name = format!(
+                "{} ({seeds} seed{} reached)",
                 method_title(method),
                 if seeds == 1 { "" } else { "s" }
             );
-            chart = chart.with_series(reaching);
-            drawn += 1;
+            chart = chart.with_series(series);
         }
     }
-    chart.title = if never.is_empty() {
-        format!("{title} (mean over reaching seeds, 95% CI)")
+    let never_text = if never.is_empty() {
+        String::new()
     } else {
-        format!("{title}; never reached: {}", never.join(", "))
+        format!(" Never reached the target: {}.", never.join(", "))
     };
-    if drawn == 0 {
-        // Nothing reached: the chart says so and draws no data (a single point draws no line;
-        // a chart without any series would be an error).
-        chart.title = format!(
-            "{}: no method reached the target",
-            title.split(':').next().unwrap_or(title)
-        );
-        let mut nothing = Series::new("no method reached the target", FIGURE_SMOOTHING);
-        nothing.push(&[0.0]);
-        chart = chart.with_series(nothing);
+    chart.subtitle = format!(
+        "Analogue of the paper's {}: over the seeds that reached the target at least n times.{never_text}",
+        reaching.figure
+    );
+    if chart.series.is_empty() {
+        return Ok(message_svg(
+            &chart.title,
+            &format!("No method reached the target.{never_text}"),
+            chart.width,
+        ));
     }
     chart.render_svg()
 }
 
-/// The greedy evaluation path of each method's first seed, drawn on the maze or the robot's
-/// arena (the analogue of Fig. 6 and 9).
-fn trajectory_figure(planned: &PlannedExperiment, methods: &[&MethodCurves]) -> Option<String> {
+/// The greedy evaluation path of each method's first seed (the analogue of Fig. 6 and 9, and
+/// of the robot's paths): on a maze one panel per method with the tiles it visits more than
+/// once shaded by their number of visits, so a looping policy shows as a dark patch with its
+/// count; on the robot's arena every path in its method's colour.
+fn trajectory_figure(
+    planned: &PlannedExperiment,
+    methods: &[&MethodCurves],
+    analogue: &str,
+) -> Option<String> {
     let task = planned.experiment.task();
+    let title = format!("{}: greedy paths after training", planned.title);
     if let Some(maze) = task.maze() {
-        let paths: Vec<(String, Vec<Pos>)> = methods
-            .iter()
-            .map(|m| {
-                let path = m
-                    .first
-                    .trajectory
-                    .states
-                    .iter()
-                    .filter_map(|&s| maze.pos_of(s))
-                    .collect();
-                (
-                    format!(
-                        "{} (seed {}, greedy{})",
-                        method_title(&m.method),
-                        m.first.seed,
-                        if m.first.reached {
-                            ""
-                        } else {
-                            ", target not reached"
-                        }
-                    ),
-                    path,
-                )
-            })
-            .collect();
-        let trajectories: Vec<SvgTrajectory<'_>> = paths
-            .iter()
-            .map(|(label, path)| SvgTrajectory {
-                label,
-                path,
-                color: None,
-            })
-            .collect();
-        let options = SvgOptions {
-            title: Some(format!("{}: greedy paths after training", planned.title)),
-            ..SvgOptions::default()
-        };
-        return Some(mazes::render_svg(maze, &trajectories, &options));
+        return Some(maze_trajectories(maze, methods, &title, analogue));
     }
     let scenario = task.scenario()?;
-    let paths: Vec<(String, Vec<Point2<f64>>)> = methods
+    Some(robot_trajectories(scenario, methods, &title, analogue))
+}
+
+/// Side of a maze tile in the trajectory panels, in pixels.
+const TILE_PX: u32 = 12;
+/// Margin `mazes::render_svg` leaves around the grid without a title: `max(tile, 12)`.
+const MAZE_MARGIN: f64 = 12.0;
+
+/// One method's maze panel: its caption, its path and its visits per tile.
+type PathPanel = (String, Vec<Pos>, Vec<(Pos, u64)>);
+
+/// How a path visits tiles: per tile its visits, in first-visit order.
+fn visits(path: &[Pos]) -> Vec<(Pos, u64)> {
+    let mut counts: Vec<(Pos, u64)> = Vec::new();
+    for &pos in path {
+        match counts.iter_mut().find(|(p, _)| *p == pos) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((pos, 1)),
+        }
+    }
+    counts
+}
+
+/// One line about a greedy path: steps, distinct tiles, the most-visited tile.
+fn path_summary(first: &FirstRun, visits: &[(Pos, u64)]) -> String {
+    let most = visits.iter().map(|(_, n)| *n).max().unwrap_or(0);
+    let outcome = if first.reached {
+        "reached the target"
+    } else {
+        "target not reached"
+    };
+    if most > 2 {
+        format!(
+            "seed {}: {} steps over {} tile{}, loops (a tile visited {most}×); {outcome}",
+            first.seed,
+            first.steps,
+            visits.len(),
+            if visits.len() == 1 { "" } else { "s" }
+        )
+    } else {
+        format!("seed {}: {} steps; {outcome}", first.seed, first.steps)
+    }
+}
+
+fn maze_trajectories(
+    maze: &mazes::Maze,
+    methods: &[&MethodCurves],
+    title: &str,
+    analogue: &str,
+) -> String {
+    let panel_w = f64::from(TILE_PX) * maze.width() as f64 + 2.0 * MAZE_MARGIN;
+    let panel_h = f64::from(TILE_PX) * maze.height() as f64 + 2.0 * MAZE_MARGIN + 18.0;
+    let columns = methods.len().clamp(1, 2);
+    let rows = methods.len().div_ceil(columns).max(1);
+    let gap = 16.0;
+    let width = (PAD + columns as f64 * (panel_w + gap)).max(600.0).ceil();
+    let mut body = String::new();
+    let mut y = wrapped_text(
+        &mut body,
+        (width / 2.0, PAD - 4.0),
+        width - 2.0 * PAD,
+        18.0,
+        "middle",
+        "#111111",
+        title,
+    );
+    y = wrapped_text(
+        &mut body,
+        (width / 2.0, y),
+        width - 2.0 * PAD,
+        13.0,
+        "middle",
+        "#444444",
+        &format!(
+            "{analogue}Greedy evaluation of each method's first seed after training; a tile \
+             visited more than once is shaded by its visits (darker: more), so a loop shows."
+        ),
+    );
+    let top = y + 10.0;
+    let summaries: Vec<PathPanel> = methods
         .iter()
         .map(|m| {
-            let points = m
+            let path: Vec<Pos> = m
                 .first
                 .trajectory
-                .positions
+                .states
                 .iter()
-                .map(|&[x, y]| Point2::new(x, y))
+                .filter_map(|&s| maze.pos_of(s))
                 .collect();
-            let outcome = if m.first.reached {
-                "reached the target"
-            } else {
-                "target not reached"
-            };
-            (
-                format!(
-                    "{} (seed {}, greedy, {} steps, {outcome})",
-                    method_title(&m.method),
-                    m.first.seed,
-                    m.first.steps
-                ),
-                points,
-            )
+            let counts = visits(&path);
+            let caption = format!(
+                "{}, {}",
+                method_title(&m.method),
+                path_summary(&m.first, &counts)
+            );
+            (caption, path, counts)
         })
         .collect();
-    let rendered: Vec<RenderedPath<'_>> = paths
+    // Room for the longest caption above every panel, each as wide as its column.
+    let caption_w = panel_w.max((width - PAD) / columns as f64 - gap);
+    let lines = summaries
         .iter()
-        .map(|(label, points)| RenderedPath { points, label })
-        .collect();
-    let arena = wmr_model::render_svg(scenario, &rendered);
-    let legend: Vec<(&str, &str)> = paths
-        .iter()
-        .enumerate()
-        .map(|(index, (label, _))| {
-            (
-                label.as_str(),
-                wmr_model::render::PATH_COLOURS[index % wmr_model::render::PATH_COLOURS.len()],
-            )
-        })
-        .collect();
-    Some(titled_with_legend(
-        &arena,
-        &format!("{}: greedy paths after training", planned.title),
-        &legend,
-    ))
-}
-
-/// Height of the title band and of one legend line, in pixels.
-const BAND_PX: u32 = 24;
-
-/// `inner` (an SVG document without a title or legend, such as `wmr_model::render_svg`'s)
-/// nested in a document with `title` above it and a legend of (label, colour) below.
-fn titled_with_legend(inner: &str, title: &str, legend: &[(&str, &str)]) -> String {
-    let attribute = |name: &str| -> u32 {
-        let pattern = format!("{name}=\"");
-        inner
-            .find(&pattern)
-            .and_then(|start| {
-                let rest = &inner[start + pattern.len()..];
-                rest[..rest.find('"')?].parse().ok()
-            })
-            .unwrap_or(520)
-    };
-    let (width, height) = (attribute("width"), attribute("height"));
-    let legend_top = BAND_PX + height + BAND_PX / 2;
-    let total = legend_top + BAND_PX * u32::try_from(legend.len()).unwrap_or(0) + BAND_PX / 2;
-    let escape = |text: &str| {
-        text.replace('&', "&amp;")
-            .replace('<', "&lt;")
-            .replace('>', "&gt;")
-    };
-    let mut svg = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{total}\" \
-         viewBox=\"0 0 {width} {total}\" font-family=\"sans-serif\">\n\
-         <rect width=\"{width}\" height=\"{total}\" fill=\"white\"/>\n\
-         <text x=\"{}\" y=\"17\" font-size=\"15\" text-anchor=\"middle\">{}</text>\n\
-         <svg x=\"0\" y=\"{BAND_PX}\"{}\n",
-        width / 2,
-        escape(title),
-        inner.strip_prefix("<svg").unwrap_or(inner),
-    );
-    for (index, (label, colour)) in legend.iter().enumerate() {
-        let y = legend_top + BAND_PX * u32::try_from(index).unwrap_or(0) + BAND_PX / 2;
-        let _ = writeln!(
-            svg,
-            "<line x1=\"12\" y1=\"{y}\" x2=\"40\" y2=\"{y}\" stroke=\"{colour}\" \
-             stroke-width=\"3\"/><text x=\"48\" y=\"{}\" font-size=\"13\">{}</text>",
-            y + 4,
-            escape(label)
+        .map(|(caption, ..)| crate::figures::wrap(caption, caption_w, 13.0).len())
+        .max()
+        .unwrap_or(1);
+    let caption_lines = lines as f64 * 13.0 * 1.25 + 8.0;
+    for (index, (m, (caption, path, counts))) in methods.iter().zip(&summaries).enumerate() {
+        let style = method_style(&m.method, m.role);
+        let x0 = PAD + (index % columns) as f64 * (panel_w + gap);
+        let y0 = top + (index / columns) as f64 * (panel_h + caption_lines + gap);
+        wrapped_text(
+            &mut body,
+            (x0, y0 - 4.0),
+            caption_w,
+            13.0,
+            "start",
+            "#111111",
+            caption,
         );
+        let label = method_title(&m.method);
+        let inner = mazes::render_svg(
+            maze,
+            &[SvgTrajectory {
+                label: &label,
+                path,
+                color: Some(style.colour),
+            }],
+            &SvgOptions {
+                tile_px: TILE_PX,
+                title: None,
+                ..SvgOptions::default()
+            },
+        );
+        let panel_top = y0 + caption_lines - 8.0;
+        let _ = writeln!(
+            body,
+            "<svg x=\"{}\" y=\"{}\"{}",
+            px(x0),
+            px(panel_top),
+            inner.trim_end().strip_prefix("<svg").unwrap_or(&inner)
+        );
+        let most = counts.iter().map(|(_, n)| *n).max().unwrap_or(1).max(2);
+        let _ = writeln!(
+            body,
+            "<g class=\"path\" data-method=\"{}\" stroke=\"{}\">",
+            escape(&m.method),
+            style.colour
+        );
+        for (pos, n) in counts.iter().filter(|(_, n)| *n > 1) {
+            // Opacity grows with the logarithm of the visits: 2 visits are faint, the most
+            // visited tile is nearly solid.
+            let opacity = 0.2 + 0.6 * (*n as f64).ln() / (most as f64).ln();
+            let _ = writeln!(
+                body,
+                "<rect class=\"visits\" x=\"{}\" y=\"{}\" width=\"{TILE_PX}\" height=\"{TILE_PX}\" \
+                 fill=\"{}\" fill-opacity=\"{opacity:.2}\" stroke=\"none\"><title>{n} visits</title></rect>",
+                px(x0 + MAZE_MARGIN + f64::from(TILE_PX) * pos.x as f64),
+                px(panel_top + MAZE_MARGIN + f64::from(TILE_PX) * pos.y as f64),
+                style.colour
+            );
+        }
+        body.push_str("</g>\n");
+        // The loop's count beside its most visited tile, inside the panel.
+        if let Some((pos, n)) = counts
+            .iter()
+            .max_by_key(|(_, n)| *n)
+            .filter(|(_, n)| *n > 2)
+        {
+            let tile = f64::from(TILE_PX);
+            let x = x0 + MAZE_MARGIN + tile * pos.x as f64;
+            let y = panel_top + MAZE_MARGIN + tile * pos.y as f64 + tile * 0.8;
+            let (x, anchor) = if pos.x * 2 < maze.width() {
+                (x + tile + 3.0, "start")
+            } else {
+                (x - 3.0, "end")
+            };
+            let _ = writeln!(
+                body,
+                "<text x=\"{}\" y=\"{}\" font-size=\"12\" font-weight=\"bold\" text-anchor=\"{anchor}\" \
+                 fill=\"{}\" stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\">{n}×</text>",
+                px(x),
+                px(y),
+                style.colour
+            );
+        }
     }
-    svg.push_str("</svg>\n");
-    svg
+    let bottom = top + rows as f64 * (panel_h + caption_lines + gap);
+    let height = (bottom + PAD).ceil();
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" \
+         viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\">\n<title>{}</title>\n\
+         <rect width=\"{width}\" height=\"{height}\" fill=\"white\"/>\n{body}</svg>\n",
+        escape(title)
+    )
 }
+
+/// An attribute's value in the first tag of `svg`.
+fn attribute<'s>(svg: &'s str, name: &str) -> Option<&'s str> {
+    let pattern = format!(" {name}=\"");
+    let start = svg.find(&pattern)? + pattern.len();
+    let rest = &svg[start..];
+    Some(&rest[..rest.find('"')?])
+}
+
+fn robot_trajectories(
+    scenario: &wmr_model::Scenario,
+    methods: &[&MethodCurves],
+    title: &str,
+    analogue: &str,
+) -> String {
+    let arena = wmr_model::render_svg(scenario, &[]);
+    let arena_w: f64 = attribute(&arena, "width")
+        .and_then(|w| w.parse().ok())
+        .unwrap_or(520.0);
+    let arena_h: f64 = attribute(&arena, "height")
+        .and_then(|h| h.parse().ok())
+        .unwrap_or(520.0);
+    let view_box = attribute(&arena, "viewBox")
+        .unwrap_or("0 0 520 520")
+        .to_owned();
+    let width = (arena_w + 2.0 * PAD).max(700.0).ceil();
+    let mut body = String::new();
+    let mut y = wrapped_text(
+        &mut body,
+        (width / 2.0, PAD - 4.0),
+        width - 2.0 * PAD,
+        18.0,
+        "middle",
+        "#111111",
+        title,
+    );
+    y = wrapped_text(
+        &mut body,
+        (width / 2.0, y),
+        width - 2.0 * PAD,
+        13.0,
+        "middle",
+        "#444444",
+        &format!(
+            "{analogue}Greedy evaluation of each method's first seed after training; a dot marks where each path ends."
+        ),
+    );
+    let top = y + 8.0;
+    let left = ((width - arena_w) / 2.0).floor();
+    let _ = writeln!(
+        body,
+        "<svg x=\"{left}\" y=\"{}\"{}",
+        px(top),
+        arena.trim_end().strip_prefix("<svg").unwrap_or(&arena)
+    );
+    let _ = writeln!(
+        body,
+        "<svg x=\"{left}\" y=\"{}\" width=\"{arena_w}\" height=\"{arena_h}\" viewBox=\"{view_box}\">",
+        px(top)
+    );
+    let metres = |v: f64| (v * wmr_model::render::PIXELS_PER_METRE * 10.0).round() / 10.0;
+    let mut order: Vec<&&MethodCurves> = methods.iter().collect();
+    order.sort_by_key(|m| m.method == "ea-madm");
+    for m in &order {
+        let style = method_style(&m.method, m.role);
+        let points: Vec<String> = m
+            .first
+            .trajectory
+            .positions
+            .iter()
+            .map(|&[x, y]| format!("{},{}", metres(x), metres(-y)))
+            .collect();
+        let _ = writeln!(
+            body,
+            "<polyline class=\"path\" data-method=\"{}\" fill=\"none\" {} stroke-width=\"2.5\" points=\"{}\"/>",
+            escape(&m.method),
+            stroke_attributes(&style),
+            points.join(" ")
+        );
+        if let Some(&[x, y]) = m.first.trajectory.positions.last() {
+            let _ = writeln!(
+                body,
+                "<circle cx=\"{}\" cy=\"{}\" r=\"6\" fill=\"{}\"/>",
+                metres(x),
+                metres(-y),
+                style.colour
+            );
+        }
+    }
+    body.push_str("</svg>\n");
+    let mut y = top + arena_h + 10.0;
+    for m in methods {
+        let style = method_style(&m.method, m.role);
+        let outcome = if m.first.reached {
+            "reached the target"
+        } else {
+            "target not reached"
+        };
+        let label = format!(
+            "{}: seed {}, {} steps, {outcome}",
+            method_title(&m.method),
+            m.first.seed,
+            m.first.steps
+        );
+        let _ = writeln!(
+            body,
+            "<line class=\"sample\" data-method=\"{}\" x1=\"{PAD}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" {} stroke-width=\"3\"/>",
+            escape(&m.method),
+            px(y + 8.0),
+            px(PAD + 30.0),
+            px(y + 8.0),
+            stroke_attributes(&style)
+        );
+        y = wrapped_text(
+            &mut body,
+            (PAD + 38.0, y - 4.0),
+            width - 2.0 * PAD - 38.0,
+            13.0,
+            "start",
+            "#111111",
+            &label,
+        ) + 6.0;
+    }
+    let height = (y + PAD).ceil();
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" \
+         viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\">\n<title>{}</title>\n\
+         <rect width=\"{width}\" height=\"{height}\" fill=\"white\"/>\n{body}</svg>\n",
+        escape(title)
+    )
+}
+
+/// Padding of the trajectory figures, in pixels.
+const PAD: f64 = 12.0;
 
 #[cfg(test)]
 mod tests {
@@ -568,19 +1030,22 @@ epsilon = {{ constant = 0.1 }}
         figures
     }
 
-    /// The memory law of the figures: what the collector holds is a function of the methods and
-    /// the episodes (and each method's first path), not of the number of seeds.
+    /// The memory law of the figures: the collector holds one number per seed and episode of
+    /// each curve it draws (and each method's first path), so it grows linearly with the seeds
+    /// and holds no run record.
     #[test]
-    fn the_collector_holds_the_same_for_two_seeds_and_for_twelve() {
-        let few = planned(2);
+    fn the_collector_grows_linearly_with_the_seeds() {
+        let held = |seeds: u64| {
+            let planned = planned(seeds);
+            let runs = planned.experiment.run_all().unwrap();
+            collect(&planned, &runs).held_size()
+        };
+        let (two, three, twelve) = (held(2), held(3), held(12));
+        assert!(two > 0);
+        assert_eq!(twelve - two, 10 * (three - two));
         let many = planned(12);
-        let few_runs = few.experiment.run_all().unwrap();
         let many_runs = many.experiment.run_all().unwrap();
-        let few_figures = collect(&few, &few_runs);
-        let many_figures = collect(&many, &many_runs);
-        assert!(few_figures.held_size() > 0);
-        assert_eq!(few_figures.held_size(), many_figures.held_size());
-        let files: Vec<String> = many_figures
+        let files: Vec<String> = collect(&many, &many_runs)
             .render()
             .unwrap()
             .into_iter()
@@ -591,10 +1056,59 @@ epsilon = {{ constant = 0.1 }}
             [
                 "steps.svg",
                 "return.svg",
-                "ablations-steps.svg",
+                "controls-steps.svg",
                 "trajectories.svg"
             ]
         );
+    }
+
+    /// A greedy path that stays on the start tile shades exactly the start tile of the maze
+    /// drawn beneath, and its count is written beside it.
+    #[test]
+    fn a_loop_is_shaded_on_its_tile_and_counted() {
+        let planned = planned(1);
+        let mut runs = planned.experiment.run_all().unwrap();
+        let start = runs[0].evaluation_trajectory.states[0];
+        runs[0].evaluation_trajectory.states = vec![start; 6];
+        runs[0].evaluation.steps = 5;
+        let figures = collect(&planned, &runs);
+        let maze = planned.experiment.task().maze().unwrap();
+        let first: Vec<&MethodCurves> = figures.methods.iter().take(1).collect();
+        let svg = maze_trajectories(maze, &first, "t", "");
+        assert!(svg.contains(">6×</text>"), "{svg}");
+        assert!(svg.contains("over 1 tile, loops (a tile visited"), "{svg}");
+        let number = |text: &str, key: &str| -> f64 {
+            let start = text.find(key).unwrap() + key.len();
+            text[start..].split('"').next().unwrap().parse().unwrap()
+        };
+        // The nested maze's offset plus its start tile's position…
+        let nested = &svg[svg.find("<svg x=").unwrap()..];
+        let (dx, dy) = (number(nested, "<svg x=\""), number(nested, "\" y=\""));
+        let fill = nested.find("fill=\"#7fc97f\"").unwrap();
+        let tile = &nested[nested[..fill].rfind("<rect").unwrap()..];
+        let tile = &tile[..tile.find("/>").unwrap()];
+        let (tx, ty) = (number(tile, " x=\""), number(tile, " y=\""));
+        // …is where the visits are shaded.
+        let shade = &svg[svg.find("class=\"visits\"").unwrap()..];
+        assert_eq!(
+            (number(shade, " x=\""), number(shade, " y=\"")),
+            (dx + tx, dy + ty)
+        );
+    }
+
+    #[test]
+    fn methods_are_split_into_figures_of_at_most_eight() {
+        let planned = planned(1);
+        let runs = planned.experiment.run_all().unwrap();
+        let figures = collect(&planned, &runs);
+        let one = &figures.methods[0];
+        let many: Vec<&MethodCurves> = std::iter::repeat_n(one, 10).collect();
+        let sizes: Vec<usize> = chunks(Some(one), &many).iter().map(Vec::len).collect();
+        assert_eq!(sizes, [6, 6]);
+        let sizes: Vec<usize> = chunks(None, &many[..8]).iter().map(Vec::len).collect();
+        assert_eq!(sizes, [8]);
+        assert!(chunks(Some(one), &[]).is_empty());
+        assert_eq!(numbered("controls-steps", 1, 2), "controls-steps-2.svg");
     }
 
     /// A non-finite value fails the figure that draws it, naming the series, the seed among
