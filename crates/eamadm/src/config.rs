@@ -93,7 +93,9 @@ pub struct ExperimentConfig {
 /// `scenario = "default"` (the embedded analogue of the paper's Fig. 12) or the path of a
 /// scenario TOML file (see [`wmr_model::Scenario`]), whose own `step_cap` (500 by default) an
 /// optional `step_cap` here overrides, and whose `state.target_bins` (7 by default; 0 is the
-/// paper's literal state) an optional `target_bins` here overrides.
+/// paper's literal state) an optional `target_bins` here overrides; so do the optional
+/// `control_period`, `reach_radius` and `distance_bins` (the settings the paper leaves open,
+/// chosen by the sweep in docs/paper-notes.md §8.5).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 #[non_exhaustive]
@@ -137,6 +139,18 @@ pub enum TaskConfig {
         /// scenario, 0 = the paper's literal state); the scenario's when absent.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         target_bins: Option<u32>,
+        /// Control period Δt in seconds (`control_period` of the scenario); the scenario's
+        /// when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        control_period: Option<f64>,
+        /// Radius round the target within which the robot's centre has reached it
+        /// (`target.reach_radius` of the scenario, m); the scenario's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reach_radius: Option<f64>,
+        /// `N_D`, the bins over the distance to the target (`state.distance_bins` of the
+        /// scenario); the scenario's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        distance_bins: Option<u32>,
     },
 }
 

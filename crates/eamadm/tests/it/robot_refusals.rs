@@ -24,6 +24,9 @@ fn robot_config(
         scenario,
         step_cap,
         target_bins,
+        control_period: None,
+        reach_radius: None,
+        distance_bins: None,
     };
     config
 }
