@@ -23,6 +23,7 @@
 //! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
 //!
 //! # A first experiment
 //!
@@ -166,6 +167,7 @@ pub mod agent;
 pub mod behaviour;
 pub mod claims;
 pub mod config;
+pub mod diagnosis;
 pub mod error;
 pub mod paper;
 pub mod pretrain;
@@ -188,6 +190,7 @@ pub use config::{
     PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role, Storage,
     SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, is_safe_slug, read_input_file,
 };
+pub use diagnosis::{SubtaskDiagnosis, subtask_diagnosis};
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};
 pub use prior::{PriorTable, build_prior};
