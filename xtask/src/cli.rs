@@ -111,7 +111,10 @@ pub(crate) struct ReproduceArgs {
     /// epsilon-greedy, epsilon-decreasing, softmax, the ablations ea-madm-table,
     /// ea-madm-uniform, ea-madm-literal, ea-madm-distance, and the maze tasks' controls
     /// subtask0-alone, subtask1-alone, COMPETITOR-budget, COMPETITOR-shaped,
-    /// ea-madm-tau0.5, ea-madm-tau0.33.
+    /// ea-madm-tau0.5, ea-madm-tau0.33; the robot's repaired readings ea-madm-goal-bonus,
+    /// ea-madm-end-penalties, ea-madm-normalised, ea-madm-repaired, COMPETITOR-shaped-repaired,
+    /// and its controls subtaskK-alone, subtaskK-alone-learning (K = 0, 1, 2),
+    /// COMPETITOR-budget, COMPETITOR-shaped, COMPETITOR-shaped-sum.
     #[arg(long = "method", value_name = "METHOD")]
     pub(crate) methods: Vec<String>,
     /// Experiment config (TOML) to use instead of the embedded defaults.

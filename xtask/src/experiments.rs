@@ -245,7 +245,7 @@ mod tests {
         }
         assert!(config.validate().is_ok());
         let robot = quick(eamadm::paper::robot());
-        assert_eq!(robot.task.step_cap(), None);
+        assert_eq!(robot.task.step_cap(), Some(eamadm::paper::ROBOT_STEP_CAP));
     }
 
     #[test]

@@ -188,7 +188,7 @@ impl Series {
             return;
         }
         if let Some((episode, &value)) = curve.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            self.failure = Some(StatsError::NonFinite {
+            self.failure = Some(StatsError::NonFiniteInCurve {
                 seed,
                 episode,
                 value,

@@ -5,7 +5,7 @@
 use dql::{
     DoubleQ, DqlError, EpsilonGreedy, ExplorationPolicy, Learner, Schedule, argmax_random_tie,
 };
-use madm_owa::{MadmDecider, MadmError, Weighting};
+use madm_owa::{MadmDecider, MadmError, Normalisation, Weighting};
 use rand::Rng;
 
 use crate::prior::PriorTable;
@@ -50,6 +50,11 @@ pub struct EaMadmPolicy {
     /// The ε-greedy half: its schedule, ε and coin (the exploitation rule is ours).
     exploration: EpsilonGreedy,
     decider: MadmDecider,
+    /// How each attribute is scaled over the state's rows before OWA (the paper: not at all).
+    normalisation: Normalisation,
+    /// Per column (sub-tasks, then the own value): its smallest and largest value in the
+    /// state being evaluated, for `normalisation`.
+    column_range: Vec<(f64, f64)>,
     /// One row of the decision matrix: the attributes present, then the own value.
     row: Vec<f64>,
     /// Per `(state, action)`: the bits of the own value its `Eq` was last computed with
@@ -156,6 +161,8 @@ impl EaMadmPolicy {
         let n_actions = prior.n_actions();
         let pairs = prior.n_states() * n_actions;
         Ok(Self {
+            normalisation: Normalisation::None,
+            column_range: vec![(0.0, 0.0); cols],
             row: vec![0.0; cols],
             cached_own: vec![NOT_COMPUTED; pairs],
             cached_value: vec![0.0; pairs],
@@ -205,6 +212,18 @@ impl EaMadmPolicy {
             training: counts.clone(),
             final_window: counts,
         });
+        self
+    }
+
+    /// The same policy scaling each attribute (column) of a state's decision matrix by
+    /// `normalisation` before OWA, over the actions that have a value in it (a sub-task that
+    /// abstains for an action does not count in that column's range). The paper does not
+    /// normalise ([`Normalisation::None`], the default); [`Normalisation::MinMax`] is the
+    /// repair of issue 21 (paper-notes §6, §8.6). Every row of the state then depends on every
+    /// own value, so rows are recomputed at each decision instead of cached.
+    #[must_use]
+    pub fn with_normalisation(mut self, normalisation: Normalisation) -> Self {
+        self.normalisation = normalisation;
         self
     }
 
@@ -274,6 +293,9 @@ impl EaMadmPolicy {
     fn evaluate(&mut self, state: usize, own_values: &[f64]) -> std::ops::Range<usize> {
         let n_actions = self.prior.n_actions();
         assert_eq!(own_values.len(), n_actions, "one own value per action");
+        if self.normalisation != Normalisation::None {
+            return self.evaluate_normalised(state, own_values);
+        }
         let m = self.prior.n_subtasks();
         let (answers, present) = self.prior.state_block(state);
         let cached = state * n_actions..(state + 1) * n_actions;
@@ -311,6 +333,58 @@ impl EaMadmPolicy {
                             self.failure = Some(error);
                         }
                     }
+                }
+            }
+        }
+        cached
+    }
+}
+
+impl EaMadmPolicy {
+    /// [`evaluate`](Self::evaluate) with every column scaled over the state's rows: all rows
+    /// are recomputed (the cache of own values is left marked "not computed").
+    fn evaluate_normalised(&mut self, state: usize, own_values: &[f64]) -> std::ops::Range<usize> {
+        let n_actions = self.prior.n_actions();
+        let m = self.prior.n_subtasks();
+        let (answers, present) = self.prior.state_block(state);
+        self.column_range.fill((f64::INFINITY, f64::NEG_INFINITY));
+        for (action, &own) in own_values.iter().enumerate() {
+            for k in 0..m {
+                let at = action * m + k;
+                if present[at] {
+                    let range = &mut self.column_range[k];
+                    *range = (range.0.min(answers[at]), range.1.max(answers[at]));
+                }
+            }
+            let range = &mut self.column_range[m];
+            *range = (range.0.min(own), range.1.max(own));
+        }
+        let cached = state * n_actions..(state + 1) * n_actions;
+        for (action, &own) in own_values.iter().enumerate() {
+            let mut len = 0;
+            for k in 0..m {
+                let at = action * m + k;
+                if present[at] {
+                    let (min, max) = self.column_range[k];
+                    self.row[len] = self.normalisation.scale(answers[at], min, max);
+                    len += 1;
+                }
+            }
+            let (min, max) = self.column_range[m];
+            self.row[len] = self.normalisation.scale(own, min, max);
+            len += 1;
+            let slot = cached.start + action;
+            self.cached_own[slot] = NOT_COMPUTED;
+            if let Err(error) = self.decider.evaluate(
+                &self.row[..len],
+                1,
+                len,
+                &mut self.cached_value[slot..=slot],
+            ) {
+                // as in `evaluate`: the run reports the error when its episode ends
+                self.cached_value[slot] = f64::NEG_INFINITY;
+                if self.failure.is_none() {
+                    self.failure = Some(error);
                 }
             }
         }
@@ -367,6 +441,38 @@ mod tests {
         let own = [0.5, -2.0, 3.0, 1.0];
         assert_eq!(policy.evaluations(1, &own), own);
         assert_eq!(policy.decide(1, &own, &mut rng), 2);
+    }
+
+    #[test]
+    fn normalised_rows_are_the_madm_decision_on_the_min_max_scaled_matrix() {
+        // sub-task values in the tens, own values in tenths: unscaled, the sub-tasks decide
+        let prior = PriorTable::from_fn(2, 3, 2, |k, s, a| {
+            Some(10.0 * ((k + 2 * s + 3 * a) as f64 - 2.5))
+        });
+        let own = [0.7, -0.1, 0.3];
+        let mut matrix = Vec::new();
+        for (a, &own) in own.iter().enumerate() {
+            matrix.extend([
+                prior.get(1, a, 0).unwrap(),
+                prior.get(1, a, 1).unwrap(),
+                own,
+            ]);
+        }
+        Normalisation::MinMax.apply(&mut matrix, 3, 3);
+        let mut expected = [0.0; 3];
+        MadmDecider::new(Weighting::default())
+            .unwrap()
+            .evaluate(&matrix, 3, 3, &mut expected)
+            .unwrap();
+        let mut normalised =
+            policy(prior.clone(), Weighting::default()).with_normalisation(Normalisation::MinMax);
+        assert_eq!(normalised.evaluations(1, &own), expected);
+        // a second call with other own values recomputes every row (no stale cache)
+        let other = [0.1, 0.9, 0.3];
+        let first = normalised.evaluations(1, &other).to_vec();
+        let mut fresh =
+            policy(prior, Weighting::default()).with_normalisation(Normalisation::MinMax);
+        assert_eq!(first, fresh.evaluations(1, &other));
     }
 
     #[test]

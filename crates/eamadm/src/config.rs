@@ -32,11 +32,12 @@ use std::path::PathBuf;
 
 use dql::{DoubleQParams, DqlError, EpsilonGreedy, Schedule, Softmax};
 use ea_tree::EaTreeConfig;
-use madm_owa::Weighting;
+use madm_owa::{Normalisation, Weighting};
 use mazes::Preset;
 use reward_std::Standardisation;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
+use wmr_model::SubtaskRepairs;
 
 /// The paper's Task I (Sec. VI.A, Table 1) as TOML; parses to [`paper::task1`](crate::paper::task1).
 pub const PAPER_TASK1_TOML: &str = include_str!("../configs/task1.toml");
@@ -93,7 +94,9 @@ pub struct ExperimentConfig {
 /// `scenario = "default"` (the embedded analogue of the paper's Fig. 12) or the path of a
 /// scenario TOML file (see [`wmr_model::Scenario`]), whose own `step_cap` (500 by default) an
 /// optional `step_cap` here overrides, and whose `state.target_bins` (7 by default; 0 is the
-/// paper's literal state) an optional `target_bins` here overrides.
+/// paper's literal state) an optional `target_bins` here overrides; so do the optional
+/// `control_period`, `reach_radius` and `distance_bins` (the settings the paper leaves open,
+/// chosen by the sweep in docs/paper-notes.md §8.5).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 #[non_exhaustive]
@@ -137,6 +140,18 @@ pub enum TaskConfig {
         /// scenario, 0 = the paper's literal state); the scenario's when absent.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         target_bins: Option<u32>,
+        /// Control period Δt in seconds (`control_period` of the scenario); the scenario's
+        /// when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        control_period: Option<f64>,
+        /// Radius round the target within which the robot's centre has reached it
+        /// (`target.reach_radius` of the scenario, m); the scenario's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reach_radius: Option<f64>,
+        /// `N_D`, the bins over the distance to the target (`state.distance_bins` of the
+        /// scenario); the scenario's when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        distance_bins: Option<u32>,
     },
 }
 
@@ -257,6 +272,11 @@ pub struct CompetitorTraining {
     /// budget); the recorded episodes then start the schedule again at episode 0, as
     /// EA-MADM's source task does after its sub-tasks' schedules. 0: no warm-up.
     pub warmup_env_steps: u64,
+    /// Repairs of the robot's sub-task rewards (TOML `subtask_rewards = { reach_goal_bonus =
+    /// true, end_penalties = true }`), for a competitor learning from them (`signal`
+    /// `"standardised"` or `"subtask_sum"`) on the same rewards as a repaired EA-MADM. None by
+    /// default; only a robot task takes them.
+    pub subtask_rewards: SubtaskRepairs,
 }
 
 /// What a competitor learns from. TOML `signal = "task" | "subtask_sum" | "standardised"`.
@@ -307,6 +327,19 @@ pub struct SubtaskGreedyConfig {
 }
 
 impl Method {
+    /// The repairs of the robot's sub-task rewards this method runs with (EA-MADM's and the
+    /// competitors' `subtask_rewards`); none for a sub-task alone.
+    #[must_use]
+    pub fn subtask_repairs(&self) -> SubtaskRepairs {
+        match self {
+            Self::EaMadm(config) => config.subtask_rewards,
+            Self::EpsilonGreedy { training, .. } | Self::Softmax { training, .. } => {
+                training.subtask_rewards
+            }
+            Self::SubtaskGreedy(_) => SubtaskRepairs::PAPER,
+        }
+    }
+
     /// The TOML `kind` of the method (`ea_madm`, `epsilon_greedy`, `softmax`); results carry
     /// it so that a report can tell EA-MADM variants from competitors without the config.
     #[must_use]
@@ -341,6 +374,23 @@ pub struct EaMadmConfig {
     /// How the sub-tasks are trained before the source task starts.
     #[serde(default)]
     pub pretrain: PretrainConfig,
+    /// How each attribute of the decision matrix is scaled before OWA: `"none"` (default, the
+    /// paper) or `"min_max"` (per column over the state's actions; a repair, issue 21).
+    #[serde(default, skip_serializing_if = "is_no_normalisation")]
+    pub normalisation: Normalisation,
+    /// Repairs of the robot's sub-task rewards (`{ reach_goal_bonus = true, end_penalties =
+    /// true }`, see [`SubtaskRepairs`]); none by default (the paper's Eq. 6–8). Only a robot
+    /// task takes them.
+    #[serde(default, skip_serializing_if = "is_paper_rewards")]
+    pub subtask_rewards: SubtaskRepairs,
+}
+
+fn is_no_normalisation(normalisation: &Normalisation) -> bool {
+    *normalisation == Normalisation::None
+}
+
+fn is_paper_rewards(repairs: &SubtaskRepairs) -> bool {
+    *repairs == SubtaskRepairs::PAPER
 }
 
 /// Where the trained sub-tasks' experience is stored and looked up from.
@@ -447,6 +497,10 @@ enum MethodRepr {
         storage: Storage,
         #[serde(default)]
         pretrain: PretrainConfig,
+        #[serde(default, skip_serializing_if = "is_no_normalisation")]
+        normalisation: Normalisation,
+        #[serde(default, skip_serializing_if = "is_paper_rewards")]
+        subtask_rewards: SubtaskRepairs,
     },
     EpsilonGreedy {
         label: String,
@@ -457,6 +511,8 @@ enum MethodRepr {
         signal: CompetitorSignal,
         #[serde(default, skip_serializing_if = "is_zero")]
         warmup_env_steps: u64,
+        #[serde(default, skip_serializing_if = "is_paper_rewards")]
+        subtask_rewards: SubtaskRepairs,
     },
     Softmax {
         label: String,
@@ -467,6 +523,8 @@ enum MethodRepr {
         signal: CompetitorSignal,
         #[serde(default, skip_serializing_if = "is_zero")]
         warmup_env_steps: u64,
+        #[serde(default, skip_serializing_if = "is_paper_rewards")]
+        subtask_rewards: SubtaskRepairs,
     },
     SubtaskGreedy {
         label: String,
@@ -504,6 +562,8 @@ impl From<MethodRepr> for MethodSpec {
                 standardisation,
                 storage,
                 pretrain,
+                normalisation,
+                subtask_rewards,
             } => Self {
                 label,
                 role,
@@ -513,6 +573,8 @@ impl From<MethodRepr> for MethodSpec {
                     standardisation,
                     storage,
                     pretrain,
+                    normalisation,
+                    subtask_rewards,
                 }),
             },
             MethodRepr::EpsilonGreedy {
@@ -521,6 +583,7 @@ impl From<MethodRepr> for MethodSpec {
                 epsilon,
                 signal,
                 warmup_env_steps,
+                subtask_rewards,
             } => Self {
                 label,
                 role,
@@ -529,6 +592,7 @@ impl From<MethodRepr> for MethodSpec {
                     training: CompetitorTraining {
                         signal,
                         warmup_env_steps,
+                        subtask_rewards,
                     },
                 },
             },
@@ -538,6 +602,7 @@ impl From<MethodRepr> for MethodSpec {
                 temperature,
                 signal,
                 warmup_env_steps,
+                subtask_rewards,
             } => Self {
                 label,
                 role,
@@ -546,6 +611,7 @@ impl From<MethodRepr> for MethodSpec {
                     training: CompetitorTraining {
                         signal,
                         warmup_env_steps,
+                        subtask_rewards,
                     },
                 },
             },
@@ -583,6 +649,8 @@ impl From<MethodSpec> for MethodRepr {
                 standardisation: config.standardisation,
                 storage: config.storage,
                 pretrain: config.pretrain,
+                normalisation: config.normalisation,
+                subtask_rewards: config.subtask_rewards,
             },
             Method::EpsilonGreedy { epsilon, training } => Self::EpsilonGreedy {
                 label,
@@ -590,6 +658,7 @@ impl From<MethodSpec> for MethodRepr {
                 epsilon,
                 signal: training.signal,
                 warmup_env_steps: training.warmup_env_steps,
+                subtask_rewards: training.subtask_rewards,
             },
             Method::Softmax {
                 temperature,
@@ -600,6 +669,7 @@ impl From<MethodSpec> for MethodRepr {
                 temperature,
                 signal: training.signal,
                 warmup_env_steps: training.warmup_env_steps,
+                subtask_rewards: training.subtask_rewards,
             },
             Method::SubtaskGreedy(config) => Self::SubtaskGreedy {
                 label,

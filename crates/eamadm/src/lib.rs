@@ -27,6 +27,7 @@
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`output_names`] | the name of every file the tooling writes into an output folder |
+//! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
 //!
 //! # A first experiment
 //!
@@ -179,6 +180,7 @@ pub use eamadm_eval::{behaviour, claims, record, results, scores, stats, summary
 
 pub mod agent;
 pub mod config;
+pub mod diagnosis;
 pub mod error;
 pub mod output_names;
 pub mod paper;
@@ -199,6 +201,7 @@ pub use config::{
     PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role, Storage,
     SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, is_safe_slug, read_input_file,
 };
+pub use diagnosis::{SubtaskDiagnosis, subtask_diagnosis};
 pub use error::{RunError, RunFailure};
 pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};
 pub use prior::{PriorTable, build_prior};

@@ -23,6 +23,7 @@ use crate::rng::{Stream, stream_rng};
 use crate::signal::StandardisedReward;
 use crate::summary::DEFAULT_FINAL_WINDOW;
 use crate::task::{Counting, Task, TaskEnv, TaskKind};
+use wmr_model::{SubtaskRepairs, WmrEnv};
 
 /// A validated config with its task loaded: ready to run.
 #[derive(Debug, Clone)]
@@ -113,10 +114,26 @@ impl Experiment {
             .and_then(|()| check_method_fits(&self.task, method, "method"))
             .map_err(|error| fail(RunFailure::from(error)))?;
         let optimum = self.task.optimum_steps();
+        let repairs = method.method.subtask_repairs();
         let shared = shared.fits(&self.config, seed);
         match self.task.kind() {
             TaskKind::Maze(env) => {
                 run_on(env.as_ref(), &self.config, method, seed, optimum, shared)
+            }
+            TaskKind::Robot(env) if repairs != SubtaskRepairs::PAPER => {
+                // The repairs change what the environment pays each sub-task: the run gets its
+                // own copy of the task with them (the scenario was validated at loading), and
+                // its own pre-training, since the shared one learned the paper's sub-task rewards.
+                let mut scenario = env.scenario().clone();
+                scenario.reward.repairs = repairs;
+                let repaired = WmrEnv::new(scenario).map_err(|error| {
+                    fail(RunFailure::from(ConfigError::Scenario {
+                        field: "method.subtask_rewards".to_owned(),
+                        source: error,
+                    }))
+                })?;
+                let unshared = SharedPretraining::none();
+                run_on(&repaired, &self.config, method, seed, optimum, &unshared)
             }
             TaskKind::Robot(env) => {
                 run_on(env.as_ref(), &self.config, method, seed, optimum, shared)
@@ -307,6 +324,8 @@ impl SharedPretraining {
         for method in methods {
             if method.validate("method").is_err()
                 || check_method_fits(task, method, "method").is_err()
+                // A repaired method pre-trains on other sub-task rewards: it shares nothing.
+                || method.method.subtask_repairs() != SubtaskRepairs::PAPER
             {
                 continue;
             }
@@ -412,6 +431,15 @@ fn check_method_fits(task: &Task, spec: &MethodSpec, path: &str) -> Result<(), C
         }
         _ => {}
     }
+    if spec.method.subtask_repairs() != SubtaskRepairs::PAPER
+        && !matches!(task.kind(), TaskKind::Robot(_))
+    {
+        return Err(ConfigError::invalid(
+            format!("{path}.subtask_rewards"),
+            format!("{:?}", spec.method.subtask_repairs()),
+            "no repairs: they repair the robot's sub-task rewards (Eq. 6-8), and this task is not the robot",
+        ));
+    }
     if let Method::EaMadm(config) = &spec.method {
         if task.subtask_names().is_empty() {
             return Err(ConfigError::invalid(
@@ -487,6 +515,7 @@ fn run_on<E: TaskEnv>(
             }
             let pretrain_env_steps = subtasks.iter().map(|s| s.env_steps).sum();
             let policy = EaMadmPolicy::new(prior, ea.epsilon, ea.weighting.clone())?
+                .with_normalisation(ea.normalisation)
                 .with_agreement(&learners, final_from);
             let mut policy = ActionTally::new(policy, n_actions, final_from);
             let mut signal = StandardisedReward::new(ea.standardisation, subtasks.len())?;

@@ -64,6 +64,9 @@ impl Task {
                 scenario,
                 step_cap,
                 target_bins,
+                control_period,
+                reach_radius,
+                distance_bins,
             } => {
                 let scenario_error = |source| ConfigError::Scenario {
                     field: "task.scenario".to_owned(),
@@ -80,6 +83,15 @@ impl Task {
                 }
                 if let Some(bins) = target_bins {
                     scenario.state.target_bins = *bins;
+                }
+                if let Some(period) = control_period {
+                    scenario.control_period = *period;
+                }
+                if let Some(radius) = reach_radius {
+                    scenario.target.reach_radius = *radius;
+                }
+                if let Some(bins) = distance_bins {
+                    scenario.state.distance_bins = *bins;
                 }
                 // Validates the overrides too, then proves the target reachable: a scenario
                 // whose target no route reaches is refused here, not trained on in vain. The

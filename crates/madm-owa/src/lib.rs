@@ -16,6 +16,9 @@
 //!   matrix (actions × attributes) and picks the best row, ties broken by a caller-supplied RNG,
 //!   without allocating after its first call. [`Weighting`] (a serde config value) selects the
 //!   weights it applies.
+//! * **Per-attribute normalisation** (not in the paper; standard MADM practice): [`Normalisation`]
+//!   scales each column of a decision matrix onto `[0, 1]` before aggregation, a repair the
+//!   caller opts into.
 //!
 //! # The paper's procedure, and what we changed
 //!
@@ -74,6 +77,7 @@
 
 mod decision;
 mod error;
+mod normalise;
 mod owa;
 mod support;
 mod visibility;
@@ -81,6 +85,7 @@ mod weights;
 
 pub use decision::{MadmDecider, Weighting};
 pub use error::MadmError;
+pub use normalise::Normalisation;
 pub use owa::{WEIGHT_SUM_TOLERANCE, andness, orness, owa, owa_sorted, validate_weights};
 pub use support::{DEFAULT_EPSILON, Support, visibility_weights_into};
 pub use visibility::{is_visible, natural_visibility_graph};

@@ -279,6 +279,7 @@ impl WmrEnv {
                 .map_or(std::f64::consts::PI, |seen| seen.angle.abs()),
             hit: motion.hit,
             lost,
+            reached: reached && !motion.hit,
         };
         self.subtask_rewards = reward.subtasks(&inputs);
         let reached = reached && !motion.hit;

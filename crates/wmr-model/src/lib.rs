@@ -167,7 +167,8 @@ pub use planner::{
 };
 pub use render::{RenderedPath, render_svg};
 pub use reward::{
-    RadPenalty, RewardInputs, RewardParams, SUBTASK_COUNT, SUBTASK_NAMES, TaskReward, TaskStep,
+    RadPenalty, ReferenceEpisode, ReferenceValues, RewardInputs, RewardParams, SUBTASK_COUNT,
+    SUBTASK_NAMES, SubtaskRepairs, TaskReward, TaskStep,
 };
 pub use scenario::{
     ArenaSpec, DEFAULT_SCENARIO_TOML, MAX_ARENA_SIDE, MAX_CONTROL_PERIOD, MAX_REWARD_MAGNITUDE,

@@ -68,6 +68,33 @@ pub enum RadPenalty {
     Facing,
 }
 
+/// Repaired readings of the sub-task rewards (issue 21 item 4), each off in the paper's
+/// literal reading. In TOML (`[reward]`): `repairs = { reach_goal_bonus = true,
+/// end_penalties = true }`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SubtaskRepairs {
+    /// Sub-task 1 (Eq. 6, reach the target faster) gets [`RewardParams::goal_bonus`] on the
+    /// step that reaches the target instead of Eq. 6's value, as the maze's "reach faster"
+    /// sub-task gets the maze's goal reward and as the competitors' task reward does. Without
+    /// it no sub-task is ever paid for reaching.
+    pub reach_goal_bonus: bool,
+    /// Every sub-task, not only the one whose equation names the event, gets the penalty of
+    /// the step that ends the episode: [`RewardParams::hit`] on a hit (Eq. 7's −100),
+    /// [`RewardParams::target_lost`] when the target is lost (Eq. 8's −10). The paper ends the
+    /// episode on both for every sub-task, but only Eq. 7 and Eq. 8 charge for it, so Eq. 6's
+    /// learner is best off ending episodes early.
+    pub end_penalties: bool,
+}
+
+impl SubtaskRepairs {
+    /// The paper's literal rewards: no repair.
+    pub const PAPER: Self = Self {
+        reach_goal_bonus: false,
+        end_penalties: false,
+    };
+}
+
 /// The task's own reward: what the competitors learn from and the learning curves plot.
 ///
 /// In TOML: `task = { kind = "progress" }` (fields `closer`, `farther`, `min_progress` may be
@@ -150,6 +177,8 @@ pub struct RewardParams {
     pub goal_bonus: f64,
     /// How `Rad` enters Eq. 7.
     pub rad_penalty: RadPenalty,
+    /// Repairs of the sub-task rewards (issue 21), none by default (the paper's Eq. 6–8).
+    pub repairs: SubtaskRepairs,
     /// The task's own reward. Default [`TaskReward::Progress`] (+1 / −1).
     pub task: TaskReward,
 }
@@ -165,6 +194,7 @@ impl Default for RewardParams {
             target_lost: -10.0,
             goal_bonus: 100.0,
             rad_penalty: RadPenalty::Literal,
+            repairs: SubtaskRepairs::PAPER,
             task: TaskReward::default(),
         }
     }
@@ -195,6 +225,9 @@ pub struct RewardInputs<'a> {
     pub hit: bool,
     /// The target left the field of view (and was not reached).
     pub lost: bool,
+    /// The step reached the target (without a hit). Only [`SubtaskRepairs::reach_goal_bonus`]
+    /// reads it.
+    pub reached: bool,
 }
 
 impl RewardParams {
@@ -239,10 +272,24 @@ impl RewardParams {
         }
     }
 
-    /// The three sub-task rewards, in [`SUBTASK_NAMES`] order.
+    /// The three sub-task rewards, in [`SUBTASK_NAMES`] order, with [`RewardParams::repairs`]
+    /// applied.
     #[must_use]
     pub fn subtasks(&self, inputs: &RewardInputs<'_>) -> [f64; SUBTASK_COUNT] {
-        [self.reach(inputs), self.avoid(inputs), self.view(inputs)]
+        if self.repairs.end_penalties && (inputs.hit || inputs.lost) {
+            let penalty = if inputs.hit {
+                self.hit
+            } else {
+                self.target_lost
+            };
+            return [penalty; SUBTASK_COUNT];
+        }
+        let reach = if self.repairs.reach_goal_bonus && inputs.reached {
+            self.goal_bonus
+        } else {
+            self.reach(inputs)
+        };
+        [reach, self.avoid(inputs), self.view(inputs)]
     }
 
     /// The task reward of one step, by [`RewardParams::task`]; `subtasks` are the step's
@@ -274,6 +321,109 @@ impl RewardParams {
     }
 }
 
+/// What one sub-task's reward definition makes of three ways to play an episode, discounted
+/// (issue 21 item 3's diagnosis): reach the target, end the episode at once by losing the
+/// target, or idle at the start until the step cap. See [`RewardParams::reference_values`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ReferenceValues {
+    /// A straight run at full speed from the start to the reach radius, no obstacle sensed
+    /// (sensor term 0, `Rad = π`): the most favourable reaching episode for Eq. 6 and 7, whose
+    /// obstacle terms only subtract.
+    pub reach: f64,
+    /// One step, then the target is lost (Eq. 8's −10; the episode ends). The step that reaches
+    /// or loses the target is rewarded as the scenario's [`SubtaskRepairs`] say.
+    pub lose_at_once: f64,
+    /// `stop` at the start, target in view and no obstacle sensed, until the step cap.
+    pub idle: f64,
+}
+
+/// How an episode is played for [`RewardParams::reference_values`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReferenceEpisode {
+    /// Distance from the start to the target (m).
+    pub start_distance: f64,
+    /// Distance at which the target counts as reached (m).
+    pub reach_radius: f64,
+    /// Distance one full-speed step covers (m); positive.
+    pub step_length: f64,
+    /// The step cap.
+    pub step_cap: u32,
+    /// The discount γ.
+    pub gamma: f64,
+    /// `C_noise`.
+    pub noise: f64,
+}
+
+impl ReferenceEpisode {
+    /// Steps of the straight run: `⌈(start_distance − reach_radius) / step_length⌉`, at least 1.
+    #[must_use]
+    pub fn reach_steps(&self) -> u32 {
+        let gap = (self.start_distance - self.reach_radius).max(0.0);
+        // finite, non-negative and far below u32::MAX for any validated scenario
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "bounded above"
+        )]
+        let steps = (gap / self.step_length).ceil().min(f64::from(u32::MAX)) as u32;
+        steps.max(1)
+    }
+}
+
+impl RewardParams {
+    /// Each sub-task's discounted value (`Σ γᵗ rₜ`) of reaching, of losing the target at once
+    /// and of idling, from its reward definition alone (Eq. 6–8 with this scenario's
+    /// constants), in [`SUBTASK_NAMES`] order. Set against a learner's value of the start
+    /// state (from its Q-table) it shows which way of playing the learner has found worth most:
+    /// under the paper's rewards Eq. 6 values losing the target at once above reaching (every
+    /// step costs and there is no goal bonus), Eq. 8 values idling above both.
+    #[must_use]
+    pub fn reference_values(&self, episode: &ReferenceEpisode) -> [ReferenceValues; SUBTASK_COUNT] {
+        let quiet = [0.0; SENSOR_COUNT];
+        let free = |distance: f64, lost: bool, reached: bool| RewardInputs {
+            target_distance: distance,
+            readings: &quiet,
+            noise: episode.noise,
+            rad: std::f64::consts::PI,
+            hit: false,
+            lost,
+            reached,
+        };
+        let mut values = [ReferenceValues {
+            reach: 0.0,
+            lose_at_once: 0.0,
+            idle: 0.0,
+        }; SUBTASK_COUNT];
+        let steps = episode.reach_steps();
+        let mut discount = 1.0;
+        for t in 1..=steps {
+            let distance = (episode.start_distance - f64::from(t) * episode.step_length)
+                .max(episode.reach_radius.min(episode.start_distance));
+            let rewards = self.subtasks(&free(distance, false, t == steps));
+            for (value, r) in values.iter_mut().zip(rewards) {
+                value.reach += discount * r;
+            }
+            discount *= episode.gamma;
+        }
+        for (value, r) in
+            values
+                .iter_mut()
+                .zip(self.subtasks(&free(episode.start_distance, true, false)))
+        {
+            value.lose_at_once = r;
+        }
+        let mut discount = 1.0;
+        let idle = self.subtasks(&free(episode.start_distance, false, false));
+        for _ in 0..episode.step_cap {
+            for (value, r) in values.iter_mut().zip(idle) {
+                value.idle += discount * r;
+            }
+            discount *= episode.gamma;
+        }
+        values
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -286,7 +436,53 @@ mod tests {
             rad: 0.3,
             hit: false,
             lost: false,
+            reached: false,
         }
+    }
+
+    #[test]
+    fn repairs_pay_the_goal_to_reach_and_end_penalties_to_all() {
+        let quiet = [0.0; SENSOR_COUNT];
+        let paper = RewardParams::default();
+        let both = RewardParams {
+            repairs: SubtaskRepairs {
+                reach_goal_bonus: true,
+                end_penalties: true,
+            },
+            ..paper
+        };
+        let reached = RewardInputs {
+            reached: true,
+            ..inputs(&quiet)
+        };
+        assert_eq!(paper.subtasks(&reached), paper.subtasks(&inputs(&quiet)));
+        let [reach, avoid, view] = both.subtasks(&reached);
+        assert_eq!(reach, 100.0);
+        assert_eq!([avoid, view], [paper.avoid(&reached), 2.0]);
+        let hit = RewardInputs {
+            hit: true,
+            ..inputs(&quiet)
+        };
+        assert_eq!(both.subtasks(&hit), [-100.0; SUBTASK_COUNT]);
+        assert_eq!(paper.subtasks(&hit)[1], -100.0);
+        assert!(paper.subtasks(&hit)[0] > -1.0);
+        let lost = RewardInputs {
+            lost: true,
+            ..inputs(&quiet)
+        };
+        assert_eq!(both.subtasks(&lost), [-10.0; SUBTASK_COUNT]);
+        // The reference values follow: with the repairs, reaching beats ending at once.
+        let episode = ReferenceEpisode {
+            start_distance: 0.8,
+            reach_radius: 0.1,
+            step_length: 0.05,
+            step_cap: 250,
+            gamma: 0.95,
+            noise: 0.02,
+        };
+        let [reach, avoid, _] = both.reference_values(&episode);
+        assert!(reach.reach > reach.lose_at_once, "{reach:?}");
+        assert!(avoid.reach > avoid.lose_at_once, "{avoid:?}");
     }
 
     #[test]
@@ -427,5 +623,34 @@ mod tests {
         let gap = progress.task(&progress.subtasks(&closer), &step(0.025))
             - progress.task(&progress.subtasks(&farther), &step(-0.025));
         assert_eq!(gap, 2.0);
+    }
+
+    #[test]
+    fn reference_values_show_why_the_literal_subtasks_do_not_reach() {
+        let params = RewardParams::default();
+        let episode = ReferenceEpisode {
+            start_distance: 0.8,
+            reach_radius: 0.1,
+            step_length: 0.05,
+            step_cap: 250,
+            gamma: 0.95,
+            noise: 0.02,
+        };
+        assert_eq!(episode.reach_steps(), 14);
+        let [reach, avoid, view] = params.reference_values(&episode);
+        // Eq. 6: every step costs about k·D, so ending at once beats a 14-step run.
+        assert!(reach.lose_at_once > reach.reach, "{reach:?}");
+        assert!((reach.lose_at_once - (-(0.8 - 0.02))).abs() < 1e-12);
+        // Eq. 8: +2 per step in view; idling to the cap is worth most.
+        assert!(
+            view.idle > view.reach && view.reach > view.lose_at_once,
+            "{view:?}"
+        );
+        assert!((view.lose_at_once + 10.0).abs() < 1e-12);
+        // Eq. 7 with nothing sensed: −(f·π − C_noise) per step, so shorter is better too.
+        assert!(
+            avoid.lose_at_once > avoid.reach && avoid.reach > avoid.idle,
+            "{avoid:?}"
+        );
     }
 }

@@ -24,6 +24,9 @@ fn robot_config(
         scenario,
         step_cap,
         target_bins,
+        control_period: None,
+        reach_radius: None,
+        distance_bins: None,
     };
     config
 }
@@ -50,10 +53,11 @@ fn field_of(error: &ScenarioError) -> &str {
 #[test]
 fn the_robot_presets_load_with_and_without_the_target_feature() {
     let robot = Experiment::new(eamadm::paper::robot()).expect("valid");
-    assert_eq!(robot.task().n_states(), 1750);
-    assert_eq!(robot.task().optimum_steps(), Some(34));
+    // N_D · N_T · (N_O · N_A + 1) with the presets' 30 distance bins (docs/paper-notes.md §8.5)
+    assert_eq!(robot.task().n_states(), 30 * 7 * 25);
+    assert_eq!(robot.task().optimum_steps(), Some(17)); // 0.4 s steps, 10 cm reach radius
     let paper = Experiment::new(eamadm::paper::robot_paper_state()).expect("valid");
-    assert_eq!(paper.task().n_states(), 250);
+    assert_eq!(paper.task().n_states(), 30 * 25);
     assert_eq!(paper.config().name, "robot-paper-state");
 }
 
@@ -119,4 +123,58 @@ fn scenario_files_with_oversized_numbers_are_refused() {
         let error = scenario_error(robot_config(path.display().to_string(), None, None));
         assert_eq!(field_of(&error), field, "{name}: {error}");
     }
+}
+
+#[test]
+fn sub_task_reward_repairs_are_refused_off_the_robot() {
+    let mut config = eamadm::paper::task1();
+    let repaired = eamadm::paper::robot_repairs()
+        .into_iter()
+        .find(|spec| spec.label == "ea-madm-goal-bonus")
+        .expect("a repaired method");
+    config.methods = vec![repaired];
+    match Experiment::new(config) {
+        Err(ConfigError::Invalid { field, .. }) => {
+            assert_eq!(field, "methods[0].subtask_rewards");
+        }
+        Err(other) => panic!("expected an invalid field, got {other}"),
+        Ok(_) => panic!("repairs of the robot's rewards must be refused on a maze"),
+    }
+}
+
+#[test]
+fn a_repaired_method_runs_on_the_robot_with_its_own_rewards() {
+    let mut config = eamadm::paper::robot();
+    config.episodes = 3;
+    config.seeds = 1;
+    let shorten = |mut spec: eamadm::MethodSpec| {
+        if let eamadm::Method::EaMadm(ea) = &mut spec.method {
+            ea.pretrain.episodes = 10;
+        }
+        spec
+    };
+    let paper = shorten(config.methods[0].clone());
+    assert_eq!(paper.label, "ea-madm");
+    let repaired = shorten(
+        eamadm::paper::robot_repairs()
+            .into_iter()
+            .find(|spec| spec.label == "ea-madm-end-penalties")
+            .expect("the end-penalty repair"),
+    );
+    config.methods = vec![paper.clone(), repaired.clone()];
+    let experiment = Experiment::new(config).expect("valid");
+    let literal = experiment.run(&paper, 0).expect("runs");
+    let ended = experiment.run(&repaired, 0).expect("runs");
+    assert_eq!(literal.episodes.len(), 3);
+    // The source task learns from the standardised sub-task rewards: where an episode ends by
+    // losing the target, every sub-task pays −10 under the repair (a zero-spread step, then)
+    // and only Eq. 8 does without it, so the learning returns differ.
+    let returns = |record: &eamadm::RunRecord| -> Vec<f64> {
+        record.episodes.iter().map(|e| e.learning_return).collect()
+    };
+    assert_ne!(
+        returns(&literal),
+        returns(&ended),
+        "the repair changes the learning signal"
+    );
 }

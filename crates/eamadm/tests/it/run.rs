@@ -249,6 +249,9 @@ fn robot_runs_carry_the_robot_metrics_and_paths_in_metres() {
         scenario: "default".to_owned(),
         step_cap: Some(60),
         target_bins: None,
+        control_period: None,
+        reach_radius: None,
+        distance_bins: None,
     };
     for spec in &mut config.methods {
         if let eamadm::Method::EaMadm(ea) = &mut spec.method {

@@ -242,3 +242,32 @@ fn the_task_reward_is_chosen_in_the_reward_section() {
     let unknown = format!("{MINIMAL}\n[reward]\ntask = {{ kind = \"progress\", closr = 2.0 }}\n");
     assert!(matches!(error_of(&unknown), ScenarioError::Parse(_)));
 }
+
+#[test]
+fn end_penalty_repair_charges_every_sub_task_for_losing_the_target() {
+    use dql::Environment;
+    use wmr_model::{Action, Outcome, SubtaskRepairs, WmrEnv};
+    let mut repaired = wmr_model::Scenario::default_scenario();
+    repaired.reward.repairs = SubtaskRepairs {
+        end_penalties: true,
+        ..SubtaskRepairs::PAPER
+    };
+    let mut paper = WmrEnv::new(wmr_model::Scenario::default_scenario()).unwrap();
+    let mut ended = WmrEnv::new(repaired).unwrap();
+    paper.reset(Some(0));
+    ended.reset(Some(0));
+    // Turning on the spot's worth of left-forward steps swings the target out of view.
+    for _ in 0..200 {
+        paper.step_action(Action::LeftForward);
+        ended.step_action(Action::LeftForward);
+        if ended.outcome().is_done() {
+            break;
+        }
+    }
+    assert_eq!(ended.outcome(), Outcome::LostTarget);
+    assert_eq!(paper.outcome(), Outcome::LostTarget);
+    assert_eq!(ended.subtask_rewards(), &[-10.0; 3]);
+    let literal = paper.subtask_rewards();
+    assert_eq!(literal[2], -10.0);
+    assert!(literal[0] > -10.0 && literal[1] > -10.0, "{literal:?}");
+}

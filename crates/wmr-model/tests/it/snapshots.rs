@@ -70,6 +70,7 @@ fn describe(env: &WmrEnv, x: f64, y: f64, heading: f64) -> String {
             .map_or(std::f64::consts::PI, |o| o.angle.abs()),
         hit: false,
         lost: !seen.view.target_in_view,
+        reached: false,
     };
     let _ = writeln!(
         out,
