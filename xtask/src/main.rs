@@ -7,8 +7,12 @@
 //! - `cargo xtask run-job --key KEY [plan options]` runs exactly one run into the store.
 //! - `cargo xtask merge --out DIR [plan options] STORE...` checks shards' run stores and writes
 //!   the outputs an unsharded run writes.
-//! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/`.
-//! - `cargo xtask test` runs the Rust tests and the Python package's pytest suite.
+//! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/` and the
+//!   README's generated parts (verdicts, answer, figure) from the default run.
+//! - `cargo xtask test` runs the Rust tests, `regen-fixtures --check`, the Python package's
+//!   pytest suite and `wheel`.
+//! - `cargo xtask wheel` builds the Python wheel and runs the README's Python examples from it,
+//!   installed into a clean virtualenv without Rust.
 //!
 //! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
@@ -18,8 +22,9 @@
 //! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with
 //! [`report`]'s tables and [`robot_report`]'s robot behaviour), all staged and swapped into the
-//! locked output folder by [`output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
-//! showing differences with [`text_diff`]. [`test_all`] is the one test command. Every file
+//! locked output folder by [`output_folder`]. [`fixtures`] regenerates and checks `fixtures/` and, with
+//! [`readme`], the README's generated parts, showing differences with [`text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the
+//! wheel users install. Every file
 //! goes through [`atomic`].
 
 use std::process::ExitCode;
@@ -36,10 +41,13 @@ mod finish;
 mod fixtures;
 mod gzip;
 mod jobs;
+#[cfg(test)]
+mod markdown;
 mod output_folder;
 mod outputs;
 mod plan;
 mod progress;
+mod readme;
 mod report;
 mod reproduce;
 mod resume;
@@ -49,6 +57,7 @@ mod test_all;
 mod text_diff;
 #[cfg(test)]
 mod tidy;
+mod wheel;
 
 use cli::{Cli, Command};
 use plan::Workspace;
@@ -68,6 +77,7 @@ fn main() -> ExitCode {
         Command::RunJob(args) => reproduce::run_job(&args, &workspace),
         Command::Merge(args) => reproduce::merge(&args, &workspace),
         Command::Test => test_all::test_all(&workspace),
+        Command::Wheel => wheel::wheel(&workspace),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -199,3 +199,9 @@ pub use runner::{Experiment, run, run_all};
 pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};
 pub use task::Task;
+
+/// The Rust examples of the workspace's `README.md`, compiled and run as doc tests so that the
+/// README cannot show code that no longer builds (only under `cargo test`'s doctest pass).
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
