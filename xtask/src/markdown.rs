@@ -1,7 +1,7 @@
 //! The Markdown check of `README.md` and `docs/*.md`, run by `cargo test -p xtask`: every fenced
 //! code block is closed and names its language, no fence line hides inside a code block (the
 //! mark of a block left open that a later fence "closes"), and every relative link or image
-//! points at a file that exists. Parsing is pulldown-cmark's (CommonMark).
+//! points at a file that exists. Parsing is pulldown-cmark's (`CommonMark`).
 
 use std::ops::Range;
 use std::path::Path;

@@ -482,6 +482,10 @@ pub(crate) fn answer_paragraph(claims: &[ClaimRow], scores: &[ScoreRow]) -> Resu
 mod tests {
     use super::*;
 
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "one argument per claims.csv column the tests vary"
+    )]
     fn claim(
         claim: &str,
         task: &str,

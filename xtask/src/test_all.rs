@@ -138,25 +138,6 @@ fn skipped_summary(folder: &Path) -> String {
     text
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_summary_names_each_skipped_test_with_its_reason() {
-        let dir = tempfile::tempdir().expect("a temporary folder");
-        assert_eq!(skipped_summary(&dir.path().join("absent")), "");
-        assert_eq!(skipped_summary(dir.path()), "");
-        std::fs::write(dir.path().join("xtask it::b.txt"), "no cluster\n").expect("write");
-        std::fs::write(dir.path().join("xtask it::a.txt"), "no sbatch\n").expect("write");
-        assert_eq!(
-            skipped_summary(dir.path()),
-            "== SKIPPED: 2 test(s) printed \"ok\" above but did not run:\n   \
-             skipped xtask it::a: no sbatch\n   skipped xtask it::b: no cluster\n"
-        );
-    }
-}
-
 /// Installs the pinned test requirements unless exactly these are installed already.
 fn install_requirements(root: &Path, venv: &Path, python: &Path) -> Result<(), Failure> {
     let requirements = root.join(PY_CRATE).join("requirements-test.txt");
@@ -206,5 +187,24 @@ fn run(command: &mut Command, what: &str) -> Result<(), Failure> {
         Ok(())
     } else {
         Err(Failure::failed(format!("{what} failed ({status})")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_names_each_skipped_test_with_its_reason() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        assert_eq!(skipped_summary(&dir.path().join("absent")), "");
+        assert_eq!(skipped_summary(dir.path()), "");
+        std::fs::write(dir.path().join("xtask it::b.txt"), "no cluster\n").expect("write");
+        std::fs::write(dir.path().join("xtask it::a.txt"), "no sbatch\n").expect("write");
+        assert_eq!(
+            skipped_summary(dir.path()),
+            "== SKIPPED: 2 test(s) printed \"ok\" above but did not run:\n   \
+             skipped xtask it::a: no sbatch\n   skipped xtask it::b: no cluster\n"
+        );
     }
 }

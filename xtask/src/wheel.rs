@@ -27,7 +27,7 @@ const BUILD_VENV: &str = "target/py-venv";
 const WHEELS: &str = "target/wheels";
 /// The clean virtualenv the wheel is installed into.
 const CLEAN_VENV: &str = "target/wheel-venv";
-/// The tag every wheel we ship carries: one wheel for CPython 3.9 and newer.
+/// The tag every wheel we ship carries: one wheel for every Python from 3.9 on.
 const ABI3_TAG: &str = "-cp39-abi3-";
 
 /// Builds the wheel, installs it into a clean virtualenv without Rust, and runs the README's

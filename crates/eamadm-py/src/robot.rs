@@ -227,6 +227,14 @@ impl RobotCore {
     }
 }
 
+/// One vector step: states, rewards, terminated and truncated, one entry per copy.
+type RobotVecStep<'py> = (
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
 /// N copies of the wheeled robot of one scenario, stepped in one call. Autoreset is
 /// Gymnasium's `NEXT_STEP`: a copy that ended on the previous step is reset (continuing its
 /// noise stream) instead of stepped, with reward 0 and neither flag set.
@@ -309,20 +317,11 @@ impl RobotVecCore {
 
     /// Steps every copy (or resets one that ended on the last step): arrays `(states, rewards,
     /// terminated, truncated)`.
-    #[expect(
-        clippy::type_complexity,
-        reason = "the four arrays of a Gymnasium vector step"
-    )]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
         actions: PyReadonlyArray1<'py, i64>,
-    ) -> PyResult<(
-        Bound<'py, PyArray1<i64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyArray1<bool>>,
-    )> {
+    ) -> PyResult<RobotVecStep<'py>> {
         let actions = actions
             .as_slice()
             .map_err(|error| value_error("actions", error))?;
