@@ -317,6 +317,10 @@ impl RobotVecCore {
 
     /// Steps every copy (or resets one that ended on the last step): arrays `(states, rewards,
     /// terminated, truncated)`.
+    #[expect(
+        clippy::needless_pass_by_value,
+        reason = "pyo3 hands extracted arguments over by value"
+    )]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
