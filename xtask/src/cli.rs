@@ -30,9 +30,13 @@ pub(crate) enum Command {
     /// Check the run stores of finished shards (or run-job folders) and write the outputs of
     /// the plan (the same options as the sharded runs) as one unsharded run would.
     Merge(MergeArgs),
-    /// Run every test: `cargo test --workspace`, then the Python package's pytest suite in
-    /// target/py-venv (made and filled from the package registry when missing).
+    /// Run every test: `cargo test --workspace`, `regen-fixtures --check`, the Python
+    /// package's pytest suite in target/py-venv (made and filled from the package registry when
+    /// missing), then `wheel`.
     Test,
+    /// Build the abi3 manylinux wheel with maturin, install it into a clean virtualenv without
+    /// Rust on PATH (target/wheel-venv), and run the README's Python examples from it.
+    Wheel,
 }
 
 /// What `reproduce-paper` does with its plan besides running it all and reporting.

@@ -6,11 +6,16 @@
 //!   curves and the greedy evaluation path of [`FIXTURE_SEED`] for every method of the task's
 //!   preset, shortened to [`FIXTURE_EPISODES`] episodes so that they are cheap to recompute.
 //!
+//! It also writes the README's generated parts and its figure from the default run
+//! ([`crate::readme`]): the verdict table, the claims and the answer paragraph between marker
+//! comments in `README.md`, and `docs/figures/task1-steps.svg`.
+//!
 //! Floats are rounded to [`SIGNIFICANT_DIGITS`] significant digits. The same content is
 //! compared with the committed files by `--check` and by the tests, so any change of numeric
 //! behaviour shows up as a reviewable diff.
 
 use std::fmt::Write as _;
+use std::process::{Command, Stdio};
 
 use eamadm::mazes::Preset;
 use eamadm::wmr_model::DEFAULT_SCENARIO_TOML;
@@ -22,6 +27,7 @@ use crate::atomic::write_atomic;
 use crate::cli::Task;
 use crate::experiments::shorten;
 use crate::plan::{Workspace, describe_regen_fixtures};
+use crate::readme;
 use crate::text_diff::first_difference;
 
 /// The seed of every reference run.
@@ -91,6 +97,63 @@ pub(crate) fn regen_fixtures(check: bool, workspace: &Workspace) -> Result<(), F
                 .map_err(Failure::failed)?;
             println!("wrote fixtures/{}", file.path);
         }
+    }
+    readme_parts(check, workspace)
+}
+
+/// Makes the default run in a temporary folder with this binary, then writes (or with `check`
+/// compares) the README's generated parts and its figure.
+fn readme_parts(check: bool, workspace: &Workspace) -> Result<(), Failure> {
+    println!(
+        "  README:   the verdicts, claims and answer in {} and {}, from the default run \
+         (`reproduce-paper` into a temporary folder)",
+        readme::README,
+        readme::FIGURE
+    );
+    let out = tempfile::tempdir().map_err(Failure::failed)?;
+    let xtask = std::env::current_exe().map_err(Failure::failed)?;
+    let status = Command::new(&xtask)
+        .arg("reproduce-paper")
+        .arg("--out")
+        .arg(out.path())
+        .stdout(Stdio::null())
+        .status()
+        .map_err(|error| Failure::failed(format!("cannot start {}: {error}", xtask.display())))?;
+    if !status.success() {
+        return Err(Failure::failed(format!(
+            "the default run for the README failed ({status})"
+        )));
+    }
+    let run = readme::read_run(out.path()).map_err(Failure::failed)?;
+    let readme_path = workspace.root.join(readme::README);
+    let figure_path = workspace.root.join(readme::FIGURE);
+    let committed = std::fs::read_to_string(&readme_path).map_err(|error| {
+        Failure::failed(format!("cannot read {}: {error}", readme_path.display()))
+    })?;
+    let generated = readme::generate(&committed, &run).map_err(Failure::failed)?;
+    if check {
+        if let Some(diff) = first_difference(&committed, &generated) {
+            return Err(Failure::failed(format!(
+                "README.md's generated parts differ from the default run's \
+                 (run `cargo xtask regen-fixtures` and review the diff):\n{diff}"
+            )));
+        }
+        if std::fs::read(&figure_path).ok().as_deref() != Some(run.figure.as_slice()) {
+            return Err(Failure::failed(format!(
+                "{} differs from the default run's task1/steps.svg (run `cargo xtask \
+                 regen-fixtures` and review the figure)",
+                readme::FIGURE
+            )));
+        }
+        println!(
+            "README.md's generated parts and {} are up to date",
+            readme::FIGURE
+        );
+    } else {
+        write_atomic(&readme_path, generated.as_bytes()).map_err(Failure::failed)?;
+        println!("wrote README.md's generated parts");
+        write_atomic(&figure_path, &run.figure).map_err(Failure::failed)?;
+        println!("wrote {}", readme::FIGURE);
     }
     Ok(())
 }

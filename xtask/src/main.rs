@@ -7,8 +7,12 @@
 //! - `cargo xtask run-job --key KEY [plan options]` runs exactly one run into the store.
 //! - `cargo xtask merge --out DIR [plan options] STORE...` checks shards' run stores and writes
 //!   the outputs an unsharded run writes.
-//! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/`.
-//! - `cargo xtask test` runs the Rust tests and the Python package's pytest suite.
+//! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/` and the
+//!   README's generated parts (verdicts, answer, figure) from the default run.
+//! - `cargo xtask test` runs the Rust tests, `regen-fixtures --check`, the Python package's
+//!   pytest suite and `wheel`.
+//! - `cargo xtask wheel` builds the Python wheel and runs the README's Python examples from it,
+//!   installed into a clean virtualenv without Rust.
 //!
 //! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
@@ -18,8 +22,10 @@
 //! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with
 //! [`report`]'s tables and [`robot_report`]'s robot behaviour), all staged and swapped into the
-//! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks `fixtures/`,
-//! showing differences with [`text_diff`]. [`test_all`] is the one test command. Every file
+//! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
+//! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
+//! [`text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
+//! Every file
 //! goes through [`atomic`].
 
 use std::process::ExitCode;
@@ -36,9 +42,12 @@ mod figures;
 mod finish;
 mod fixtures;
 mod jobs;
+#[cfg(test)]
+mod markdown;
 mod outputs;
 mod plan;
 mod progress;
+mod readme;
 mod report;
 mod reproduce;
 mod robot_report;
@@ -46,6 +55,7 @@ mod test_all;
 mod text_diff;
 #[cfg(test)]
 mod tidy;
+mod wheel;
 
 // Every file goes through the run crate's atomic writes (`crate::atomic` in the modules).
 use eamadm_runs::atomic;
@@ -68,6 +78,7 @@ fn main() -> ExitCode {
         Command::RunJob(args) => reproduce::run_job(&args, &workspace),
         Command::Merge(args) => reproduce::merge(&args, &workspace),
         Command::Test => test_all::test_all(&workspace),
+        Command::Wheel => wheel::wheel(&workspace),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,9 +1,16 @@
-//! `cargo xtask test`: the one test command. Runs the Rust tests, then the Python package's
+//! `cargo xtask test`: the one test command. Runs the Rust tests, `regen-fixtures --check`
+//! (the README's generated parts and `fixtures/` against the code), then the Python package's
 //! pytest suite in a virtualenv (`target/py-venv`, made from the package registry with the
 //! pinned `crates/eamadm-py/requirements-test.txt` when missing or when those pins change),
 //! into which it builds and installs the package with `maturin develop` (the dev profile, so
-//! the workspace crates `cargo test` just built are reused). Fails if either suite fails, and
-//! when pytest collects no test.
+//! the workspace crates `cargo test` just built are reused). Then `cargo xtask wheel` (the
+//! release wheel, installed without Rust, running the README's Python examples). Fails if any
+//! step fails, and when pytest collects no test.
+//!
+//! A Rust test that cannot run here (the SLURM test without a cluster) returns early, which
+//! libtest prints as "ok"; such a test leaves a note in `target/tmp/skipped-tests/` (named
+//! after the test, holding the reason), and this command prints every note by name after the
+//! Rust tests, so a skip is never mistaken for a pass. Under `CI=true` those tests fail instead.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -25,6 +32,18 @@ const PYTEST_NO_TESTS: i32 = 5;
 pub(crate) fn test_all(workspace: &Workspace) -> Result<(), Failure> {
     let root = &workspace.root;
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| OsString::from("cargo"));
+    let skipped = skipped_tests_folder(root);
+    // Notes of an earlier run would list tests that ran this time.
+    match std::fs::remove_dir_all(&skipped) {
+        Ok(()) => {}
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => {}
+        Err(error) => {
+            return Err(Failure::failed(format!(
+                "cannot clear {}: {error}",
+                skipped.display()
+            )));
+        }
+    }
     announce("cargo test --workspace --locked");
     run(
         Command::new(&cargo)
@@ -32,6 +51,12 @@ pub(crate) fn test_all(workspace: &Workspace) -> Result<(), Failure> {
             .current_dir(root),
         "cargo test --workspace --locked",
     )?;
+    print!("{}", skipped_summary(&skipped));
+
+    // The README's verdicts, answer and figure, and fixtures/, against the code's output now: a
+    // default run in release (about 25 s of CPU) plus the reference runs.
+    announce("cargo xtask regen-fixtures --check");
+    crate::fixtures::regen_fixtures(true, workspace)?;
 
     let venv = root.join(VENV);
     let python = venv.join("bin").join("python");
@@ -68,12 +93,49 @@ pub(crate) fn test_all(workspace: &Workspace) -> Result<(), Failure> {
         .status()
         .map_err(|error| Failure::failed(format!("cannot start pytest: {error}")))?;
     match status.code() {
-        Some(0) => Ok(()),
+        Some(0) => crate::wheel::wheel(workspace),
         Some(PYTEST_NO_TESTS) => Err(Failure::failed(
             "pytest collected no test in crates/eamadm-py/tests",
         )),
         _ => Err(Failure::failed(format!("pytest failed ({status})"))),
     }
+}
+
+/// Where tests leave their skip notes: `CARGO_TARGET_TMPDIR` of the integration tests, i.e.
+/// `<target>/tmp/skipped-tests` (`CARGO_TARGET_DIR` or the workspace's `target/`).
+fn skipped_tests_folder(root: &Path) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map_or_else(|| root.join("target"), PathBuf::from)
+        .join("tmp")
+        .join("skipped-tests")
+}
+
+/// The summary of the skip notes in `folder`: one line per skipped test, by name, with its
+/// reason, sorted; empty when no test skipped.
+fn skipped_summary(folder: &Path) -> String {
+    let mut notes: Vec<(String, String)> = std::fs::read_dir(folder)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|entry| {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let name = name.strip_suffix(".txt")?.to_owned();
+            let reason = std::fs::read_to_string(entry.path()).unwrap_or_default();
+            Some((name, reason.trim().to_owned()))
+        })
+        .collect();
+    notes.sort();
+    if notes.is_empty() {
+        return String::new();
+    }
+    let mut text = format!(
+        "== SKIPPED: {} test(s) printed \"ok\" above but did not run:\n",
+        notes.len()
+    );
+    for (name, reason) in notes {
+        text.push_str(&format!("   skipped {name}: {reason}\n"));
+    }
+    text
 }
 
 /// Installs the pinned test requirements unless exactly these are installed already.
@@ -125,5 +187,24 @@ fn run(command: &mut Command, what: &str) -> Result<(), Failure> {
         Ok(())
     } else {
         Err(Failure::failed(format!("{what} failed ({status})")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_names_each_skipped_test_with_its_reason() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        assert_eq!(skipped_summary(&dir.path().join("absent")), "");
+        assert_eq!(skipped_summary(dir.path()), "");
+        std::fs::write(dir.path().join("xtask it::b.txt"), "no cluster\n").expect("write");
+        std::fs::write(dir.path().join("xtask it::a.txt"), "no sbatch\n").expect("write");
+        assert_eq!(
+            skipped_summary(dir.path()),
+            "== SKIPPED: 2 test(s) printed \"ok\" above but did not run:\n   \
+             skipped xtask it::a: no sbatch\n   skipped xtask it::b: no cluster\n"
+        );
     }
 }

@@ -2,8 +2,8 @@
 //!
 //! The paper's three tasks (the mazes of Task I and Task II, Sec. VI.A, and the wheeled robot
 //! of Sec. III and VI.B with its sub-task rewards, Eq. 6–8) as step-by-step cores that the
-//! Python classes in `python/eamadm/` wrap into Gymnasium environments; a vector core that
-//! steps N mazes in one call on numpy arrays; and the experiment runner (EA-MADM, Algorithm 2,
+//! Python classes in `python/eamadm/` wrap into Gymnasium environments; vector cores that
+//! step N mazes or N robots in one call on numpy arrays; and the experiment runner (EA-MADM, Algorithm 2,
 //! with its decision of Eq. 13–16 and the standardised reward of Eq. 10–12, against the
 //! double-Q competitors of Eq. 9) with the GIL released.
 //!
@@ -31,9 +31,12 @@ use pyo3::prelude::*;
 /// The native module: the env cores, the vector core and the runner.
 #[pymodule]
 fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    // The crate's version is the package's (maturin takes the wheel's version from Cargo.toml).
+    module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_class::<maze::MazeCore>()?;
     module.add_class::<maze::MazeVecCore>()?;
     module.add_class::<robot::RobotCore>()?;
+    module.add_class::<robot::RobotVecCore>()?;
     module.add_function(wrap_pyfunction!(experiment::run_config, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::paper_config_toml, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::check_config, module)?)?;

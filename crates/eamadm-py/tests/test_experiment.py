@@ -100,7 +100,11 @@ def test_pandas_opt_out_returns_column_dicts():
         ({"methods": ["no-such-method"]}, "methods"),
         ({"methods": "softmax"}, "methods"),
         ({"seeds": [-1]}, "seeds"),
-        ({"seeds": 3}, "seeds"),
+        ({"seeds": 0}, "seeds"),
+        ({"seeds": True}, "seeds"),
+        ({"episodes": 0}, "episodes"),
+        ({"episodes": "ten"}, "episodes"),
+        ({"episodes": 2.5}, "episodes"),
         ({"seeds": []}, "seeds"),
         ({"threads": 0}, "threads"),
         ({"window": 0}, "window"),
@@ -118,3 +122,20 @@ def test_invalid_field_is_named():
     config["learner"]["alpha"] = 7.0
     with pytest.raises(ValueError, match="learner.alpha"):
         eamadm.run(config)
+
+
+def test_episodes_and_seeds_shortcuts_equal_editing_the_config():
+    config = small_task1(episodes=6, seeds=3)
+    by_hand = small_task1(episodes=3, seeds=2)
+    shortcut = eamadm.run(config, episodes=3, seeds=2, methods=["ea-madm"], dataframe=False)
+    edited = eamadm.run(by_hand, methods=["ea-madm"], dataframe=False)
+    assert shortcut == edited
+    assert sorted(set(shortcut.finals["seed"])) == [0, 1]
+    assert max(shortcut.curves["episode"]) == 2
+
+
+def test_version_is_the_crates_version():
+    manifest = (ROOT / "Cargo.toml").read_text(encoding="utf-8")
+    package = manifest.split("[workspace.package]", 1)[1]
+    line = next(l for l in package.splitlines() if l.startswith("version"))
+    assert eamadm.__version__ == line.split('"')[1]

@@ -64,3 +64,66 @@ def test_vector_render():
     env.step(np.array([1, 3]))
     first, second = env.render()
     assert first != second
+
+
+def _assert_infos_equal(a, b, path="info"):
+    assert sorted(a) == sorted(b), path
+    for key in a:
+        x, y = a[key], b[key]
+        if isinstance(x, dict):
+            _assert_infos_equal(x, y, f"{path}[{key!r}]")
+        else:
+            assert x.dtype == y.dtype, f"{path}[{key!r}]"
+            assert x.shape == y.shape, f"{path}[{key!r}]"
+            if x.dtype == object:
+                assert [repr(v) for v in x] == [repr(v) for v in y], f"{path}[{key!r}]"
+            else:
+                np.testing.assert_array_equal(x, y, err_msg=f"{path}[{key!r}]")
+
+
+@pytest.mark.parametrize("step_cap", [15, 60])
+def test_robot_vector_env_equals_sync_vector_env(step_cap):
+    n = 4
+    native = gym.make_vec(
+        "eamadm/Robot-v0", num_envs=n, vectorization_mode="vector_entry_point", step_cap=step_cap
+    )
+    sync = gym.make_vec("eamadm/Robot-v0", num_envs=n, vectorization_mode="sync", step_cap=step_cap)
+    assert isinstance(native.unwrapped, eamadm.RobotVectorEnv)
+    assert native.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+    assert native.observation_space == sync.observation_space
+    assert native.action_space == sync.action_space
+    a_obs, a_info = native.reset(seed=11)
+    b_obs, b_info = sync.reset(seed=11)
+    np.testing.assert_array_equal(a_obs, b_obs)
+    assert a_obs.dtype == b_obs.dtype
+    _assert_infos_equal(a_info, b_info)
+    rng = np.random.default_rng(1)
+    ends = 0
+    for _ in range(120):
+        actions = rng.integers(0, native.single_action_space.n, size=n)
+        a = native.step(actions)
+        b = sync.step(actions)
+        for x, y in zip(a[:4], b[:4]):
+            np.testing.assert_array_equal(x, y)
+            assert x.dtype == y.dtype
+        _assert_infos_equal(a[4], b[4])
+        ends += int(a[2].sum() + a[3].sum())
+    assert ends > 0, "the comparison must cover autoresets"
+
+
+def test_robot_vector_env_bad_arguments():
+    with pytest.raises(ValueError, match="^num_envs: "):
+        eamadm.RobotVectorEnv(0)
+    with pytest.raises(ValueError, match="^step_cap: "):
+        eamadm.RobotVectorEnv(2, step_cap=0)
+    with pytest.raises(ValueError, match="^state: "):
+        eamadm.RobotVectorEnv(2, state=[1])
+    env = eamadm.RobotVectorEnv(2, render_mode="ansi")
+    with pytest.raises(ValueError, match="^seed: "):
+        env.reset(seed=-1)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="^actions: "):
+        env.step(np.array([0]))
+    with pytest.raises(ValueError, match="^actions: "):
+        env.step(np.array([0, 9]))
+    assert len(env.render()) == 2

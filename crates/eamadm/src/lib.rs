@@ -220,3 +220,9 @@ impl scores::MethodRoles for ExperimentConfig {
             .map(|spec| (spec.role, spec.method.kind_name()))
     }
 }
+
+/// The Rust examples of the workspace's `README.md`, compiled and run as doc tests so that the
+/// README cannot show code that no longer builds (only under `cargo test`'s doctest pass).
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;

@@ -5,7 +5,8 @@ Importing the package registers three Gymnasium ids:
 * ``eamadm/MazeTaskI-v0`` and ``eamadm/MazeTaskII-v0``: the 30 x 30 and 39 x 36 mazes of the
   paper's Sec. VI.A (:class:`MazeEnv`; also as a native vector env, :class:`MazeVectorEnv`,
   through ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``);
-* ``eamadm/Robot-v0``: the wheeled robot among obstacles of Sec. VI.B (:class:`RobotEnv`).
+* ``eamadm/Robot-v0``: the wheeled robot among obstacles of Sec. VI.B (:class:`RobotEnv`; also
+  as a native vector env, :class:`RobotVectorEnv`).
 
 :func:`run` runs an experiment config (the TOML schema of the Rust runner) on the Rust runner
 and :func:`paper_config` returns the paper's presets. Everything is computed by the Rust
@@ -16,11 +17,24 @@ from __future__ import annotations
 
 import gymnasium
 
+from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
 from eamadm.experiment import Results, paper_config, run
-from eamadm.vector import MazeVectorEnv
+from eamadm.vector import MazeVectorEnv, RobotVectorEnv
 
-__all__ = ["MazeEnv", "MazeVectorEnv", "Results", "RobotEnv", "paper_config", "run"]
+__all__ = [
+    "MazeEnv",
+    "MazeVectorEnv",
+    "Results",
+    "RobotEnv",
+    "RobotVectorEnv",
+    "__version__",
+    "paper_config",
+    "run",
+]
+
+#: The package's version: the Rust crates' (``Cargo.toml``'s ``workspace.package.version``).
+__version__: str = _native.__version__
 
 #: The Gymnasium ids this package registers on import.
 ENV_IDS = ("eamadm/MazeTaskI-v0", "eamadm/MazeTaskII-v0", "eamadm/Robot-v0")
@@ -44,7 +58,11 @@ def _register() -> None:
             kwargs={"task": "task2"},
         )
     if "eamadm/Robot-v0" not in registry:
-        gymnasium.register(id="eamadm/Robot-v0", entry_point="eamadm.envs:RobotEnv")
+        gymnasium.register(
+            id="eamadm/Robot-v0",
+            entry_point="eamadm.envs:RobotEnv",
+            vector_entry_point="eamadm.vector:RobotVectorEnv",
+        )
 
 
 _register()

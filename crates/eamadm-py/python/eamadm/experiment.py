@@ -84,10 +84,36 @@ def _positive(value: Any, name: str) -> Optional[int]:
     return int(value)
 
 
+def _shortened(config: Config, episodes: Optional[int], seeds: Optional[int]) -> Config:
+    """``config`` with the ``episodes=`` and ``seeds=`` shortcuts applied (as a dict)."""
+    if episodes is None and seeds is None:
+        return config
+    data = json.loads(_native.toml_to_json(config_toml(config)))
+    if seeds is not None:
+        data["seeds"] = seeds
+    if episodes is not None:
+        before = data.get("episodes", episodes)
+        data["episodes"] = episodes
+        trajectories = data.get("trajectories")
+        if isinstance(trajectories, dict) and isinstance(trajectories.get("episodes"), list):
+            trajectories["episodes"] = [e for e in trajectories["episodes"] if e < episodes]
+        for method in data.get("methods", []):
+            # As `cargo xtask reproduce-paper --quick` shortens: pre-training gets at most as
+            # many episodes, and a warm-up budget shrinks with the episodes.
+            pretrain = method.get("pretrain")
+            if isinstance(pretrain, dict) and isinstance(pretrain.get("episodes"), int):
+                pretrain["episodes"] = min(pretrain["episodes"], episodes)
+            warmup = method.get("warmup_env_steps")
+            if isinstance(warmup, int) and isinstance(before, int) and episodes < before:
+                method["warmup_env_steps"] = warmup * episodes // max(before, 1)
+    return data
+
+
 def run(
     config: Config,
     *,
-    seeds: Optional[Iterable[int]] = None,
+    seeds: Union[int, Iterable[int], None] = None,
+    episodes: Optional[int] = None,
     methods: Optional[Iterable[str]] = None,
     threads: Optional[int] = None,
     window: int = DEFAULT_FINAL_WINDOW,
@@ -97,8 +123,11 @@ def run(
 
     Args:
         config: TOML text, a dict of the same schema, or a path to a TOML file.
-        seeds: the seeds to run (default: the config's ``base_seed + i`` for
-            ``i < seeds``), e.g. ``range(3)``.
+        seeds: an int ``n`` runs the config's first ``n`` seeds (``base_seed + i`` for
+            ``i < n``); an iterable runs exactly those seeds, e.g. ``range(3)``; default: the
+            config's own ``seeds``.
+        episodes: training episodes per run instead of the config's; pre-training gets at
+            most as many, and a warm-up budget shrinks in proportion (as ``--quick`` does).
         methods: the labels of the methods to run (default: all, in the config's order).
         threads: worker threads (default: one per core). Results do not depend on it.
         window: training episodes at the end of each run averaged into its final scores.
@@ -107,7 +136,12 @@ def run(
 
     Runs come in job order: method by method, seed by seed.
     """
-    text = config_toml(config)
+    episodes = _positive(episodes, "episodes")
+    seed_count = None
+    if isinstance(seeds, int) and not isinstance(seeds, bool):
+        seed_count = _positive(seeds, "seeds")
+        seeds = None
+    text = config_toml(_shortened(config, episodes, seed_count))
     if methods is not None:
         if isinstance(methods, str) or not hasattr(methods, "__iter__"):
             raise ValueError(f"methods: expected an iterable of labels, got {methods!r}")

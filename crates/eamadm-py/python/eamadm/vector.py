@@ -1,4 +1,4 @@
-"""N copies of a maze stepped in one call in Rust: a Gymnasium 1.x ``VectorEnv``.
+"""N copies of a maze, or of the robot, stepped in one call in Rust: Gymnasium 1.x vector envs.
 
 Autoreset mode: ``AutoresetMode.NEXT_STEP`` (Gymnasium's default). When copy ``i`` terminates
 or is truncated on step ``t``, step ``t + 1`` resets it instead of stepping it: its action is
@@ -21,7 +21,8 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from eamadm import _args
-from eamadm._native import MazeVecCore
+from eamadm._native import MazeVecCore, RobotVecCore
+from eamadm.envs import MAX_SEED
 
 
 class MazeVectorEnv(gymnasium.vector.VectorEnv):
@@ -96,6 +97,98 @@ class MazeVectorEnv(gymnasium.vector.VectorEnv):
 
     def render(self) -> Optional[tuple]:
         """Each copy's maze as text (``render_mode="ansi"``); ``None`` otherwise."""
+        if self.render_mode == "ansi":
+            return tuple(self._core.render(i) for i in range(self.num_envs))
+        return None
+
+
+class RobotVectorEnv(gymnasium.vector.VectorEnv):
+    """``num_envs`` copies of the robot :class:`eamadm.RobotEnv` describes with the same keyword
+    arguments (``scenario``, ``scenario_file``, ``state``, ``step_cap``, ``render_mode``),
+    stepped in one Rust call, autoreset mode ``NEXT_STEP``.
+
+    ``reset(seed=s)`` seeds copy ``i``'s sensor noise with ``s + i``, as
+    ``SyncVectorEnv`` seeds its copies; an unseeded first reset draws each copy's seed from
+    ``np_random``. ``info`` has the single env's keys (``subtask_rewards``, ``position``,
+    ``heading``, ``metrics``) batched by Gymnasium's own ``VectorEnv._add_info``, so it has
+    exactly ``SyncVectorEnv``'s layout. ``render()`` returns one line per copy.
+    """
+
+    metadata = {"render_modes": ["ansi"], "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        *,
+        scenario: Optional[str] = None,
+        scenario_file: Optional[_args.PathLike] = None,
+        state: Optional[dict] = None,
+        step_cap: Optional[int] = None,
+        render_mode: Optional[str] = None,
+    ) -> None:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"num_envs: expected a positive int, got {num_envs!r}")
+        self.render_mode = _args.check_render_mode(render_mode, self.metadata["render_modes"])
+        text = _args.text_or_file(scenario, "scenario", scenario_file, "scenario_file")
+        if state is not None and not isinstance(state, dict):
+            raise ValueError(f"state: expected a dict, got {type(state).__name__}")
+        self._core = RobotVecCore(int(num_envs), text, state, _args.check_step_cap(step_cap))
+        self.num_envs = int(num_envs)
+        self.single_observation_space = spaces.Discrete(self._core.n_states)
+        self.single_action_space = spaces.Discrete(self._core.n_actions)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._seeded = False
+
+    def _infos(self) -> dict:
+        infos: dict = {}
+        for i in range(self.num_envs):
+            x, y, heading = self._core.pose(i)
+            info = {
+                "subtask_rewards": self._core.subtask_rewards(i),
+                "position": np.array([x, y], dtype=np.float64),
+                "heading": heading,
+                "metrics": self._core.metrics(i),
+            }
+            infos = self._add_info(infos, info, i)
+        return infos
+
+    def reset(self, *, seed: Any = None, options: Optional[dict] = None) -> tuple:
+        """Resets every copy; ``seed`` (an int) seeds copy ``i`` with ``seed + i``."""
+        if seed is not None and (
+            isinstance(seed, bool)
+            or not isinstance(seed, (int, np.integer))
+            or not 0 <= int(seed) <= MAX_SEED - self.num_envs + 1
+        ):
+            raise ValueError(
+                f"seed: expected None or an int in 0..2**64 - num_envs, got {seed!r}"
+            )
+        super().reset(seed=seed)
+        if seed is not None:
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        elif not self._seeded:
+            seeds = [int(s) for s in self.np_random.integers(0, 2**63, size=self.num_envs)]
+        else:
+            seeds = [None] * self.num_envs
+        self._seeded = True
+        states = self._core.reset(seeds)
+        return states, self._infos()
+
+    def step(self, actions: Any) -> tuple:
+        """Steps every copy: arrays ``(states, rewards, terminated, truncated)`` and ``info``."""
+        try:
+            actions = np.asarray(actions, dtype=np.int64)
+        except (TypeError, ValueError, OverflowError) as error:
+            raise ValueError(f"actions: expected integers, got {error}") from error
+        if actions.shape != (self.num_envs,):
+            raise ValueError(
+                f"actions: expected shape ({self.num_envs},), got {actions.shape}"
+            )
+        states, rewards, terminated, truncated = self._core.step(np.ascontiguousarray(actions))
+        return states, rewards, terminated, truncated, self._infos()
+
+    def render(self) -> Optional[tuple]:
+        """Each copy as one line of text (``render_mode="ansi"``); ``None`` otherwise."""
         if self.render_mode == "ansi":
             return tuple(self._core.render(i) for i in range(self.num_envs))
         return None
