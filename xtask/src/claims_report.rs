@@ -895,6 +895,8 @@ mod tests {
             success_rate: 1.0,
             greedy_reached: true,
             greedy_steps: 80,
+            outcome: eamadm::scores::RunOutcome::Converged,
+            collapse_episode: None,
             fluctuation_steps: steps / 10.0,
             fluctuation_return: steps / 10.0,
             env_steps_total: 10_000,
@@ -941,6 +943,7 @@ mod tests {
         ClaimOptions {
             bootstrap: eamadm::stats::Bootstrap::new(2000, 0.95, 0).unwrap(),
             permutation: eamadm::stats::PermutationTest::new(2000, 0).unwrap(),
+            sign_flip: eamadm::stats::SignFlipTest::new(2000, 0).unwrap(),
             alpha: 0.05,
         }
     }
