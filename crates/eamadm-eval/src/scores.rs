@@ -83,17 +83,27 @@ pub const COLUMNS: [&str; 25] = [
 pub enum RunOutcome {
     /// The final greedy policy reaches the target.
     Converged,
-    /// The final greedy policy does not reach the target, but at least one training episode
-    /// did: the run reached earlier and then stopped reaching for good. The episode it
-    /// happened is [`FinalScore::collapse_episode`].
+    /// The final greedy policy does not reach the target, and neither does any episode of
+    /// the final window, but an earlier training episode did: the run reached and then
+    /// stopped reaching for good. The episode it happened (one past the last reaching one) is
+    /// [`FinalScore::collapse_episode`].
     Collapsed,
+    /// The final greedy policy does not reach the target, but training episodes of the final
+    /// window still do: the learner reaches only while it keeps learning (online updates
+    /// break the loops the frozen greedy policy falls into).
+    ReachesWhileLearning,
     /// Neither the final greedy policy nor any training episode reached the target.
     NeverReached,
 }
 
 impl RunOutcome {
     /// Every outcome, in table order.
-    pub const ALL: [Self; 3] = [Self::Converged, Self::Collapsed, Self::NeverReached];
+    pub const ALL: [Self; 4] = [
+        Self::Converged,
+        Self::Collapsed,
+        Self::ReachesWhileLearning,
+        Self::NeverReached,
+    ];
 
     /// The CSV name: `converged`, `collapsed` or `never_reached`.
     #[must_use]
@@ -101,18 +111,26 @@ impl RunOutcome {
         match self {
             Self::Converged => "converged",
             Self::Collapsed => "collapsed",
+            Self::ReachesWhileLearning => "reaches_while_learning",
             Self::NeverReached => "never_reached",
         }
     }
 
     /// The outcome of a run whose greedy evaluation `greedy_reached`, with its training
-    /// episodes `episodes`, and the collapse episode when it collapsed.
+    /// episodes `episodes` and a final window of the last `window` of them, and the collapse
+    /// episode when it collapsed.
     #[must_use]
-    pub fn of(greedy_reached: bool, episodes: &[EpisodeRecord]) -> (Self, Option<u64>) {
+    pub fn of(
+        greedy_reached: bool,
+        episodes: &[EpisodeRecord],
+        window: usize,
+    ) -> (Self, Option<u64>) {
         if greedy_reached {
             return (Self::Converged, None);
         }
+        let window_start = episodes.len().saturating_sub(window);
         match episodes.iter().rposition(|e| e.reached) {
+            Some(last) if last >= window_start => (Self::ReachesWhileLearning, None),
             Some(last) => (Self::Collapsed, Some(last as u64 + 1)),
             None => (Self::NeverReached, None),
         }
@@ -370,7 +388,8 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
             (None, None, None, None)
         };
 
-    let (outcome, collapse_episode) = RunOutcome::of(record.evaluation.reached, episodes);
+    let (outcome, collapse_episode) =
+        RunOutcome::of(record.evaluation.reached, episodes, FINAL_WINDOW);
     Ok(FinalScore {
         task: record.experiment.clone(),
         method: record.method.clone(),
@@ -481,21 +500,21 @@ mod tests {
         let run = |flags: &[bool]| flags.iter().map(|&r| episode(r)).collect::<Vec<_>>();
         let collapsed = run(&[false, true, true, false, true, false, false]);
         assert_eq!(
-            RunOutcome::of(false, &collapsed),
+            RunOutcome::of(false, &collapsed, 2),
             (RunOutcome::Collapsed, Some(5))
         );
         assert_eq!(
-            RunOutcome::of(true, &collapsed),
+            RunOutcome::of(true, &collapsed, 2),
             (RunOutcome::Converged, None)
         );
+        // A window of 3 holds episode 4, which reached: it still reaches while learning.
         assert_eq!(
-            RunOutcome::of(false, &run(&[false, false])),
-            (RunOutcome::NeverReached, None)
+            RunOutcome::of(false, &collapsed, 3),
+            (RunOutcome::ReachesWhileLearning, None)
         );
-        // Greedy fails although the last training episode reached: it collapsed at the end.
         assert_eq!(
-            RunOutcome::of(false, &run(&[false, true])),
-            (RunOutcome::Collapsed, Some(2))
+            RunOutcome::of(false, &run(&[false, false]), 2),
+            (RunOutcome::NeverReached, None)
         );
     }
 
