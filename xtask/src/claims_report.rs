@@ -100,10 +100,9 @@ pub(crate) fn write_claim_outputs(
     scores::write_csv(&verdicts.scores, &mut bytes)?;
     write_atomic(&out.join("final-scores.csv"), &bytes)?;
     let mut bytes = Vec::new();
-    claims::write_csv(
-        &claims::rows(&verdicts.judgements, &verdicts.estimates),
-        &mut bytes,
-    )?;
+    let mut rows = claims::rows(&verdicts.judgements, &verdicts.estimates);
+    rows.extend(claims::outcome_rows(&verdicts.scores)?);
+    claims::write_csv(&rows, &mut bytes)?;
     write_atomic(&out.join("claims.csv"), &bytes)?;
     let report = render_report(experiments, figures, behaviour, verdicts, quick);
     write_atomic(&out.join("REPORT.md"), report.as_bytes())?;

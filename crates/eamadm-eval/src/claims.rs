@@ -45,7 +45,7 @@ use thiserror::Error;
 
 use crate::Role;
 use crate::paper_claims::{self as paper, Claim, ClaimMetric, Direction};
-use crate::scores::FinalScore;
+use crate::scores::{FinalScore, RunOutcome};
 use crate::stats::paired::{differences, paired_difference};
 use crate::stats::{
     self, Alternative, Bootstrap, Interval, PermutationTest, SignFlipTest, Statistic, StatsError,
@@ -853,6 +853,98 @@ impl ClaimRow {
             p_equivalence_holm: None,
         }
     }
+}
+
+/// The label of the sub-task-alone control every EA-MADM method is paired with on outcomes.
+pub const SUBTASK_ALONE: &str = "subtask0-alone";
+
+/// Rows of `claims.csv` on the per-run outcome (claim `outcome`, metric `converged`): per
+/// task and method the share of seeds whose final greedy policy reaches the target with its
+/// Wilson 95 % interval; and per EA-MADM method against every paper competitor and
+/// [`SUBTASK_ALONE`], paired by seed, `estimate` = (seeds only the method converged on −
+/// seeds only the other did) / paired seeds, `n` the paired seeds, and `p_value` the exact
+/// sign test on those discordant seeds (McNemar's exact test).
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a Wilson interval fails (it cannot with at least one seed).
+pub fn outcome_rows(scores: &[FinalScore]) -> Result<Vec<ClaimRow>, ClaimsError> {
+    let converged = |task: &str, method: &str| -> Vec<(u64, bool)> {
+        let mut seeds: Vec<(u64, bool)> = scores
+            .iter()
+            .filter(|r| r.task == task && r.method == method)
+            .map(|r| (r.seed, r.outcome == RunOutcome::Converged))
+            .collect();
+        seeds.sort_unstable();
+        seeds
+    };
+    let mut rows = Vec::new();
+    for task in tasks(scores) {
+        let methods = methods(scores, task);
+        for &(method, role, _) in &methods {
+            let seeds = converged(task, method);
+            let hits = seeds.iter().filter(|(_, c)| *c).count() as u64;
+            let wilson =
+                stats::wilson(hits, seeds.len() as u64, 0.95).map_err(|e| ClaimsError::Stats {
+                    claim: "outcome".to_owned(),
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    metric: "converged".to_owned(),
+                    source: Box::new(e),
+                })?;
+            rows.push(ClaimRow {
+                claim: "outcome",
+                task: task.to_owned(),
+                method: method.to_owned(),
+                role,
+                metric: "converged",
+                better: "higher",
+                n: seeds.len(),
+                estimate: Some(wilson.estimate),
+                ci_low: Some(wilson.low),
+                ci_high: Some(wilson.high),
+                ..ClaimRow::paired_none()
+            });
+        }
+        for &(method, role, kind) in &methods {
+            if !is_under_test(kind) {
+                continue;
+            }
+            let mine = converged(task, method);
+            for &(versus, versus_role, versus_kind) in &methods {
+                if !(is_competitor(versus_role, versus_kind) || versus == SUBTASK_ALONE) {
+                    continue;
+                }
+                let theirs = converged(task, versus);
+                let (mut wins, mut losses, mut paired) = (0_u64, 0_u64, 0_usize);
+                for &(seed, c) in &mine {
+                    if let Some(&(_, d)) = theirs.iter().find(|(s, _)| *s == seed) {
+                        paired += 1;
+                        wins += u64::from(c && !d);
+                        losses += u64::from(d && !c);
+                    }
+                }
+                if paired == 0 {
+                    continue;
+                }
+                rows.push(ClaimRow {
+                    claim: "outcome",
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    role,
+                    metric: "converged",
+                    better: "higher",
+                    versus: versus.to_owned(),
+                    n: paired,
+                    n_versus: Some(theirs.len()),
+                    estimate: Some((wins as f64 - losses as f64) / paired as f64),
+                    p_value: Some(stats::sign_test(wins, losses)),
+                    paired_n: Some(paired),
+                    ..ClaimRow::paired_none()
+                });
+            }
+        }
+    }
+    Ok(rows)
 }
 
 /// The columns of `claims.csv`, in order.

@@ -161,3 +161,32 @@ fn judgements_are_bit_identical_with_one_and_two_threads() {
     };
     assert_eq!(on(1), on(2));
 }
+
+#[test]
+fn outcome_rows_count_seeds_and_pair_them() {
+    use eamadm_eval::scores::RunOutcome;
+    let mut rows = scores(100.0, 100.0);
+    for row in &mut rows {
+        let collapsed = row.method == "ea-madm" && row.seed >= 7;
+        row.outcome = if collapsed {
+            RunOutcome::Collapsed
+        } else {
+            RunOutcome::Converged
+        };
+    }
+    let out = claims::outcome_rows(&rows).unwrap();
+    let share = out
+        .iter()
+        .find(|r| r.method == "ea-madm" && r.versus.is_empty())
+        .unwrap();
+    assert_eq!(share.estimate, Some(0.7));
+    assert!(share.ci_low.unwrap() < 0.7 && 0.7 < share.ci_high.unwrap());
+    let paired = out
+        .iter()
+        .find(|r| r.method == "ea-madm" && r.versus == "softmax")
+        .unwrap();
+    // Three seeds only softmax converged on, none the other way: (0 − 3) / 10, p = 2 / 2³.
+    assert_eq!(paired.estimate, Some(-0.3));
+    assert!((paired.p_value.unwrap() - 0.25).abs() < 1e-12);
+    assert_eq!(paired.n, 10);
+}
