@@ -101,10 +101,9 @@ pub(crate) fn write_claim_outputs(
     scores::write_csv(&verdicts.scores, &mut bytes)?;
     write_atomic(&out.join("final-scores.csv"), &bytes)?;
     let mut bytes = Vec::new();
-    claims::write_csv(
-        &claims::rows(&verdicts.judgements, &verdicts.estimates),
-        &mut bytes,
-    )?;
+    let mut rows = claims::rows(&verdicts.judgements, &verdicts.estimates);
+    rows.extend(claims::outcome_rows(&verdicts.scores)?);
+    claims::write_csv(&rows, &mut bytes)?;
     write_atomic(&out.join("claims.csv"), &bytes)?;
     let report = render_report(experiments, figures, behaviour, verdicts, quick);
     write_atomic(&out.join("REPORT.md"), report.as_bytes())?;
@@ -173,6 +172,17 @@ fn task_title(task: &str, experiments: &[PlannedExperiment]) -> String {
 /// The one number a verdict rests on, in words.
 fn deciding_number(judgement: &Judgement) -> String {
     match judgement.deciding_comparison() {
+        Some(c) if judgement.verdict == claims::Verdict::Equivalent => match &c.paired {
+            Some(p) => format!(
+                "vs {}: paired Δ mean `{}` = {} within ±{}, TOST Holm p {}",
+                method_title(&c.versus),
+                c.metric.column,
+                interval(&p.difference),
+                p.margin.map_or_else(|| "—".to_owned(), number),
+                p_value(p.p_equivalence_holm.unwrap_or(1.0))
+            ),
+            None => comparison_in_words(c),
+        },
         Some(c) => comparison_in_words(c),
         None => judgement.reason.clone(),
     }
@@ -286,16 +296,24 @@ fn write_verdicts(text: &mut String, experiments: &[PlannedExperiment], verdicts
          the claim: the difference of interquartile means (IQM) over seeds with a bootstrap \
          95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
          when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
-         method. A comparison favours one side when its Holm p is below {} and its interval \
-         excludes 0. The verdict is **supported** when every comparison favours EA-MADM, \
-         **contradicted** when any favours a competitor, **inconclusive** otherwise, and \
+         method. A comparison favours one side when its Holm p is below {alpha}, its interval \
+         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps` \
+         and `fluctuation_steps`: the shortest detour on a grid), the difference exceeds the \
+         margin. Runs of one seed share their random streams, so each comparison is also \
+         paired by seed: the mean paired difference with a paired bootstrap interval, a \
+         sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
+         equivalence within the margin (claims.csv: `paired_*`, `p_equivalence`). The \
+         verdict is **supported** when every comparison favours EA-MADM, **contradicted** \
+         when any favours a competitor, **equivalent** when every comparison is equivalent \
+         (Holm-adjusted TOST p below {alpha}), **inconclusive** otherwise, and \
          **untestable** when the method has fewer than 2 seeds with a value (or no competitor \
          has), with the reason. The deciding number is the weakest comparison of a supported \
-         claim, the strongest against a contradicted one, and the weakest non-favourable one of \
-         an inconclusive one.\n",
+         or equivalent claim, the strongest against a contradicted one, and the weakest \
+         non-favourable one of an inconclusive one.\n",
         verdicts.options.bootstrap.resamples,
         verdicts.options.permutation.resamples,
-        verdicts.options.alpha
+        verdicts.options.sign_flip.resamples,
+        alpha = verdicts.options.alpha
     );
 
     let variants: Vec<&Judgement> = verdicts
@@ -891,6 +909,8 @@ mod tests {
             success_rate: 1.0,
             greedy_reached: true,
             greedy_steps: 80,
+            outcome: eamadm::scores::RunOutcome::Converged,
+            collapse_episode: None,
             fluctuation_steps: steps / 10.0,
             fluctuation_return: steps / 10.0,
             env_steps_total: 10_000,
@@ -937,6 +957,7 @@ mod tests {
         ClaimOptions {
             bootstrap: eamadm::stats::Bootstrap::new(2000, 0.95, 0).unwrap(),
             permutation: eamadm::stats::PermutationTest::new(2000, 0).unwrap(),
+            sign_flip: eamadm::stats::SignFlipTest::new(2000, 0).unwrap(),
             alpha: 0.05,
         }
     }
@@ -969,10 +990,16 @@ mod tests {
             verdict_row(&report, "C1").contains("**contradicted**"),
             "{report}"
         );
+        // Identical per seed: equivalent within the 2-step margin on steps; return has no
+        // margin and stays inconclusive.
         let same = Verdicts::compute(scores(100.0), &options()).unwrap();
         let report = render_report(&[], &[], &[], &same, false);
         assert!(
-            verdict_row(&report, "C1").contains("**inconclusive**"),
+            verdict_row(&report, "C1").contains("**equivalent**"),
+            "{report}"
+        );
+        assert!(
+            verdict_row(&report, "C2").contains("**inconclusive**"),
             "{report}"
         );
         assert!(report.starts_with("# EA-MADM reproduction report"));

@@ -568,7 +568,7 @@ mod tests {
                 .collect()
         };
         let number = |cell: &str| cell.parse::<f64>().unwrap();
-        let (mut singles, mut comparisons) = (0, 0);
+        let (mut singles, mut comparisons, mut outcomes) = (0, 0, 0);
         let mut raw_p: std::collections::BTreeMap<(String, String), Vec<(f64, f64)>> =
             std::collections::BTreeMap::new();
         for line in lines {
@@ -578,6 +578,43 @@ mod tests {
                 row[column("metric")],
                 row[column("versus")],
             );
+            if row[column("claim")] == "outcome" {
+                // The per-run outcome rows: converged share, and the exact sign test paired by
+                // seed, recomputed from final-scores.csv's `outcome` column.
+                let converged = |m: &str| -> Vec<(u64, bool)> {
+                    let mut v: Vec<(u64, bool)> = scores
+                        .iter()
+                        .filter(|s| s.method == m)
+                        .map(|s| (s.seed, s.outcome == eamadm::scores::RunOutcome::Converged))
+                        .collect();
+                    v.sort_unstable();
+                    v
+                };
+                let mine = converged(method);
+                if versus.is_empty() {
+                    let hits = mine.iter().filter(|(_, c)| *c).count() as f64;
+                    assert_eq!(number(row[column("estimate")]), hits / mine.len() as f64);
+                } else {
+                    let theirs = converged(versus);
+                    let wins = mine
+                        .iter()
+                        .zip(&theirs)
+                        .filter(|(a, b)| a.1 && !b.1)
+                        .count();
+                    let losses = mine
+                        .iter()
+                        .zip(&theirs)
+                        .filter(|(a, b)| b.1 && !a.1)
+                        .count();
+                    assert_eq!(
+                        number(row[column("p_value")]),
+                        stats::sign_test(wins as u64, losses as u64),
+                        "{line}"
+                    );
+                }
+                outcomes += 1;
+                continue;
+            }
             let x = of(method, metric);
             if versus.is_empty() {
                 // A single-method row: the IQM over seeds and its bootstrap interval.
@@ -606,6 +643,24 @@ mod tests {
                 assert_eq!(number(row[column("ci_low")]), difference.low, "{line}");
                 assert_eq!(number(row[column("ci_high")]), difference.high, "{line}");
                 assert_eq!(number(row[column("p_value")]), p, "{line}");
+                // Paired by seed: the seeds are 0..n for every method here, in order.
+                let paired = eamadm::stats::paired::differences(&x, &y).unwrap();
+                assert_eq!(
+                    number(row[column("paired_estimate")]),
+                    stats::mean(&paired).unwrap(),
+                    "{line}"
+                );
+                assert_eq!(
+                    number(row[column("paired_p_value")]),
+                    eamadm::stats::SignFlipTest::default()
+                        .p_value(
+                            &paired,
+                            Statistic::Mean,
+                            eamadm::stats::Alternative::TwoSided
+                        )
+                        .unwrap(),
+                    "{line}"
+                );
                 raw_p
                     .entry((row[column("claim")].to_owned(), method.to_owned()))
                     .or_default()
@@ -616,6 +671,8 @@ mod tests {
         // C1, C2: one metric; C3: two. Three methods, one under test, two competitors.
         assert_eq!(singles, 3 * (1 + 1 + 2));
         assert_eq!(comparisons, 2 * (1 + 1 + 2));
+        // One share per method, and the method under test against each competitor.
+        assert_eq!(outcomes, 3 + 2);
         for ((claim, method), pairs) in raw_p {
             let raw: Vec<f64> = pairs.iter().map(|(p, _)| *p).collect();
             let holm: Vec<f64> = pairs.iter().map(|(_, h)| *h).collect();

@@ -45,8 +45,11 @@ use thiserror::Error;
 
 use crate::Role;
 use crate::paper_claims::{self as paper, Claim, ClaimMetric, Direction};
-use crate::scores::FinalScore;
-use crate::stats::{self, Bootstrap, Interval, PermutationTest, Statistic, StatsError};
+use crate::scores::{FinalScore, RunOutcome};
+use crate::stats::paired::{differences, paired_difference};
+use crate::stats::{
+    self, Alternative, Bootstrap, Interval, PermutationTest, SignFlipTest, Statistic, StatsError,
+};
 
 /// The significance level of the verdict rule.
 pub const ALPHA: f64 = 0.05;
@@ -86,6 +89,8 @@ pub struct ClaimOptions {
     pub bootstrap: Bootstrap,
     /// Permutation test of the IQM difference.
     pub permutation: PermutationTest,
+    /// Sign-flip test of the paired differences (two-sided and TOST).
+    pub sign_flip: SignFlipTest,
     /// Significance level of the verdict rule.
     pub alpha: f64,
 }
@@ -96,6 +101,7 @@ impl Default for ClaimOptions {
         Self {
             bootstrap: Bootstrap::default(),
             permutation: PermutationTest::default(),
+            sign_flip: SignFlipTest::default(),
             alpha: ALPHA,
         }
     }
@@ -109,6 +115,9 @@ pub enum Verdict {
     Supported,
     /// A competitor is significantly better on one of the claim's metrics.
     Contradicted,
+    /// Every comparison shows equivalence: the mean paired difference lies within the metric's
+    /// margin ([`equivalence_margin`]) by a Holm-adjusted TOST p below α.
+    Equivalent,
     /// Neither.
     Inconclusive,
     /// The data cannot test the claim (see the reason).
@@ -122,6 +131,7 @@ impl Verdict {
         match self {
             Self::Supported => "supported",
             Self::Contradicted => "contradicted",
+            Self::Equivalent => "equivalent",
             Self::Inconclusive => "inconclusive",
             Self::Untestable => "untestable",
         }
@@ -136,7 +146,8 @@ pub enum Outcome {
     FavoursMethod,
     /// Significantly better for the competitor.
     FavoursCompetitor,
-    /// Not significant, or the interval includes 0.
+    /// Not significant, the interval includes 0, or the effect lies within the metric's
+    /// equivalence margin.
     Unsettled,
 }
 
@@ -160,6 +171,111 @@ pub struct Comparison {
     pub p_improvement: f64,
     /// What it settles.
     pub outcome: Outcome,
+    /// The same comparison paired by seed (runs of one seed share their random streams);
+    /// `None` when fewer than 2 seeds have a value for both methods.
+    pub paired: Option<PairedComparison>,
+}
+
+/// The location statistic of paired differences: the mean, so that every seed counts — a seed
+/// that collapsed to the step cap is a difference the IQM would trim away — and so that the
+/// sign-flip TOST can reach p < 0.05 after Holm (with 20 seeds the IQM's smallest sign-flip
+/// p is 21 700 / 2²⁰ ≈ 0.021, which Holm over three competitors lifts above 0.05).
+pub const PAIRED_STATISTIC: Statistic = Statistic::Mean;
+
+/// A comparison paired by seed: the seeds where both methods have a value, and the mean of
+/// their differences (method − competitor).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PairedComparison {
+    /// Seeds paired.
+    pub n: usize,
+    /// Mean of the paired differences with its paired-bootstrap interval.
+    pub difference: Interval,
+    /// Two-sided sign-flip p-value of the mean of the paired differences.
+    pub p_value: f64,
+    /// The metric's equivalence margin ([`equivalence_margin`]); `None` when it has none.
+    pub margin: Option<f64>,
+    /// TOST p-value that the mean paired difference lies within `±margin` (sign-flip tests).
+    pub p_equivalence: Option<f64>,
+    /// `p_equivalence` Holm-adjusted across the claim × task × method's comparisons.
+    pub p_equivalence_holm: Option<f64>,
+}
+
+/// The region of practical equivalence of a metric (a difference within `±margin` is no
+/// difference in practice; docs/paper-notes.md justifies each): 2 steps for `final_steps`
+/// and `fluctuation_steps` (on a grid the shortest detour from a shortest route costs 2
+/// steps: one step off and one back); none for the others, which are then never judged
+/// equivalent.
+#[must_use]
+pub fn equivalence_margin(column: &str) -> Option<f64> {
+    match column {
+        "final_steps" | "fluctuation_steps" => Some(2.0),
+        _ => None,
+    }
+}
+
+/// The values of `column` of `method` and `versus` on `task` on the seeds where both have
+/// one, in seed order.
+#[must_use]
+pub fn paired_values(
+    scores: &[FinalScore],
+    task: &str,
+    method: &str,
+    versus: &str,
+    column: &str,
+) -> (Vec<f64>, Vec<f64>) {
+    let mut pairs: Vec<(u64, f64, f64)> = scores
+        .iter()
+        .filter(|row| row.task == task && row.method == method)
+        .filter_map(|row| {
+            let x = row.value(column)?;
+            let y = scores
+                .iter()
+                .find(|other| {
+                    other.task == task && other.method == versus && other.seed == row.seed
+                })?
+                .value(column)?;
+            Some((row.seed, x, y))
+        })
+        .collect();
+    pairs.sort_by_key(|&(seed, _, _)| seed);
+    pairs.into_iter().map(|(_, x, y)| (x, y)).unzip()
+}
+
+/// The paired comparison of `x` and `y` (seed-aligned) on `column`, or `None` with fewer than
+/// 2 pairs.
+///
+/// # Errors
+/// A [`StatsError`] for non-finite values.
+pub fn compare_paired(
+    x: &[f64],
+    y: &[f64],
+    column: &str,
+    options: &ClaimOptions,
+) -> Result<Option<PairedComparison>, StatsError> {
+    if x.len() < 2 {
+        return Ok(None);
+    }
+    let d = differences(x, y)?;
+    let difference = paired_difference(&options.bootstrap, x, y, PAIRED_STATISTIC)?;
+    let p_value = options
+        .sign_flip
+        .p_value(&d, PAIRED_STATISTIC, Alternative::TwoSided)?;
+    let margin = equivalence_margin(column);
+    let p_equivalence = margin
+        .map(|m| {
+            options
+                .sign_flip
+                .equivalence_p_value(&d, PAIRED_STATISTIC, m)
+        })
+        .transpose()?;
+    Ok(Some(PairedComparison {
+        n: d.len(),
+        difference,
+        p_value,
+        margin,
+        p_equivalence,
+        p_equivalence_holm: p_equivalence,
+    }))
 }
 
 /// A comparison that could not be made, and why.
@@ -439,8 +555,11 @@ pub fn judge_one(
                 });
                 continue;
             }
-            let comparison =
+            let mut comparison =
                 compare(&x, &y, *metric, versus, options).map_err(|e| error(metric.column, e))?;
+            let (px, py) = paired_values(scores, task, method, versus, metric.column);
+            comparison.paired = compare_paired(&px, &py, metric.column, options)
+                .map_err(|e| error(metric.column, e))?;
             raw_p.push(comparison.p_value);
             judgement.comparisons.push(comparison);
         }
@@ -454,6 +573,24 @@ pub fn judge_one(
     for (comparison, p_holm) in judgement.comparisons.iter_mut().zip(adjusted) {
         comparison.p_holm = p_holm;
         comparison.outcome = outcome(comparison, options.alpha);
+    }
+    // Equivalence is judged on every comparison at once: Holm across them, and a comparison
+    // without a margin (or without pairs) can never be equivalent.
+    let equivalence_p: Vec<f64> = judgement
+        .comparisons
+        .iter()
+        .map(|c| {
+            c.paired
+                .as_ref()
+                .and_then(|p| p.p_equivalence)
+                .unwrap_or(1.0)
+        })
+        .collect();
+    let equivalence_holm = stats::holm(&equivalence_p).map_err(|e| error("(holm)", e))?;
+    for (comparison, p) in judgement.comparisons.iter_mut().zip(equivalence_holm) {
+        if let Some(paired) = comparison.paired.as_mut() {
+            paired.p_equivalence_holm = paired.p_equivalence.map(|_| p);
+        }
     }
     let comparisons = &judgement.comparisons;
     let by_p = |pick_max: bool, keep: &dyn Fn(&Comparison) -> bool| {
@@ -479,6 +616,14 @@ pub fn judge_one(
         .all(|c| c.outcome == Outcome::FavoursMethod)
     {
         judgement.verdict = Verdict::Supported;
+        judgement.deciding = by_p(true, &|_| true);
+    } else if comparisons.iter().all(|c| {
+        c.paired
+            .as_ref()
+            .and_then(|p| p.p_equivalence_holm)
+            .is_some_and(|p| p < options.alpha)
+    }) {
+        judgement.verdict = Verdict::Equivalent;
         judgement.deciding = by_p(true, &|_| true);
     } else {
         judgement.verdict = Verdict::Inconclusive;
@@ -515,6 +660,7 @@ pub fn compare(
         p_holm: p_value,
         p_improvement,
         outcome: Outcome::Unsettled,
+        paired: None,
     };
     comparison.outcome = outcome(&comparison, options.alpha);
     Ok(comparison)
@@ -523,7 +669,10 @@ pub fn compare(
 /// What a comparison settles at level `alpha` (see the module docs).
 fn outcome(comparison: &Comparison, alpha: f64) -> Outcome {
     let d = &comparison.difference;
-    let significant = comparison.p_holm < alpha && d.excludes(0.0);
+    // "Favours" needs an effect beyond the metric's equivalence margin as well.
+    let beyond_margin =
+        equivalence_margin(comparison.metric.column).is_none_or(|m| d.estimate.abs() > m);
+    let significant = comparison.p_holm < alpha && d.excludes(0.0) && beyond_margin;
     if !significant {
         Outcome::Unsettled
     } else if comparison.metric.direction.favours(d.estimate) {
@@ -573,6 +722,22 @@ pub struct ClaimRow {
     pub outcome: Option<Outcome>,
     /// The claim × task × method verdict (rows of a method under test only).
     pub verdict: Option<Verdict>,
+    /// Seeds paired (both methods have a value; comparisons only).
+    pub paired_n: Option<usize>,
+    /// Mean of the paired differences method − competitor (comparisons only).
+    pub paired_estimate: Option<f64>,
+    /// Lower end of its paired-bootstrap 95 % interval.
+    pub paired_ci_low: Option<f64>,
+    /// Upper end.
+    pub paired_ci_high: Option<f64>,
+    /// Two-sided sign-flip p-value of the mean paired difference.
+    pub paired_p_value: Option<f64>,
+    /// The metric's equivalence margin (empty: the metric has none).
+    pub margin: Option<f64>,
+    /// TOST p-value of equivalence within `±margin`, and Holm-adjusted.
+    pub p_equivalence: Option<f64>,
+    /// The TOST p-value Holm-adjusted across the claim × task × method's comparisons.
+    pub p_equivalence_holm: Option<f64>,
 }
 
 /// The rows of `claims.csv`: per claim and task, first one single-method row per method and
@@ -617,6 +782,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                         p_improvement: None,
                         outcome: None,
                         verdict,
+                        ..ClaimRow::paired_none()
                     });
                 }
             }
@@ -642,14 +808,147 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 p_improvement: Some(c.p_improvement),
                 outcome: Some(c.outcome),
                 verdict: Some(judgement.verdict),
+                paired_n: c.paired.as_ref().map(|p| p.n),
+                paired_estimate: c.paired.as_ref().map(|p| p.difference.estimate),
+                paired_ci_low: c.paired.as_ref().map(|p| p.difference.low),
+                paired_ci_high: c.paired.as_ref().map(|p| p.difference.high),
+                paired_p_value: c.paired.as_ref().map(|p| p.p_value),
+                margin: c.paired.as_ref().and_then(|p| p.margin),
+                p_equivalence: c.paired.as_ref().and_then(|p| p.p_equivalence),
+                p_equivalence_holm: c.paired.as_ref().and_then(|p| p.p_equivalence_holm),
             });
         }
     }
     rows
 }
 
+impl ClaimRow {
+    /// A row with every paired column empty, to fill the others into.
+    fn paired_none() -> Self {
+        Self {
+            claim: "",
+            task: String::new(),
+            method: String::new(),
+            role: Role::Paper,
+            metric: "",
+            better: "",
+            versus: String::new(),
+            n: 0,
+            n_versus: None,
+            estimate: None,
+            ci_low: None,
+            ci_high: None,
+            p_value: None,
+            p_holm: None,
+            p_improvement: None,
+            outcome: None,
+            verdict: None,
+            paired_n: None,
+            paired_estimate: None,
+            paired_ci_low: None,
+            paired_ci_high: None,
+            paired_p_value: None,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        }
+    }
+}
+
+/// The label of the sub-task-alone control every EA-MADM method is paired with on outcomes.
+pub const SUBTASK_ALONE: &str = "subtask0-alone";
+
+/// Rows of `claims.csv` on the per-run outcome (claim `outcome`, metric `converged`): per
+/// task and method the share of seeds whose final greedy policy reaches the target with its
+/// Wilson 95 % interval; and per EA-MADM method against every paper competitor and
+/// [`SUBTASK_ALONE`], paired by seed, `estimate` = (seeds only the method converged on −
+/// seeds only the other did) / paired seeds, `n` the paired seeds, and `p_value` the exact
+/// sign test on those discordant seeds (McNemar's exact test).
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a Wilson interval fails (it cannot with at least one seed).
+pub fn outcome_rows(scores: &[FinalScore]) -> Result<Vec<ClaimRow>, ClaimsError> {
+    let converged = |task: &str, method: &str| -> Vec<(u64, bool)> {
+        let mut seeds: Vec<(u64, bool)> = scores
+            .iter()
+            .filter(|r| r.task == task && r.method == method)
+            .map(|r| (r.seed, r.outcome == RunOutcome::Converged))
+            .collect();
+        seeds.sort_unstable();
+        seeds
+    };
+    let mut rows = Vec::new();
+    for task in tasks(scores) {
+        let methods = methods(scores, task);
+        for &(method, role, _) in &methods {
+            let seeds = converged(task, method);
+            let hits = seeds.iter().filter(|(_, c)| *c).count() as u64;
+            let wilson =
+                stats::wilson(hits, seeds.len() as u64, 0.95).map_err(|e| ClaimsError::Stats {
+                    claim: "outcome".to_owned(),
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    metric: "converged".to_owned(),
+                    source: Box::new(e),
+                })?;
+            rows.push(ClaimRow {
+                claim: "outcome",
+                task: task.to_owned(),
+                method: method.to_owned(),
+                role,
+                metric: "converged",
+                better: "higher",
+                n: seeds.len(),
+                estimate: Some(wilson.estimate),
+                ci_low: Some(wilson.low),
+                ci_high: Some(wilson.high),
+                ..ClaimRow::paired_none()
+            });
+        }
+        for &(method, role, kind) in &methods {
+            if !is_under_test(kind) {
+                continue;
+            }
+            let mine = converged(task, method);
+            for &(versus, versus_role, versus_kind) in &methods {
+                if !(is_competitor(versus_role, versus_kind) || versus == SUBTASK_ALONE) {
+                    continue;
+                }
+                let theirs = converged(task, versus);
+                let (mut wins, mut losses, mut paired) = (0_u64, 0_u64, 0_usize);
+                for &(seed, c) in &mine {
+                    if let Some(&(_, d)) = theirs.iter().find(|(s, _)| *s == seed) {
+                        paired += 1;
+                        wins += u64::from(c && !d);
+                        losses += u64::from(d && !c);
+                    }
+                }
+                if paired == 0 {
+                    continue;
+                }
+                rows.push(ClaimRow {
+                    claim: "outcome",
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    role,
+                    metric: "converged",
+                    better: "higher",
+                    versus: versus.to_owned(),
+                    n: paired,
+                    n_versus: Some(theirs.len()),
+                    estimate: Some((wins as f64 - losses as f64) / paired as f64),
+                    p_value: Some(stats::sign_test(wins, losses)),
+                    paired_n: Some(paired),
+                    ..ClaimRow::paired_none()
+                });
+            }
+        }
+    }
+    Ok(rows)
+}
+
 /// The columns of `claims.csv`, in order.
-pub const CLAIM_COLUMNS: [&str; 17] = [
+pub const CLAIM_COLUMNS: [&str; 25] = [
     "claim",
     "task",
     "method",
@@ -667,6 +966,14 @@ pub const CLAIM_COLUMNS: [&str; 17] = [
     "p_improvement",
     "outcome",
     "verdict",
+    "paired_n",
+    "paired_estimate",
+    "paired_ci_low",
+    "paired_ci_high",
+    "paired_p_value",
+    "margin",
+    "p_equivalence",
+    "p_equivalence_holm",
 ];
 
 /// Writes `claims.csv` (header: the fields of [`ClaimRow`]; empty cells for absent values).

@@ -47,7 +47,7 @@ pub const FINAL_WINDOW: usize = crate::summary::DEFAULT_FINAL_WINDOW;
 pub const REACHING_EPISODES: usize = 100;
 
 /// The columns of `final-scores.csv`, in order (the fields of [`FinalScore`]).
-pub const COLUMNS: [&str; 23] = [
+pub const COLUMNS: [&str; 25] = [
     "task",
     "method",
     "role",
@@ -60,6 +60,8 @@ pub const COLUMNS: [&str; 23] = [
     "success_rate",
     "greedy_reached",
     "greedy_steps",
+    "outcome",
+    "collapse_episode",
     "fluctuation_steps",
     "fluctuation_return",
     "env_steps_total",
@@ -72,6 +74,68 @@ pub const COLUMNS: [&str; 23] = [
     "reach_retention_time",
     "retention_decay",
 ];
+
+/// How a run ended, from what its record holds: the greedy evaluation episode after training
+/// (the final greedy policy, no exploration, no learning) and the `reached` flag of every
+/// training episode. Exactly one applies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunOutcome {
+    /// The final greedy policy reaches the target.
+    Converged,
+    /// The final greedy policy does not reach the target, and neither does any episode of
+    /// the final window, but an earlier training episode did: the run reached and then
+    /// stopped reaching for good. The episode it happened (one past the last reaching one) is
+    /// [`FinalScore::collapse_episode`].
+    Collapsed,
+    /// The final greedy policy does not reach the target, but training episodes of the final
+    /// window still do: the learner reaches only while it keeps learning (online updates
+    /// break the loops the frozen greedy policy falls into).
+    ReachesWhileLearning,
+    /// Neither the final greedy policy nor any training episode reached the target.
+    NeverReached,
+}
+
+impl RunOutcome {
+    /// Every outcome, in table order.
+    pub const ALL: [Self; 4] = [
+        Self::Converged,
+        Self::Collapsed,
+        Self::ReachesWhileLearning,
+        Self::NeverReached,
+    ];
+
+    /// The CSV name: `converged`, `collapsed` or `never_reached`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Converged => "converged",
+            Self::Collapsed => "collapsed",
+            Self::ReachesWhileLearning => "reaches_while_learning",
+            Self::NeverReached => "never_reached",
+        }
+    }
+
+    /// The outcome of a run whose greedy evaluation `greedy_reached`, with its training
+    /// episodes `episodes` and a final window of the last `window` of them, and the collapse
+    /// episode when it collapsed.
+    #[must_use]
+    pub fn of(
+        greedy_reached: bool,
+        episodes: &[EpisodeRecord],
+        window: usize,
+    ) -> (Self, Option<u64>) {
+        if greedy_reached {
+            return (Self::Converged, None);
+        }
+        let window_start = episodes.len().saturating_sub(window);
+        match episodes.iter().rposition(|e| e.reached) {
+            Some(last) if last >= window_start => (Self::ReachesWhileLearning, None),
+            Some(last) => (Self::Collapsed, Some(last as u64 + 1)),
+            None => (Self::NeverReached, None),
+        }
+    }
+}
 
 /// Scores that cannot be computed.
 #[derive(Debug, Error)]
@@ -146,6 +210,11 @@ pub struct FinalScore {
     pub greedy_reached: bool,
     /// Steps of the greedy evaluation episode.
     pub greedy_steps: u64,
+    /// How the run ended (see [`RunOutcome`]).
+    pub outcome: RunOutcome,
+    /// For a [`RunOutcome::Collapsed`] run, the first training episode of its permanent
+    /// non-reaching tail (one past the last training episode that reached); empty otherwise.
+    pub collapse_episode: Option<u64>,
     /// Sample SD of steps per episode over the second half of training (C3).
     pub fluctuation_steps: f64,
     /// Sample SD of task return per episode over the second half of training (C3).
@@ -191,6 +260,7 @@ impl FinalScore {
             "success_rate" => Some(self.success_rate),
             "greedy_reached" => Some(if self.greedy_reached { 1.0 } else { 0.0 }),
             "greedy_steps" => Some(self.greedy_steps as f64),
+            "collapse_episode" => self.collapse_episode.map(|e| e as f64),
             "fluctuation_steps" => Some(self.fluctuation_steps),
             "fluctuation_return" => Some(self.fluctuation_return),
             "env_steps_total" => Some(self.env_steps_total as f64),
@@ -318,6 +388,8 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
             (None, None, None, None)
         };
 
+    let (outcome, collapse_episode) =
+        RunOutcome::of(record.evaluation.reached, episodes, FINAL_WINDOW);
     Ok(FinalScore {
         task: record.experiment.clone(),
         method: record.method.clone(),
@@ -331,6 +403,8 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
         success_rate,
         greedy_reached: record.evaluation.reached,
         greedy_steps: record.evaluation.steps,
+        outcome,
+        collapse_episode,
         fluctuation_steps,
         fluctuation_return,
         env_steps_total: record.total_env_steps,
@@ -410,6 +484,41 @@ mod tests {
     }
 
     #[test]
+    fn outcomes_are_exhaustive_and_date_the_collapse() {
+        let episode = |reached| EpisodeRecord {
+            episode: 0,
+            steps: 1,
+            task_return: 0.0,
+            learning_return: 0.0,
+            terminated: reached,
+            truncated: !reached,
+            reached,
+            collisions: 0,
+            env_steps: 1,
+            robot: None,
+        };
+        let run = |flags: &[bool]| flags.iter().map(|&r| episode(r)).collect::<Vec<_>>();
+        let collapsed = run(&[false, true, true, false, true, false, false]);
+        assert_eq!(
+            RunOutcome::of(false, &collapsed, 2),
+            (RunOutcome::Collapsed, Some(5))
+        );
+        assert_eq!(
+            RunOutcome::of(true, &collapsed, 2),
+            (RunOutcome::Converged, None)
+        );
+        // A window of 3 holds episode 4, which reached: it still reaches while learning.
+        assert_eq!(
+            RunOutcome::of(false, &collapsed, 3),
+            (RunOutcome::ReachesWhileLearning, None)
+        );
+        assert_eq!(
+            RunOutcome::of(false, &run(&[false, false]), 2),
+            (RunOutcome::NeverReached, None)
+        );
+    }
+
+    #[test]
     fn columns_are_the_fields_in_order() {
         let row = FinalScore {
             task: "t".into(),
@@ -424,6 +533,8 @@ mod tests {
             success_rate: 0.5,
             greedy_reached: true,
             greedy_steps: 7,
+            outcome: RunOutcome::Converged,
+            collapse_episode: None,
             fluctuation_steps: 0.25,
             fluctuation_return: 0.125,
             env_steps_total: 99,
@@ -443,14 +554,18 @@ mod tests {
         assert_eq!(lines.next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             lines.next().unwrap(),
-            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,0.25,0.125,99,0,,12,0,,,,-0.1"
+            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,99,0,,12,0,,,,-0.1"
         );
         assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
         for column in COLUMNS {
-            if !matches!(column, "task" | "method" | "role" | "kind") {
+            if !matches!(column, "task" | "method" | "role" | "kind" | "outcome") {
                 let absent = matches!(
                     column,
-                    "step_cap" | "reach_average_reward" | "reach_time" | "reach_retention_time"
+                    "step_cap"
+                        | "collapse_episode"
+                        | "reach_average_reward"
+                        | "reach_time"
+                        | "reach_retention_time"
                 );
                 assert_eq!(row.value(column).is_none(), absent, "{column}");
             }

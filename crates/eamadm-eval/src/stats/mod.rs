@@ -7,7 +7,8 @@
 //! `serde` and `thiserror`). One file per topic: [`location`] (mean, median, IQM, SD,
 //! quantiles), [`bootstrap`], [`permutation`] (the permutation test and its combinatorics),
 //! [`comparison`] (Holm, probability of improvement), [`proportion`] (Wilson), [`normal`]
-//! (the normal quantile) and [`distribution`](mod@distribution).
+//! (the normal quantile), [`paired`] (sign-flip test, TOST, paired bootstrap, sign test) and
+//! [`distribution`](mod@distribution).
 //!
 //! # Conventions
 //!
@@ -136,6 +137,7 @@ pub mod comparison;
 pub mod distribution;
 pub mod location;
 pub mod normal;
+pub mod paired;
 pub mod permutation;
 pub mod proportion;
 
@@ -144,6 +146,7 @@ pub use comparison::{holm, probability_of_improvement};
 pub use distribution::{Distribution, distribution};
 pub use location::{Statistic, iqm, mean, median, sample_sd};
 pub use normal::normal_quantile;
+pub use paired::{Alternative, SignFlipTest, paired_difference, sign_test};
 pub use permutation::PermutationTest;
 pub use proportion::wilson;
 

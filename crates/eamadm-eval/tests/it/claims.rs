@@ -22,6 +22,8 @@ fn row(method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScor
         success_rate: 0.5,
         greedy_reached: false,
         greedy_steps: 2000,
+        outcome: eamadm_eval::scores::RunOutcome::Collapsed,
+        collapse_episode: Some(150),
         fluctuation_steps: steps / 4.0,
         fluctuation_return: steps / 4.0,
         env_steps_total: 1000,
@@ -50,6 +52,7 @@ fn options() -> ClaimOptions {
     ClaimOptions {
         bootstrap: Bootstrap::new(2000, 0.95, 7).unwrap(),
         permutation: PermutationTest::new(2000, 7).unwrap(),
+        sign_flip: eamadm_eval::stats::SignFlipTest::new(2000, 7).unwrap(),
         alpha: 0.05,
     }
 }
@@ -87,8 +90,11 @@ fn the_verdict_flips_when_the_numbers_flip() {
     let more = scores(1500.0, 100.0);
     assert_eq!(verdict(&more, "C1"), Verdict::Contradicted);
     assert_eq!(verdict(&more, "C2"), Verdict::Contradicted);
+    // Identical per seed: the paired difference is 0, inside the 2-step margin.
     let same = scores(100.0, 100.0);
-    assert_eq!(verdict(&same, "C1"), Verdict::Inconclusive);
+    assert_eq!(verdict(&same, "C1"), Verdict::Equivalent);
+    // Final return has no margin, so it is never judged equivalent.
+    assert_eq!(verdict(&same, "C2"), Verdict::Inconclusive);
     // The deciding comparison of a contradicted claim favours the competitor.
     let judgement = claims::judge(&more, &options())
         .unwrap()
@@ -99,6 +105,28 @@ fn the_verdict_flips_when_the_numbers_flip() {
     assert_eq!(deciding.outcome, Outcome::FavoursCompetitor);
     assert!(deciding.difference.low > 0.0, "{deciding:?}");
     assert!(deciding.p_holm < 0.05);
+}
+
+#[test]
+fn equivalence_needs_the_paired_difference_inside_the_margin() {
+    // 1.5 steps fewer on every seed: within the 2-step margin, so equivalent, never "favours".
+    let within = scores(100.0, 101.5);
+    assert_eq!(verdict(&within, "C1"), Verdict::Equivalent);
+    let judgement = claims::judge(&within, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C1")
+        .unwrap();
+    let paired = judgement.comparisons[0].paired.as_ref().unwrap();
+    assert_eq!(paired.n, 10);
+    assert_eq!(paired.difference.estimate, -1.5);
+    assert_eq!(paired.margin, Some(2.0));
+    // All ten shifted differences share one sign: 1 of the 2^10 sign vectors is as extreme.
+    assert_eq!(paired.p_equivalence, Some(1.0 / 1024.0));
+    // 3 steps fewer on every seed: beyond the margin, so not equivalent; the unpaired IQM
+    // difference is not significant with these spread-out seeds, so it stays inconclusive.
+    let beyond = scores(100.0, 103.0);
+    assert_eq!(verdict(&beyond, "C1"), Verdict::Inconclusive);
 }
 
 #[test]
@@ -132,4 +160,33 @@ fn judgements_are_bit_identical_with_one_and_two_threads() {
             })
     };
     assert_eq!(on(1), on(2));
+}
+
+#[test]
+fn outcome_rows_count_seeds_and_pair_them() {
+    use eamadm_eval::scores::RunOutcome;
+    let mut rows = scores(100.0, 100.0);
+    for row in &mut rows {
+        let collapsed = row.method == "ea-madm" && row.seed >= 7;
+        row.outcome = if collapsed {
+            RunOutcome::Collapsed
+        } else {
+            RunOutcome::Converged
+        };
+    }
+    let out = claims::outcome_rows(&rows).unwrap();
+    let share = out
+        .iter()
+        .find(|r| r.method == "ea-madm" && r.versus.is_empty())
+        .unwrap();
+    assert_eq!(share.estimate, Some(0.7));
+    assert!(share.ci_low.unwrap() < 0.7 && 0.7 < share.ci_high.unwrap());
+    let paired = out
+        .iter()
+        .find(|r| r.method == "ea-madm" && r.versus == "softmax")
+        .unwrap();
+    // Three seeds only softmax converged on, none the other way: (0 − 3) / 10, p = 2 / 2³.
+    assert_eq!(paired.estimate, Some(-0.3));
+    assert!((paired.p_value.unwrap() - 0.25).abs() < 1e-12);
+    assert_eq!(paired.n, 10);
 }

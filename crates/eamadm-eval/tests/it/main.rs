@@ -7,4 +7,5 @@
 
 mod band;
 mod claims;
+mod paired;
 mod stats;

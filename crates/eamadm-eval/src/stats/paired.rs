@@ -1,0 +1,224 @@
+//! Paired comparisons by seed: runs of one seed share their random streams (every stream is
+//! keyed by the seed and its purpose, never by the method), so two methods' scores on one seed
+//! form a pair. Here: the sign-flip permutation test of paired differences, its two one-sided
+//! tests for equivalence (TOST), the percentile bootstrap of the paired differences' location,
+//! and the exact sign test (McNemar's exact test on discordant pairs).
+//!
+//! # Formulas
+//!
+//! * **Sign-flip test** ([`SignFlipTest::p_value`]) of `H₀`: the differences `dᵢ` are
+//!   symmetric about 0. The statistic is `T = θ(d)` (mean, median or IQM). Under `H₀` every
+//!   sign vector `s ∈ {−1, +1}ⁿ` is equally likely; with `2ⁿ ≤ resamples` all are enumerated
+//!   and `p_greater = #{s: θ(s·d) ≥ T} / 2ⁿ`, `p_less = #{s: θ(s·d) ≤ T} / 2ⁿ`; otherwise
+//!   `B = resamples` random sign vectors are drawn and each count gets `+1` in numerator and
+//!   denominator (Phipson & Smyth 2010). Two-sided: `min(1, 2 min(p_less, p_greater))`, as
+//!   `scipy.stats.permutation_test(…, permutation_type="samples")` computes it. Comparisons
+//!   allow a relative slack of `10⁻¹²` of `max |dᵢ|` (ties in the last bits count as ties).
+//! * **TOST** ([`SignFlipTest::equivalence_p_value`], Schuirmann 1987) with margin `δ > 0`:
+//!   `p_lower` tests `θ ≤ −δ` against `θ > −δ` (sign-flip, `greater`, on `d + δ`), `p_upper`
+//!   tests `θ ≥ δ` against `θ < δ` (`less`, on `d − δ`); `p_TOST = max(p_lower, p_upper)`.
+//!   Equivalence within `±δ` is shown at level `α` when `p_TOST ≤ α`.
+//! * **Sign test** ([`sign_test`]): with `w` pairs favouring one side and `l` the other (ties
+//!   dropped), `p = min(1, 2 P(X ≤ min(w, l)))` for `X ~ Binomial(w + l, ½)` — the exact
+//!   two-sided `scipy.stats.binomtest(w, w + l, 0.5)`; on binary outcomes it is McNemar's
+//!   exact test.
+//!
+//! # Random draws
+//!
+//! Monte-Carlo sign vectors: for `b = 1..=B`, one 32-bit word per block of 32 differences
+//! (bit `i mod 32` of word `⌊i/32⌋` set flips `dᵢ`), from `ChaCha8Rng::seed_from_u64(seed)`.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::location::Statistic;
+use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample};
+
+/// Which way a one-sided test looks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Alternative {
+    /// `θ ≠ 0`.
+    TwoSided,
+    /// `θ > 0`.
+    Greater,
+    /// `θ < 0`.
+    Less,
+}
+
+/// Settings of the paired sign-flip permutation test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SignFlipTest {
+    /// All `2ⁿ` sign vectors are enumerated when `2ⁿ ≤ resamples`; otherwise this many random
+    /// ones are drawn (1 to [`MAX_RESAMPLES`](super::MAX_RESAMPLES)).
+    pub resamples: u32,
+    /// Seed of the `ChaCha8` generator of the random sign vectors.
+    pub seed: u64,
+}
+
+impl Default for SignFlipTest {
+    /// 10 000 resamples, seed 0.
+    fn default() -> Self {
+        Self {
+            resamples: 10_000,
+            seed: 0,
+        }
+    }
+}
+
+impl SignFlipTest {
+    /// Checked settings: `resamples` in `1..=MAX_RESAMPLES`.
+    ///
+    /// # Errors
+    /// [`StatsError::InvalidParameter`] for `resamples` out of range.
+    pub fn new(resamples: u32, seed: u64) -> Result<Self, StatsError> {
+        check_resamples(resamples)?;
+        Ok(Self { resamples, seed })
+    }
+
+    /// Whether [`p_value`](Self::p_value) enumerates every sign vector for `n` differences.
+    #[must_use]
+    pub fn is_exact(&self, n: usize) -> bool {
+        n < 32 && (1_u64 << n) <= u64::from(self.resamples)
+    }
+
+    /// The p-value of the paired differences `differences` (method − competitor, one per seed)
+    /// under sign flips, for `statistic` and `alternative`.
+    ///
+    /// # Errors
+    /// [`StatsError::Empty`], [`StatsError::NonFinite`], [`StatsError::InvalidParameter`].
+    pub fn p_value(
+        &self,
+        differences: &[f64],
+        statistic: Statistic,
+        alternative: Alternative,
+    ) -> Result<f64, StatsError> {
+        check_resamples(self.resamples)?;
+        check_sample(differences, "differences")?;
+        let observed = statistic.of(differences)?;
+        let scale = differences.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let slack = 1e-12 * scale;
+        let n = differences.len();
+        let mut flipped = vec![0.0; n];
+        let (mut greater, mut less) = (0_u64, 0_u64);
+        let mut count = |flipped: &[f64]| -> Result<(), StatsError> {
+            let t = statistic.of(flipped)?;
+            if t >= observed - slack {
+                greater += 1;
+            }
+            if t <= observed + slack {
+                less += 1;
+            }
+            Ok(())
+        };
+        let (p_greater, p_less) = if self.is_exact(n) {
+            let total = 1_u64 << n;
+            for signs in 0..total {
+                for (i, (f, d)) in flipped.iter_mut().zip(differences).enumerate() {
+                    *f = if signs >> i & 1 == 1 { -d } else { *d };
+                }
+                count(&flipped)?;
+            }
+            (greater as f64 / total as f64, less as f64 / total as f64)
+        } else {
+            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            for _ in 0..self.resamples {
+                let mut word = 0_u32;
+                for (i, (f, d)) in flipped.iter_mut().zip(differences).enumerate() {
+                    if i % 32 == 0 {
+                        word = rng.next_u32();
+                    }
+                    *f = if word >> (i % 32) & 1 == 1 { -d } else { *d };
+                }
+                count(&flipped)?;
+            }
+            let b = f64::from(self.resamples) + 1.0;
+            ((greater as f64 + 1.0) / b, (less as f64 + 1.0) / b)
+        };
+        Ok(match alternative {
+            Alternative::Greater => p_greater,
+            Alternative::Less => p_less,
+            Alternative::TwoSided => (2.0 * p_greater.min(p_less)).min(1.0),
+        })
+    }
+
+    /// The TOST p-value that the location `statistic` of the paired `differences` lies within
+    /// `±margin`: `max(p_lower, p_upper)` (see [the module docs](self)).
+    ///
+    /// # Errors
+    /// As [`p_value`](Self::p_value); [`StatsError::InvalidParameter`] for a margin that is
+    /// not finite and positive.
+    pub fn equivalence_p_value(
+        &self,
+        differences: &[f64],
+        statistic: Statistic,
+        margin: f64,
+    ) -> Result<f64, StatsError> {
+        if !(margin.is_finite() && margin > 0.0) {
+            return Err(StatsError::InvalidParameter {
+                name: "margin",
+                value: margin.to_string(),
+                expected: "a finite positive number",
+            });
+        }
+        let shifted = |by: f64| -> Vec<f64> { differences.iter().map(|d| d + by).collect() };
+        let lower = self.p_value(&shifted(margin), statistic, Alternative::Greater)?;
+        let upper = self.p_value(&shifted(-margin), statistic, Alternative::Less)?;
+        Ok(lower.max(upper))
+    }
+}
+
+/// The percentile bootstrap interval of `statistic` of the paired differences `x[i] − y[i]`
+/// (resampling seeds, each seed's pair together).
+///
+/// # Errors
+/// [`StatsError::InvalidParameter`] when `x` and `y` differ in length; as
+/// [`Bootstrap::interval`] otherwise.
+pub fn paired_difference(
+    bootstrap: &Bootstrap,
+    x: &[f64],
+    y: &[f64],
+    statistic: Statistic,
+) -> Result<Interval, StatsError> {
+    bootstrap.interval(&differences(x, y)?, statistic)
+}
+
+/// The paired differences `x[i] − y[i]`.
+///
+/// # Errors
+/// [`StatsError::InvalidParameter`] when `x` and `y` differ in length; [`StatsError::Empty`]
+/// or [`StatsError::NonFinite`] for bad values.
+pub fn differences(x: &[f64], y: &[f64]) -> Result<Vec<f64>, StatsError> {
+    check_sample(x, "x")?;
+    check_sample(y, "y")?;
+    if x.len() != y.len() {
+        return Err(StatsError::InvalidParameter {
+            name: "y's length",
+            value: y.len().to_string(),
+            expected: "as many values as x: one per seed, in the same seed order",
+        });
+    }
+    Ok(x.iter().zip(y).map(|(a, b)| a - b).collect())
+}
+
+/// The exact two-sided sign test of `wins` against `losses` (ties dropped): `1` when both are
+/// 0. On paired binary outcomes (reached / did not), `wins` and `losses` are the discordant
+/// pairs and this is McNemar's exact test.
+#[must_use]
+pub fn sign_test(wins: u64, losses: u64) -> f64 {
+    let n = wins + losses;
+    if n == 0 {
+        return 1.0;
+    }
+    let k = wins.min(losses);
+    // P(X ≤ k) for X ~ Binomial(n, ½), summing pmf(i) = C(n, i) / 2ⁿ from logarithms.
+    let ln_half_n = n as f64 * std::f64::consts::LN_2;
+    let mut ln_choose = 0.0_f64;
+    let mut tail = 0.0_f64;
+    for i in 0..=k {
+        if i > 0 {
+            ln_choose += ((n - i + 1) as f64).ln() - (i as f64).ln();
+        }
+        tail += (ln_choose - ln_half_n).exp();
+    }
+    (2.0 * tail).min(1.0)
+}
