@@ -375,8 +375,32 @@ pub(crate) fn wrap(text: &str, width: f64, font: f64) -> Vec<String> {
                 line.push(' ');
                 line.push_str(word);
             }
+            _ if text_width(word, font) > width => lines.extend(break_word(word, width, font)),
             _ => lines.push(word.to_owned()),
         }
+    }
+    lines
+}
+
+/// A word wider than `width` (a long method label such as
+/// `epsilon-decreasing-shaped-repaired`) as lines broken after its hyphens, each hyphen kept at
+/// the end of its line; a part that is still too wide is broken between characters.
+fn break_word(word: &str, width: f64, font: f64) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for part in word.split_inclusive('-') {
+        if !line.is_empty() && text_width(&format!("{line}{part}"), font) > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        for character in part.chars() {
+            if !line.is_empty() && text_width(&format!("{line}{character}"), font) > width {
+                lines.push(std::mem::take(&mut line));
+            }
+            line.push(character);
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
     }
     lines
 }
@@ -1416,9 +1440,26 @@ mod tests {
             wrap("EA-MADM without trees (table)", 120.0, 13.0),
             vec!["EA-MADM", "without trees", "(table)"]
         );
-        assert_eq!(wrap("softmax", 3.0, 13.0), vec!["softmax"]);
         assert_eq!(wrap("a  b", 100.0, 13.0), vec!["a b"]);
         assert!(wrap("", 100.0, 13.0).is_empty());
+    }
+
+    #[test]
+    fn a_word_too_wide_breaks_after_its_hyphens_then_between_characters() {
+        let label = "epsilon-decreasing-shaped-repaired";
+        let width = text_width("epsilon-decreasing-", 13.0);
+        let lines = wrap(label, width, 13.0);
+        assert_eq!(lines, vec!["epsilon-decreasing-", "shaped-repaired"]);
+        for width in [3.0, 20.0, 60.0, 140.0] {
+            let lines = wrap(label, width, 13.0);
+            assert_eq!(lines.concat(), label, "nothing is lost or added");
+            for line in &lines {
+                assert!(
+                    line.chars().count() == 1 || text_width(line, 13.0) <= width,
+                    "{line:?} wider than {width}"
+                );
+            }
+        }
     }
 
     #[test]

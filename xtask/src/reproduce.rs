@@ -936,11 +936,11 @@ mod tests {
         reproduce_paper(&command(narrow, RunModeArgs::default()), &ws).unwrap();
         assert_eq!(stored_runs(&ws.root.join("out")), before);
         assert!(!leftover.exists());
-        // The robot has no softmax-budget control: its plan there is empty (4dc0c45 emptied
-        // the robot's store).
+        // The robot has no tree-threshold control (those are the mazes'): its plan there is
+        // empty (4dc0c45 emptied the robot's store).
         let lacking = ReproduceArgs {
             tasks: vec![crate::cli::Task::Robot],
-            methods: vec!["softmax-budget".to_owned()],
+            methods: vec!["ea-madm-tau0.5".to_owned()],
             ..small("out")
         };
         let _ = reproduce_paper(&command(lacking, RunModeArgs::default()), &ws);

@@ -40,8 +40,12 @@ pub enum Dash {
     Dashed,
     /// Dots: controls the paper does not run.
     Dotted,
-    /// Dash and dot: the reward-shaped controls.
+    /// Dash and dot: the reward-shaped controls, and a sub-task alone that goes on learning.
     DashDot,
+    /// Dash and two dots: the controls learning from the plain sum of the sub-task rewards.
+    DashDotDot,
+    /// Long dashes: the controls learning from the repaired sub-task rewards.
+    LongDash,
 }
 
 impl Dash {
@@ -54,6 +58,8 @@ impl Dash {
             Self::Dashed => Some("9 5"),
             Self::Dotted => Some("2 4"),
             Self::DashDot => Some("9 4 2 4"),
+            Self::DashDotDot => Some("9 3 2 3 2 3"),
+            Self::LongDash => Some("16 4"),
         }
     }
 
@@ -84,7 +90,7 @@ pub const OKABE_ITO: [&str; 8] = [
 ];
 
 /// The looks of the methods of the paper's presets, by label.
-const LOOKS: [(&str, usize, Dash); 18] = [
+const LOOKS: [(&str, usize, Dash); 32] = [
     // The paper's methods: EA-MADM blue, its three competitors.
     ("ea-madm", 0, Dash::Solid),
     ("epsilon-greedy", 1, Dash::Solid),
@@ -106,6 +112,23 @@ const LOOKS: [(&str, usize, Dash); 18] = [
     ("softmax-shaped", 3, Dash::DashDot),
     ("ea-madm-tau0.5", 5, Dash::Dotted),
     ("ea-madm-tau0.33", 0, Dash::Dotted),
+    // The robot's repaired readings (ablations, drawn with the four above).
+    ("ea-madm-goal-bonus", 1, Dash::Dashed),
+    ("ea-madm-end-penalties", 2, Dash::Dashed),
+    ("ea-madm-normalised", 7, Dash::Dashed),
+    ("ea-madm-repaired", 0, Dash::Dashed),
+    // The robot's controls: a sub-task's learning variant keeps its colour and dash-dots; the
+    // competitors' controls keep the competitor's colour with a dash of their own.
+    ("subtask2-alone", 5, Dash::Dotted),
+    ("subtask0-alone-learning", 6, Dash::DashDot),
+    ("subtask1-alone-learning", 4, Dash::DashDot),
+    ("subtask2-alone-learning", 5, Dash::DashDot),
+    ("epsilon-greedy-shaped-sum", 1, Dash::DashDotDot),
+    ("epsilon-decreasing-shaped-sum", 2, Dash::DashDotDot),
+    ("softmax-shaped-sum", 3, Dash::DashDotDot),
+    ("epsilon-greedy-shaped-repaired", 1, Dash::LongDash),
+    ("epsilon-decreasing-shaped-repaired", 2, Dash::LongDash),
+    ("softmax-shaped-repaired", 3, Dash::LongDash),
 ];
 
 /// The look of the method labelled `label` with role `role`: the fixed look of a preset
@@ -139,9 +162,15 @@ mod tests {
     /// one preset share colour and dash.
     #[test]
     fn preset_methods_have_distinct_looks_of_their_role() {
-        let task1 = paper::task1();
+        for preset in [paper::task1(), paper::task2(), paper::robot()] {
+            distinct_looks_of_their_role(&preset);
+        }
+        assert_eq!(method_style("ea-madm", Role::Paper).colour, OKABE_ITO[0]);
+    }
+
+    fn distinct_looks_of_their_role(preset: &crate::ExperimentConfig) {
         let mut seen = std::collections::BTreeMap::new();
-        for spec in &task1.methods {
+        for spec in &preset.methods {
             assert!(
                 LOOKS.iter().any(|(label, ..)| *label == spec.label),
                 "{} has no fixed look",
@@ -151,14 +180,13 @@ mod tests {
             let family = match style.dash {
                 Dash::Solid => Role::Paper,
                 Dash::Dashed => Role::Ablation,
-                Dash::Dotted | Dash::DashDot => Role::Control,
+                Dash::Dotted | Dash::DashDot | Dash::DashDotDot | Dash::LongDash => Role::Control,
             };
             assert_eq!(family, spec.role, "{}", spec.label);
             if let Some(other) = seen.insert((style.colour, style.dash), spec.label.clone()) {
-                panic!("{} and {other} share a look", spec.label);
+                panic!("{} and {other} share a look in {}", spec.label, preset.name);
             }
         }
-        assert_eq!(method_style("ea-madm", Role::Paper).colour, OKABE_ITO[0]);
     }
 
     #[test]
