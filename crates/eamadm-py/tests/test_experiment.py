@@ -25,7 +25,7 @@ def small_task1(episodes=6, seeds=2):
 
 
 def test_paper_configs():
-    episodes = {"task1": 200, "task2": 200, "robot": 300, "robot-paper-state": 300}
+    episodes = {"task1": 200, "task2": 200, "robot": 500, "robot-paper-state": 500}
     for name, count in episodes.items():
         text = eamadm.paper_config(name)
         assert isinstance(text, str) and f'name = "{name}"' in text
