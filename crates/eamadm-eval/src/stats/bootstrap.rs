@@ -4,7 +4,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::location::{Statistic, quantile_unsorted};
+use super::location::{ExactIntegers, Statistic, quantile_unsorted};
 use super::{
     Interval, StatsError, check_confidence, check_len, check_resamples, check_sample, finite,
     sorted_copy,
@@ -140,6 +140,7 @@ impl Bootstrap {
             offset += values.len();
         }
 
+        let integers = ExactIntegers::new(&sorted, total);
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         let mut replicates = Vec::with_capacity(self.resamples as usize);
         let mut counts = vec![0; total];
@@ -151,7 +152,7 @@ impl Bootstrap {
                     counts[group[uniform_below(&mut rng, size) as usize]] += 1;
                 }
             }
-            replicates.push(statistic.of_counts(&sorted, &counts, total));
+            replicates.push(statistic.of_counts_exact(&sorted, integers.as_ref(), &counts, total));
         }
         self.percentile_interval(estimate, &mut replicates, statistic.name())
     }
@@ -178,6 +179,8 @@ impl Bootstrap {
 /// A sample sorted once, ready to be resampled with replacement.
 struct Resampler {
     sorted: Vec<f64>,
+    /// `sorted` as integers, when they are small integers (see [`ExactIntegers`]).
+    integers: Option<ExactIntegers>,
     size: u32,
 }
 
@@ -185,8 +188,10 @@ impl Resampler {
     /// `x` must be non-empty and finite.
     fn new(x: &[f64]) -> Result<Self, StatsError> {
         let size = check_len(x.len(), "the sample's size")?;
+        let sorted = sorted_copy(x);
         Ok(Self {
-            sorted: sorted_copy(x),
+            integers: ExactIntegers::new(&sorted, x.len()),
+            sorted,
             size,
         })
     }
@@ -197,7 +202,12 @@ impl Resampler {
         for _ in 0..self.size {
             counts[uniform_below(rng, self.size) as usize] += 1;
         }
-        statistic.of_counts(&self.sorted, counts, self.sorted.len())
+        statistic.of_counts_exact(
+            &self.sorted,
+            self.integers.as_ref(),
+            counts,
+            self.sorted.len(),
+        )
     }
 }
 

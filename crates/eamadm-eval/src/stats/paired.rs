@@ -32,7 +32,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::location::Statistic;
-use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample};
+use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample, finite};
 
 /// Which way a one-sided test looks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -98,10 +98,17 @@ impl SignFlipTest {
         let scale = differences.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         let slack = 1e-12 * scale;
         let n = differences.len();
-        let mut flipped = vec![0.0; n];
+        let signed = SignedMagnitudes::new(differences);
+        // Each sign vector picks one of the two slots of every difference (a count of 1);
+        // the statistic walks the counts over the sorted slots, so nothing is sorted per
+        // sign vector and the bits equal those of `statistic.of` on the flipped values.
+        let mut counts = vec![0_u32; 2 * n];
         let (mut greater, mut less) = (0_u64, 0_u64);
-        let mut count = |flipped: &[f64]| -> Result<(), StatsError> {
-            let t = statistic.of(flipped)?;
+        let mut count = |counts: &[u32]| -> Result<(), StatsError> {
+            let t = finite(
+                statistic.of_counts(&signed.slots, counts, n),
+                statistic.name(),
+            )?;
             if t >= observed - slack {
                 greater += 1;
             }
@@ -113,23 +120,19 @@ impl SignFlipTest {
         let (p_greater, p_less) = if self.is_exact(n) {
             let total = 1_u64 << n;
             for signs in 0..total {
-                for (i, (f, d)) in flipped.iter_mut().zip(differences).enumerate() {
-                    *f = if signs >> i & 1 == 1 { -d } else { *d };
-                }
-                count(&flipped)?;
+                signed.fill_counts(&mut counts, |i| signs >> i & 1 == 1);
+                count(&counts)?;
             }
             (greater as f64 / total as f64, less as f64 / total as f64)
         } else {
             let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            let mut words = vec![0_u32; n.div_ceil(32)];
             for _ in 0..self.resamples {
-                let mut word = 0_u32;
-                for (i, (f, d)) in flipped.iter_mut().zip(differences).enumerate() {
-                    if i % 32 == 0 {
-                        word = rng.next_u32();
-                    }
-                    *f = if word >> (i % 32) & 1 == 1 { -d } else { *d };
+                for word in &mut words {
+                    *word = rng.next_u32();
                 }
-                count(&flipped)?;
+                signed.fill_counts(&mut counts, |i| words[i / 32] >> (i % 32) & 1 == 1);
+                count(&counts)?;
             }
             let b = f64::from(self.resamples) + 1.0;
             ((greater as f64 + 1.0) / b, (less as f64 + 1.0) / b)
@@ -164,6 +167,57 @@ impl SignFlipTest {
         let lower = self.p_value(&shifted(margin), statistic, Alternative::Greater)?;
         let upper = self.p_value(&shifted(-margin), statistic, Alternative::Less)?;
         Ok(lower.max(upper))
+    }
+}
+
+/// The values `±dᵢ` that sign flips can give, laid out once in ascending order (`f64::total_cmp`):
+/// with `a₍₀₎ ≤ … ≤ a₍ₙ₋₁₎` the sorted magnitudes `|dᵢ|`, `slots = [−a₍ₙ₋₁₎, …, −a₍₀₎, a₍₀₎, …,
+/// a₍ₙ₋₁₎]`. A sign vector's values are then a multiset over `slots` with one count per
+/// difference, and the location statistic of those counts is the statistic of the flipped
+/// sample bit for bit (values equal under `total_cmp` are equal bit for bit, so the sorted
+/// flipped sample is exactly the counted slots in order).
+struct SignedMagnitudes {
+    /// The `2n` signed magnitudes, ascending.
+    slots: Vec<f64>,
+    /// `kept[i]`: the slot holding `dᵢ` itself.
+    kept: Vec<usize>,
+    /// `flipped[i]`: the slot holding `−dᵢ`.
+    flipped: Vec<usize>,
+}
+
+impl SignedMagnitudes {
+    fn new(differences: &[f64]) -> Self {
+        let n = differences.len();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| differences[a].abs().total_cmp(&differences[b].abs()));
+        let mut slots = vec![0.0; 2 * n];
+        let mut kept = vec![0; n];
+        let mut flipped = vec![0; n];
+        for (rank, &i) in order.iter().enumerate() {
+            let magnitude = differences[i].abs();
+            let (negative, positive) = (n - 1 - rank, n + rank);
+            slots[negative] = -magnitude;
+            slots[positive] = magnitude;
+            // The sign bit decides (−0.0 sits in the negative slot, as `total_cmp` orders it).
+            if differences[i].is_sign_negative() {
+                (kept[i], flipped[i]) = (negative, positive);
+            } else {
+                (kept[i], flipped[i]) = (positive, negative);
+            }
+        }
+        Self {
+            slots,
+            kept,
+            flipped,
+        }
+    }
+
+    /// The counts over `slots` of the sample with `dᵢ` negated where `flip(i)`.
+    fn fill_counts(&self, counts: &mut [u32], flip: impl Fn(usize) -> bool) {
+        counts.fill(0);
+        for (i, (&kept, &flipped)) in self.kept.iter().zip(&self.flipped).enumerate() {
+            counts[if flip(i) { flipped } else { kept }] = 1;
+        }
     }
 }
 

@@ -7,5 +7,6 @@
 
 mod band;
 mod claims;
+mod monte_carlo;
 mod paired;
 mod stats;
