@@ -1286,7 +1286,11 @@ mod tests {
         }
         let zeros = zeros.finish().unwrap();
         // Level 1 packs zeros about 250:1, so the member is a small fraction of the cap.
-        assert!(zeros.len() < (MAX_ENTRY_BYTES >> 6) as usize, "{}", zeros.len());
+        assert!(
+            zeros.len() < (MAX_ENTRY_BYTES >> 6) as usize,
+            "{}",
+            zeros.len()
+        );
         let (verified, problems) = check_bytes(&zeros);
         assert_eq!(verified, 0);
         assert!(problems[0].contains("the cap of one entry"), "{problems:?}");

@@ -527,7 +527,6 @@ pub fn robot_controls(pretrain_budget: u64) -> Vec<MethodSpec> {
     methods
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
