@@ -27,9 +27,14 @@
 //! interval excludes 0 and its Holm-adjusted p is below 0.05; it **favours** Y under the same
 //! conditions the other way; otherwise it settles nothing. Per claim × task × method:
 //!
-//! - `untestable` when X has fewer than two seeds with a value on one of the claim's metrics
-//!   (e.g. it never reaches the target, so C4 has nothing to average), or when no competitor
-//!   has (the reason is given);
+//! - when X has fewer than two seeds with a value on one of the claim's metrics (it seldom or
+//!   never reaches the target, so C4 has nothing to average), the claim is judged on per-seed
+//!   reaching instead ([`judge_by_reaching`]: the exact paired sign test against each
+//!   competitor, Holm over them): `contradicted` when a competitor reaches on significantly
+//!   more seeds, `inconclusive` when one reaches on 2 or more seeds but not significantly
+//!   more, `untestable` when none reaches on 2 or more seeds either (the reason gives the
+//!   counts);
+//! - `untestable` when no competitor has two seeds with a value (the reason is given);
 //! - `contradicted` when any comparison favours a competitor;
 //! - `supported` when every testable comparison favours X;
 //! - `inconclusive` otherwise.
@@ -342,6 +347,20 @@ pub struct ReachingComparison {
     pub p_value: f64,
     /// `p_value` Holm-adjusted across the competitors.
     pub p_holm: f64,
+    /// What it settles: the side that reaches on more seeds is favoured when `p_holm` is
+    /// below α.
+    pub outcome: Outcome,
+}
+
+/// The `metric` of the `claims.csv` rows of a [`ReachingComparison`].
+pub const REACHED: &str = "reached";
+
+/// The `estimate` of a [`ReachingComparison`]'s row: the share of paired seeds the method
+/// reaches on minus the competitor's.
+#[must_use]
+#[expect(clippy::cast_precision_loss, reason = "seed counts are far below 2^52")]
+pub fn reaching_difference(test: &ReachingComparison) -> f64 {
+    (test.reached.0 as f64 - test.reached.1 as f64) / test.n as f64
 }
 
 /// Whether a run reached the target at all: its greedy evaluation episode or any training
@@ -415,6 +434,7 @@ pub fn judge_by_reaching(
                 discordant: (wins, losses),
                 p_value: stats::sign_test(wins, losses),
                 p_holm: 1.0,
+                outcome: Outcome::Unsettled,
             });
         }
     }
@@ -447,11 +467,19 @@ pub fn judge_by_reaching(
     let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
     for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
         test.p_holm = p;
+        let (wins, losses) = test.discordant;
+        test.outcome = if p >= alpha || wins == losses {
+            Outcome::Unsettled
+        } else if wins > losses {
+            Outcome::FavoursMethod
+        } else {
+            Outcome::FavoursCompetitor
+        };
     }
     let against = tests
         .iter()
         .enumerate()
-        .filter(|(_, t)| t.discordant.1 > t.discordant.0 && t.p_holm < alpha)
+        .filter(|(_, t)| t.outcome == Outcome::FavoursCompetitor)
         .min_by(|(i, a), (j, b)| a.p_holm.total_cmp(&b.p_holm).then(i.cmp(j)))
         .map(|(i, _)| i);
     judgement.verdict = if against.is_some() {
@@ -855,7 +883,8 @@ pub struct ClaimRow {
     pub method: String,
     /// The method's role.
     pub role: Role,
-    /// The column of `final-scores.csv`.
+    /// The column of `final-scores.csv`, or [`REACHED`] for a per-seed reaching test
+    /// (`converged` for an outcome row).
     pub metric: &'static str,
     /// `lower` or `higher`: which is better.
     pub better: &'static str,
@@ -902,7 +931,10 @@ pub struct ClaimRow {
 
 /// The rows of `claims.csv`: per claim and task, first one single-method row per method and
 /// metric (IQM over seeds, `versus` empty; the verdict on rows of a method under test), then
-/// every comparison of every method under test.
+/// every comparison of every method under test: the per-seed reaching tests of a judgement
+/// decided by them (metric [`REACHED`]: `estimate` the difference in the share of paired seeds
+/// reaching, [`reaching_difference`]; `p_value` the exact sign test, `p_holm` over the
+/// competitors), then the metric comparisons.
 #[must_use]
 pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
     let mut rows = Vec::new();
@@ -949,6 +981,26 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
         }
     }
     for judgement in judgements {
+        for t in &judgement.reaching {
+            rows.push(ClaimRow {
+                claim: judgement.claim.id,
+                task: judgement.task.clone(),
+                method: judgement.method.clone(),
+                role: judgement.role,
+                metric: REACHED,
+                better: Direction::HigherIsBetter.name(),
+                versus: t.versus.clone(),
+                n: t.n,
+                n_versus: Some(t.n),
+                estimate: Some(reaching_difference(t)),
+                p_value: Some(t.p_value),
+                p_holm: Some(t.p_holm),
+                outcome: Some(t.outcome),
+                verdict: Some(judgement.verdict),
+                paired_n: Some(t.n),
+                ..ClaimRow::paired_none()
+            });
+        }
         for c in &judgement.comparisons {
             rows.push(ClaimRow {
                 claim: judgement.claim.id,

@@ -248,6 +248,19 @@ fn a_method_that_never_reaches_while_a_competitor_does_is_contradicted_by_a_sign
     assert_eq!((greedy.reached, greedy.discordant), ((0, 3), (0, 3)));
     assert!((greedy.p_value - 0.25).abs() < 1e-15);
     assert!((greedy.p_holm - 0.25).abs() < 1e-15);
+    assert_eq!(softmax.outcome, Outcome::FavoursCompetitor);
+    assert_eq!(greedy.outcome, Outcome::Unsettled);
+    // claims.csv carries each reaching test as a `reached` row with the verdict.
+    let rows = claims::rows(std::slice::from_ref(&judgement), &[]);
+    let reached: Vec<_> = rows
+        .iter()
+        .filter(|r| r.metric == claims::REACHED)
+        .collect();
+    assert_eq!(reached.len(), 2);
+    assert_eq!(reached[0].versus, "softmax");
+    assert_eq!(reached[0].estimate, Some(-0.55));
+    assert_eq!(reached[0].p_holm, Some(softmax.p_holm));
+    assert_eq!(reached[0].verdict, Some(Verdict::Contradicted));
     assert!(
         judgement
             .reason
