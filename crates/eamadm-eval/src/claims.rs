@@ -489,8 +489,8 @@ pub fn judge_by_reaching(
     };
     let deciding = &tests[against.unwrap_or(best)];
     judgement.reason = format!(
-        "{title} reaches on {}/{n} seeds, {} on {}/{n}; exact paired sign test, Holm p {} \
-         ({lacking})",
+        "{title} reaches on {}/{n} seeds, {} on {}/{n}; exact paired sign test, Holm p {}; \
+         {lacking}",
         deciding.reached.0,
         paper::method_title(&deciding.versus),
         deciding.reached.1,

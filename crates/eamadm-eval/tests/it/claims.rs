@@ -264,7 +264,7 @@ fn a_method_that_never_reaches_while_a_competitor_does_is_contradicted_by_a_sign
     assert!(
         judgement
             .reason
-            .starts_with("EA-MADM reaches on 0/20 seeds, softmax on 11/20; exact paired sign test, Holm p 0.002 (EA-MADM has a `reach_average_reward` value in 0 of 20 seeds"),
+            .starts_with("EA-MADM reaches on 0/20 seeds, softmax on 11/20; exact paired sign test, Holm p 0.002; EA-MADM has a `reach_average_reward` value in 0 of 20 seeds"),
         "{}",
         judgement.reason
     );
