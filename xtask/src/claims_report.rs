@@ -835,7 +835,7 @@ fn robot_ranking(task: &str, overviews: &[&MethodOverview], verdicts: &Verdicts)
     {
         None => format!(
             "No method reaches the target in two or more seeds, so the robot's methods are not \
-             ranked and C4 cannot be tested here.{never_text}"
+             ranked and C4's metrics cannot be compared here.{never_text}"
         ),
         Some((best, i)) => format!(
             "Among the {} methods that reach the target in two or more seeds, {} has the \
