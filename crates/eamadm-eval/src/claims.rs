@@ -438,6 +438,20 @@ pub fn judge_by_reaching(
             });
         }
     }
+    if !tests.is_empty() {
+        let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
+        for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
+            test.p_holm = p;
+            let (wins, losses) = test.discordant;
+            test.outcome = if p >= alpha || wins == losses {
+                Outcome::Unsettled
+            } else if wins > losses {
+                Outcome::FavoursMethod
+            } else {
+                Outcome::FavoursCompetitor
+            };
+        }
+    }
     let title = paper::method_title(&judgement.method);
     let mine_reached = mine.iter().filter(|(_, r)| *r).count();
     let best = tests
@@ -464,18 +478,6 @@ pub fn judge_by_reaching(
         judgement.reaching = tests;
         return Ok(());
     };
-    let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
-    for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
-        test.p_holm = p;
-        let (wins, losses) = test.discordant;
-        test.outcome = if p >= alpha || wins == losses {
-            Outcome::Unsettled
-        } else if wins > losses {
-            Outcome::FavoursMethod
-        } else {
-            Outcome::FavoursCompetitor
-        };
-    }
     let against = tests
         .iter()
         .enumerate()

@@ -294,6 +294,10 @@ fn when_neither_reaches_c4_stays_untestable_with_the_counts() {
          episode), and no competitor reaches on 2 or more seeds: EA-MADM reaches on 0/20, \
          softmax 1/20, ε-greedy 0/20"
     );
+    // The counts are in claims.csv too, Holm-adjusted: binomtest(0, 1, 0.5).pvalue = 1.
+    assert_eq!(judgement.reaching.len(), 2);
+    assert!(judgement.reaching.iter().all(|t| t.p_holm == 1.0));
+    assert_eq!(judgement.reaching[0].discordant, (0, 1));
 }
 
 #[test]
