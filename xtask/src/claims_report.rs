@@ -306,10 +306,17 @@ fn write_verdicts(text: &mut String, experiments: &[PlannedExperiment], verdicts
          verdict is **supported** when every comparison favours EA-MADM, **contradicted** \
          when any favours a competitor, **equivalent** when every comparison is equivalent \
          (Holm-adjusted TOST p below {alpha}), **inconclusive** otherwise, and \
-         **untestable** when the method has fewer than 2 seeds with a value (or no competitor \
-         has), with the reason. The deciding number is the weakest comparison of a supported \
-         or equivalent claim, the strongest against a contradicted one, and the weakest \
-         non-favourable one of an inconclusive one.\n",
+         **untestable** when no competitor has 2 seeds with a value. A method with fewer than \
+         2 seeds with a value (it seldom or never reaches the target) is judged on per-seed \
+         reaching instead (a seed reaches when its greedy episode or any training episode \
+         does): against each competitor the exact paired sign test on the seeds only one of \
+         the two reaches on (McNemar), Holm-adjusted across the competitors; \
+         **contradicted** when a competitor reaches on more seeds with a Holm p below \
+         {alpha}, **inconclusive** when one reaches on 2 or more seeds but not significantly \
+         more, **untestable** when none does (neither reaches), each with the counts \
+         (claims.csv: metric `reached`). The deciding number is the weakest comparison of a \
+         supported or equivalent claim, the strongest against a contradicted one, and the \
+         weakest non-favourable one of an inconclusive one.\n",
         verdicts.options.bootstrap.resamples,
         verdicts.options.permutation.resamples,
         verdicts.options.sign_flip.resamples,
@@ -828,7 +835,7 @@ fn robot_ranking(task: &str, overviews: &[&MethodOverview], verdicts: &Verdicts)
     {
         None => format!(
             "No method reaches the target in two or more seeds, so the robot's methods are not \
-             ranked and C4 cannot be tested here.{never_text}"
+             ranked and C4's metrics cannot be compared here.{never_text}"
         ),
         Some((best, i)) => format!(
             "Among the {} methods that reach the target in two or more seeds, {} has the \
@@ -1083,6 +1090,7 @@ mod tests {
             for seed in 0..4 {
                 let mut r = row("robot", method, Role::Paper, kind, seed, 500.0);
                 r.reaching_episodes = 0;
+                r.greedy_reached = false;
                 r.reach_average_reward = reward;
                 rows.push(r);
             }
@@ -1094,6 +1102,20 @@ mod tests {
         assert!(
             sentence.contains("Never reaches the target: EA-MADM, softmax"),
             "{sentence}"
+        );
+        // Neither reaches: C4 stays untestable, with the counts.
+        let c4 = none
+            .judgements
+            .iter()
+            .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
+            .unwrap();
+        assert_eq!(c4.verdict, Verdict::Untestable);
+        assert!(
+            c4.reason.ends_with(
+                "no competitor reaches on 2 or more seeds: EA-MADM reaches on 0/4, softmax 0/4"
+            ),
+            "{}",
+            c4.reason
         );
         for r in rows.iter_mut().filter(|r| r.method == "softmax") {
             r.reaching_episodes = 3;
@@ -1108,14 +1130,21 @@ mod tests {
             sentence.contains("Never reaches the target: EA-MADM."),
             "{sentence}"
         );
-        // C4 for EA-MADM is untestable, with the reason.
+        // C4 for EA-MADM is judged on per-seed reaching: 0/4 against 4/4 is exact sign test
+        // p = 2 / 2⁴ = 0.125 (scipy.stats.binomtest(0, 4, 0.5)), so inconclusive, with the
+        // counts and the reason.
         let c4 = some
             .judgements
             .iter()
             .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
             .unwrap();
-        assert_eq!(c4.verdict, Verdict::Untestable);
-        assert!(c4.reason.contains("in 0 of 4 seeds"), "{}", c4.reason);
+        assert_eq!(c4.verdict, Verdict::Inconclusive);
+        assert_eq!(
+            deciding_number(c4),
+            "EA-MADM reaches on 0/4 seeds, softmax on 4/4; exact paired sign test, Holm p \
+             0.125; EA-MADM has a `reach_average_reward` value in 0 of 4 seeds (it needs a \
+             reaching episode)"
+        );
     }
 
     #[test]

@@ -402,7 +402,21 @@ pub(crate) fn answer_paragraph(claims: &[ClaimRow], scores: &[ScoreRow]) -> Resu
                         .partial_cmp(&key(b))
                         .unwrap_or(std::cmp::Ordering::Equal)
                 });
-            if let Some(row) = against {
+            if let Some(row) = against.filter(|r| r.metric == eamadm::claims::REACHED) {
+                // A method that cannot be compared on the claim's metrics is judged on
+                // per-seed reaching (`eamadm::claims::judge_by_reaching`).
+                let _ = write!(
+                    text,
+                    " On {title}, {} beats EA-MADM on {id} by reaching the target on more \
+                     seeds: EA-MADM's share of seeds reaching minus {}'s is {} over {} paired \
+                     seeds, exact paired sign test Holm p {}.",
+                    method_title(&row.versus),
+                    method_title(&row.versus),
+                    number(row.estimate.unwrap_or(f64::NAN)),
+                    row.n,
+                    p_value(row.p_holm)
+                );
+            } else if let Some(row) = against {
                 let _ = write!(
                     text,
                     " On {title}, {} beats EA-MADM on {id}: EA-MADM minus {} in IQM `{}` is {} \
@@ -620,6 +634,40 @@ mod tests {
                 " C4 on the robot is untestable: EA-MADM has a `final_steps` value in 0 of 2 \
                  seeds. Its mean success rate over the final window there is 0%, against 30% for \
                  the best competitor, softmax."
+            ),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_claim_contradicted_by_reaching_states_the_share_and_the_sign_test() {
+        let mut own = claim("C4", "robot", "ea-madm", "", 0.0, None, "", "contradicted");
+        own.n = 0;
+        own.estimate = None;
+        let mut reached = claim(
+            "C4",
+            "robot",
+            "ea-madm",
+            "softmax",
+            -0.55,
+            Some(0.001_953_125),
+            "favours_competitor",
+            "contradicted",
+        );
+        reached.metric = eamadm::claims::REACHED.to_owned();
+        reached.n = 20;
+        reached.ci_low = None;
+        reached.ci_high = None;
+        let scores = vec![
+            score("robot", "ea-madm", 0, 0.0, 1.0),
+            score("robot", "softmax", 0, 0.5, 1.0),
+        ];
+        let text = answer_paragraph(&[own, reached], &scores).unwrap();
+        assert!(
+            text.contains(
+                " On the robot, softmax beats EA-MADM on C4 by reaching the target on more \
+                 seeds: EA-MADM's share of seeds reaching minus softmax's is -0.55 over 20 \
+                 paired seeds, exact paired sign test Holm p = 0.002."
             ),
             "{text}"
         );

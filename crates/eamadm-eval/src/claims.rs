@@ -27,9 +27,14 @@
 //! interval excludes 0 and its Holm-adjusted p is below 0.05; it **favours** Y under the same
 //! conditions the other way; otherwise it settles nothing. Per claim × task × method:
 //!
-//! - `untestable` when X has fewer than two seeds with a value on one of the claim's metrics
-//!   (e.g. it never reaches the target, so C4 has nothing to average), or when no competitor
-//!   has (the reason is given);
+//! - when X has fewer than two seeds with a value on one of the claim's metrics (it seldom or
+//!   never reaches the target, so C4 has nothing to average), the claim is judged on per-seed
+//!   reaching instead ([`judge_by_reaching`]: the exact paired sign test against each
+//!   competitor, Holm over them): `contradicted` when a competitor reaches on significantly
+//!   more seeds, `inconclusive` when one reaches on 2 or more seeds but not significantly
+//!   more, `untestable` when none reaches on 2 or more seeds either (the reason gives the
+//!   counts);
+//! - `untestable` when no competitor has two seeds with a value (the reason is given);
 //! - `contradicted` when any comparison favours a competitor;
 //! - `supported` when every testable comparison favours X;
 //! - `inconclusive` otherwise.
@@ -312,6 +317,10 @@ pub struct Judgement {
     /// for `contradicted` the strongest against (smallest Holm p), for `inconclusive` the
     /// weakest of those that do not favour the method.
     pub deciding: Option<usize>,
+    /// When the method has too few seeds with a value to compare the claim's metrics: the
+    /// per-seed reaching test against each competitor that decides the verdict instead
+    /// ([`judge_by_reaching`]); empty otherwise.
+    pub reaching: Vec<ReachingComparison>,
 }
 
 impl Judgement {
@@ -320,6 +329,178 @@ impl Judgement {
     pub fn deciding_comparison(&self) -> Option<&Comparison> {
         self.deciding.and_then(|i| self.comparisons.get(i))
     }
+}
+
+/// The method under test against one competitor on per-seed reaching ([`reached`]), paired
+/// by seed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReachingComparison {
+    /// The competitor's label.
+    pub versus: String,
+    /// Seeds paired (both methods ran them).
+    pub n: usize,
+    /// Paired seeds the method reaches on, and the competitor.
+    pub reached: (usize, usize),
+    /// Discordant seeds: only the method reaches, only the competitor reaches.
+    pub discordant: (u64, u64),
+    /// Exact two-sided sign test on the discordant seeds (McNemar's exact test).
+    pub p_value: f64,
+    /// `p_value` Holm-adjusted across the competitors.
+    pub p_holm: f64,
+    /// What it settles: the side that reaches on more seeds is favoured when `p_holm` is
+    /// below α.
+    pub outcome: Outcome,
+}
+
+/// The `metric` of the `claims.csv` rows of a [`ReachingComparison`].
+pub const REACHED: &str = "reached";
+
+/// The `estimate` of a [`ReachingComparison`]'s row: the share of paired seeds the method
+/// reaches on minus the competitor's.
+#[must_use]
+#[expect(clippy::cast_precision_loss, reason = "seed counts are far below 2^52")]
+pub fn reaching_difference(test: &ReachingComparison) -> f64 {
+    (test.reached.0 as f64 - test.reached.1 as f64) / test.n as f64
+}
+
+/// Whether a run reached the target at all: its greedy evaluation episode or any training
+/// episode did.
+#[must_use]
+pub fn reached(row: &FinalScore) -> bool {
+    row.greedy_reached || row.reaching_episodes > 0
+}
+
+/// A p-value as the report prints it: `< 0.001` or three decimals.
+fn p_text(p: f64) -> String {
+    if p < 0.001 {
+        "< 0.001".to_owned()
+    } else {
+        format!("{p:.3}")
+    }
+}
+
+/// The verdict of a claim whose metrics the method under test cannot be compared on (fewer
+/// than 2 seeds with a value, because it seldom or never reaches the target; `lacking` says
+/// so), decided by per-seed reaching ([`reached`]) against each competitor, paired by seed
+/// (runs of one seed share their random streams): the exact sign test on the discordant seeds
+/// (McNemar's exact test), Holm-adjusted across the competitors.
+///
+/// - `untestable` when no competitor reaches on 2 or more seeds either (neither reaches);
+/// - `contradicted` when a competitor reaches on more seeds with a Holm p below `alpha` (the
+///   strongest such comparison decides);
+/// - `inconclusive` otherwise (the competitor reaching on most seeds decides).
+///
+/// The reason states the counts and the p-value, e.g. "EA-MADM reaches on 0/20 seeds, softmax
+/// on 11/20; exact paired sign test, Holm p < 0.001".
+///
+/// # Errors
+/// A [`StatsError`] from Holm (it cannot fail on sign-test p-values).
+pub fn judge_by_reaching(
+    scores: &[FinalScore],
+    judgement: &mut Judgement,
+    competitors: &[&str],
+    lacking: &str,
+    alpha: f64,
+) -> Result<(), StatsError> {
+    let per_seed = |method: &str| -> Vec<(u64, bool)> {
+        let mut seeds: Vec<(u64, bool)> = scores
+            .iter()
+            .filter(|row| row.task == judgement.task && row.method == method)
+            .map(|row| (row.seed, reached(row)))
+            .collect();
+        seeds.sort_unstable();
+        seeds
+    };
+    let mine = per_seed(&judgement.method);
+    let mut tests = Vec::new();
+    for &versus in competitors {
+        let theirs = per_seed(versus);
+        let (mut n, mut reached_mine, mut reached_theirs) = (0, 0, 0);
+        let (mut wins, mut losses) = (0_u64, 0_u64);
+        for &(seed, a) in &mine {
+            if let Some(&(_, b)) = theirs.iter().find(|(s, _)| *s == seed) {
+                n += 1;
+                reached_mine += usize::from(a);
+                reached_theirs += usize::from(b);
+                wins += u64::from(a && !b);
+                losses += u64::from(b && !a);
+            }
+        }
+        if n > 0 {
+            tests.push(ReachingComparison {
+                versus: versus.to_owned(),
+                n,
+                reached: (reached_mine, reached_theirs),
+                discordant: (wins, losses),
+                p_value: stats::sign_test(wins, losses),
+                p_holm: 1.0,
+                outcome: Outcome::Unsettled,
+            });
+        }
+    }
+    if !tests.is_empty() {
+        let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
+        for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
+            test.p_holm = p;
+            let (wins, losses) = test.discordant;
+            test.outcome = if p >= alpha || wins == losses {
+                Outcome::Unsettled
+            } else if wins > losses {
+                Outcome::FavoursMethod
+            } else {
+                Outcome::FavoursCompetitor
+            };
+        }
+    }
+    let title = paper::method_title(&judgement.method);
+    let mine_reached = mine.iter().filter(|(_, r)| *r).count();
+    let best = tests
+        .iter()
+        .enumerate()
+        .max_by(|(i, a), (j, b)| a.reached.1.cmp(&b.reached.1).then(j.cmp(i)))
+        .map(|(i, _)| i);
+    let Some(best) = best.filter(|&i| tests[i].reached.1 >= 2) else {
+        let counts: Vec<String> = tests
+            .iter()
+            .map(|t| format!("{} {}/{}", paper::method_title(&t.versus), t.reached.1, t.n))
+            .collect();
+        judgement.verdict = Verdict::Untestable;
+        judgement.reason = format!(
+            "{lacking}, and no competitor reaches on 2 or more seeds: {title} reaches on \
+             {mine_reached}/{}, {}",
+            mine.len(),
+            if counts.is_empty() {
+                "no competitor shares its seeds".to_owned()
+            } else {
+                counts.join(", ")
+            }
+        );
+        judgement.reaching = tests;
+        return Ok(());
+    };
+    let against = tests
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| t.outcome == Outcome::FavoursCompetitor)
+        .min_by(|(i, a), (j, b)| a.p_holm.total_cmp(&b.p_holm).then(i.cmp(j)))
+        .map(|(i, _)| i);
+    judgement.verdict = if against.is_some() {
+        Verdict::Contradicted
+    } else {
+        Verdict::Inconclusive
+    };
+    let deciding = &tests[against.unwrap_or(best)];
+    judgement.reason = format!(
+        "{title} reaches on {}/{n} seeds, {} on {}/{n}; exact paired sign test, Holm p {}; \
+         {lacking}",
+        deciding.reached.0,
+        paper::method_title(&deciding.versus),
+        deciding.reached.1,
+        p_text(deciding.p_holm),
+        n = deciding.n
+    );
+    judgement.reaching = tests;
+    Ok(())
 }
 
 /// One method's IQM of one metric over seeds, with its bootstrap interval.
@@ -522,6 +703,7 @@ pub fn judge_one(
         comparisons: Vec::new(),
         untested: Vec::new(),
         deciding: None,
+        reaching: Vec::new(),
     };
     if competitors.is_empty() {
         judgement.reason = "none of the paper's competitors was run".to_owned();
@@ -531,14 +713,22 @@ pub fn judge_one(
     for metric in claim.metrics {
         let (x, seeds) = values(scores, task, method, metric.column);
         if x.len() < 2 {
-            judgement.reason = format!(
-                "{} has a `{}` value in {} of {seeds} seeds (it needs a reaching episode); \
-                 at least 2 are needed",
+            let lacking = format!(
+                "{} has a `{}` value in {} of {seeds} seeds (it needs a reaching episode)",
                 paper::method_title(method),
                 metric.column,
                 x.len()
             );
             judgement.comparisons.clear();
+            judgement.untested.clear();
+            judge_by_reaching(
+                scores,
+                &mut judgement,
+                &competitors,
+                &lacking,
+                options.alpha,
+            )
+            .map_err(|e| error("reached", e))?;
             return Ok(judgement);
         }
         for &versus in &competitors {
@@ -695,7 +885,8 @@ pub struct ClaimRow {
     pub method: String,
     /// The method's role.
     pub role: Role,
-    /// The column of `final-scores.csv`.
+    /// The column of `final-scores.csv`, or [`REACHED`] for a per-seed reaching test
+    /// (`converged` for an outcome row).
     pub metric: &'static str,
     /// `lower` or `higher`: which is better.
     pub better: &'static str,
@@ -742,7 +933,10 @@ pub struct ClaimRow {
 
 /// The rows of `claims.csv`: per claim and task, first one single-method row per method and
 /// metric (IQM over seeds, `versus` empty; the verdict on rows of a method under test), then
-/// every comparison of every method under test.
+/// every comparison of every method under test: the per-seed reaching tests of a judgement
+/// decided by them (metric [`REACHED`]: `estimate` the difference in the share of paired seeds
+/// reaching, [`reaching_difference`]; `p_value` the exact sign test, `p_holm` over the
+/// competitors), then the metric comparisons.
 #[must_use]
 pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
     let mut rows = Vec::new();
@@ -789,6 +983,26 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
         }
     }
     for judgement in judgements {
+        for t in &judgement.reaching {
+            rows.push(ClaimRow {
+                claim: judgement.claim.id,
+                task: judgement.task.clone(),
+                method: judgement.method.clone(),
+                role: judgement.role,
+                metric: REACHED,
+                better: Direction::HigherIsBetter.name(),
+                versus: t.versus.clone(),
+                n: t.n,
+                n_versus: Some(t.n),
+                estimate: Some(reaching_difference(t)),
+                p_value: Some(t.p_value),
+                p_holm: Some(t.p_holm),
+                outcome: Some(t.outcome),
+                verdict: Some(judgement.verdict),
+                paired_n: Some(t.n),
+                ..ClaimRow::paired_none()
+            });
+        }
         for c in &judgement.comparisons {
             rows.push(ClaimRow {
                 claim: judgement.claim.id,

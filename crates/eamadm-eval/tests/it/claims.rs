@@ -190,3 +190,122 @@ fn outcome_rows_count_seeds_and_pair_them() {
     assert!((paired.p_value.unwrap() - 0.25).abs() < 1e-12);
     assert_eq!(paired.n, 10);
 }
+
+/// A robot run: it reaches the target when `reaches` (then with C4 values that grow with the
+/// seed), and never otherwise (no reaching episode, greedy episode fails, empty C4 cells).
+fn robot_row(method: &str, kind: &str, seed: u64, reaches: bool) -> FinalScore {
+    let value = reaches.then_some(1.0 + seed as f64);
+    FinalScore {
+        task: "robot".to_owned(),
+        greedy_reached: reaches,
+        reaching_episodes: if reaches { 10 } else { 0 },
+        reach_average_reward: value,
+        reach_time: value,
+        reach_retention_time: value,
+        retention_decay: value.map(|v| -v),
+        ..row(method, Role::Paper, kind, seed, 500.0)
+    }
+}
+
+/// 20 seeds each: EA-MADM reaches on the seeds below `ea`, softmax below `softmax`,
+/// ε-greedy below `greedy`.
+fn robot(ea: u64, softmax: u64, greedy: u64) -> Vec<FinalScore> {
+    let mut rows = Vec::new();
+    for (method, kind, reaching) in [
+        ("ea-madm", "ea_madm", ea),
+        ("softmax", "softmax", softmax),
+        ("epsilon-greedy", "epsilon_greedy", greedy),
+    ] {
+        rows.extend((0..20).map(|seed| robot_row(method, kind, seed, seed < reaching)));
+    }
+    rows
+}
+
+fn c4(scores: &[FinalScore]) -> claims::Judgement {
+    claims::judge(scores, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
+        .unwrap()
+}
+
+#[test]
+fn a_method_that_never_reaches_while_a_competitor_does_is_contradicted_by_a_sign_test() {
+    let judgement = c4(&robot(0, 11, 3));
+    assert_eq!(judgement.verdict, Verdict::Contradicted);
+    assert!(judgement.comparisons.is_empty());
+    // scipy.stats.binomtest(0, 11, 0.5).pvalue = 0.0009765625 (= 2 / 2¹¹) and
+    // binomtest(0, 3, 0.5).pvalue = 0.25; Holm over the two competitors doubles the smaller.
+    let softmax = &judgement.reaching[0];
+    assert_eq!(softmax.versus, "softmax");
+    assert_eq!(
+        (softmax.n, softmax.reached, softmax.discordant),
+        (20, (0, 11), (0, 11))
+    );
+    assert!((softmax.p_value - 0.000_976_562_5).abs() < 1e-15);
+    assert!((softmax.p_holm - 0.001_953_125).abs() < 1e-15);
+    let greedy = &judgement.reaching[1];
+    assert_eq!((greedy.reached, greedy.discordant), ((0, 3), (0, 3)));
+    assert!((greedy.p_value - 0.25).abs() < 1e-15);
+    assert!((greedy.p_holm - 0.25).abs() < 1e-15);
+    assert_eq!(softmax.outcome, Outcome::FavoursCompetitor);
+    assert_eq!(greedy.outcome, Outcome::Unsettled);
+    // claims.csv carries each reaching test as a `reached` row with the verdict.
+    let rows = claims::rows(std::slice::from_ref(&judgement), &[]);
+    let reached: Vec<_> = rows
+        .iter()
+        .filter(|r| r.metric == claims::REACHED)
+        .collect();
+    assert_eq!(reached.len(), 2);
+    assert_eq!(reached[0].versus, "softmax");
+    assert_eq!(reached[0].estimate, Some(-0.55));
+    assert_eq!(reached[0].p_holm, Some(softmax.p_holm));
+    assert_eq!(reached[0].verdict, Some(Verdict::Contradicted));
+    assert!(
+        judgement
+            .reason
+            .starts_with("EA-MADM reaches on 0/20 seeds, softmax on 11/20; exact paired sign test, Holm p 0.002; EA-MADM has a `reach_average_reward` value in 0 of 20 seeds"),
+        "{}",
+        judgement.reason
+    );
+}
+
+#[test]
+fn a_competitor_reaching_on_a_few_seeds_more_is_inconclusive() {
+    // binomtest(0, 3, 0.5).pvalue = 0.25 for softmax; ε-greedy reaches on 1 seed.
+    let judgement = c4(&robot(0, 3, 1));
+    assert_eq!(judgement.verdict, Verdict::Inconclusive);
+    assert!(
+        judgement.reason.starts_with(
+            "EA-MADM reaches on 0/20 seeds, softmax on 3/20; exact paired sign test, Holm p 0.500"
+        ),
+        "{}",
+        judgement.reason
+    );
+}
+
+#[test]
+fn when_neither_reaches_c4_stays_untestable_with_the_counts() {
+    let judgement = c4(&robot(0, 1, 0));
+    assert_eq!(judgement.verdict, Verdict::Untestable);
+    assert_eq!(
+        judgement.reason,
+        "EA-MADM has a `reach_average_reward` value in 0 of 20 seeds (it needs a reaching \
+         episode), and no competitor reaches on 2 or more seeds: EA-MADM reaches on 0/20, \
+         softmax 1/20, ε-greedy 0/20"
+    );
+    // The counts are in claims.csv too, Holm-adjusted: binomtest(0, 1, 0.5).pvalue = 1.
+    assert_eq!(judgement.reaching.len(), 2);
+    assert!(judgement.reaching.iter().all(|t| t.p_holm == 1.0));
+    assert_eq!(judgement.reaching[0].discordant, (0, 1));
+}
+
+#[test]
+fn when_both_reach_c4_compares_the_metrics_as_before() {
+    let judgement = c4(&robot(20, 20, 20));
+    assert!(judgement.reaching.is_empty());
+    // 3 metrics × 2 competitors, identical values: nothing favours anyone.
+    assert_eq!(judgement.comparisons.len(), 6);
+    assert_eq!(judgement.verdict, Verdict::Inconclusive);
+    assert!(judgement.deciding_comparison().is_some());
+}
