@@ -97,17 +97,41 @@ pub(crate) fn write_claim_outputs(
     verdicts: &Verdicts,
     quick: bool,
 ) -> Result<(), ClaimsReportError> {
-    let mut bytes = Vec::new();
-    scores::write_csv(&verdicts.scores, &mut bytes)?;
-    write_atomic(&out.join("final-scores.csv"), &bytes)?;
-    let mut bytes = Vec::new();
+    let mut scores_csv = Vec::new();
+    scores::write_csv(&verdicts.scores, &mut scores_csv)?;
+    write_atomic(&out.join("final-scores.csv"), &scores_csv)?;
+    let mut claims_csv = Vec::new();
     let mut rows = claims::rows(&verdicts.judgements, &verdicts.estimates);
     rows.extend(claims::outcome_rows(&verdicts.scores)?);
-    claims::write_csv(&rows, &mut bytes)?;
-    write_atomic(&out.join("claims.csv"), &bytes)?;
+    claims::write_csv(&rows, &mut claims_csv)?;
+    write_atomic(&out.join("claims.csv"), &claims_csv)?;
     let report = render_report(experiments, figures, behaviour, verdicts, quick);
+    let report = with_answer(
+        report,
+        &String::from_utf8_lossy(&claims_csv),
+        &String::from_utf8_lossy(&scores_csv),
+    );
     write_atomic(&out.join("REPORT.md"), report.as_bytes())?;
     Ok(())
+}
+
+/// `report` with the answer paragraph the README states ([`readme::answer_from_csv`]) on top,
+/// before the verdict table, computed from the same `claims.csv` and `final-scores.csv`. A plan
+/// without EA-MADM's verdicts (a config of one's own) has no such answer: the report then opens
+/// with the table, as before.
+fn with_answer(report: String, claims_csv: &str, scores_csv: &str) -> String {
+    const VERDICTS: &str = "## Verdicts on the paper's claims";
+    let (Ok(answer), Some(at)) = (
+        crate::readme::answer_from_csv(claims_csv, scores_csv),
+        report.find(VERDICTS),
+    ) else {
+        return report;
+    };
+    format!(
+        "{}## The answer\n\n{answer}\n\n{}",
+        &report[..at],
+        &report[at..]
+    )
 }
 
 /// A number to three significant digits (no decimals from 100 up).
@@ -975,6 +999,28 @@ mod tests {
             .find(|l| l.starts_with(&format!("| {claim} ")))
             .unwrap()
             .to_owned()
+    }
+
+    #[test]
+    fn the_report_opens_with_the_readmes_answer_when_ea_madm_has_verdicts() {
+        let report = "# R\n\nintro\n\n## Verdicts on the paper's claims\n\ntable\n".to_owned();
+        let claims = "claim,task,method,role,metric,versus,n,estimate,ci_low,ci_high,p_holm,outcome,verdict\n\
+                      C4,robot,ea-madm,paper,final_steps,,0,,,,,,untestable\n";
+        let scores = "task,method,role,kind,seed,success_rate,env_steps_total\n\
+                      robot,ea-madm,paper,ea_madm,0,0.0,1\n\
+                      robot,ea-madm,paper,ea_madm,1,0.0,1\n\
+                      robot,softmax,paper,softmax,0,0.25,1\n\
+                      robot,softmax,paper,softmax,1,0.35,1\n";
+        let answer = crate::readme::answer_from_csv(claims, scores).unwrap();
+        assert_eq!(
+            with_answer(report.clone(), claims, scores),
+            format!(
+                "# R\n\nintro\n\n## The answer\n\n{answer}\n\n## Verdicts on the paper's claims\n\ntable\n"
+            )
+        );
+        // Without EA-MADM's verdicts (a config of one's own) the report is left as it was.
+        let other = claims.replace("ea-madm", "my-method");
+        assert_eq!(with_answer(report.clone(), &other, scores), report);
     }
 
     #[test]

@@ -96,6 +96,15 @@ pub(crate) fn read_run(out: &Path) -> Result<DefaultRun, String> {
     })
 }
 
+/// The answer paragraph ([`answer_paragraph`]) of a run from the text of its `claims.csv` and
+/// `final-scores.csv`: what `REPORT.md` opens with, the same words the README states.
+pub(crate) fn answer_from_csv(claims_csv: &str, scores_csv: &str) -> Result<String, String> {
+    answer_paragraph(
+        &parse_csv(claims_csv, "claims.csv")?,
+        &parse_csv(scores_csv, "final-scores.csv")?,
+    )
+}
+
 fn parse_csv<T: for<'de> Deserialize<'de>>(text: &str, name: &str) -> Result<Vec<T>, String> {
     csv::Reader::from_reader(text.as_bytes())
         .deserialize()
