@@ -513,11 +513,29 @@ impl Frame {
         )
     }
 
+    /// The SVG `points` of `points` in this frame, rounded to a tenth of a pixel, leaving out
+    /// every point that lies strictly between its two neighbours on one horizontal line: the
+    /// drawn line is the same, and long runs at one value (a seed at the step cap, a converged
+    /// seed) take two points instead of hundreds.
     fn points(&self, points: impl Iterator<Item = (f64, f64)>) -> String {
+        let rounded: Vec<(f64, String, String)> = points
+            .map(|(x, y)| {
+                let (a, b) = self.at(x, y);
+                (a, px(a), px(b))
+            })
+            .collect();
         let mut text = String::new();
-        for (x, y) in points {
-            let (a, b) = self.at(x, y);
-            let _ = write!(text, "{},{} ", px(a), px(b));
+        for (index, (a, x, y)) in rounded.iter().enumerate() {
+            let between = index > 0
+                && rounded.get(index + 1).is_some_and(|(next_a, _, next_y)| {
+                    let (previous_a, _, previous_y) = &rounded[index - 1];
+                    previous_y == y
+                        && next_y == y
+                        && ((previous_a < a && a < next_a) || (next_a < a && a < previous_a))
+                });
+            if !between {
+                let _ = write!(text, "{x},{y} ");
+            }
         }
         text.trim_end().to_owned()
     }
@@ -1442,6 +1460,30 @@ mod tests {
         );
         assert_eq!(wrap("a  b", 100.0, 13.0), vec!["a b"]);
         assert!(wrap("", 100.0, 13.0).is_empty());
+    }
+
+    #[test]
+    fn points_leave_out_only_points_strictly_inside_a_horizontal_run() {
+        let frame = Frame {
+            left: 0.0,
+            right: 100.0,
+            top: 0.0,
+            bottom: 100.0,
+            x: (0.0, 100.0),
+            y: (0.0, 100.0),
+        };
+        let run = [
+            (0.0, 50.0),
+            (10.0, 50.0),
+            (20.0, 50.0),
+            (30.0, 60.0),
+            (40.0, 60.0),
+        ];
+        assert_eq!(frame.points(run.into_iter()), "0,50 20,50 30,40 40,40");
+        // A turn (a band's outline going back) keeps its end point, as does a lone point.
+        let turn = [(0.0, 50.0), (10.0, 50.0), (0.0, 50.0)];
+        assert_eq!(frame.points(turn.into_iter()), "0,50 10,50 0,50");
+        assert_eq!(frame.points([(5.0, 5.0)].into_iter()), "5,95");
     }
 
     #[test]

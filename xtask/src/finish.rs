@@ -179,7 +179,7 @@ pub(crate) fn write_outputs(
         let folder = out.join(&planned.name);
         let mut tables = if everything {
             Some((
-                eamadm_runs::gzip::encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
+                eamadm_runs::gzip::table_encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
                 AtomicFile::create(&folder.join(eamadm_runs::names::TRAJECTORIES))?,
             ))
         } else {

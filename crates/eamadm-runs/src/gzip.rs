@@ -4,7 +4,7 @@
 //! encoder's output depends on its level and implementation. Every output here must be a pure
 //! function of the plan (a merge of shards equals an unsharded run byte for byte, on any
 //! machine), so [`encoder`] fixes all of them: modification time 0, operating system 255
-//! ("unknown"), level 1, and flate2's pure-Rust backend (`miniz_oxide`), which has no
+//! ("unknown"), level 1 for store entries and 6 for tables, and flate2's pure-Rust backend (`miniz_oxide`), which has no
 //! platform-dependent code paths. Any gzip reader (`zcat`, Python's `gzip`, pandas, R) reads
 //! the files.
 
@@ -19,13 +19,29 @@ use flate2::write::GzEncoder;
 /// at level 6 deflate was 27.6 % of a 1000-seed ε-greedy run.
 const LEVEL: u32 = 1;
 
-/// A gzip encoder writing to `writer` whose bytes depend only on what is written.
+/// The DEFLATE level of the tables (`curves.csv.gz`): written once per output folder rather
+/// than once per run, so the denser level 6 costs little (about 1.5 s of CPU on the default
+/// run's 60 MB of curves) and saves about 15 % of their size against level 1 (10.1 → 8.6 MB).
+const TABLE_LEVEL: u32 = 6;
+
+/// A gzip encoder writing to `writer` whose bytes depend only on what is written: the run
+/// store's entries, at the fast level.
 #[must_use]
 pub fn encoder<W: Write>(writer: W) -> GzEncoder<W> {
+    encoder_at(writer, LEVEL)
+}
+
+/// Like [`encoder`], at the denser level for tables written once per output folder.
+#[must_use]
+pub fn table_encoder<W: Write>(writer: W) -> GzEncoder<W> {
+    encoder_at(writer, TABLE_LEVEL)
+}
+
+fn encoder_at<W: Write>(writer: W, level: u32) -> GzEncoder<W> {
     GzBuilder::new()
         .mtime(0)
         .operating_system(255)
-        .write(writer, Compression::new(LEVEL))
+        .write(writer, Compression::new(level))
 }
 
 /// `bytes` as one gzip member.
