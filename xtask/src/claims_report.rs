@@ -115,8 +115,9 @@ pub(crate) fn write_claim_outputs(
     Ok(())
 }
 
-/// `report` with the answer paragraph the README states ([`readme::answer_from_csv`]) on top,
-/// before the verdict table, computed from the same `claims.csv` and `final-scores.csv`. A plan
+/// `report` with the answer paragraph the README states
+/// ([`readme::answer_from_csv`](crate::readme::answer_from_csv)) on top, before the verdict
+/// table, computed from the same `claims.csv` and `final-scores.csv`. A plan
 /// without EA-MADM's verdicts (a config of one's own) has no such answer: the report then opens
 /// with the table, as before.
 fn with_answer(report: String, claims_csv: &str, scores_csv: &str) -> String {
