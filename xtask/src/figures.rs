@@ -405,6 +405,25 @@ fn break_word(word: &str, width: f64, font: f64) -> Vec<String> {
     lines
 }
 
+/// A legend entry's label, `lines` beside its sample centred at `middle`; returns the height
+/// the entry takes (one line at least, and the gap to the next entry).
+fn legend_label(svg: &mut String, text_x: f64, middle: f64, lines: &[String]) -> f64 {
+    for (index, line) in lines.iter().enumerate() {
+        text_element(
+            svg,
+            (
+                text_x,
+                middle + LEGEND_FONT * 0.35 + index as f64 * LEGEND_FONT * 1.2,
+            ),
+            LEGEND_FONT,
+            "start",
+            "#111111",
+            line,
+        );
+    }
+    LEGEND_FONT * 1.2 * lines.len().max(1) as f64 + 8.0
+}
+
 /// Escapes text for SVG.
 pub(crate) fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
@@ -1147,20 +1166,7 @@ impl LineChart {
                 px(middle),
                 stroke_attributes(&series.style)
             );
-            for (index, line) in lines.iter().enumerate() {
-                text_element(
-                    svg,
-                    (
-                        text_x,
-                        middle + LEGEND_FONT * 0.35 + index as f64 * LEGEND_FONT * 1.2,
-                    ),
-                    LEGEND_FONT,
-                    "start",
-                    "#111111",
-                    line,
-                );
-            }
-            y += LEGEND_FONT * 1.2 * lines.len().max(1) as f64 + 8.0;
+            y += legend_label(svg, text_x, middle, &lines);
         }
         for line in &self.reference_lines {
             let middle = y + LEGEND_FONT * 0.8;
@@ -1173,20 +1179,7 @@ impl LineChart {
                 px(middle)
             );
             let lines = wrap(&line.label, text_width, LEGEND_FONT);
-            for (index, text) in lines.iter().enumerate() {
-                text_element(
-                    svg,
-                    (
-                        text_x,
-                        middle + LEGEND_FONT * 0.35 + index as f64 * LEGEND_FONT * 1.2,
-                    ),
-                    LEGEND_FONT,
-                    "start",
-                    "#111111",
-                    text,
-                );
-            }
-            y += LEGEND_FONT * 1.2 * lines.len().max(1) as f64 + 8.0;
+            y += legend_label(svg, text_x, middle, &lines);
         }
         svg.push_str("</g>\n");
         y

@@ -709,22 +709,10 @@ fn maze_trajectories(
     let gap = 16.0;
     let width = (PAD + columns as f64 * (panel_w + gap)).max(600.0).ceil();
     let mut body = String::new();
-    let mut y = wrapped_text(
+    let y = heading(
         &mut body,
-        (width / 2.0, PAD - 4.0),
-        width - 2.0 * PAD,
-        18.0,
-        "middle",
-        "#111111",
+        width,
         title,
-    );
-    y = wrapped_text(
-        &mut body,
-        (width / 2.0, y),
-        width - 2.0 * PAD,
-        13.0,
-        "middle",
-        "#444444",
         &format!(
             "{analogue}Greedy evaluation of each method's first seed after training; a tile \
              visited more than once is shaded by its visits (darker: more), so a loop shows."
@@ -874,22 +862,10 @@ fn robot_trajectories(
         .to_owned();
     let width = (arena_w + 2.0 * PAD).max(700.0).ceil();
     let mut body = String::new();
-    let mut y = wrapped_text(
+    let y = heading(
         &mut body,
-        (width / 2.0, PAD - 4.0),
-        width - 2.0 * PAD,
-        18.0,
-        "middle",
-        "#111111",
+        width,
         title,
-    );
-    y = wrapped_text(
-        &mut body,
-        (width / 2.0, y),
-        width - 2.0 * PAD,
-        13.0,
-        "middle",
-        "#444444",
         &format!(
             "{analogue}Greedy evaluation of each method's first seed after training; a dot marks where each path ends."
         ),
@@ -981,6 +957,29 @@ fn robot_trajectories(
 
 /// Padding of the trajectory figures, in pixels.
 const PAD: f64 = 12.0;
+
+/// A path figure's title and, under it, its subtitle, centred on a canvas `width` wide;
+/// returns the bottom of the subtitle.
+fn heading(body: &mut String, width: f64, title: &str, subtitle: &str) -> f64 {
+    let y = wrapped_text(
+        body,
+        (width / 2.0, PAD - 4.0),
+        width - 2.0 * PAD,
+        18.0,
+        "middle",
+        "#111111",
+        title,
+    );
+    wrapped_text(
+        body,
+        (width / 2.0, y),
+        width - 2.0 * PAD,
+        13.0,
+        "middle",
+        "#444444",
+        subtitle,
+    )
+}
 
 #[cfg(test)]
 mod tests {

@@ -174,12 +174,12 @@ fn prepend_path(dir: &Path) -> Result<OsString, Failure> {
     std::env::join_paths(paths).map_err(Failure::failed)
 }
 
-fn announce(what: &str) {
+pub(crate) fn announce(what: &str) {
     println!("== {what}");
 }
 
 /// Runs `command`; a non-zero exit (or none) is a failure naming `what`.
-fn run(command: &mut Command, what: &str) -> Result<(), Failure> {
+pub(crate) fn run(command: &mut Command, what: &str) -> Result<(), Failure> {
     let status = command
         .status()
         .map_err(|error| Failure::failed(format!("cannot start {what}: {error}")))?;

@@ -18,6 +18,7 @@ use std::process::Command;
 
 use crate::Failure;
 use crate::plan::Workspace;
+use crate::test_all::{announce, run};
 
 /// The Python package's folder, relative to the workspace root.
 const PY_CRATE: &str = "crates/eamadm-py";
@@ -198,21 +199,6 @@ fn remove_dir(dir: &Path) -> Result<(), Failure> {
             "cannot remove {}: {error}",
             dir.display()
         ))),
-    }
-}
-
-fn announce(what: &str) {
-    println!("== {what}");
-}
-
-fn run(command: &mut Command, what: &str) -> Result<(), Failure> {
-    let status = command
-        .status()
-        .map_err(|error| Failure::failed(format!("cannot start {what}: {error}")))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(Failure::failed(format!("{what} failed ({status})")))
     }
 }
 
