@@ -19,11 +19,12 @@ use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
 use eamadm::scores::{FinalScore, ScoresError};
 use thiserror::Error;
 
-use crate::claims_report::{ClaimsReportError, Verdicts, write_claim_outputs};
+use crate::claims_report::{ClaimsReportError, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
 use crate::outputs::{ExperimentFigures, OutputError};
+use eamadm::report::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
 use eamadm_runs::store::{RunStore, StoreError, StoredRun};
 
@@ -169,11 +170,10 @@ pub(crate) fn write_outputs(
             total: jobs.len(),
         });
     }
-    let mut figures = Vec::with_capacity(experiments.len());
+    let mut facts = Vec::with_capacity(experiments.len());
     // Every run's final scores (the verdicts bootstrap over seeds), and the first run whose
     // scores failed, reported after the figures as when all runs were scored at the end.
     let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
-    let mut behaviour = Vec::with_capacity(experiments.len());
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
         let folder = out.join(&planned.name);
@@ -251,25 +251,24 @@ pub(crate) fn write_outputs(
                 .commit()?;
             paths.commit()?;
         }
+        let mut experiment =
+            eamadm::paper::experiment_facts(&planned.name, &planned.title, planned.config());
         if let Some((experiment_figures, robot_behaviour)) = collected {
-            figures.push(experiment_figures.write(out)?);
-            let mut section = String::new();
+            experiment.figures = experiment_figures.write(out)?;
             if let Some(robot_behaviour) = robot_behaviour {
-                crate::robot_report::write_robot_behaviour(
-                    &mut section,
-                    &robot_behaviour.finish(),
-                    planned.config().learner.gamma,
-                );
+                experiment.behaviour = robot_behaviour.finish();
             }
-            behaviour.push(section);
         }
+        facts.push(experiment);
     }
     remove_legacy_files(store_out, experiments)?;
     if let Outputs::Everything { quick } = outputs {
         let scores = scores?;
         let verdicts =
             Verdicts::compute(scores, &ClaimOptions::default()).map_err(ClaimsReportError::from)?;
-        write_claim_outputs(out, experiments, &figures, &behaviour, &verdicts, quick)?;
+        let mut context = eamadm::paper::report_context(quick);
+        context.experiments = facts;
+        write_claim_outputs(out, &context, &verdicts)?;
     }
     Ok(jobs.len())
 }

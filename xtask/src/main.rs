@@ -48,9 +48,7 @@ mod outputs;
 mod plan;
 mod progress;
 mod readme;
-mod report;
 mod reproduce;
-mod robot_report;
 mod test_all;
 mod text_diff;
 #[cfg(test)]

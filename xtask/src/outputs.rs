@@ -11,6 +11,7 @@ use std::path::Path;
 use eamadm::config::Role;
 use eamadm::mazes::{self, Pos, SvgOptions, SvgTrajectory};
 use eamadm::paper::{PaperTask, method_title};
+use eamadm::report::Figures;
 use eamadm::theme::method_style;
 use eamadm::wmr_model;
 use eamadm::{EpisodeRecord, RobotEpisodeMetrics, RunRecord, TrajectoryRecord, results};
@@ -88,41 +89,6 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
         value: |m| m.retention_time,
     },
 ];
-
-/// The figures written for one experiment: their file names and the Markdown that shows the
-/// key ones in `REPORT.md` ([`gallery`]).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub(crate) struct WrittenFigures {
-    /// File names under the experiment's folder.
-    pub(crate) files: Vec<String>,
-    /// Markdown: the key figures inline with their captions, then links to the others.
-    pub(crate) gallery: String,
-}
-
-/// Markdown for `REPORT.md`: each figure that has a caption, in the captions' order, as an
-/// inline image (a relative path, so the report shows it wherever the folder is) with its
-/// one-line caption; then links to the other figures.
-pub(crate) fn gallery(task: &str, files: &[String], captions: &[(&str, String)]) -> String {
-    let mut text = String::new();
-    for (file, caption) in captions {
-        if files.iter().any(|f| f == file) {
-            let _ = writeln!(
-                text,
-                "![{}]({task}/{file})\n\n*{caption}*\n",
-                file.trim_end_matches(".svg")
-            );
-        }
-    }
-    let others: Vec<String> = files
-        .iter()
-        .filter(|f| !captions.iter().any(|(c, _)| c == f))
-        .map(|f| format!("[{}]({task}/{f})", f.trim_end_matches(".svg")))
-        .collect();
-    if !others.is_empty() {
-        let _ = writeln!(text, "More figures: {}.\n", others.join(", "));
-    }
-    text
-}
 
 /// The most series in one figure: more cannot be told apart.
 pub(crate) const MAX_SERIES: usize = 8;
@@ -329,18 +295,21 @@ impl<'a> ExperimentFigures<'a> {
     }
 
     /// Writes the SVG figures under `<out>/<name>/` (the experiment's CSV tables are streamed by
-    /// [`crate::finish`]) and returns their file names and the report's gallery of them.
-    pub(crate) fn write(self, out: &Path) -> Result<WrittenFigures, OutputError> {
+    /// [`crate::finish`]) and returns their file names and the key figures' captions, which
+    /// the report shows.
+    pub(crate) fn write(self, out: &Path) -> Result<Figures, OutputError> {
         let folder = out.join(&self.planned.name);
-        let captions = self.captions();
-        let task = self.planned.name.clone();
+        let captions = self
+            .captions()
+            .into_iter()
+            .map(|(file, caption)| (file.to_owned(), caption))
+            .collect();
         let mut files = Vec::new();
         for (file, svg) in self.render()? {
             write_atomic(&folder.join(&file), svg.as_bytes())?;
             files.push(file);
         }
-        let gallery = gallery(&task, &files, &captions);
-        Ok(WrittenFigures { files, gallery })
+        Ok(Figures { files, captions })
     }
 
     /// One-line captions of the key figures, computed from what they draw: each paper

@@ -2,21 +2,21 @@
 //! `cargo xtask regen-fixtures` (and checked by `--check`):
 //!
 //! - between `<!-- generated:verdicts -->` and `<!-- /generated:verdicts -->`: the verdict table
-//!   as the run's `REPORT.md` opens, then the claims C1–C4 in a line each (from
-//!   [`eamadm::paper::CLAIMS`]);
+//!   as the run's `REPORT.md` opens, then the claims C1–C4 in a line each
+//!   ([`readme_verdicts`]);
 //! - between `<!-- generated:answer -->` and `<!-- /generated:answer -->`: the answer in one
 //!   paragraph, every sentence computed from the run's `claims.csv` and `final-scores.csv`
-//!   ([`answer_paragraph`]);
+//!   ([`answer_paragraph`], the words `REPORT.md` opens with);
 //! - [`FIGURE`]: the run's `task1/steps.svg`, byte for byte.
+//!
+//! The text is made by [`eamadm::report`]; this module reads the run's files and splices.
 //!
 //! The default run is made by this very binary (`reproduce-paper --out <temporary folder>`), so
 //! the README always shows what the code computes now.
 
-use std::collections::{BTreeMap, BTreeSet};
-use std::fmt::Write as _;
 use std::path::Path;
 
-use eamadm::paper::{CLAIMS, PaperTask, method_title};
+use eamadm::report::{ClaimsCsvRow, ScoresCsvRow, answer_paragraph, readme_verdicts};
 use serde::Deserialize;
 
 /// The README, relative to the workspace root.
@@ -25,10 +25,6 @@ pub(crate) const README: &str = "README.md";
 pub(crate) const FIGURE: &str = "docs/figures/task1-steps.svg";
 /// The run's file that becomes [`FIGURE`], relative to the run's output folder.
 const FIGURE_SOURCE: &str = "task1/steps.svg";
-/// The heading in `REPORT.md` above the verdict table.
-const VERDICTS_HEADING: &str = "## Verdicts on the paper's claims";
-/// The method whose verdicts the README states.
-const METHOD: &str = "ea-madm";
 
 /// What the README is made from: the default run's files.
 #[derive(Debug, Clone)]
@@ -36,45 +32,11 @@ pub(crate) struct DefaultRun {
     /// `REPORT.md`.
     pub(crate) report: String,
     /// `claims.csv`.
-    pub(crate) claims: Vec<ClaimRow>,
+    pub(crate) claims: Vec<ClaimsCsvRow>,
     /// `final-scores.csv`.
-    pub(crate) scores: Vec<ScoreRow>,
+    pub(crate) scores: Vec<ScoresCsvRow>,
     /// `task1/steps.svg`.
     pub(crate) figure: Vec<u8>,
-}
-
-/// One row of `claims.csv` (the columns the README needs).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub(crate) struct ClaimRow {
-    pub(crate) claim: String,
-    pub(crate) task: String,
-    pub(crate) method: String,
-    pub(crate) role: String,
-    pub(crate) metric: String,
-    /// Empty on a method's own row (its IQM), a competitor on a comparison row.
-    pub(crate) versus: String,
-    /// Seeds with a value.
-    pub(crate) n: u32,
-    /// The IQM (own row) or the IQM difference method − versus (comparison row).
-    pub(crate) estimate: Option<f64>,
-    pub(crate) ci_low: Option<f64>,
-    pub(crate) ci_high: Option<f64>,
-    pub(crate) p_holm: Option<f64>,
-    /// `favours_method`, `favours_competitor`, `unsettled` on comparison rows.
-    pub(crate) outcome: String,
-    pub(crate) verdict: String,
-}
-
-/// One row of `final-scores.csv` (the columns the README needs).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub(crate) struct ScoreRow {
-    pub(crate) task: String,
-    pub(crate) method: String,
-    pub(crate) role: String,
-    pub(crate) kind: String,
-    pub(crate) seed: u64,
-    pub(crate) success_rate: Option<f64>,
-    pub(crate) env_steps_total: f64,
 }
 
 /// Reads the default run's files from its output folder.
@@ -96,15 +58,6 @@ pub(crate) fn read_run(out: &Path) -> Result<DefaultRun, String> {
     })
 }
 
-/// The answer paragraph ([`answer_paragraph`]) of a run from the text of its `claims.csv` and
-/// `final-scores.csv`: what `REPORT.md` opens with, the same words the README states.
-pub(crate) fn answer_from_csv(claims_csv: &str, scores_csv: &str) -> Result<String, String> {
-    answer_paragraph(
-        &parse_csv(claims_csv, "claims.csv")?,
-        &parse_csv(scores_csv, "final-scores.csv")?,
-    )
-}
-
 fn parse_csv<T: for<'de> Deserialize<'de>>(text: &str, name: &str) -> Result<Vec<T>, String> {
     csv::Reader::from_reader(text.as_bytes())
         .deserialize()
@@ -114,11 +67,15 @@ fn parse_csv<T: for<'de> Deserialize<'de>>(text: &str, name: &str) -> Result<Vec
 
 /// The README with its generated parts replaced by those of `run`.
 pub(crate) fn generate(readme: &str, run: &DefaultRun) -> Result<String, String> {
-    let readme = splice(readme, "verdicts", &verdicts_section(run)?)?;
+    let readme = splice(readme, "verdicts", &readme_verdicts(&run.report)?)?;
     splice(
         &readme,
         "answer",
-        &answer_paragraph(&run.claims, &run.scores)?,
+        &answer_paragraph(
+            &run.claims,
+            &run.scores,
+            &eamadm::paper::report_context(false),
+        )?,
     )
 }
 
@@ -143,425 +100,9 @@ pub(crate) fn splice(text: &str, name: &str, content: &str) -> Result<String, St
     Ok(out)
 }
 
-/// The verdict table of `REPORT.md` (the lines of its first table under
-/// [`VERDICTS_HEADING`]), then one line per claim.
-fn verdicts_section(run: &DefaultRun) -> Result<String, String> {
-    let after = run
-        .report
-        .split_once(VERDICTS_HEADING)
-        .map(|(_, rest)| rest)
-        .ok_or_else(|| format!("REPORT.md has no `{VERDICTS_HEADING}` section"))?;
-    let table: Vec<&str> = after
-        .lines()
-        .skip_while(|line| !line.starts_with('|'))
-        .take_while(|line| line.starts_with('|'))
-        .collect();
-    if table.len() < 3 {
-        return Err("REPORT.md's verdict section has no table".to_owned());
-    }
-    let mut text = table.join("\n");
-    text.push_str("\n\n");
-    for claim in &CLAIMS {
-        let _ = writeln!(
-            text,
-            "- **{}**: {}. {}.",
-            claim.id, claim.words, claim.location
-        );
-    }
-    Ok(text)
-}
-
-/// A number for people: three significant figures at most, no trailing zeros' noise.
-fn number(value: f64) -> String {
-    let magnitude = value.abs();
-    if magnitude >= 100.0 {
-        format!("{value:.0}")
-    } else if magnitude >= 10.0 {
-        format!("{value:.1}")
-    } else {
-        format!("{value:.2}")
-    }
-}
-
-fn p_value(p: Option<f64>) -> String {
-    match p {
-        Some(p) if p < 0.001 => "< 0.001".to_owned(),
-        Some(p) => format!("= {p:.3}"),
-        None => "not computed".to_owned(),
-    }
-}
-
-fn task_title(task: &str) -> String {
-    match PaperTask::from_name(task) {
-        Some(PaperTask::Robot) => "the robot".to_owned(),
-        Some(paper) => paper.title().to_owned(),
-        None => format!("`{task}`"),
-    }
-}
-
-/// `a`, `a and b`, `a, b and c`.
-fn list(items: &[String]) -> String {
-    match items {
-        [] => String::new(),
-        [one] => one.clone(),
-        [init @ .., last] => format!("{} and {last}", init.join(", ")),
-    }
-}
-
-fn plural(count: usize, one: &str, many: &str) -> String {
-    format!("{count} {}", if count == 1 { one } else { many })
-}
-
-/// The answer in one paragraph, every sentence computed from the claim rows and final scores of
-/// the default run: how many claim–task pairs each verdict has, and per task the facts that
-/// decide them (the comparisons' outcomes, the deciding comparison of a contradiction, the
-/// environment-step budget and the best control where EA-MADM wins, the seeds with a value and
-/// the success rates where a claim is untestable).
-pub(crate) fn answer_paragraph(claims: &[ClaimRow], scores: &[ScoreRow]) -> Result<String, String> {
-    // (claim, task) → verdict of EA-MADM, in claims.csv's order.
-    let mut pairs: Vec<(String, String, String)> = Vec::new();
-    for row in claims {
-        if row.method == METHOD && row.versus.is_empty() && !row.verdict.is_empty() {
-            let pair = (row.claim.clone(), row.task.clone(), row.verdict.clone());
-            if !pairs.iter().any(|(c, t, _)| *c == pair.0 && *t == pair.1) {
-                pairs.push(pair);
-            }
-        }
-    }
-    if pairs.is_empty() {
-        return Err(format!("claims.csv has no verdict of `{METHOD}`"));
-    }
-    let seeds: BTreeSet<u64> = scores
-        .iter()
-        .filter(|s| s.method == METHOD)
-        .map(|s| s.seed)
-        .collect();
-    let tasks: Vec<String> = pairs.iter().fold(Vec::new(), |mut tasks, (_, task, _)| {
-        if !tasks.contains(task) {
-            tasks.push(task.clone());
-        }
-        tasks
-    });
-    let claims_of = |task: &str, verdict: &str| -> Vec<String> {
-        pairs
-            .iter()
-            .filter(|(_, t, v)| t == task && v == verdict)
-            .map(|(c, _, _)| c.clone())
-            .collect()
-    };
-
-    let mut text = String::new();
-    let verdicts = ["supported", "contradicted", "inconclusive", "untestable"];
-    let mut groups = Vec::new();
-    for verdict in verdicts {
-        let per_task: Vec<String> = tasks
-            .iter()
-            .filter_map(|task| {
-                let ids = claims_of(task, verdict);
-                (!ids.is_empty()).then(|| format!("{} on {}", list(&ids), task_title(task)))
-            })
-            .collect();
-        let count = pairs.iter().filter(|(_, _, v)| v == verdict).count();
-        if count > 0 {
-            groups.push(format!("{verdict} {count} ({})", list(&per_task)));
-        }
-    }
-    let _ = write!(
-        text,
-        "Over {} claim–task pairs and {} per method, EA-MADM's verdicts are: {}.",
-        pairs.len(),
-        plural(seeds.len(), "seed", "seeds"),
-        groups.join("; ")
-    );
-
-    let comparisons = |task: &str, ids: &[String]| -> Vec<&ClaimRow> {
-        claims
-            .iter()
-            .filter(|r| {
-                r.method == METHOD
-                    && r.task == task
-                    && !r.versus.is_empty()
-                    && ids.contains(&r.claim)
-            })
-            .collect()
-    };
-    let paper_mean = |task: &str, method: &str, value: fn(&ScoreRow) -> Option<f64>| {
-        let values: Vec<f64> = scores
-            .iter()
-            .filter(|s| s.task == task && s.method == method)
-            .filter_map(value)
-            .collect();
-        (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
-    };
-    let competitors = |task: &str| -> Vec<String> {
-        let mut labels: Vec<String> = scores
-            .iter()
-            .filter(|s| s.task == task && s.role == "paper" && s.method != METHOD)
-            .map(|s| s.method.clone())
-            .collect();
-        labels.dedup();
-        labels
-    };
-
-    for task in &tasks {
-        let title = task_title(task);
-        let supported = claims_of(task, "supported");
-        if !supported.is_empty() {
-            let rows = comparisons(task, &supported);
-            let weakest = rows.iter().filter_map(|r| r.p_holm).fold(0.0_f64, f64::max);
-            let _ = write!(
-                text,
-                " On {title}, all {} of EA-MADM's comparisons on {} favour it (the weakest at Holm p {}).",
-                rows.len(),
-                list(&supported),
-                p_value(Some(weakest))
-            );
-            let own = paper_mean(task, METHOD, |s| Some(s.env_steps_total));
-            let others: Vec<f64> = competitors(task)
-                .iter()
-                .filter_map(|m| paper_mean(task, m, |s| Some(s.env_steps_total)))
-                .collect();
-            if let (Some(own), false) = (own, others.is_empty()) {
-                let others_mean = others.iter().sum::<f64>() / others.len() as f64;
-                let _ = write!(
-                    text,
-                    " There EA-MADM used {:.1}× the environment steps of the paper's competitors \
-                     (mean over seeds, its sub-tasks' pre-training included)",
-                    own / others_mean
-                );
-                // The best control that is not an EA-MADM variant on the first supported claim.
-                let kinds: BTreeMap<&str, &str> = scores
-                    .iter()
-                    .filter(|s| s.task == *task)
-                    .map(|s| (s.method.as_str(), s.kind.as_str()))
-                    .collect();
-                let first = &supported[0];
-                let own_row = claims.iter().find(|r| {
-                    r.task == *task
-                        && r.claim == *first
-                        && r.method == METHOD
-                        && r.versus.is_empty()
-                });
-                let controls: Vec<&ClaimRow> = claims
-                    .iter()
-                    .filter(|r| {
-                        r.task == *task
-                            && r.claim == *first
-                            && r.versus.is_empty()
-                            && r.role == "control"
-                            && kinds.get(r.method.as_str()) != Some(&"ea_madm")
-                            && r.estimate.is_some()
-                    })
-                    .collect();
-                let lower = CLAIMS
-                    .iter()
-                    .find(|c| c.id == *first)
-                    .and_then(|c| {
-                        c.metrics
-                            .iter()
-                            .find(|m| own_row.is_some_and(|o| o.metric == m.column))
-                    })
-                    .is_some_and(|m| m.direction == eamadm::paper::Direction::LowerIsBetter);
-                let best = controls.iter().min_by(|a, b| {
-                    let (a, b) = (
-                        a.estimate.unwrap_or(f64::NAN),
-                        b.estimate.unwrap_or(f64::NAN),
-                    );
-                    if lower {
-                        a.total_cmp(&b)
-                    } else {
-                        b.total_cmp(&a)
-                    }
-                });
-                match (best, own_row.and_then(|o| o.estimate)) {
-                    (Some(best), Some(own)) => {
-                        let value = best.estimate.unwrap_or(f64::NAN);
-                        let better = if lower { value < own } else { value > own };
-                        let relation = if value == own {
-                            "equal to"
-                        } else if better {
-                            "better than"
-                        } else {
-                            "worse than"
-                        };
-                        let _ = write!(
-                            text,
-                            "; of the {} controls there that are not EA-MADM variants, the best on \
-                             {first} is `{}` with an IQM `{}` of {}, {relation} EA-MADM's {}.",
-                            controls.len(),
-                            best.method,
-                            best.metric,
-                            number(value),
-                            number(own)
-                        );
-                    }
-                    _ => text.push('.'),
-                }
-            }
-        }
-        for id in claims_of(task, "contradicted") {
-            let rows = comparisons(task, std::slice::from_ref(&id));
-            let against = rows
-                .iter()
-                .filter(|r| r.outcome == "favours_competitor")
-                .min_by(|a, b| {
-                    let key =
-                        |r: &ClaimRow| (r.p_holm.unwrap_or(1.0), -r.estimate.unwrap_or(0.0).abs());
-                    key(a)
-                        .partial_cmp(&key(b))
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                });
-            if let Some(row) = against.filter(|r| r.metric == eamadm::claims::REACHED) {
-                // A method that cannot be compared on the claim's metrics is judged on
-                // per-seed reaching (`eamadm::claims::judge_by_reaching`).
-                let _ = write!(
-                    text,
-                    " On {title}, {} beats EA-MADM on {id} by reaching the target on more \
-                     seeds: EA-MADM's share of seeds reaching minus {}'s is {} over {} paired \
-                     seeds, exact paired sign test Holm p {}.",
-                    method_title(&row.versus),
-                    method_title(&row.versus),
-                    number(row.estimate.unwrap_or(f64::NAN)),
-                    row.n,
-                    p_value(row.p_holm)
-                );
-            } else if let Some(row) = against {
-                let _ = write!(
-                    text,
-                    " On {title}, {} beats EA-MADM on {id}: EA-MADM minus {} in IQM `{}` is {} \
-                     [{}, {}], Holm p {}.",
-                    method_title(&row.versus),
-                    method_title(&row.versus),
-                    row.metric,
-                    number(row.estimate.unwrap_or(f64::NAN)),
-                    number(row.ci_low.unwrap_or(f64::NAN)),
-                    number(row.ci_high.unwrap_or(f64::NAN)),
-                    p_value(row.p_holm)
-                );
-            }
-        }
-        let inconclusive = claims_of(task, "inconclusive");
-        if !inconclusive.is_empty() {
-            let rows = comparisons(task, &inconclusive);
-            let count = |outcome: &str| rows.iter().filter(|r| r.outcome == outcome).count();
-            let mut parts = vec![format!("{} favour EA-MADM", count("favours_method"))];
-            if count("favours_competitor") > 0 {
-                parts.push(format!("{} a competitor", count("favours_competitor")));
-            }
-            parts.push(format!(
-                "{} are unsettled (an interval that holds 0 or Holm p ≥ 0.05)",
-                count("unsettled")
-            ));
-            let _ = write!(
-                text,
-                " On {title}, {} {}: of EA-MADM's {} comparisons there, {}.",
-                list(&inconclusive),
-                if inconclusive.len() == 1 {
-                    "is inconclusive"
-                } else {
-                    "are inconclusive"
-                },
-                rows.len(),
-                list(&parts)
-            );
-        }
-        for id in claims_of(task, "untestable") {
-            let own = claims
-                .iter()
-                .filter(|r| {
-                    r.task == *task && r.claim == id && r.method == METHOD && r.versus.is_empty()
-                })
-                .min_by_key(|r| r.n);
-            if let Some(row) = own {
-                let _ = write!(
-                    text,
-                    " {id} on {title} is untestable: EA-MADM has a `{}` value in {} of {} seeds.",
-                    row.metric,
-                    row.n,
-                    seeds.len()
-                );
-            }
-            let rate = |method: &str| paper_mean(task, method, |s| s.success_rate);
-            let best = competitors(task)
-                .into_iter()
-                .filter_map(|m| rate(&m).map(|r| (m, r)))
-                .max_by(|a, b| a.1.total_cmp(&b.1));
-            if let (Some(own), Some((best, best_rate))) = (rate(METHOD), best) {
-                let _ = write!(
-                    text,
-                    " Its mean success rate over the final window there is {:.0}%, against {:.0}% \
-                     for the best competitor, {}.",
-                    own * 100.0,
-                    best_rate * 100.0,
-                    method_title(&best)
-                );
-            }
-        }
-    }
-    Ok(text)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "one argument per claims.csv column the tests vary"
-    )]
-    fn claim(
-        claim: &str,
-        task: &str,
-        method: &str,
-        versus: &str,
-        estimate: f64,
-        p_holm: Option<f64>,
-        outcome: &str,
-        verdict: &str,
-    ) -> ClaimRow {
-        ClaimRow {
-            claim: claim.to_owned(),
-            task: task.to_owned(),
-            method: method.to_owned(),
-            role: if method.ends_with("-budget") {
-                "control"
-            } else {
-                "paper"
-            }
-            .to_owned(),
-            metric: "final_steps".to_owned(),
-            versus: versus.to_owned(),
-            n: 2,
-            estimate: Some(estimate),
-            ci_low: Some(estimate - 1.0),
-            ci_high: Some(estimate + 1.0),
-            p_holm,
-            outcome: outcome.to_owned(),
-            verdict: verdict.to_owned(),
-        }
-    }
-
-    fn score(task: &str, method: &str, seed: u64, success: f64, env_steps: f64) -> ScoreRow {
-        ScoreRow {
-            task: task.to_owned(),
-            method: method.to_owned(),
-            role: if method.ends_with("-budget") {
-                "control"
-            } else {
-                "paper"
-            }
-            .to_owned(),
-            kind: if method == "ea-madm" {
-                "ea_madm"
-            } else {
-                "softmax"
-            }
-            .to_owned(),
-            seed,
-            success_rate: Some(success),
-            env_steps_total: env_steps,
-        }
-    }
 
     #[test]
     fn splice_replaces_only_between_the_markers_and_names_a_missing_one() {
@@ -574,111 +115,5 @@ mod tests {
         assert!(error.contains("`<!-- generated:x`"), "{error}");
         let error = splice("<!-- generated:x -->\nold\n", "x", "new").unwrap_err();
         assert!(error.contains("`<!-- /generated:x -->`"), "{error}");
-    }
-
-    #[test]
-    fn the_answer_states_counts_and_deciding_numbers_from_the_rows() {
-        let claims = vec![
-            claim("C1", "task1", "ea-madm", "", 60.0, None, "", "contradicted"),
-            claim(
-                "C1",
-                "task1",
-                "ea-madm",
-                "softmax",
-                5.0,
-                Some(0.0004),
-                "favours_competitor",
-                "contradicted",
-            ),
-            claim("C1", "task2", "ea-madm", "", 80.0, None, "", "supported"),
-            claim(
-                "C1",
-                "task2",
-                "ea-madm",
-                "softmax",
-                -50.0,
-                Some(0.02),
-                "favours_method",
-                "supported",
-            ),
-            claim("C1", "task2", "softmax-budget", "", 70.0, None, "", ""),
-        ];
-        let scores = vec![
-            score("task1", "ea-madm", 0, 1.0, 300.0),
-            score("task1", "ea-madm", 1, 1.0, 300.0),
-            score("task1", "softmax", 0, 1.0, 100.0),
-            score("task2", "ea-madm", 0, 0.5, 300.0),
-            score("task2", "softmax", 0, 0.5, 200.0),
-            score("task2", "softmax-budget", 0, 0.5, 300.0),
-        ];
-        let text = answer_paragraph(&claims, &scores).unwrap();
-        assert_eq!(
-            text,
-            "Over 2 claim–task pairs and 2 seeds per method, EA-MADM's verdicts are: supported 1 \
-             (C1 on Task II); contradicted 1 (C1 on Task I). On Task I, softmax beats EA-MADM on \
-             C1: EA-MADM minus softmax in IQM `final_steps` is 5.00 [4.00, 6.00], Holm p < 0.001. \
-             On Task II, all 1 of EA-MADM's comparisons on C1 favour it (the weakest at Holm p = \
-             0.020). There EA-MADM used 1.5× the environment steps of the paper's competitors \
-             (mean over seeds, its sub-tasks' pre-training included); of the 1 controls there \
-             that are not EA-MADM variants, the best on C1 is `softmax-budget` with an IQM \
-             `final_steps` of 70.0, better than EA-MADM's 80.0."
-        );
-        assert!(answer_paragraph(&[], &scores).is_err());
-    }
-
-    #[test]
-    fn the_answer_of_an_untestable_claim_gives_seeds_and_success_rates() {
-        let mut own = claim("C4", "robot", "ea-madm", "", 0.0, None, "", "untestable");
-        own.n = 0;
-        own.estimate = None;
-        let scores = vec![
-            score("robot", "ea-madm", 0, 0.0, 1.0),
-            score("robot", "ea-madm", 1, 0.0, 1.0),
-            score("robot", "softmax", 0, 0.25, 1.0),
-            score("robot", "softmax", 1, 0.35, 1.0),
-        ];
-        let text = answer_paragraph(&[own], &scores).unwrap();
-        assert!(
-            text.ends_with(
-                " C4 on the robot is untestable: EA-MADM has a `final_steps` value in 0 of 2 \
-                 seeds. Its mean success rate over the final window there is 0%, against 30% for \
-                 the best competitor, softmax."
-            ),
-            "{text}"
-        );
-    }
-
-    #[test]
-    fn a_claim_contradicted_by_reaching_states_the_share_and_the_sign_test() {
-        let mut own = claim("C4", "robot", "ea-madm", "", 0.0, None, "", "contradicted");
-        own.n = 0;
-        own.estimate = None;
-        let mut reached = claim(
-            "C4",
-            "robot",
-            "ea-madm",
-            "softmax",
-            -0.55,
-            Some(0.001_953_125),
-            "favours_competitor",
-            "contradicted",
-        );
-        reached.metric = eamadm::claims::REACHED.to_owned();
-        reached.n = 20;
-        reached.ci_low = None;
-        reached.ci_high = None;
-        let scores = vec![
-            score("robot", "ea-madm", 0, 0.0, 1.0),
-            score("robot", "softmax", 0, 0.5, 1.0),
-        ];
-        let text = answer_paragraph(&[own, reached], &scores).unwrap();
-        assert!(
-            text.contains(
-                " On the robot, softmax beats EA-MADM on C4 by reaching the target on more \
-                 seeds: EA-MADM's share of seeds reaching minus softmax's is -0.55 over 20 \
-                 paired seeds, exact paired sign test Holm p = 0.002."
-            ),
-            "{text}"
-        );
     }
 }

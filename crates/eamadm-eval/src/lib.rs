@@ -47,6 +47,7 @@ pub mod behaviour;
 pub mod claims;
 pub mod paper_claims;
 pub mod record;
+pub mod report;
 pub mod results;
 mod role;
 pub mod scores;

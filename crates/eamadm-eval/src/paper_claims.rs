@@ -150,6 +150,16 @@ pub fn claim(id: &str) -> Option<&'static Claim> {
     CLAIMS.iter().find(|claim| claim.id == id)
 }
 
+/// What the paper reports for EA-MADM at the end of training on a maze (read off Fig. 7/8 and
+/// 10/11 and the text). The paper gives no numbers for the robot.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ReportedNumbers {
+    /// Steps per episode at the end of training ("about 80", "about 86").
+    pub steps: f64,
+    /// Return per episode at the end of training ("about 155", "about −71").
+    pub task_return: f64,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -24,7 +24,10 @@ use madm_owa::{Normalisation, Support, Weighting};
 use mazes::Preset;
 use reward_std::Standardisation;
 use serde::Serialize;
-use wmr_model::SubtaskRepairs;
+use wmr_model::{Action, SubtaskRepairs};
+
+use crate::output_names;
+use crate::report::{ExperimentFacts, Figures, PaperTaskFacts, ReportContext};
 
 use ea_tree::EaTreeConfig;
 
@@ -56,16 +59,6 @@ pub enum PaperTask {
     Robot,
     /// The same robot task over the paper's literal state (no target feature).
     RobotPaperState,
-}
-
-/// What the paper reports for EA-MADM at the end of training on a maze (read off Fig. 7/8 and
-/// 10/11 and the text). The paper gives no numbers for the robot.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ReportedNumbers {
-    /// Steps per episode at the end of training ("about 80", "about 86").
-    pub steps: f64,
-    /// Return per episode at the end of training ("about 155", "about −71").
-    pub task_return: f64,
 }
 
 impl PaperTask {
@@ -126,6 +119,50 @@ impl PaperTask {
             }),
             Self::Robot | Self::RobotPaperState => None,
         }
+    }
+}
+
+/// What `REPORT.md` needs to know about the paper's tasks and the robot (titles, the numbers
+/// the paper reports, the robot's action names, the output tables' file names) for
+/// [`report::render`](crate::report::render), with no experiment yet: the caller adds one
+/// [`experiment_facts`] per experiment run, with its figures and behaviour.
+#[must_use]
+pub fn report_context(quick: bool) -> ReportContext {
+    ReportContext {
+        quick,
+        paper_tasks: PaperTask::ALL
+            .into_iter()
+            .map(|task| PaperTaskFacts {
+                name: task.name().to_owned(),
+                title: task.title().to_owned(),
+                title_in_sentence: match task {
+                    PaperTask::Robot => "the robot".to_owned(),
+                    other => other.title().to_owned(),
+                },
+                robot: matches!(task, PaperTask::Robot | PaperTask::RobotPaperState),
+                reported: task.reported(),
+            })
+            .collect(),
+        preset_seeds: SEEDS,
+        action_names: Action::ALL.map(|a| a.name().to_owned()).to_vec(),
+        curves_file: output_names::CURVES.to_owned(),
+        trajectories_file: output_names::TRAJECTORIES.to_owned(),
+        experiments: Vec::new(),
+    }
+}
+
+/// The report's facts of one experiment (folder `name`, `title`, and from `config` its
+/// episodes, seeds and γ), with no figures and no behaviour yet.
+#[must_use]
+pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> ExperimentFacts {
+    ExperimentFacts {
+        name: name.to_owned(),
+        title: title.to_owned(),
+        episodes: config.episodes,
+        seeds: config.seeds,
+        gamma: config.learner.gamma,
+        figures: Figures::default(),
+        behaviour: Vec::new(),
     }
 }
 
@@ -393,7 +430,9 @@ pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
     methods
 }
 
-pub use eamadm_eval::paper_claims::{CLAIMS, Claim, ClaimMetric, Direction, claim, method_title};
+pub use eamadm_eval::paper_claims::{
+    CLAIMS, Claim, ClaimMetric, Direction, ReportedNumbers, claim, method_title,
+};
 
 /// The repaired readings of EA-MADM on the robot (issue 21 item 4), each one switch
 /// (docs/paper-notes.md §8.6), `role = "ablation"`; the literal method stays `ea-madm`:

@@ -3,21 +3,25 @@
 
 use thiserror::Error;
 
+use crate::Role;
+use crate::claims::Share;
+use crate::stats::Interval;
+
 /// A table row of the wrong length.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 #[error("table row {row} has {found} cells, the header has {expected}")]
-pub(crate) struct RowLengthError {
+pub struct RowLengthError {
     /// Index of the offending row (0-based, header excluded).
-    pub(crate) row: usize,
+    pub row: usize,
     /// Number of cells in the row.
-    pub(crate) found: usize,
+    pub found: usize,
     /// Number of columns in the header.
-    pub(crate) expected: usize,
+    pub expected: usize,
 }
 
 /// How a column's cells sit in their column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Align {
+pub enum Align {
     /// Text columns.
     Left,
     /// Number columns.
@@ -26,14 +30,14 @@ pub(crate) enum Align {
 
 /// A Markdown table whose raw text is aligned too (cells padded to the column's width).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct MarkdownTable {
+pub struct MarkdownTable {
     columns: Vec<(String, Align)>,
     rows: Vec<Vec<String>>,
 }
 
 impl MarkdownTable {
     /// A table with these column headers and alignments and no rows.
-    pub(crate) fn new<S: Into<String>>(columns: impl IntoIterator<Item = (S, Align)>) -> Self {
+    pub fn new<S: Into<String>>(columns: impl IntoIterator<Item = (S, Align)>) -> Self {
         Self {
             columns: columns
                 .into_iter()
@@ -44,7 +48,7 @@ impl MarkdownTable {
     }
 
     /// Appends a row; it must have one cell per column.
-    pub(crate) fn push_row<S: Into<String>>(
+    pub fn push_row<S: Into<String>>(
         &mut self,
         cells: impl IntoIterator<Item = S>,
     ) -> Result<(), RowLengthError> {
@@ -62,7 +66,7 @@ impl MarkdownTable {
 
     /// The table as GitHub-flavoured Markdown, one line per row, ending in a newline.
     /// A `|` inside a cell is escaped so it cannot split the cell.
-    pub(crate) fn render(&self) -> String {
+    pub fn render(&self) -> String {
         let escape = |cell: &str| cell.replace('|', "\\|");
         let header: Vec<String> = self.columns.iter().map(|(h, _)| escape(h)).collect();
         let body: Vec<Vec<String>> = self
@@ -114,7 +118,7 @@ impl MarkdownTable {
 const MAX_DECIMALS: i32 = 6;
 
 /// Formats `value` with `decimals` decimals, never printing a negative zero.
-pub(crate) fn format_fixed(value: f64, decimals: usize) -> String {
+pub fn format_fixed(value: f64, decimals: usize) -> String {
     let text = format!("{value:.decimals$}");
     match text.strip_prefix('-') {
         Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
@@ -123,12 +127,71 @@ pub(crate) fn format_fixed(value: f64, decimals: usize) -> String {
 }
 
 /// Decimals that show `value` to `significant` significant digits (none for large values).
-pub(crate) fn decimals_for(value: f64, significant: i32) -> usize {
+pub fn decimals_for(value: f64, significant: i32) -> usize {
     if value == 0.0 || !value.is_finite() {
         return 0;
     }
     let magnitude = value.abs().log10().floor() as i32;
     (significant - 1 - magnitude).clamp(0, MAX_DECIMALS) as usize
+}
+
+/// A number to three significant digits (no decimals from 100 up).
+pub fn number(value: f64) -> String {
+    format_fixed(value, decimals_for(value, 3))
+}
+
+/// `estimate [low, high]`, rounded to two significant digits of the interval's width, and
+/// finer where that would round a non-zero number to 0 (each keeps at least one significant
+/// digit): a difference of 0.39 [0.31, 12.7] that decides a verdict must not read "0 [0, 13]".
+pub fn interval(i: &Interval) -> String {
+    let width = i.high - i.low;
+    let by_width = if width > 1e-9 * i.estimate.abs().max(1.0) {
+        // The nudge keeps a width like 73.1 − 73.0 = 0.0999… at the precision of 0.1.
+        decimals_for(width * (1.0 + 1e-9), 2)
+    } else {
+        decimals_for(i.estimate, 3)
+    };
+    let decimals = [i.estimate, i.low, i.high]
+        .into_iter()
+        .filter(|&x| x != 0.0)
+        .map(|x| decimals_for(x, 1))
+        .fold(by_width, usize::max);
+    format!(
+        "{} [{}, {}]",
+        format_fixed(i.estimate, decimals),
+        format_fixed(i.low, decimals),
+        format_fixed(i.high, decimals)
+    )
+}
+
+/// A p-value: three decimals, or `< 0.001`.
+pub fn p_value(p: f64) -> String {
+    if p < 0.001 {
+        "< 0.001".to_owned()
+    } else {
+        format_fixed(p, 3)
+    }
+}
+
+/// A share as a percentage with its Wilson interval: `62% [55, 69]`.
+pub fn share(s: &Share) -> String {
+    format!(
+        "{}/{} = {}% [{}, {}]",
+        s.successes,
+        s.trials,
+        format_fixed(s.wilson.estimate * 100.0, 0),
+        format_fixed(s.wilson.low * 100.0, 0),
+        format_fixed(s.wilson.high * 100.0, 0)
+    )
+}
+
+/// How a method's role reads in a table.
+pub fn role_text(role: Role) -> &'static str {
+    match role {
+        Role::Paper => "paper",
+        Role::Ablation => "ablation",
+        Role::Control => "control, not in the paper",
+    }
 }
 
 #[cfg(test)]

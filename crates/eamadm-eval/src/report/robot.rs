@@ -1,15 +1,95 @@
-//! The robot section's "why each method behaves as it does": formats [`eamadm::MethodBehaviour`]
-//! (computed in the library) as markdown — success with its Wilson interval, the final
-//! window's action shares, and for EA-MADM its agreement with each sub-task's best action and
-//! what each sub-task's learner learned to expect from the start.
+//! The robot's sections: the C4 metrics over reaching episodes with the ranking of the methods
+//! that reach, and "why each method behaves as it does" from [`MethodBehaviour`] (success
+//! with its Wilson interval, the final window's action shares, and for EA-MADM its agreement
+//! with each sub-task's best action and what each sub-task's learner learned to expect from
+//! the start).
 
 use std::fmt::Write as _;
 
-use eamadm::MethodBehaviour;
-use eamadm::wmr_model::Action;
+use super::Verdicts;
+use super::format::{Align, MarkdownTable, format_fixed, interval};
+use super::task::estimate_cell;
+use crate::behaviour::MethodBehaviour;
+use crate::claims::MethodOverview;
+use crate::paper_claims::method_title;
+use crate::stats::Interval;
 
-use crate::report::{Align, MarkdownTable, format_fixed};
-use eamadm::paper::method_title;
+pub(crate) fn write_robot(
+    text: &mut String,
+    task: &str,
+    overviews: &[&MethodOverview],
+    verdicts: &Verdicts,
+) {
+    let _ = writeln!(
+        text,
+        "Robot metrics over reaching episodes (C4; Fig. 13–15 analogues), IQM over the seeds \
+         that reach [95%]:\n"
+    );
+    let mut table = MarkdownTable::new([
+        ("method", Align::Left),
+        ("seeds reaching", Align::Right),
+        ("average reward", Align::Right),
+        ("reaching time (s)", Align::Right),
+        ("retention decay (s / episode)", Align::Right),
+    ]);
+    for o in overviews {
+        let _ = table.push_row([
+            method_title(&o.method),
+            format!("{}/{}", o.reaching_seeds, o.seeds),
+            estimate_cell(verdicts, task, &o.method, "reach_average_reward"),
+            estimate_cell(verdicts, task, &o.method, "reach_time"),
+            estimate_cell(verdicts, task, &o.method, "retention_decay"),
+        ]);
+    }
+    text.push_str(&table.render());
+    text.push('\n');
+    let _ = writeln!(text, "{}\n", robot_ranking(task, overviews, verdicts));
+}
+
+/// Which method leads on the robot's average reward, among methods that reach the target in
+/// at least two seeds; never a ranking of methods that do not reach it.
+pub(crate) fn robot_ranking(
+    task: &str,
+    overviews: &[&MethodOverview],
+    verdicts: &Verdicts,
+) -> String {
+    let reaching: Vec<(&MethodOverview, Interval)> = overviews
+        .iter()
+        .filter_map(|o| {
+            verdicts
+                .estimate(task, &o.method, "reach_average_reward")
+                .filter(|e| e.n >= 2)
+                .and_then(|e| e.iqm)
+                .map(|i| (*o, i))
+        })
+        .collect();
+    let never: Vec<String> = overviews
+        .iter()
+        .filter(|o| o.reaching_seeds == 0)
+        .map(|o| method_title(&o.method))
+        .collect();
+    let never_text = if never.is_empty() {
+        String::new()
+    } else {
+        format!(" Never reaches the target: {}.", never.join(", "))
+    };
+    match reaching
+        .iter()
+        .max_by(|a, b| a.1.estimate.total_cmp(&b.1.estimate))
+    {
+        None => format!(
+            "No method reaches the target in two or more seeds, so the robot's methods are not \
+             ranked and C4's metrics cannot be compared here.{never_text}"
+        ),
+        Some((best, i)) => format!(
+            "Among the {} methods that reach the target in two or more seeds, {} has the \
+             highest IQM average reward over its reaching episodes ({}).{never_text}",
+            reaching.len(),
+            method_title(&best.method),
+            interval(i)
+        ),
+    }
+}
 
 fn percent(share: f64) -> String {
     format!("{}%", format_fixed(share * 100.0, 0))
@@ -36,9 +116,15 @@ fn success(method: &MethodBehaviour) -> String {
 }
 
 /// Appends the behaviour section of a robot experiment (its `methods`' behaviour, from
-/// [`eamadm::behaviour()`] or a [`BehaviourAccumulator`](eamadm::BehaviourAccumulator) fed its
-/// runs; discount `gamma` of the learners) to `text`.
-pub(crate) fn write_robot_behaviour(text: &mut String, methods: &[MethodBehaviour], gamma: f64) {
+/// [`behaviour()`](crate::behaviour()) or a [`BehaviourAccumulator`](crate::BehaviourAccumulator)
+/// fed its runs; discount `gamma` of the learners; `action_names` in the order of the action
+/// shares) to `text`.
+pub(crate) fn write_robot_behaviour(
+    text: &mut String,
+    methods: &[MethodBehaviour],
+    gamma: f64,
+    action_names: &[String],
+) {
     if methods.is_empty() {
         return;
     }
@@ -55,9 +141,9 @@ pub(crate) fn write_robot_behaviour(text: &mut String, methods: &[MethodBehaviou
         ("mean steps".to_owned(), Align::Right),
     ];
     columns.extend(
-        Action::ALL
+        action_names
             .iter()
-            .map(|action| (action.name().to_owned(), Align::Right)),
+            .map(|action| (action.clone(), Align::Right)),
     );
     let mut table = MarkdownTable::new(columns);
     for method in methods {
@@ -78,11 +164,17 @@ pub(crate) fn write_robot_behaviour(text: &mut String, methods: &[MethodBehaviou
         .iter()
         .filter(|m| !m.subtasks.is_empty() && m.method == "ea-madm")
     {
-        write_subtasks(text, method, gamma);
+        write_subtasks(text, method, gamma, action_names);
     }
 }
 
-fn write_subtasks(text: &mut String, method: &MethodBehaviour, gamma: f64) {
+fn write_subtasks(
+    text: &mut String,
+    method: &MethodBehaviour,
+    gamma: f64,
+    action_names: &[String],
+) {
+    let action = |index: usize| action_names.get(index).map_or("?", String::as_str);
     let _ = writeln!(
         text,
         "{}: {} decisions (exploitation steps) in the final windows; per sub-task, how often the \
@@ -112,10 +204,7 @@ fn write_subtasks(text: &mut String, method: &MethodBehaviour, gamma: f64) {
         let _ = table.push_row([
             subtask.name.clone(),
             percent(subtask.agreement),
-            Action::ALL
-                .get(subtask.best_start_action)
-                .map_or("?", |a| a.name())
-                .to_owned(),
+            action(subtask.best_start_action).to_owned(),
             format_fixed(best, 1),
             format_fixed(best * (1.0 - gamma), 2),
             format_fixed(subtask.greedy_alone_steps, 0),
@@ -138,9 +227,7 @@ fn write_subtasks(text: &mut String, method: &MethodBehaviour, gamma: f64) {
              final-window steps.\n",
             dominant.name,
             percent(dominant.agreement),
-            Action::ALL
-                .get(dominant.best_start_action)
-                .map_or("?", |a| a.name()),
+            action(dominant.best_start_action),
             format_fixed(
                 dominant
                     .start_values
@@ -154,7 +241,7 @@ fn write_subtasks(text: &mut String, method: &MethodBehaviour, gamma: f64) {
             dominant.greedy_alone_endings.truncated,
             method.seeds,
             method_title(&method.method),
-            Action::ALL.get(top).map_or("?", |a| a.name()),
+            action(top),
             percent(shares.get(top).copied().unwrap_or(0.0)),
         );
     }
@@ -162,8 +249,8 @@ fn write_subtasks(text: &mut String, method: &MethodBehaviour, gamma: f64) {
 
 #[cfg(test)]
 mod tests {
-    use eamadm::Endings;
-    use eamadm::stats::wilson;
+    use crate::Endings;
+    use crate::stats::wilson;
 
     use super::*;
 
@@ -201,7 +288,7 @@ mod tests {
     #[test]
     fn no_methods_write_nothing() {
         let mut text = String::new();
-        write_robot_behaviour(&mut text, &[], 0.95);
+        write_robot_behaviour(&mut text, &[], 0.95, &[]);
         assert!(text.is_empty());
     }
 }

@@ -1,0 +1,664 @@
+//! The text of `REPORT.md` and of the README's generated blocks: the verdicts on the paper's
+//! claims first, then per task the numbers behind them. Pure: it returns text and never
+//! touches a file; `xtask` gathers the inputs ([`ReportContext`], [`Verdicts`]) and writes.
+//!
+//! Every number comes from [`scores`](crate::scores) and [`claims`](crate::claims); this
+//! module only lays them out, and every sentence that states a result is chosen by the numbers
+//! (tests flip the numbers and watch the sentence flip). The text is a pure function of the
+//! scores and the context (no paths, dates or timings), so an interrupted and resumed run
+//! writes the same bytes as an uninterrupted one.
+//!
+//! What the text needs to know about the workspace's tasks and methods (task titles, the
+//! paper's reported numbers, the robot's action names, the figures written) comes in as plain
+//! data in [`ReportContext`]; `eamadm::paper::report_context` fills it from the presets.
+//!
+//! | file | what it writes |
+//! |---|---|
+//! | [`format`] | Markdown tables and numbers, intervals, p-values, shares |
+//! | `answer` | the answer paragraph `REPORT.md` opens with and the README states |
+//! | `verdicts` | the verdict table, the claims, the rule, the ablations' verdicts |
+//! | `task` | per task: scores, controls, comparisons, distributions, explanations, figures |
+//! | `robot` | the robot's C4 metrics and its methods' behaviour |
+//! | `paper_numbers` | the paper's numbers beside ours |
+//!
+//! # Example
+//!
+//! ```
+//! use eamadm_eval::report::format::{Align, MarkdownTable};
+//!
+//! let mut table = MarkdownTable::new([("method", Align::Left), ("final steps", Align::Right)]);
+//! table.push_row(["EA-MADM", "80.1 ± 3.5"])?;
+//! assert_eq!(
+//!     table.render(),
+//!     "| method  | final steps |\n| :------ | ----------: |\n| EA-MADM |  80.1 ± 3.5 |\n"
+//! );
+//! # Ok::<(), eamadm_eval::report::format::RowLengthError>(())
+//! ```
+
+use std::fmt::Write as _;
+
+use thiserror::Error;
+
+use crate::Role;
+use crate::behaviour::MethodBehaviour;
+use crate::claims::{
+    self, ClaimOptions, ClaimsError, ControlComparison, Estimate, Judgement, MethodOverview,
+};
+use crate::paper_claims::ReportedNumbers;
+use crate::scores::{self, FinalScore, ScoresError};
+
+mod answer;
+pub mod format;
+mod paper_numbers;
+mod robot;
+mod task;
+mod verdicts;
+
+pub use answer::{ClaimsCsvRow, ScoresCsvRow, answer_from_csv, answer_paragraph};
+pub use verdicts::readme_verdicts;
+
+/// Making the report's text failed.
+#[derive(Debug, Error)]
+pub enum ReportError {
+    /// Writing or reading `final-scores.csv` text.
+    #[error("final-scores.csv: {0}")]
+    Scores(#[from] ScoresError),
+    /// Writing `claims.csv` text or computing a statistic.
+    #[error(transparent)]
+    Claims(#[from] ClaimsError),
+}
+
+/// What the report needs to know beyond the scores: the tasks of the paper, the experiments of
+/// this run and what was written for them. Plain data, so this crate needs no other crate of
+/// the workspace; `eamadm::paper::report_context` fills the paper's part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportContext {
+    /// Whether the run is a `--quick` smoke run (the report says so).
+    pub quick: bool,
+    /// The paper's tasks, in run order.
+    pub paper_tasks: Vec<PaperTaskFacts>,
+    /// Seeds per method of the presets: what the paper-numbers note states when no experiment
+    /// is planned.
+    pub preset_seeds: u32,
+    /// The robot's action names, in the order of
+    /// [`MethodBehaviour::action_shares`](crate::MethodBehaviour::action_shares).
+    pub action_names: Vec<String>,
+    /// The file name of an experiment's per-episode table (under its folder).
+    pub curves_file: String,
+    /// The file name of an experiment's trajectory table (under its folder).
+    pub trajectories_file: String,
+    /// The experiments of this run, in run order.
+    pub experiments: Vec<ExperimentFacts>,
+}
+
+/// One of the paper's tasks as the report names it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaperTaskFacts {
+    /// The config's `name` and the `task` column: `task1`, `task2`, `robot`, ….
+    pub name: String,
+    /// The title for people: `Task I`, `Robot`, ….
+    pub title: String,
+    /// How a sentence names it: `Task I`, `the robot`, ….
+    pub title_in_sentence: String,
+    /// Whether it is a robot task (its report has the robot's C4 metrics).
+    pub robot: bool,
+    /// What the paper reports for EA-MADM on it, if anything.
+    pub reported: Option<ReportedNumbers>,
+}
+
+/// One experiment of this run and what was written for it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExperimentFacts {
+    /// Folder name and `task` column.
+    pub name: String,
+    /// Title for people.
+    pub title: String,
+    /// Training episodes per run.
+    pub episodes: u64,
+    /// Seeds per method.
+    pub seeds: u32,
+    /// The discount γ of its learners (the robot's behaviour table states values per step).
+    pub gamma: f64,
+    /// The figures written for it.
+    pub figures: Figures,
+    /// Each method's behaviour, for a robot experiment; empty where there is none.
+    pub behaviour: Vec<MethodBehaviour>,
+}
+
+/// The figure files written for an experiment and the captions of its key figures.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Figures {
+    /// File names under the experiment's folder, in the order written.
+    pub files: Vec<String>,
+    /// `(file name, one-line caption)` of the key figures, in the order they are shown.
+    pub captions: Vec<(String, String)>,
+}
+
+impl ReportContext {
+    /// The paper's task named `name`, if it is one.
+    pub(crate) fn paper_task(&self, name: &str) -> Option<&PaperTaskFacts> {
+        self.paper_tasks.iter().find(|t| t.name == name)
+    }
+
+    /// The title of `task`: the experiment's, else the paper task's, else its name.
+    pub(crate) fn task_title(&self, task: &str) -> String {
+        self.experiments
+            .iter()
+            .find(|p| p.name == task)
+            .map(|p| p.title.clone())
+            .or_else(|| self.paper_task(task).map(|t| t.title.clone()))
+            .unwrap_or_else(|| task.to_owned())
+    }
+}
+
+/// Everything the report states: the per-seed scores and what [`claims`](crate::claims) computes from them.
+#[derive(Debug, Clone)]
+pub struct Verdicts {
+    /// One row per task, method and seed.
+    pub scores: Vec<FinalScore>,
+    /// One per claim × task × method under test.
+    pub judgements: Vec<Judgement>,
+    /// IQM with interval per task × method × claim metric.
+    pub estimates: Vec<Estimate>,
+    /// Success shares, distributions and step budgets per task × method.
+    pub overviews: Vec<MethodOverview>,
+    /// The paper's EA-MADM against each control.
+    pub controls: Vec<ControlComparison>,
+    /// The settings the comparisons were made with.
+    pub options: ClaimOptions,
+}
+
+impl Verdicts {
+    /// Judges the claims on `scores`.
+    pub fn compute(scores: Vec<FinalScore>, options: &ClaimOptions) -> Result<Self, ClaimsError> {
+        Ok(Self {
+            judgements: claims::judge(&scores, options)?,
+            estimates: claims::estimates(&scores, options)?,
+            overviews: claims::overview(&scores)?,
+            controls: claims::control_comparisons(&scores, options)?,
+            scores,
+            options: *options,
+        })
+    }
+
+    pub(crate) fn estimate(&self, task: &str, method: &str, metric: &str) -> Option<&Estimate> {
+        self.estimates
+            .iter()
+            .find(|e| e.task == task && e.method == method && e.metric == metric)
+    }
+
+    /// The paper's EA-MADM on `task`: the first method under test with role `paper`.
+    pub(crate) fn paper_ea_madm(&self, task: &str) -> Option<&str> {
+        claims::methods(&self.scores, task)
+            .into_iter()
+            .find(|&(_, role, kind)| role == Role::Paper && claims::is_under_test(kind))
+            .map(|(method, _, _)| method)
+    }
+}
+
+impl Verdicts {
+    /// `final-scores.csv`: one row per task, method and seed.
+    pub fn scores_csv(&self) -> Result<String, ScoresError> {
+        let mut bytes = Vec::new();
+        scores::write_csv(&self.scores, &mut bytes)?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+
+    /// `claims.csv`: every estimate and comparison, and each method's outcome rows.
+    pub fn claims_csv(&self) -> Result<String, ClaimsError> {
+        let mut bytes = Vec::new();
+        let mut rows = claims::rows(&self.judgements, &self.estimates);
+        rows.extend(claims::outcome_rows(&self.scores)?);
+        claims::write_csv(&rows, &mut bytes)?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+}
+
+/// `REPORT.md`: the answer paragraph ([`answer_paragraph`], from the same `claims.csv` and
+/// `final-scores.csv` text the run writes) when EA-MADM has verdicts, the verdicts, how the
+/// scores are made, a section per experiment of `context` and the paper's numbers.
+pub fn render(context: &ReportContext, verdicts: &Verdicts) -> Result<String, ReportError> {
+    let body = render_body(context, verdicts);
+    Ok(answer::with_answer(
+        body,
+        &verdicts.claims_csv()?,
+        &verdicts.scores_csv()?,
+        context,
+    ))
+}
+
+/// `REPORT.md` from the text of a run's `final-scores.csv`: the verdicts are judged again
+/// with `options` (the run's are [`ClaimOptions::default`]), so with the run's context this is
+/// the run's `REPORT.md` byte for byte. What the Python package's `eamadm.report(dir)` calls.
+pub fn render_from_csv(
+    context: &ReportContext,
+    scores_csv: &str,
+    options: &ClaimOptions,
+) -> Result<String, ReportError> {
+    let scores = scores::read_csv(scores_csv.as_bytes())?;
+    render(context, &Verdicts::compute(scores, options)?)
+}
+
+/// `REPORT.md` without the answer paragraph.
+fn render_body(context: &ReportContext, verdicts: &Verdicts) -> String {
+    let mut text = String::from("# EA-MADM reproduction report\n\n");
+    let _ = writeln!(
+        text,
+        "Made by `cargo xtask reproduce-paper`{}. Do not edit: rerun the command. The per-seed \
+         scores are in [final-scores.csv](final-scores.csv), every estimate and comparison in \
+         [claims.csv](claims.csv).\n",
+        if context.quick {
+            " --quick (a smoke run: few seeds and episodes; these numbers mean little)"
+        } else {
+            ""
+        }
+    );
+    verdicts::write_verdicts(&mut text, context, verdicts);
+    write_method(&mut text, verdicts);
+    for experiment in &context.experiments {
+        task::write_task(&mut text, context, experiment, verdicts);
+    }
+    paper_numbers::write_paper_numbers(&mut text, context, verdicts);
+    text
+}
+
+fn write_method(text: &mut String, verdicts: &Verdicts) {
+    let _ = writeln!(
+        text,
+        "## How the scores are made\n\n\
+         - **Final** steps and return: per seed the mean over the last {} training episodes; \
+         tables show the IQM over seeds with its bootstrap 95% interval.\n\
+         - **Fluctuation** (C3): per seed the sample standard deviation of steps and of return \
+         over the second half of training. These are training curves, so exploration is in \
+         them: a fixed-ε method (ε-greedy, ε = 0.1) keeps exploring to the end, while the \
+         decreasing schedules of ε-decreasing and EA-MADM hardly explore in the second half.\n\
+         - **Robot** (C4): over a run's first {} training episodes that reach the target (the \
+         paper's \"100 episodes that are to reach the target\"): mean average reward (return \
+         per second), mean time to reach, and the least-squares slope of retention time over \
+         the reaching-episode index (`retention_decay`, seconds per reaching episode; more \
+         negative falls faster). A seed with no reaching episode has no C4 value; a method \
+         whose seeds never reach is shown as \"never reaches\" and is never ranked.\n\
+         - **Success**: final-window training episodes that reached the target, pooled over \
+         seeds, with a Wilson 95% interval (episodes of one seed are not independent, so it is \
+         too narrow); **greedy reached**: seeds whose greedy episode after training reached \
+         it, with a Wilson interval over seeds.\n\
+         - **Environment steps** count every step of a run, sub-task pre-training included.\n\
+         - Bootstrap and permutations are seeded (seed {}), so the report is reproducible bit \
+         for bit.\n",
+        scores::FINAL_WINDOW,
+        scores::REACHING_EPISODES,
+        verdicts.options.bootstrap.seed
+    );
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::answer::{answer_from_csv, with_answer};
+    use super::format::{interval, p_value};
+    use super::robot::robot_ranking;
+    use super::task::training_versus_greedy;
+    use super::verdicts::deciding_number;
+    use super::*;
+    use crate::claims::{Share, Verdict};
+    use crate::stats::Interval;
+
+    /// The paper's tasks as `eamadm::paper::report_context` states them, and no experiment.
+    pub(crate) fn context() -> ReportContext {
+        let task =
+            |name: &str, title: &str, in_sentence: &str, robot: bool, reported| PaperTaskFacts {
+                name: name.to_owned(),
+                title: title.to_owned(),
+                title_in_sentence: in_sentence.to_owned(),
+                robot,
+                reported,
+            };
+        ReportContext {
+            quick: false,
+            paper_tasks: vec![
+                task(
+                    "task1",
+                    "Task I",
+                    "Task I",
+                    false,
+                    Some(ReportedNumbers {
+                        steps: 80.0,
+                        task_return: 155.0,
+                    }),
+                ),
+                task(
+                    "task2",
+                    "Task II",
+                    "Task II",
+                    false,
+                    Some(ReportedNumbers {
+                        steps: 86.0,
+                        task_return: -71.0,
+                    }),
+                ),
+                task("robot", "Robot", "the robot", true, None),
+                task(
+                    "robot-paper-state",
+                    "Robot (paper's state)",
+                    "Robot (paper's state)",
+                    true,
+                    None,
+                ),
+            ],
+            preset_seeds: 20,
+            action_names: ["forward", "left", "right", "back", "stop"]
+                .map(str::to_owned)
+                .to_vec(),
+            curves_file: "curves.csv.gz".to_owned(),
+            trajectories_file: "trajectories.csv".to_owned(),
+            experiments: Vec::new(),
+        }
+    }
+
+    fn row(task: &str, method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScore {
+        FinalScore {
+            task: task.to_owned(),
+            method: method.to_owned(),
+            role,
+            kind: kind.to_owned(),
+            seed,
+            episodes: 200,
+            final_window: 20,
+            final_steps: steps,
+            final_return: -steps,
+            success_rate: 1.0,
+            greedy_reached: true,
+            greedy_steps: 80,
+            outcome: crate::scores::RunOutcome::Converged,
+            collapse_episode: None,
+            fluctuation_steps: steps / 10.0,
+            fluctuation_return: steps / 10.0,
+            env_steps_total: 10_000,
+            pretrain_env_steps: 0,
+            step_cap: Some(2000),
+            optimum_steps: Some(58),
+            reaching_episodes: 100,
+            reach_average_reward: None,
+            reach_time: None,
+            reach_retention_time: None,
+            retention_decay: None,
+        }
+    }
+
+    /// Task I with EA-MADM at `ea` steps and two competitors at 100 + seed noise.
+    fn scores(ea: f64) -> Vec<FinalScore> {
+        let mut rows = Vec::new();
+        for seed in 0..8 {
+            let noise = seed as f64;
+            rows.push(row(
+                "task1",
+                "ea-madm",
+                Role::Paper,
+                "ea_madm",
+                seed,
+                ea + noise,
+            ));
+        }
+        for method in ["epsilon-greedy", "softmax"] {
+            for seed in 0..8 {
+                let noise = seed as f64;
+                let kind = if method == "softmax" {
+                    "softmax"
+                } else {
+                    "epsilon_greedy"
+                };
+                rows.push(row("task1", method, Role::Paper, kind, seed, 100.0 + noise));
+            }
+        }
+        rows
+    }
+
+    fn options() -> ClaimOptions {
+        ClaimOptions {
+            bootstrap: crate::stats::Bootstrap::new(2000, 0.95, 0).unwrap(),
+            permutation: crate::stats::PermutationTest::new(2000, 0).unwrap(),
+            sign_flip: crate::stats::SignFlipTest::new(2000, 0).unwrap(),
+            alpha: 0.05,
+        }
+    }
+
+    fn verdict_row(report: &str, claim: &str) -> String {
+        report
+            .lines()
+            .find(|l| l.starts_with(&format!("| {claim} ")))
+            .unwrap()
+            .to_owned()
+    }
+
+    #[test]
+    fn the_report_opens_with_the_readmes_answer_when_ea_madm_has_verdicts() {
+        let report = "# R\n\nintro\n\n## Verdicts on the paper's claims\n\ntable\n".to_owned();
+        let claims = "claim,task,method,role,metric,versus,n,estimate,ci_low,ci_high,p_holm,outcome,verdict\n\
+                      C4,robot,ea-madm,paper,final_steps,,0,,,,,,untestable\n";
+        let scores = "task,method,role,kind,seed,success_rate,env_steps_total\n\
+                      robot,ea-madm,paper,ea_madm,0,0.0,1\n\
+                      robot,ea-madm,paper,ea_madm,1,0.0,1\n\
+                      robot,softmax,paper,softmax,0,0.25,1\n\
+                      robot,softmax,paper,softmax,1,0.35,1\n";
+        let answer = answer_from_csv(claims, scores, &context()).unwrap();
+        assert_eq!(
+            with_answer(report.clone(), claims, scores, &context()),
+            format!(
+                "# R\n\nintro\n\n## The answer\n\n{answer}\n\n## Verdicts on the paper's claims\n\ntable\n"
+            )
+        );
+        // Without EA-MADM's verdicts (a config of one's own) the report is left as it was.
+        let other = claims.replace("ea-madm", "my-method");
+        assert_eq!(
+            with_answer(report.clone(), &other, scores, &context()),
+            report
+        );
+    }
+
+    #[test]
+    fn the_verdict_sentence_follows_the_numbers() {
+        let better = Verdicts::compute(scores(60.0), &options()).unwrap();
+        let report = render_body(&context(), &better);
+        assert!(!report.contains("control, not in the paper"), "{report}");
+        assert!(
+            verdict_row(&report, "C1").contains("**supported**"),
+            "{report}"
+        );
+        // C2 is higher return: EA-MADM's return is −steps, so it is supported too.
+        assert!(
+            verdict_row(&report, "C2").contains("**supported**"),
+            "{report}"
+        );
+        let worse = Verdicts::compute(scores(140.0), &options()).unwrap();
+        let report = render_body(&context(), &worse);
+        assert!(
+            verdict_row(&report, "C1").contains("**contradicted**"),
+            "{report}"
+        );
+        // Identical per seed: equivalent within the 2-step margin on steps; return has no
+        // margin and stays inconclusive.
+        let same = Verdicts::compute(scores(100.0), &options()).unwrap();
+        let report = render_body(&context(), &same);
+        assert!(
+            verdict_row(&report, "C1").contains("**equivalent**"),
+            "{report}"
+        );
+        assert!(
+            verdict_row(&report, "C2").contains("**inconclusive**"),
+            "{report}"
+        );
+        assert!(report.starts_with("# EA-MADM reproduction report"));
+        // A control is judged nowhere but shown as one, with EA-MADM against it.
+        let mut with_control = scores(60.0);
+        for seed in 0..8 {
+            let noise = seed as f64;
+            with_control.push(row(
+                "task1",
+                "softmax-shaped",
+                Role::Control,
+                "softmax",
+                seed,
+                50.0 + noise,
+            ));
+        }
+        let verdicts = Verdicts::compute(with_control, &options()).unwrap();
+        assert!(verdicts.judgements.iter().all(|j| j.method == "ea-madm"));
+        assert!(
+            verdicts
+                .judgements
+                .iter()
+                .flat_map(|j| &j.comparisons)
+                .all(|c| c.versus != "softmax-shaped")
+        );
+        let mut planned = context();
+        planned.experiments.push(ExperimentFacts {
+            name: "task1".to_owned(),
+            title: "Task I".to_owned(),
+            episodes: 200,
+            seeds: 8,
+            gamma: 0.95,
+            figures: Figures::default(),
+            behaviour: Vec::new(),
+        });
+        let report = render_body(&planned, &verdicts);
+        assert!(
+            report.contains("### Controls (control, not in the paper)"),
+            "{report}"
+        );
+        assert!(
+            report.contains("| `softmax-shaped` | `final_steps`"),
+            "{report}"
+        );
+        assert!(report.find("## Verdicts").unwrap() < report.find("## How the scores").unwrap());
+    }
+
+    fn overview(training: (u64, u64), greedy: (u64, u64), at_cap: usize) -> MethodOverview {
+        let share = |(s, t): (u64, u64)| Share {
+            successes: s,
+            trials: t,
+            wilson: crate::stats::wilson(s, t, 0.95).unwrap(),
+        };
+        MethodOverview {
+            task: "task2".into(),
+            method: "ea-madm".into(),
+            role: Role::Paper,
+            kind: "ea_madm".into(),
+            seeds: greedy.1 as usize,
+            training_success: share(training),
+            greedy_success: share(greedy),
+            greedy_at_cap: at_cap,
+            step_cap: Some(2000),
+            final_steps: crate::stats::distribution(&[1.0, 2.0], None).unwrap(),
+            reaching_seeds: 0,
+            env_steps_total: 1.0,
+            pretrain_env_steps: 0.0,
+        }
+    }
+
+    #[test]
+    fn training_and_greedy_success_are_explained_only_when_they_differ() {
+        let loops = training_versus_greedy(&overview((250, 400), (0, 20), 20)).unwrap();
+        assert!(loops.contains("only in 0/20"), "{loops}");
+        assert!(loops.contains("in 20 of the 20 failing seeds"), "{loops}");
+        let flipped = training_versus_greedy(&overview((0, 400), (20, 20), 0)).unwrap();
+        assert!(flipped.contains("more often"), "{flipped}");
+        assert_eq!(
+            training_versus_greedy(&overview((200, 400), (10, 20), 0)),
+            None
+        );
+    }
+
+    #[test]
+    fn the_robot_ranks_only_methods_that_reach() {
+        let mut rows = Vec::new();
+        for (method, kind, reward) in [("ea-madm", "ea_madm", None), ("softmax", "softmax", None)] {
+            for seed in 0..4 {
+                let mut r = row("robot", method, Role::Paper, kind, seed, 500.0);
+                r.reaching_episodes = 0;
+                r.greedy_reached = false;
+                r.reach_average_reward = reward;
+                rows.push(r);
+            }
+        }
+        let none = Verdicts::compute(rows.clone(), &options()).unwrap();
+        let overviews: Vec<&MethodOverview> = none.overviews.iter().collect();
+        let sentence = robot_ranking("robot", &overviews, &none);
+        assert!(sentence.starts_with("No method reaches"), "{sentence}");
+        assert!(
+            sentence.contains("Never reaches the target: EA-MADM, softmax"),
+            "{sentence}"
+        );
+        // Neither reaches: C4 stays untestable, with the counts.
+        let c4 = none
+            .judgements
+            .iter()
+            .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
+            .unwrap();
+        assert_eq!(c4.verdict, Verdict::Untestable);
+        assert!(
+            c4.reason.ends_with(
+                "no competitor reaches on 2 or more seeds: EA-MADM reaches on 0/4, softmax 0/4"
+            ),
+            "{}",
+            c4.reason
+        );
+        for r in rows.iter_mut().filter(|r| r.method == "softmax") {
+            r.reaching_episodes = 3;
+            r.reach_average_reward = Some(1.0 + r.seed as f64);
+        }
+        let some = Verdicts::compute(rows, &options()).unwrap();
+        let overviews: Vec<&MethodOverview> = some.overviews.iter().collect();
+        let sentence = robot_ranking("robot", &overviews, &some);
+        assert!(sentence.contains("Among the 1 methods"), "{sentence}");
+        assert!(sentence.contains("softmax has the highest"), "{sentence}");
+        assert!(
+            sentence.contains("Never reaches the target: EA-MADM."),
+            "{sentence}"
+        );
+        // C4 for EA-MADM is judged on per-seed reaching: 0/4 against 4/4 is exact sign test
+        // p = 2 / 2⁴ = 0.125 (scipy.stats.binomtest(0, 4, 0.5)), so inconclusive, with the
+        // counts and the reason.
+        let c4 = some
+            .judgements
+            .iter()
+            .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
+            .unwrap();
+        assert_eq!(c4.verdict, Verdict::Inconclusive);
+        assert_eq!(
+            deciding_number(c4),
+            "EA-MADM reaches on 0/4 seeds, softmax on 4/4; exact paired sign test, Holm p \
+             0.125; EA-MADM has a `reach_average_reward` value in 0 of 4 seeds (it needs a \
+             reaching episode)"
+        );
+    }
+
+    #[test]
+    fn numbers_are_rounded_to_their_interval() {
+        let i = Interval {
+            estimate: 80.1234,
+            low: 75.5,
+            high: 90.25,
+        };
+        assert_eq!(interval(&i), "80 [76, 90]");
+        let flat = Interval {
+            estimate: 2000.0,
+            low: 2000.0,
+            high: 2000.0,
+        };
+        assert_eq!(interval(&flat), "2000 [2000, 2000]");
+        let tenth = Interval {
+            estimate: 73.0,
+            low: 73.0,
+            high: 73.1,
+        };
+        assert_eq!(interval(&tenth), "73.00 [73.00, 73.10]");
+        // A small estimate in a wide interval keeps a significant digit.
+        let small = Interval {
+            estimate: 0.385,
+            low: 0.307,
+            high: 12.68,
+        };
+        assert_eq!(interval(&small), "0.4 [0.3, 12.7]");
+        assert_eq!(p_value(0.0004), "< 0.001");
+        assert_eq!(p_value(0.0312), "0.031");
+    }
+}

@@ -1,0 +1,424 @@
+//! Per task: the scores table, the controls and EA-MADM against them, EA-MADM against each
+//! competitor, bimodal distributions, the sentences that explain odd numbers, and the figures.
+
+use std::fmt::Write as _;
+
+use super::format::{
+    Align, MarkdownTable, format_fixed, interval, number, p_value, role_text, share,
+};
+use super::{ExperimentFacts, Figures, ReportContext, Verdicts};
+use crate::Role;
+use crate::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
+use crate::paper_claims::method_title;
+use crate::scores::FinalScore;
+
+pub(crate) fn estimate_cell(verdicts: &Verdicts, task: &str, method: &str, metric: &str) -> String {
+    match verdicts.estimate(task, method, metric) {
+        Some(Estimate { iqm: Some(i), .. }) => interval(i),
+        Some(_) => "never reaches".to_owned(),
+        None => "—".to_owned(),
+    }
+}
+
+pub(crate) fn write_task(
+    text: &mut String,
+    context: &ReportContext,
+    experiment: &ExperimentFacts,
+    verdicts: &Verdicts,
+) {
+    let task = experiment.name.as_str();
+    let _ = writeln!(text, "## {} (`{task}`)\n", experiment.title);
+    let overviews: Vec<&MethodOverview> = verdicts
+        .overviews
+        .iter()
+        .filter(|o| o.task == task)
+        .collect();
+    let step_cap = overviews.iter().find_map(|o| o.step_cap);
+    let optimum = verdicts
+        .scores
+        .iter()
+        .find(|s| s.task == task)
+        .and_then(|s| s.optimum_steps);
+    let _ = writeln!(
+        text,
+        "{} episodes, {} seeds per method{}{}.\n",
+        experiment.episodes,
+        experiment.seeds,
+        step_cap.map_or_else(String::new, |cap| format!(", step cap {cap}")),
+        optimum.map_or_else(String::new, |o| format!(", optimum route {o} steps")),
+    );
+    let columns = [
+        ("method", Align::Left),
+        ("role", Align::Left),
+        ("final steps", Align::Right),
+        ("final return", Align::Right),
+        ("fluctuation steps", Align::Right),
+        ("fluctuation return", Align::Right),
+        ("training success", Align::Right),
+        ("greedy reached", Align::Right),
+        ("env steps (pre-training)", Align::Right),
+    ];
+    let row = |o: &MethodOverview| {
+        [
+            method_title(&o.method),
+            role_text(o.role).to_owned(),
+            estimate_cell(verdicts, task, &o.method, "final_steps"),
+            estimate_cell(verdicts, task, &o.method, "final_return"),
+            estimate_cell(verdicts, task, &o.method, "fluctuation_steps"),
+            estimate_cell(verdicts, task, &o.method, "fluctuation_return"),
+            share(&o.training_success),
+            share(&o.greedy_success),
+            format!(
+                "{} ({})",
+                format_fixed(o.env_steps_total, 0),
+                format_fixed(o.pretrain_env_steps, 0)
+            ),
+        ]
+    };
+    let mut table = MarkdownTable::new(columns);
+    for o in overviews.iter().filter(|o| o.role != Role::Control) {
+        let _ = table.push_row(row(o));
+    }
+    let _ = writeln!(
+        text,
+        "IQM over seeds [bootstrap 95% interval]; shares with Wilson 95% intervals; mean \
+         environment steps per run (of which sub-task pre-training):\n"
+    );
+    text.push_str(&table.render());
+    text.push('\n');
+
+    let controls: Vec<&&MethodOverview> = overviews
+        .iter()
+        .filter(|o| o.role == Role::Control)
+        .collect();
+    if !controls.is_empty() {
+        let _ = writeln!(
+            text,
+            "### Controls (control, not in the paper)\n\n\
+             Comparisons the paper does not run; they explain the result and never enter the \
+             paper's verdicts.\n"
+        );
+        let mut table = MarkdownTable::new(columns);
+        for o in &controls {
+            let _ = table.push_row(row(o));
+        }
+        text.push_str(&table.render());
+        text.push('\n');
+        write_control_comparisons(text, task, verdicts);
+    }
+
+    write_comparisons(text, task, verdicts);
+    write_distributions(text, &overviews);
+    for sentence in explanations(task, &overviews, verdicts) {
+        let _ = writeln!(text, "- {sentence}");
+    }
+    text.push('\n');
+    if context.paper_task(task).is_some_and(|t| t.robot)
+        || verdicts
+            .scores
+            .iter()
+            .any(|s| s.task == task && s.reach_time.is_some())
+    {
+        super::robot::write_robot(text, task, &overviews, verdicts);
+    }
+    super::robot::write_robot_behaviour(
+        text,
+        &experiment.behaviour,
+        experiment.gamma,
+        &context.action_names,
+    );
+    if !experiment.figures.files.is_empty() {
+        text.push_str(&gallery(task, &experiment.figures));
+        let _ = writeln!(
+            text,
+            "Tables: [curves]({task}/{}) (gzip), [trajectories]({task}/{}).\n",
+            context.curves_file, context.trajectories_file
+        );
+    }
+}
+
+/// Markdown for `REPORT.md`: each figure that has a caption, in the captions' order, as an
+/// inline image (a relative path, so the report shows it wherever the folder is) with its
+/// one-line caption; then links to the other figures.
+pub(crate) fn gallery(task: &str, figures: &Figures) -> String {
+    let Figures { files, captions } = figures;
+    let mut text = String::new();
+    for (file, caption) in captions {
+        if files.iter().any(|f| f == file) {
+            let _ = writeln!(
+                text,
+                "![{}]({task}/{file})\n\n*{caption}*\n",
+                file.trim_end_matches(".svg")
+            );
+        }
+    }
+    let others: Vec<String> = files
+        .iter()
+        .filter(|f| !captions.iter().any(|(c, _)| c == *f))
+        .map(|f| format!("[{}]({task}/{f})", f.trim_end_matches(".svg")))
+        .collect();
+    if !others.is_empty() {
+        let _ = writeln!(text, "More figures: {}.\n", others.join(", "));
+    }
+    text
+}
+
+fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
+    let rows: Vec<&ControlComparison> = verdicts
+        .controls
+        .iter()
+        .filter(|c| c.task == task)
+        .collect();
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        text,
+        "EA-MADM against each control (Δ = IQM of EA-MADM − IQM of the control; raw p, not \
+         adjusted, since these comparisons enter no verdict):\n"
+    );
+    let mut table = MarkdownTable::new([
+        ("control", Align::Left),
+        ("metric", Align::Left),
+        ("Δ IQM [95%]", Align::Right),
+        ("p", Align::Right),
+        ("P(EA-MADM better)", Align::Right),
+    ]);
+    for c in rows {
+        let _ = table.push_row([
+            format!("`{}`", c.comparison.versus),
+            format!("`{}`", c.comparison.metric.column),
+            interval(&c.comparison.difference),
+            p_value(c.comparison.p_value),
+            format_fixed(c.comparison.p_improvement, 2),
+        ]);
+    }
+    text.push_str(&table.render());
+    text.push('\n');
+}
+
+fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
+    let Some(method) = verdicts.paper_ea_madm(task) else {
+        return;
+    };
+    let judgements: Vec<&Judgement> = verdicts
+        .judgements
+        .iter()
+        .filter(|j| j.task == task && j.method == method)
+        .collect();
+    if judgements
+        .iter()
+        .all(|j| j.comparisons.is_empty() && j.untested.is_empty())
+    {
+        return;
+    }
+    let _ = writeln!(
+        text,
+        "EA-MADM against each competitor (Δ = IQM of EA-MADM − IQM of the competitor):\n"
+    );
+    let mut table = MarkdownTable::new([
+        ("claim", Align::Left),
+        ("metric", Align::Left),
+        ("versus", Align::Left),
+        ("Δ IQM [95%]", Align::Right),
+        ("p", Align::Right),
+        ("Holm p", Align::Right),
+        ("P(EA-MADM better)", Align::Right),
+        ("settles", Align::Left),
+    ]);
+    for j in &judgements {
+        for c in &j.comparisons {
+            let _ = table.push_row([
+                j.claim.id.to_owned(),
+                format!("`{}`", c.metric.column),
+                method_title(&c.versus),
+                interval(&c.difference),
+                p_value(c.p_value),
+                p_value(c.p_holm),
+                format_fixed(c.p_improvement, 2),
+                match c.outcome {
+                    Outcome::FavoursMethod => "EA-MADM better".to_owned(),
+                    Outcome::FavoursCompetitor => format!("{} better", method_title(&c.versus)),
+                    Outcome::Unsettled => "nothing".to_owned(),
+                },
+            ]);
+        }
+        for u in &j.untested {
+            let _ = table.push_row([
+                j.claim.id.to_owned(),
+                format!("`{}`", u.metric),
+                method_title(&u.versus),
+                "—".to_owned(),
+                "—".to_owned(),
+                "—".to_owned(),
+                "—".to_owned(),
+                format!("untestable: {}", u.reason),
+            ]);
+        }
+    }
+    text.push_str(&table.render());
+    text.push('\n');
+}
+
+fn write_distributions(text: &mut String, overviews: &[&MethodOverview]) {
+    let bimodal: Vec<&&MethodOverview> =
+        overviews.iter().filter(|o| o.final_steps.bimodal).collect();
+    if bimodal.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        text,
+        "Per-seed final steps are bimodal for these methods (an IQM hides this; seeds at the \
+         step cap never finished an episode in the final window):\n"
+    );
+    let mut table = MarkdownTable::new([
+        ("method", Align::Left),
+        ("seeds", Align::Right),
+        ("at the cap", Align::Right),
+        ("min", Align::Right),
+        ("q1", Align::Right),
+        ("median", Align::Right),
+        ("q3", Align::Right),
+        ("max", Align::Right),
+    ]);
+    for o in bimodal {
+        let d = &o.final_steps;
+        let _ = table.push_row([
+            method_title(&o.method),
+            d.n.to_string(),
+            d.at_cap.to_string(),
+            number(d.min),
+            number(d.q1),
+            number(d.median),
+            number(d.q3),
+            number(d.max),
+        ]);
+    }
+    text.push_str(&table.render());
+    text.push('\n');
+}
+
+/// Sentences on numbers that need explaining, each chosen by the numbers.
+fn explanations(task: &str, overviews: &[&MethodOverview], verdicts: &Verdicts) -> Vec<String> {
+    let mut sentences = Vec::new();
+    for o in overviews.iter().filter(|o| o.role == Role::Paper) {
+        if let Some(sentence) = training_versus_greedy(o) {
+            sentences.push(sentence);
+        }
+    }
+    if let Some(sentence) = step_budget(overviews) {
+        sentences.push(sentence);
+    }
+    sentences.extend(identical_methods(task, verdicts));
+    sentences
+}
+
+/// Whether training success and greedy success disagree, and how.
+pub(crate) fn training_versus_greedy(o: &MethodOverview) -> Option<String> {
+    let training = o.training_success.wilson;
+    let greedy = o.greedy_success.wilson;
+    if training.low > greedy.high {
+        let looping = if o.greedy_at_cap > 0 {
+            format!(
+                "; in {} of the {} failing seeds the greedy episode runs to the step cap, so the \
+                 frozen greedy policy loops where exploration had broken the loop",
+                o.greedy_at_cap,
+                o.greedy_success.trials - o.greedy_success.successes
+            )
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "{} reaches the target in {} of its final-window training episodes but its greedy \
+             policy after training only in {} seeds{looping}.",
+            method_title(&o.method),
+            share(&o.training_success),
+            share(&o.greedy_success)
+        ))
+    } else if greedy.low > training.high {
+        Some(format!(
+            "{}'s greedy policy after training reaches the target more often ({} seeds) than \
+             its final-window training episodes do ({}): exploration costs it episodes.",
+            method_title(&o.method),
+            share(&o.greedy_success),
+            share(&o.training_success)
+        ))
+    } else {
+        None
+    }
+}
+
+/// The step budgets of EA-MADM and the competitors, when they differ.
+fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
+    let ea = overviews
+        .iter()
+        .find(|o| o.role == Role::Paper && claims::is_under_test(&o.kind))?;
+    let competitors: Vec<&&MethodOverview> = overviews
+        .iter()
+        .filter(|o| claims::is_competitor(o.role, &o.kind))
+        .collect();
+    let most = competitors
+        .iter()
+        .map(|o| o.env_steps_total)
+        .fold(f64::NAN, f64::max);
+    if competitors.is_empty() || ea.env_steps_total <= most {
+        return None;
+    }
+    Some(format!(
+        "EA-MADM's runs use {} environment steps each, {} of them in sub-task pre-training \
+         (on the sub-tasks' shaped rewards), against at most {} for a competitor: {}× the \
+         budget. The controls (when run) ask what an equal budget or equal reward \
+         information gives the competitors.",
+        format_fixed(ea.env_steps_total, 0),
+        format_fixed(ea.pretrain_env_steps, 0),
+        format_fixed(most, 0),
+        format_fixed(ea.env_steps_total / most, 1)
+    ))
+}
+
+/// Methods whose per-seed scores equal the paper's EA-MADM's exactly.
+fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
+    let ea = verdicts.paper_ea_madm(task)?;
+    let rows_of = |method: &str| -> Vec<&FinalScore> {
+        verdicts
+            .scores
+            .iter()
+            .filter(|s| s.task == task && s.method == method)
+            .collect()
+    };
+    let reference = rows_of(ea);
+    let same_numbers = |a: &FinalScore, b: &FinalScore| {
+        a.seed == b.seed
+            && a.final_steps == b.final_steps
+            && a.final_return == b.final_return
+            && a.fluctuation_steps == b.fluctuation_steps
+            && a.fluctuation_return == b.fluctuation_return
+            && a.env_steps_total == b.env_steps_total
+            && a.greedy_steps == b.greedy_steps
+    };
+    let same: Vec<String> = claims::methods(&verdicts.scores, task)
+        .into_iter()
+        .filter(|&(method, _, _)| method != ea)
+        .filter(|&(method, _, _)| {
+            let rows = rows_of(method);
+            rows.len() == reference.len()
+                && rows.iter().zip(&reference).all(|(a, b)| same_numbers(a, b))
+        })
+        .map(|(method, _, _)| format!("`{method}`"))
+        .collect();
+    (!same.is_empty()).then(|| {
+        format!(
+            "{} {} exactly EA-MADM's per-seed scores: {} sub-task experience answers every \
+             lookup as EA-MADM's exact tree does (a table, or a tree whose thresholds merge no \
+             two states), so {} not exercise the tree's aggregation.",
+            same.join(", "),
+            if same.len() == 1 { "gives" } else { "give" },
+            if same.len() == 1 { "its" } else { "their" },
+            if same.len() == 1 {
+                "it does"
+            } else {
+                "they do"
+            },
+        )
+    })
+}

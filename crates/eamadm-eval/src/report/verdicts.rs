@@ -1,0 +1,197 @@
+//! The verdict table, the claims, the rule they are judged by, and the verdicts of EA-MADM's
+//! ablations and variants; the README's verdict block is the same table.
+
+use std::fmt::Write as _;
+
+use super::format::{Align, MarkdownTable, interval, number, p_value, role_text};
+use super::{ReportContext, Verdicts};
+use crate::claims::{self, Comparison, Judgement};
+use crate::paper_claims::{CLAIMS, method_title};
+
+pub(crate) fn deciding_number(judgement: &Judgement) -> String {
+    match judgement.deciding_comparison() {
+        Some(c) if judgement.verdict == claims::Verdict::Equivalent => match &c.paired {
+            Some(p) => format!(
+                "vs {}: paired Δ mean `{}` = {} within ±{}, TOST Holm p {}",
+                method_title(&c.versus),
+                c.metric.column,
+                interval(&p.difference),
+                p.margin.map_or_else(|| "—".to_owned(), number),
+                p_value(p.p_equivalence_holm.unwrap_or(1.0))
+            ),
+            None => comparison_in_words(c),
+        },
+        Some(c) => comparison_in_words(c),
+        None => judgement.reason.clone(),
+    }
+}
+
+fn comparison_in_words(c: &Comparison) -> String {
+    format!(
+        "vs {}: Δ IQM `{}` = {}, Holm p {}",
+        method_title(&c.versus),
+        c.metric.column,
+        interval(&c.difference),
+        p_value(c.p_holm)
+    )
+}
+
+pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdicts: &Verdicts) {
+    let _ = writeln!(text, "## Verdicts on the paper's claims\n");
+    let mut table = MarkdownTable::new([
+        ("claim", Align::Left),
+        ("task", Align::Left),
+        ("verdict (EA-MADM)", Align::Left),
+        ("the number that decides it", Align::Left),
+    ]);
+    for claim in &CLAIMS {
+        for task in claims::tasks(&verdicts.scores) {
+            if !claim.tasks.contains(&task) {
+                continue;
+            }
+            let paper_method = verdicts.paper_ea_madm(task);
+            let judgement = verdicts.judgements.iter().find(|j| {
+                j.claim.id == claim.id && j.task == task && Some(j.method.as_str()) == paper_method
+            });
+            let (verdict, number) = judgement.map_or_else(
+                || ("not run".to_owned(), "EA-MADM was not run".to_owned()),
+                |j| (format!("**{}**", j.verdict.name()), deciding_number(j)),
+            );
+            let _ = table.push_row([
+                claim.id.to_owned(),
+                context.task_title(task),
+                verdict,
+                number,
+            ]);
+        }
+    }
+    if verdicts.judgements.is_empty() {
+        let _ = writeln!(
+            text,
+            "None of the paper's claims is made on the tasks of this run (the claims are about \
+             {}).\n",
+            context
+                .paper_tasks
+                .iter()
+                .map(|t| t.title.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    } else {
+        text.push_str(&table.render());
+        text.push('\n');
+    }
+    let _ = writeln!(text, "The claims:\n");
+    for claim in &CLAIMS {
+        let metrics: Vec<String> = claim
+            .metrics
+            .iter()
+            .map(|m| format!("`{}` ({} is better)", m.column, m.direction.name()))
+            .collect();
+        let _ = writeln!(
+            text,
+            "- **{}** ({}): {}. Tested on {}.",
+            claim.id,
+            claim.location,
+            claim.words,
+            metrics.join(", ")
+        );
+    }
+    let _ = writeln!(
+        text,
+        "\n**The rule.** Each method under test is compared with each of the paper's \
+         competitors (the methods with role `paper` that are not EA-MADM) on every metric of \
+         the claim: the difference of interquartile means (IQM) over seeds with a bootstrap \
+         95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
+         when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
+         method. A comparison favours one side when its Holm p is below {alpha}, its interval \
+         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps` \
+         and `fluctuation_steps`: the shortest detour on a grid), the difference exceeds the \
+         margin. Runs of one seed share their random streams, so each comparison is also \
+         paired by seed: the mean paired difference with a paired bootstrap interval, a \
+         sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
+         equivalence within the margin (claims.csv: `paired_*`, `p_equivalence`). The \
+         verdict is **supported** when every comparison favours EA-MADM, **contradicted** \
+         when any favours a competitor, **equivalent** when every comparison is equivalent \
+         (Holm-adjusted TOST p below {alpha}), **inconclusive** otherwise, and \
+         **untestable** when no competitor has 2 seeds with a value. A method with fewer than \
+         2 seeds with a value (it seldom or never reaches the target) is judged on per-seed \
+         reaching instead (a seed reaches when its greedy episode or any training episode \
+         does): against each competitor the exact paired sign test on the seeds only one of \
+         the two reaches on (McNemar), Holm-adjusted across the competitors; \
+         **contradicted** when a competitor reaches on more seeds with a Holm p below \
+         {alpha}, **inconclusive** when one reaches on 2 or more seeds but not significantly \
+         more, **untestable** when none does (neither reaches), each with the counts \
+         (claims.csv: metric `reached`). The deciding number is the weakest comparison of a \
+         supported or equivalent claim, the strongest against a contradicted one, and the \
+         weakest non-favourable one of an inconclusive one.\n",
+        verdicts.options.bootstrap.resamples,
+        verdicts.options.permutation.resamples,
+        verdicts.options.sign_flip.resamples,
+        alpha = verdicts.options.alpha
+    );
+
+    let variants: Vec<&Judgement> = verdicts
+        .judgements
+        .iter()
+        .filter(|j| Some(j.method.as_str()) != verdicts.paper_ea_madm(&j.task))
+        .collect();
+    if !variants.is_empty() {
+        let _ = writeln!(
+            text,
+            "### The same claims for EA-MADM's ablations and variants\n\n\
+             Each is judged against the paper's competitors by the same rule (controls are \
+             marked: they are not in the paper).\n"
+        );
+        let mut table = MarkdownTable::new([
+            ("claim", Align::Left),
+            ("task", Align::Left),
+            ("method", Align::Left),
+            ("role", Align::Left),
+            ("verdict", Align::Left),
+            ("the number that decides it", Align::Left),
+        ]);
+        for j in variants {
+            let _ = table.push_row([
+                j.claim.id.to_owned(),
+                context.task_title(&j.task),
+                format!("`{}`", j.method),
+                role_text(j.role).to_owned(),
+                j.verdict.name().to_owned(),
+                deciding_number(j),
+            ]);
+        }
+        text.push_str(&table.render());
+        text.push('\n');
+    }
+}
+
+/// The heading in `REPORT.md` above the verdict table.
+pub(crate) const VERDICTS_HEADING: &str = "## Verdicts on the paper's claims";
+
+/// The README's verdict block: the verdict table of `report` (the lines of its first table
+/// under the verdicts heading), then one line per claim.
+pub fn readme_verdicts(report: &str) -> Result<String, String> {
+    let after = report
+        .split_once(VERDICTS_HEADING)
+        .map(|(_, rest)| rest)
+        .ok_or_else(|| format!("REPORT.md has no `{VERDICTS_HEADING}` section"))?;
+    let table: Vec<&str> = after
+        .lines()
+        .skip_while(|line| !line.starts_with('|'))
+        .take_while(|line| line.starts_with('|'))
+        .collect();
+    if table.len() < 3 {
+        return Err("REPORT.md's verdict section has no table".to_owned());
+    }
+    let mut text = table.join("\n");
+    text.push_str("\n\n");
+    for claim in &CLAIMS {
+        let _ = writeln!(
+            text,
+            "- **{}**: {}. {}.",
+            claim.id, claim.words, claim.location
+        );
+    }
+    Ok(text)
+}
