@@ -294,13 +294,11 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::answer::{answer_from_csv, with_answer};
-    use super::format::{interval, p_value};
     use super::robot::robot_ranking;
     use super::task::training_versus_greedy;
     use super::verdicts::deciding_number;
     use super::*;
     use crate::claims::{Share, Verdict};
-    use crate::stats::Interval;
 
     /// The paper's tasks as `eamadm::paper::report_context` states them, and no experiment.
     pub(crate) fn context() -> ReportContext {
@@ -632,33 +630,19 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn numbers_are_rounded_to_their_interval() {
-        let i = Interval {
-            estimate: 80.1234,
-            low: 75.5,
-            high: 90.25,
-        };
-        assert_eq!(interval(&i), "80 [76, 90]");
-        let flat = Interval {
-            estimate: 2000.0,
-            low: 2000.0,
-            high: 2000.0,
-        };
-        assert_eq!(interval(&flat), "2000 [2000, 2000]");
-        let tenth = Interval {
-            estimate: 73.0,
-            low: 73.0,
-            high: 73.1,
-        };
-        assert_eq!(interval(&tenth), "73.00 [73.00, 73.10]");
-        // A small estimate in a wide interval keeps a significant digit.
-        let small = Interval {
-            estimate: 0.385,
-            low: 0.307,
-            high: 12.68,
-        };
-        assert_eq!(interval(&small), "0.4 [0.3, 12.7]");
-        assert_eq!(p_value(0.0004), "< 0.001");
-        assert_eq!(p_value(0.0312), "0.031");
+    fn the_report_from_final_scores_csv_is_the_reports_bytes() {
+        let verdicts = Verdicts::compute(scores(60.0), &options()).unwrap();
+        let report = render(&context(), &verdicts).unwrap();
+        assert!(report.contains("## The answer\n\nOver "), "{report}");
+        let scores_csv = verdicts.scores_csv().unwrap();
+        assert_eq!(
+            render_from_csv(&context(), &scores_csv, &options()).unwrap(),
+            report
+        );
+        let error = render_from_csv(&context(), "task,method\ntask1\n", &options()).unwrap_err();
+        assert!(
+            error.to_string().starts_with("final-scores.csv: "),
+            "{error}"
+        );
     }
 }
