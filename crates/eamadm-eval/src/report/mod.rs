@@ -2,7 +2,7 @@
 //! claims first, then per task the numbers behind them. Pure: it returns text and never
 //! touches a file; `xtask` gathers the inputs ([`ReportContext`], [`Verdicts`]) and writes.
 //!
-//! Every number comes from [`scores`](crate::scores) and [`claims`](crate::claims); this
+//! Every number comes from [`scores`] and [`claims`]; this
 //! module only lays them out, and every sentence that states a result is chosen by the numbers
 //! (tests flip the numbers and watch the sentence flip). The text is a pure function of the
 //! scores and the context (no paths, dates or timings), so an interrupted and resumed run
@@ -14,7 +14,7 @@
 //!
 //! | file | what it writes |
 //! |---|---|
-//! | [`format`] | Markdown tables and numbers, intervals, p-values, shares |
+//! | [`format`](mod@format) | Markdown tables and numbers, intervals, p-values, shares |
 //! | `answer` | the answer paragraph `REPORT.md` opens with and the README states |
 //! | `verdicts` | the verdict table, the claims, the rule, the ablations' verdicts |
 //! | `task` | per task: scores, controls, comparisons, distributions, explanations, figures |
@@ -151,7 +151,7 @@ impl ReportContext {
     }
 }
 
-/// Everything the report states: the per-seed scores and what [`claims`](crate::claims) computes from them.
+/// Everything the report states: the per-seed scores and what [`claims`] computes from them.
 #[derive(Debug, Clone)]
 pub struct Verdicts {
     /// One row per task, method and seed.
