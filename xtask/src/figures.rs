@@ -1188,7 +1188,7 @@ impl LineChart {
             SUBTITLE_FONT,
             "start",
             NOTE_COLOUR,
-            &format!("{title} (of {most} seeds)"),
+            title,
         );
         let frame = Frame {
             top: label_y + 8.0,

@@ -678,7 +678,7 @@ fn reaching_chart(
     .with_smoothing(FIGURE_SMOOTHING)
     .with_metric_range(reaching.lowest, None)
     .with_x_end(REACHING_EPISODES)
-    .with_seed_panel("seeds with at least n reaching episodes, the seeds behind each point");
+    .with_seed_panel("seeds behind each point: those with at least n reaching episodes");
     for (method, mut series) in series {
         let seeds = series.seeds();
         if seeds == 0 {
