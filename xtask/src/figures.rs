@@ -1204,10 +1204,10 @@ impl LineChart {
             // A step line: the count holds until the episode where it falls.
             let mut points = Vec::with_capacity(2 * counts.len());
             for (x, &n) in counts.iter().enumerate() {
-                if let Some(&before) = x.checked_sub(1).and_then(|p| counts.get(p)) {
-                    if before != n {
-                        points.push((episode(x), before as f64));
-                    }
+                if let Some(&before) = x.checked_sub(1).and_then(|p| counts.get(p))
+                    && before != n
+                {
+                    points.push((episode(x), before as f64));
                 }
                 points.push((episode(x), n as f64));
             }

@@ -839,13 +839,13 @@ pub fn judge_against(
     options: &ClaimOptions,
 ) -> Result<Judgement, ClaimsError> {
     let mut judgement = judge_versus(scores, claim, task, method, role, set, options)?;
-    if let (VersusSet::SameRewards, Some(entry)) = (set, same_rewards(method)) {
-        if !judgement.reason.is_empty() {
-            judgement.reason = format!(
-                "against the competitors trained on {}: {}",
-                entry.rewards, judgement.reason
-            );
-        }
+    if let (VersusSet::SameRewards, Some(entry)) = (set, same_rewards(method))
+        && !judgement.reason.is_empty()
+    {
+        judgement.reason = format!(
+            "against the competitors trained on {}: {}",
+            entry.rewards, judgement.reason
+        );
     }
     Ok(judgement)
 }
