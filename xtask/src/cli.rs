@@ -117,7 +117,7 @@ pub(crate) struct ReproduceArgs {
     /// subtask0-alone, subtask1-alone, COMPETITOR-budget, COMPETITOR-shaped,
     /// ea-madm-tau0.5, ea-madm-tau0.33; the robot's repaired readings ea-madm-goal-bonus,
     /// ea-madm-end-penalties, ea-madm-normalised, ea-madm-repaired, COMPETITOR-shaped-repaired,
-    /// and its controls subtaskK-alone, subtaskK-alone-learning (K = 0, 1, 2),
+    /// COMPETITOR-shaped-goal-bonus, COMPETITOR-shaped-end-penalties, and its controls subtaskK-alone, subtaskK-alone-learning (K = 0, 1, 2),
     /// COMPETITOR-budget, COMPETITOR-shaped, COMPETITOR-shaped-sum.
     #[arg(long = "method", value_name = "METHOD")]
     pub(crate) methods: Vec<String>,

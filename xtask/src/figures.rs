@@ -233,6 +233,13 @@ impl Series {
         Some((stats::iqm(&values).ok()?, at_cap))
     }
 
+    /// Per episode (x index from 0), the seeds whose curve has a value there
+    /// ([`eamadm::reaching::seeds_contributing`]); up to the longest curve.
+    pub(crate) fn seeds_per_x(&self) -> Vec<usize> {
+        let lengths: Vec<usize> = self.curves.iter().map(Vec::len).collect();
+        eamadm::reaching::seeds_contributing(&lengths)
+    }
+
     /// Episodes of the longest curve.
     pub(crate) fn curves_len(&self) -> usize {
         self.curves.iter().map(Vec::len).max().unwrap_or(0)
@@ -321,6 +328,11 @@ pub(crate) struct LineChart {
     pub(crate) cap_panel: Option<String>,
     /// A panel zoomed on the final this-many episodes, beside the whole run.
     pub(crate) final_zoom: Option<usize>,
+    /// A panel of the seeds each series' line is the IQM of, per episode, titled with this
+    /// text (seeds whose curves are shorter drop out to the right).
+    pub(crate) seed_panel: Option<String>,
+    /// The x axis's last episode, when fixed (otherwise the longest curve's).
+    pub(crate) x_end: Option<usize>,
     /// Canvas width in pixels (the height follows from the content).
     pub(crate) width: u32,
 }
@@ -689,6 +701,8 @@ impl LineChart {
             smoothing_window: 1,
             cap_panel: None,
             final_zoom: None,
+            seed_panel: None,
+            x_end: None,
             width: 960,
         }
     }
@@ -729,6 +743,19 @@ impl LineChart {
     /// Adds the panel of seeds at the step cap.
     pub(crate) fn with_cap_panel(mut self, title: impl Into<String>) -> Self {
         self.cap_panel = Some(title.into());
+        self
+    }
+
+    /// Adds the panel of the seeds behind each line per episode.
+    pub(crate) fn with_seed_panel(mut self, title: impl Into<String>) -> Self {
+        self.seed_panel = Some(title.into());
+        self
+    }
+
+    /// Fixes the x axis to episodes 1 ..= `episodes` (curves are never longer: the caller
+    /// cuts them).
+    pub(crate) fn with_x_end(mut self, episodes: usize) -> Self {
+        self.x_end = Some(episodes);
         self
     }
 
@@ -870,7 +897,7 @@ impl LineChart {
         let plot_left = PAD + Y_AXIS_ROOM;
         let plot_right = width - LEGEND_WIDTH - PAD;
         let longest = drawn.iter().map(|d| d.line.len()).max().unwrap_or(1);
-        let x_range = (1.0, (longest as f64).max(2.0));
+        let x_range = (1.0, (self.x_end.unwrap_or(longest) as f64).max(2.0));
 
         // The draw order: EA-MADM last, on top.
         let mut order: Vec<usize> = (0..self.series.len()).collect();
@@ -960,6 +987,9 @@ impl LineChart {
         }
         if let Some(title) = &self.cap_panel {
             bottom = self.draw_cap_panel(&mut body, title, &main, bottom);
+        }
+        if let Some(title) = &self.seed_panel {
+            bottom = self.draw_seed_panel(&mut body, title, &main, bottom);
         }
         let legend_bottom = self.draw_legend(&mut body, plot_right + PAD, plot_top);
         let mut caption_y = bottom.max(legend_bottom) + 4.0;
@@ -1140,6 +1170,77 @@ impl LineChart {
         frame.bottom + TICK_FONT + 10.0
     }
 
+    /// The panel under `main` of the seeds each line is the IQM of, per episode: a step line
+    /// per series ([`Series::seeds_per_x`]), so a jump of a line where seeds drop out is seen
+    /// with its cause; returns its bottom.
+    fn draw_seed_panel(&self, svg: &mut String, title: &str, main: &Frame, top: f64) -> f64 {
+        let most = self
+            .series
+            .iter()
+            .map(Series::seeds)
+            .max()
+            .unwrap_or(1)
+            .max(1);
+        let label_y = top + SUBTITLE_FONT + 2.0;
+        text_element(
+            svg,
+            (main.left, label_y),
+            SUBTITLE_FONT,
+            "start",
+            NOTE_COLOUR,
+            title,
+        );
+        let frame = Frame {
+            top: label_y + 8.0,
+            bottom: label_y + 8.0 + CAP_PANEL_HEIGHT,
+            y: (0.0, most as f64),
+            ..*main
+        };
+        frame.open(svg, "plot seeds", (Some(0.0), Some(most as f64)));
+        let mut order: Vec<&Series> = self.series.iter().collect();
+        order.sort_by_key(|s| s.method == "ea-madm");
+        for series in order {
+            let counts = series.seeds_per_x();
+            // A step line: the count holds until the episode where it falls.
+            let mut points = Vec::with_capacity(2 * counts.len());
+            for (x, &n) in counts.iter().enumerate() {
+                if let Some(&before) = x.checked_sub(1).and_then(|p| counts.get(p))
+                    && before != n
+                {
+                    points.push((episode(x), before as f64));
+                }
+                points.push((episode(x), n as f64));
+            }
+            let _ = writeln!(
+                svg,
+                "<polyline class=\"line\" data-method=\"{}\" data-seeds=\"{}\" fill=\"none\" {} \
+                 stroke-width=\"1.5\" points=\"{}\"/>",
+                escape(&series.method),
+                counts
+                    .iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(" "),
+                stroke_attributes(&series.style),
+                frame.points(points.into_iter())
+            );
+        }
+        svg.push_str("</g>\n");
+        let y = (frame.top + frame.bottom) / 2.0;
+        let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+        let _ = writeln!(
+            svg,
+            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
+             transform=\"rotate(-90 {} {})\">seeds</text>",
+            px(x),
+            px(y),
+            px(AXIS_FONT),
+            px(x),
+            px(y)
+        );
+        frame.bottom + TICK_FONT + 10.0
+    }
+
     /// The legend in its own column at `x`, from `top`; returns its bottom.
     fn draw_legend(&self, svg: &mut String, x: f64, top: f64) -> f64 {
         let text_x = x + LEGEND_SAMPLE + 8.0;
@@ -1186,39 +1287,6 @@ impl LineChart {
     }
 }
 
-/// A figure of only a title and a message, for a chart with nothing to draw (e.g. no method
-/// ever reached the target).
-pub(crate) fn message_svg(title: &str, message: &str, width: u32) -> String {
-    let w = f64::from(width);
-    let mut body = String::new();
-    let mut y = wrapped_text(
-        &mut body,
-        (w / 2.0, PAD - TITLE_FONT * 0.25),
-        w - 2.0 * PAD,
-        TITLE_FONT,
-        "middle",
-        "#111111",
-        title,
-    );
-    y = wrapped_text(
-        &mut body,
-        (w / 2.0, y + 30.0),
-        w - 2.0 * PAD,
-        SUBTITLE_FONT,
-        "middle",
-        NOTE_COLOUR,
-        message,
-    );
-    let height = (y + 40.0).ceil();
-    format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" \
-         viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\">\n<title>{}</title>\n\
-         <rect width=\"{width}\" height=\"{height}\" fill=\"white\"/>\n{body}</svg>\n",
-        escape(title)
-    )
-}
-
-/// Episode number (from 1) of curve index `i`.
 fn episode(i: usize) -> f64 {
     (i + 1) as f64
 }
@@ -1369,6 +1437,68 @@ mod tests {
         let key = format!(" {name}=\"");
         let start = line.find(&key).unwrap() + key.len();
         line[start..].split('"').next().unwrap().parse().unwrap()
+    }
+
+    /// The C4 charts' x axis ends at the given episode whatever the curves' lengths, and the
+    /// seed panel's step line is the per-x count of the curves that have a value there: read
+    /// back from its pixels, it falls exactly where a seed's curve ends.
+    #[test]
+    fn the_x_axis_ends_where_asked_and_the_seed_panel_counts_the_curves() {
+        let curve = |len: usize| -> Vec<f64> { (0..len).map(|i| i as f64).collect() };
+        let series = series("softmax", 1, &[curve(100), curve(60), curve(30)]);
+        let counts: Vec<usize> = (0..100)
+            .map(|x| [100, 60, 30].iter().filter(|&&l| l > x).count())
+            .collect();
+        assert_eq!(series.seeds_per_x(), counts);
+        let svg = LineChart::new("C4", "reaching episode", "value")
+            .with_series(series)
+            .with_x_end(100)
+            .with_seed_panel("seeds behind each point")
+            .render_svg()
+            .unwrap();
+        let document = roxmltree::Document::parse(&svg).unwrap();
+        let plots: Vec<roxmltree::Node<'_, '_>> = document
+            .descendants()
+            .filter(|n| n.attribute("class").is_some_and(|c| c.starts_with("plot")))
+            .collect();
+        assert_eq!(plots.len(), 2);
+        for plot in &plots {
+            assert_eq!(plot.attribute("data-x0"), Some("1"));
+            assert_eq!(plot.attribute("data-x1"), Some("100"));
+        }
+        let panel = plots[1];
+        assert_eq!(panel.attribute("class"), Some("plot seeds"));
+        let value = |name: &str| -> f64 { panel.attribute(name).unwrap().parse().unwrap() };
+        let line = panel
+            .descendants()
+            .find(|n| n.attribute("class") == Some("line"))
+            .unwrap();
+        let listed: Vec<usize> = line
+            .attribute("data-seeds")
+            .unwrap()
+            .split(' ')
+            .map(|n| n.parse().unwrap())
+            .collect();
+        assert_eq!(listed, counts);
+        // Pixels back to data: (episode, seeds) at each corner of the step line.
+        let points: Vec<(i64, i64)> = line
+            .attribute("points")
+            .unwrap()
+            .split(' ')
+            .map(|p| {
+                let (x, y) = p.split_once(',').unwrap();
+                let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
+                let fx = (x - value("data-left")) / (value("data-right") - value("data-left"));
+                let fy = (value("data-bottom") - y) / (value("data-bottom") - value("data-top"));
+                let data_x = value("data-x0") + fx * (value("data-x1") - value("data-x0"));
+                let data_y = value("data-y0") + fy * (value("data-y1") - value("data-y0"));
+                (data_x.round() as i64, data_y.round() as i64)
+            })
+            .collect();
+        assert_eq!(
+            points,
+            [(1, 3), (31, 3), (31, 2), (61, 2), (61, 1), (100, 1)]
+        );
     }
 
     #[test]

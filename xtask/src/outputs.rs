@@ -11,17 +11,17 @@ use std::path::Path;
 use eamadm::config::Role;
 use eamadm::mazes::{self, Pos, SvgOptions, SvgTrajectory};
 use eamadm::paper::{PaperTask, method_title};
-use eamadm::report::Figures;
+use eamadm::reaching::{ReachingMetric, reaching_curve};
+use eamadm::report::{Figures, NotDrawn};
+use eamadm::scores::REACHING_EPISODES;
 use eamadm::theme::method_style;
 use eamadm::wmr_model;
-use eamadm::{EpisodeRecord, RobotEpisodeMetrics, RunRecord, TrajectoryRecord, results};
+use eamadm::{EpisodeRecord, RunRecord, TrajectoryRecord, results};
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
 use crate::experiments::PlannedExperiment;
-use crate::figures::{
-    FigureError, LineChart, Series, escape, message_svg, px, stroke_attributes, wrapped_text,
-};
+use crate::figures::{FigureError, LineChart, Series, escape, px, stroke_attributes, wrapped_text};
 
 /// Episodes of the trailing moving average drawn in the per-episode figures.
 pub(crate) const FIGURE_SMOOTHING: usize = 5;
@@ -58,8 +58,8 @@ struct ReachingChart {
     figure: &'static str,
     /// The metric's lowest value, if bounded.
     lowest: Option<f64>,
-    /// The value of a reaching episode.
-    value: fn(&RobotEpisodeMetrics) -> f64,
+    /// The metric of a reaching episode.
+    metric: ReachingMetric,
 }
 
 /// The robot's charts over reaching episodes, in the order they are written.
@@ -70,7 +70,7 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
         y_label: "average reward (return per second)",
         figure: "Fig. 13",
         lowest: None,
-        value: |m| m.average_reward,
+        metric: ReachingMetric::AverageReward,
     },
     ReachingChart {
         file: "reaching-time.svg",
@@ -78,7 +78,7 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
         y_label: "time to reach the target (s)",
         figure: "Fig. 14",
         lowest: Some(0.0),
-        value: |m| m.time_to_reach.unwrap_or(m.time),
+        metric: ReachingMetric::ReachingTime,
     },
     ReachingChart {
         file: "retention-time.svg",
@@ -86,7 +86,7 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
         y_label: "retention time in front of obstacles (s)",
         figure: "Fig. 15",
         lowest: Some(0.0),
-        value: |m| m.retention_time,
+        metric: ReachingMetric::RetentionTime,
     },
 ];
 
@@ -182,15 +182,8 @@ impl MethodCurves {
             success.push(&curve(&|e| f64::from(u8::from(e.reached))));
         }
         for (series, chart) in self.reaching.iter_mut().zip(&REACHING_CHARTS) {
-            // The reaching episodes in order; a NaN value is left out like the episodes that
-            // did not reach (it has no time to draw).
-            let reaching: Vec<f64> = record
-                .episodes
-                .iter()
-                .filter(|e| e.reached)
-                .map(|e| e.robot.as_ref().map_or(0.0, chart.value))
-                .filter(|v| !v.is_nan())
-                .collect();
+            // The first reaching episodes in order, as C4's scores take them.
+            let reaching = reaching_curve(record, chart.metric);
             if !reaching.is_empty() {
                 series.push(&reaching);
             }
@@ -304,12 +297,56 @@ impl<'a> ExperimentFigures<'a> {
             .into_iter()
             .map(|(file, caption)| (file.to_owned(), caption))
             .collect();
+        let not_drawn = self.not_drawn();
         let mut files = Vec::new();
         for (file, svg) in self.render()? {
             write_atomic(&folder.join(&file), svg.as_bytes())?;
             files.push(file);
         }
-        Ok(Figures { files, captions })
+        Ok(Figures {
+            files,
+            captions,
+            not_drawn,
+        })
+    }
+
+    /// The paper's methods the figures draw (at most [`MAX_SERIES`]; the first methods when
+    /// the plan has none of the paper's).
+    fn shown(&self) -> Vec<&MethodCurves> {
+        let paper: Vec<&MethodCurves> = self
+            .methods
+            .iter()
+            .filter(|m| self.planned.is_paper_method(&m.method))
+            .collect();
+        if paper.is_empty() {
+            self.methods.iter().take(MAX_SERIES).collect()
+        } else {
+            paper.into_iter().take(MAX_SERIES).collect()
+        }
+    }
+
+    /// The robot's C4 figures ([`REACHING_CHARTS`]) that would be empty axes, because none of
+    /// the methods they draw has a reaching episode in any seed: [`Self::render`] writes no
+    /// SVG for them and the report says why (`eamadm::report::not_drawn_sentence`).
+    pub(crate) fn not_drawn(&self) -> Vec<NotDrawn> {
+        if !self.is_robot || self.methods.is_empty() {
+            return Vec::new();
+        }
+        let shown = self.shown();
+        REACHING_CHARTS
+            .iter()
+            .enumerate()
+            .filter(|(index, _)| {
+                shown
+                    .iter()
+                    .all(|m| m.reaching.get(*index).is_none_or(|s| s.seeds() == 0))
+            })
+            .map(|(_, chart)| NotDrawn {
+                file: chart.file.to_owned(),
+                what: format!("{} over reaching episodes ({})", chart.what, chart.figure),
+                methods: shown.iter().map(|m| method_title(&m.method)).collect(),
+            })
+            .collect()
     }
 
     /// One-line captions of the key figures, computed from what they draw: each paper
@@ -534,17 +571,16 @@ impl<'a> ExperimentFigures<'a> {
             }
             figures.insert(0, ("success.svg".to_owned(), chart.render_svg()?));
             // Fig. 13–15 plot "episodes that are to reach the target": x is the
-            // reaching-episode index, each seed contributing its own reaching episodes in
-            // order.
+            // reaching-episode index, each seed contributing its own first reaching episodes
+            // in order. A chart none of whose methods reaches is not drawn (`not_drawn`).
             for (index, reaching) in REACHING_CHARTS.iter().enumerate() {
                 let series = shown
                     .iter()
                     .filter_map(|m| Some((m.method.as_str(), m.reaching.get(index)?.clone())))
                     .collect();
-                figures.push((
-                    reaching.file.to_owned(),
-                    reaching_chart(title, reaching, series)?,
-                ));
+                if let Some(svg) = reaching_chart(title, reaching, series)? {
+                    figures.push((reaching.file.to_owned(), svg));
+                }
             }
         }
         figures.push((
@@ -558,14 +594,17 @@ impl<'a> ExperimentFigures<'a> {
     }
 }
 
-/// A chart of one robot metric over *reaching* episodes (x = the n-th episode of a seed that
-/// reached the target; seeds with fewer reaching episodes drop out to the right), from each
+/// A chart of one robot metric over the first [`REACHING_EPISODES`] *reaching* episodes
+/// (x = the n-th episode of a seed that reached the target, the axis ends at
+/// [`REACHING_EPISODES`] as C4's scores do; seeds with fewer reaching episodes drop out to the
+/// right, and the panel under the plot counts the seeds behind each point), from each
 /// method's label and series. Methods that never reach are not drawn; the subtitle names them.
+/// `None` when no method reaches: no empty axes are drawn.
 fn reaching_chart(
     title: &str,
     reaching: &ReachingChart,
     series: Vec<(&str, Series)>,
-) -> Result<String, FigureError> {
+) -> Result<Option<String>, FigureError> {
     let mut never = Vec::new();
     let mut chart = LineChart::new(
         format!("{title}: {} over reaching episodes", reaching.what),
@@ -573,7 +612,9 @@ fn reaching_chart(
         reaching.y_label,
     )
     .with_smoothing(FIGURE_SMOOTHING)
-    .with_metric_range(reaching.lowest, None);
+    .with_metric_range(reaching.lowest, None)
+    .with_x_end(REACHING_EPISODES)
+    .with_seed_panel("seeds behind each point: those with at least n reaching episodes");
     for (method, mut series) in series {
         let seeds = series.seeds();
         if seeds == 0 {
@@ -593,17 +634,14 @@ fn reaching_chart(
         format!(" Never reached the target: {}.", never.join(", "))
     };
     chart.subtitle = format!(
-        "Analogue of the paper's {}: over the seeds that reached the target at least n times.{never_text}",
+        "Analogue of the paper's {}: each seed's first {REACHING_EPISODES} reaching episodes, \
+         over the seeds that reached the target at least n times.{never_text}",
         reaching.figure
     );
     if chart.series.is_empty() {
-        return Ok(message_svg(
-            &chart.title,
-            &format!("No method reached the target.{never_text}"),
-            chart.width,
-        ));
+        return Ok(None);
     }
-    chart.render_svg()
+    chart.render_svg().map(Some)
 }
 
 /// The greedy evaluation path of each method's first seed (the analogue of Fig. 6 and 9, and
@@ -955,6 +993,7 @@ mod tests {
     use eamadm::{Experiment, ExperimentConfig};
 
     use super::*;
+    use eamadm::report::not_drawn_sentence;
 
     /// A tiny maze experiment with a paper method (softmax) and a control (ε-greedy), `seeds`
     /// seeds of 12 episodes each.
@@ -987,6 +1026,91 @@ epsilon = {{ constant = 0.1 }}
             name: "tiny".to_owned(),
             title: "Tiny".to_owned(),
             experiment: Experiment::new(config).unwrap(),
+        }
+    }
+
+    /// The robot preset with two of the paper's competitors, one seed of 3 episodes, and
+    /// its runs with every episode marked as not reaching.
+    fn robot_never_reaching() -> (PlannedExperiment, Vec<RunRecord>) {
+        let mut config = eamadm::paper::robot();
+        config
+            .methods
+            .retain(|spec| ["epsilon-greedy", "softmax"].contains(&spec.label.as_str()));
+        config.episodes = 3;
+        config.seeds = 1;
+        config.trajectories.episodes.clear();
+        let planned = PlannedExperiment {
+            name: "robot".to_owned(),
+            title: "Robot".to_owned(),
+            experiment: Experiment::new(config).unwrap(),
+        };
+        let mut runs = planned.experiment.run_all().unwrap();
+        for episode in runs.iter_mut().flat_map(|run| &mut run.episodes) {
+            episode.reached = false;
+        }
+        (planned, runs)
+    }
+
+    /// No empty figure: when no method of the C4 figures has a reaching episode, their SVGs
+    /// are not written and one sentence, in the gallery, says which and why; once one seed of
+    /// one method reaches, all three are drawn again.
+    #[test]
+    fn c4_figures_nobody_reaches_in_are_not_drawn_and_a_sentence_says_why() {
+        let (planned, mut runs) = robot_never_reaching();
+        let figures = collect(&planned, &runs);
+        let not_drawn = figures.not_drawn();
+        assert_eq!(
+            not_drawn
+                .iter()
+                .map(|n| n.file.as_str())
+                .collect::<Vec<_>>(),
+            [
+                "average-reward.svg",
+                "reaching-time.svg",
+                "retention-time.svg"
+            ]
+        );
+        assert_eq!(
+            not_drawn_sentence(&not_drawn),
+            "Not drawn, since none of ε-greedy, softmax reached the target in any training \
+             episode of any seed: average reward over reaching episodes (Fig. 13); reaching \
+             time over reaching episodes (Fig. 14); retention time over reaching episodes \
+             (Fig. 15)."
+        );
+        let files: Vec<String> = figures
+            .render()
+            .unwrap()
+            .into_iter()
+            .map(|(f, _)| f)
+            .collect();
+        assert!(files.contains(&"success.svg".to_owned()), "{files:?}");
+        assert!(
+            not_drawn
+                .iter()
+                .all(|n| !files.iter().any(|f| *f == n.file)),
+            "{files:?}"
+        );
+        let out = std::env::temp_dir().join(format!("eamadm-not-drawn-{}", std::process::id()));
+        let written = collect(&planned, &runs).write(&out).unwrap();
+        assert_eq!(written.not_drawn, not_drawn);
+        std::fs::remove_dir_all(&out).unwrap();
+
+        runs[1].episodes[2].reached = true;
+        let figures = collect(&planned, &runs);
+        assert!(figures.not_drawn().is_empty());
+        assert_eq!(not_drawn_sentence(&[]), "");
+        let files: Vec<String> = figures
+            .render()
+            .unwrap()
+            .into_iter()
+            .map(|(f, _)| f)
+            .collect();
+        for file in [
+            "average-reward.svg",
+            "reaching-time.svg",
+            "retention-time.svg",
+        ] {
+            assert!(files.iter().any(|f| f == file), "{file}: {files:?}");
         }
     }
 

@@ -9,6 +9,12 @@
 //! - **Competitors**: the paper's own competitors, the methods with `role = paper` that are not
 //!   EA-MADM (ε-greedy, ε-decreasing, softmax). Controls that change a competitor (budget- or
 //!   reward-matched) are reported beside them, never used to judge the paper's claim.
+//! - **Fairness both ways** ([`VersusSet`]): a repaired reading of EA-MADM on the robot
+//!   ([`SAME_REWARDS`]: its sub-task rewards or its decision differ from the paper's) is judged
+//!   twice, against the paper's competitors on the task reward and against the competitors
+//!   trained on its own sub-task rewards (`COMPETITOR-shaped-repaired`, …). Each judgement
+//!   names its set, and so does each row of `claims.csv` (`versus_set`). The paper's EA-MADM is
+//!   judged against the paper's competitors only: that is the headline.
 //!
 //! # The statistics (all from [`stats`], seeded, so reports are reproducible)
 //!
@@ -305,6 +311,8 @@ pub struct Judgement {
     pub method: String,
     /// Its role (`paper` for the paper's own EA-MADM).
     pub role: Role,
+    /// Whom it is judged against ([`versus_sets`]).
+    pub versus_set: VersusSet,
     /// The verdict.
     pub verdict: Verdict,
     /// Why, in words computed from the numbers (e.g. the untestable reason).
@@ -522,6 +530,132 @@ pub struct Estimate {
     pub iqm: Option<Interval>,
 }
 
+/// Whom a method under test is judged against (issue 21 item 4, fairness both ways): every
+/// method under test against the paper's competitors on the task reward, and a repaired
+/// reading of EA-MADM ([`SAME_REWARDS`]) also against the competitors trained on its own
+/// sub-task rewards.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VersusSet {
+    /// The paper's competitors (role `paper`, not EA-MADM), which learn from the task reward
+    /// with its goal bonus. The headline verdicts are these.
+    Paper,
+    /// The controls `COMPETITOR-SUFFIX` of the method's [`SameRewards`] entry: each paper
+    /// competitor learning from the standardised signal of the method's own sub-task rewards.
+    SameRewards,
+}
+
+impl VersusSet {
+    /// `paper` or `same_rewards` (the `versus_set` column of `claims.csv`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Paper => "paper",
+            Self::SameRewards => "same_rewards",
+        }
+    }
+}
+
+/// A repaired reading of EA-MADM and the competitors trained on the same rewards.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SameRewards {
+    /// The reading's label.
+    pub method: &'static str,
+    /// The suffix of its competitors' labels: `COMPETITOR-SUFFIX` for each paper competitor.
+    pub suffix: &'static str,
+    /// The rewards both learn from, in words.
+    pub rewards: &'static str,
+}
+
+/// The robot's repaired readings (`eamadm::paper::robot_repairs`) and their reward-matched
+/// competitors. The literal `ea-madm` is not listed: the paper judges it against its
+/// competitors on the task reward, and so does the headline. `eamadm` checks that the preset's
+/// controls of each entry learn from exactly the reading's sub-task rewards.
+pub const SAME_REWARDS: [SameRewards; 4] = [
+    SameRewards {
+        method: "ea-madm-goal-bonus",
+        suffix: "shaped-goal-bonus",
+        rewards: "the sub-task rewards with the reach sub-task's goal bonus",
+    },
+    SameRewards {
+        method: "ea-madm-end-penalties",
+        suffix: "shaped-end-penalties",
+        rewards: "the sub-task rewards with the end penalties in every sub-task",
+    },
+    SameRewards {
+        method: "ea-madm-normalised",
+        suffix: "shaped",
+        rewards: "the paper's sub-task rewards (normalising changes the decision, not the rewards)",
+    },
+    SameRewards {
+        method: "ea-madm-repaired",
+        suffix: "shaped-repaired",
+        rewards: "the sub-task rewards with both repairs",
+    },
+];
+
+/// The [`SAME_REWARDS`] entry of `method`, if it is a repaired reading.
+#[must_use]
+pub fn same_rewards(method: &str) -> Option<&'static SameRewards> {
+    SAME_REWARDS.iter().find(|entry| entry.method == method)
+}
+
+/// The sets a method under test is judged against, the headline's ([`VersusSet::Paper`])
+/// first.
+#[must_use]
+pub fn versus_sets(method: &str) -> Vec<VersusSet> {
+    let mut sets = vec![VersusSet::Paper];
+    if same_rewards(method).is_some() {
+        sets.push(VersusSet::SameRewards);
+    }
+    sets
+}
+
+/// The competitors of `method` on `task` in `set`, in score order: the paper's competitors, or
+/// for [`VersusSet::SameRewards`] the methods labelled `COMPETITOR-SUFFIX` of its
+/// [`SameRewards`] entry that are not EA-MADM (empty when none was run).
+#[must_use]
+pub fn competitors_in<'a>(
+    scores: &'a [FinalScore],
+    task: &str,
+    method: &str,
+    set: VersusSet,
+) -> Vec<&'a str> {
+    let methods = methods(scores, task);
+    let paper: Vec<&str> = methods
+        .iter()
+        .filter(|&&(_, role, kind)| is_competitor(role, kind))
+        .map(|&(label, _, _)| label)
+        .collect();
+    match (set, same_rewards(method)) {
+        (VersusSet::Paper, _) => paper,
+        (VersusSet::SameRewards, None) => Vec::new(),
+        (VersusSet::SameRewards, Some(entry)) => paper
+            .iter()
+            .filter_map(|competitor| {
+                let label = format!("{competitor}-{}", entry.suffix);
+                methods
+                    .iter()
+                    .find(|&&(m, _, kind)| m == label && !is_under_test(kind))
+                    .map(|&(m, _, _)| m)
+            })
+            .collect(),
+    }
+}
+
+/// The reason of a judgement whose set of competitors was not run.
+fn none_run(method: &str, set: VersusSet) -> String {
+    match (set, same_rewards(method)) {
+        (VersusSet::SameRewards, Some(entry)) => {
+            format!("none of them (`COMPETITOR-{}`) was run", entry.suffix)
+        }
+        (VersusSet::SameRewards, None) => {
+            format!("{method} has no competitors on the same rewards")
+        }
+        (VersusSet::Paper, _) => "none of the paper's competitors was run".to_owned(),
+    }
+}
+
 /// The tasks of `scores`, in first-appearance order.
 #[must_use]
 pub fn tasks(scores: &[FinalScore]) -> Vec<&str> {
@@ -659,17 +793,22 @@ pub fn judge(scores: &[FinalScore], options: &ClaimOptions) -> Result<Vec<Judgem
         for task in claim.tasks.iter().filter(|t| present.contains(t)) {
             for (method, role, kind) in methods(scores, task) {
                 if is_under_test(kind) {
-                    jobs.push((claim, *task, method, role));
+                    for set in versus_sets(method) {
+                        jobs.push((claim, *task, method, role, set));
+                    }
                 }
             }
         }
     }
     jobs.par_iter()
-        .map(|&(claim, task, method, role)| judge_one(scores, claim, task, method, role, options))
+        .map(|&(claim, task, method, role, set)| {
+            judge_against(scores, claim, task, method, role, set, options)
+        })
         .collect()
 }
 
-/// Judges one claim on one task for one method under test.
+/// Judges one claim on one task for one method under test against the paper's competitors
+/// ([`VersusSet::Paper`]).
 ///
 /// # Errors
 /// [`ClaimsError::Stats`] when a statistic fails.
@@ -681,6 +820,46 @@ pub fn judge_one(
     role: Role,
     options: &ClaimOptions,
 ) -> Result<Judgement, ClaimsError> {
+    judge_against(scores, claim, task, method, role, VersusSet::Paper, options)
+}
+
+/// Judges one claim on one task for one method under test against the competitors of `set`
+/// ([`competitors_in`]). The reason of a [`VersusSet::SameRewards`] judgement opens with the
+/// rewards its competitors learn from.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn judge_against(
+    scores: &[FinalScore],
+    claim: &'static Claim,
+    task: &str,
+    method: &str,
+    role: Role,
+    set: VersusSet,
+    options: &ClaimOptions,
+) -> Result<Judgement, ClaimsError> {
+    let mut judgement = judge_versus(scores, claim, task, method, role, set, options)?;
+    if let (VersusSet::SameRewards, Some(entry)) = (set, same_rewards(method))
+        && !judgement.reason.is_empty()
+    {
+        judgement.reason = format!(
+            "against the competitors trained on {}: {}",
+            entry.rewards, judgement.reason
+        );
+    }
+    Ok(judgement)
+}
+
+/// [`judge_against`] without the words on the set.
+fn judge_versus(
+    scores: &[FinalScore],
+    claim: &'static Claim,
+    task: &str,
+    method: &str,
+    role: Role,
+    set: VersusSet,
+    options: &ClaimOptions,
+) -> Result<Judgement, ClaimsError> {
     let error = |metric: &str, source| ClaimsError::Stats {
         claim: claim.id.to_owned(),
         task: task.to_owned(),
@@ -688,16 +867,13 @@ pub fn judge_one(
         metric: metric.to_owned(),
         source: Box::new(source),
     };
-    let competitors: Vec<&str> = methods(scores, task)
-        .into_iter()
-        .filter(|&(_, role, kind)| is_competitor(role, kind))
-        .map(|(label, _, _)| label)
-        .collect();
+    let competitors = competitors_in(scores, task, method, set);
     let mut judgement = Judgement {
         claim,
         task: task.to_owned(),
         method: method.to_owned(),
         role,
+        versus_set: set,
         verdict: Verdict::Untestable,
         reason: String::new(),
         comparisons: Vec::new(),
@@ -706,7 +882,7 @@ pub fn judge_one(
         reaching: Vec::new(),
     };
     if competitors.is_empty() {
-        judgement.reason = "none of the paper's competitors was run".to_owned();
+        judgement.reason = none_run(method, set);
         return Ok(judgement);
     }
     let mut raw_p = Vec::new();
@@ -892,6 +1068,10 @@ pub struct ClaimRow {
     pub better: &'static str,
     /// The competitor; empty for a single-method row.
     pub versus: String,
+    /// Whom the verdict of this row judges the method against ([`VersusSet::name`]): `paper`
+    /// or `same_rewards` on the rows of a method under test (its single-method rows carry the
+    /// `paper` verdict); empty on the rows of other methods and on outcome rows.
+    pub versus_set: &'static str,
     /// Seeds with a value (the method's).
     pub n: usize,
     /// Seeds with a value of the competitor (empty for a single-method row).
@@ -956,6 +1136,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                             j.claim.id == judgement.claim.id
                                 && j.task == judgement.task
                                 && j.method == estimate.method
+                                && j.versus_set == VersusSet::Paper
                         })
                         .map(|j| j.verdict);
                     rows.push(ClaimRow {
@@ -976,6 +1157,11 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                         p_improvement: None,
                         outcome: None,
                         verdict,
+                        versus_set: if verdict.is_some() {
+                            VersusSet::Paper.name()
+                        } else {
+                            ""
+                        },
                         ..ClaimRow::paired_none()
                     });
                 }
@@ -992,6 +1178,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 metric: REACHED,
                 better: Direction::HigherIsBetter.name(),
                 versus: t.versus.clone(),
+                versus_set: judgement.versus_set.name(),
                 n: t.n,
                 n_versus: Some(t.n),
                 estimate: Some(reaching_difference(t)),
@@ -1012,6 +1199,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 metric: c.metric.column,
                 better: c.metric.direction.name(),
                 versus: c.versus.clone(),
+                versus_set: judgement.versus_set.name(),
                 n: c.n.0,
                 n_versus: Some(c.n.1),
                 estimate: Some(c.difference.estimate),
@@ -1047,6 +1235,7 @@ impl ClaimRow {
             metric: "",
             better: "",
             versus: String::new(),
+            versus_set: "",
             n: 0,
             n_versus: None,
             estimate: None,
@@ -1162,7 +1351,7 @@ pub fn outcome_rows(scores: &[FinalScore]) -> Result<Vec<ClaimRow>, ClaimsError>
 }
 
 /// The columns of `claims.csv`, in order.
-pub const CLAIM_COLUMNS: [&str; 25] = [
+pub const CLAIM_COLUMNS: [&str; 26] = [
     "claim",
     "task",
     "method",
@@ -1170,6 +1359,7 @@ pub const CLAIM_COLUMNS: [&str; 25] = [
     "metric",
     "better",
     "versus",
+    "versus_set",
     "n",
     "n_versus",
     "estimate",

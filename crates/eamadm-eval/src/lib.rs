@@ -16,6 +16,7 @@
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`paper_claims`] | the paper's claims C1–C4 as data, metric directions, method titles |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4, Fig. 13–15) and the seeds behind each point |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
 //!
@@ -46,6 +47,7 @@
 pub mod behaviour;
 pub mod claims;
 pub mod paper_claims;
+pub mod reaching;
 pub mod record;
 pub mod report;
 pub mod results;

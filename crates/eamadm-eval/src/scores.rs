@@ -36,6 +36,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::Role;
+use crate::reaching::ReachingMetric;
 use crate::record::{EpisodeRecord, RunRecord};
 use crate::stats::{self, StatsError};
 
@@ -363,21 +364,17 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
         .map(|e| e.steps)
         .max();
 
-    let reaching: Vec<&EpisodeRecord> = episodes
-        .iter()
-        .filter(|e| e.reached)
-        .take(REACHING_EPISODES)
-        .collect();
+    let reaching: Vec<&EpisodeRecord> = crate::reaching::first_reaching(episodes).collect();
     let robot: Vec<_> = reaching.iter().filter_map(|e| e.robot).collect();
     let is_robot = episodes.iter().any(|e| e.robot.is_some());
     let (reach_average_reward, reach_time, reach_retention_time, retention_decay) =
         if is_robot && !robot.is_empty() {
-            let average: Vec<f64> = robot.iter().map(|m| m.average_reward).collect();
-            let time: Vec<f64> = robot
-                .iter()
-                .map(|m| m.time_to_reach.unwrap_or(m.time))
-                .collect();
-            let retention: Vec<f64> = robot.iter().map(|m| m.retention_time).collect();
+            let of = |metric: ReachingMetric| -> Vec<f64> {
+                robot.iter().map(|m| metric.value(m)).collect()
+            };
+            let average = of(ReachingMetric::AverageReward);
+            let time = of(ReachingMetric::ReachingTime);
+            let retention = of(ReachingMetric::RetentionTime);
             (
                 Some(stats::mean(&average).map_err(stats_error)?),
                 Some(stats::mean(&time).map_err(stats_error)?),

@@ -25,6 +25,7 @@
 //! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4) and the seeds behind each point |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`output_names`] | the name of every file the tooling writes into an output folder |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
@@ -176,7 +177,9 @@ pub use wmr_model;
 
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
-pub use eamadm_eval::{behaviour, claims, record, report, results, scores, stats, summary};
+pub use eamadm_eval::{
+    behaviour, claims, reaching, record, report, results, scores, stats, summary,
+};
 
 pub mod agent;
 pub mod config;

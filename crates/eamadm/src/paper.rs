@@ -445,31 +445,30 @@ pub use eamadm_eval::paper_claims::{
 ///   state's actions before OWA ([`Normalisation::MinMax`]);
 /// - `ea-madm-repaired`: all three.
 ///
-/// And, as controls on the same rewards, each competitor learning from the standardised signal
-/// of the repaired sub-task rewards (`COMPETITOR-shaped-repaired`).
+/// And, as controls on the same rewards (fairness both ways: each reading is also judged
+/// against them, [`claims::SAME_REWARDS`](crate::claims::SAME_REWARDS)), each competitor
+/// learning from the standardised signal of the repaired sub-task rewards: with both repairs
+/// (`COMPETITOR-shaped-repaired`), with the goal bonus only (`COMPETITOR-shaped-goal-bonus`),
+/// with the end penalties only (`COMPETITOR-shaped-end-penalties`). `ea-madm-normalised`
+/// learns from the paper's sub-task rewards, so its matched competitors are the robot's
+/// `COMPETITOR-shaped` ([`robot_controls`]).
 #[must_use]
 pub fn robot_repairs() -> Vec<MethodSpec> {
     let both = SubtaskRepairs {
         reach_goal_bonus: true,
         end_penalties: true,
     };
+    let goal_bonus = SubtaskRepairs {
+        reach_goal_bonus: true,
+        ..SubtaskRepairs::PAPER
+    };
+    let end_penalties = SubtaskRepairs {
+        end_penalties: true,
+        ..SubtaskRepairs::PAPER
+    };
     let variants = [
-        (
-            "goal-bonus",
-            Normalisation::None,
-            SubtaskRepairs {
-                reach_goal_bonus: true,
-                ..SubtaskRepairs::PAPER
-            },
-        ),
-        (
-            "end-penalties",
-            Normalisation::None,
-            SubtaskRepairs {
-                end_penalties: true,
-                ..SubtaskRepairs::PAPER
-            },
-        ),
+        ("goal-bonus", Normalisation::None, goal_bonus),
+        ("end-penalties", Normalisation::None, end_penalties),
         ("normalised", Normalisation::MinMax, SubtaskRepairs::PAPER),
         ("repaired", Normalisation::MinMax, both),
     ];
@@ -485,25 +484,31 @@ pub fn robot_repairs() -> Vec<MethodSpec> {
             }),
         })
         .collect();
-    for spec in methods() {
-        if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
-            &spec.method
-        {
-            if spec.role != Role::Paper || *training != CompetitorTraining::default() {
-                continue;
-            }
-            let mut control = MethodSpec {
-                label: format!("{}-shaped-repaired", spec.label),
-                role: Role::Control,
-                method: spec.method.clone(),
-            };
+    for (name, subtask_rewards) in [
+        ("repaired", both),
+        ("goal-bonus", goal_bonus),
+        ("end-penalties", end_penalties),
+    ] {
+        for spec in methods() {
             if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
-                &mut control.method
+                &spec.method
             {
-                training.signal = CompetitorSignal::Standardised;
-                training.subtask_rewards = both;
+                if spec.role != Role::Paper || *training != CompetitorTraining::default() {
+                    continue;
+                }
+                let mut control = MethodSpec {
+                    label: format!("{}-shaped-{name}", spec.label),
+                    role: Role::Control,
+                    method: spec.method.clone(),
+                };
+                if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+                    &mut control.method
+                {
+                    training.signal = CompetitorSignal::Standardised;
+                    training.subtask_rewards = subtask_rewards;
+                }
+                specs.push(control);
             }
-            specs.push(control);
         }
     }
     specs
@@ -578,6 +583,43 @@ mod tests {
             assert!(task.config().validate().is_ok());
         }
         assert_eq!(PaperTask::from_name("mine"), None);
+    }
+
+    /// The label rule of `claims::SAME_REWARDS` agrees with the robot preset: each repaired
+    /// reading is there, and each of its matched competitors is the paper's competitor learning
+    /// from the standardised signal of exactly the reading's sub-task rewards, nothing else
+    /// changed.
+    #[test]
+    fn the_matched_competitors_of_each_reading_learn_from_its_sub_task_rewards() {
+        let robot = robot();
+        let spec = |label: &str| robot.methods.iter().find(|spec| spec.label == label);
+        let competitors: Vec<&MethodSpec> = robot
+            .methods
+            .iter()
+            .filter(|spec| spec.role == Role::Paper && !matches!(spec.method, Method::EaMadm(_)))
+            .collect();
+        assert_eq!(competitors.len(), 3);
+        for entry in &crate::claims::SAME_REWARDS {
+            let Some(Method::EaMadm(reading)) = spec(entry.method).map(|s| &s.method) else {
+                panic!(
+                    "{} is not an EA-MADM method of the robot preset",
+                    entry.method
+                );
+            };
+            for competitor in &competitors {
+                let label = format!("{}-{}", competitor.label, entry.suffix);
+                let matched = spec(&label).unwrap_or_else(|| panic!("{label} is not run"));
+                assert_eq!(matched.role, Role::Control, "{label}");
+                let mut expected = competitor.method.clone();
+                if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
+                    &mut expected
+                {
+                    training.signal = CompetitorSignal::Standardised;
+                    training.subtask_rewards = reading.subtask_rewards;
+                }
+                assert_eq!(matched.method, expected, "{label}");
+            }
+        }
     }
 
     #[test]

@@ -46,6 +46,11 @@ pub enum Dash {
     DashDotDot,
     /// Long dashes: the controls learning from the repaired sub-task rewards.
     LongDash,
+    /// Long dash and dot: the controls learning from the sub-task rewards with the goal bonus.
+    LongDashDot,
+    /// Long dash and two dots: the controls learning from the sub-task rewards with the end
+    /// penalties.
+    LongDashDotDot,
 }
 
 impl Dash {
@@ -60,6 +65,8 @@ impl Dash {
             Self::DashDot => Some("9 4 2 4"),
             Self::DashDotDot => Some("9 3 2 3 2 3"),
             Self::LongDash => Some("16 4"),
+            Self::LongDashDot => Some("16 4 2 4"),
+            Self::LongDashDotDot => Some("16 3 2 3 2 3"),
         }
     }
 
@@ -90,7 +97,7 @@ pub const OKABE_ITO: [&str; 8] = [
 ];
 
 /// The looks of the methods of the paper's presets, by label.
-const LOOKS: [(&str, usize, Dash); 32] = [
+const LOOKS: [(&str, usize, Dash); 38] = [
     // The paper's methods: EA-MADM blue, its three competitors.
     ("ea-madm", 0, Dash::Solid),
     ("epsilon-greedy", 1, Dash::Solid),
@@ -129,6 +136,20 @@ const LOOKS: [(&str, usize, Dash); 32] = [
     ("epsilon-greedy-shaped-repaired", 1, Dash::LongDash),
     ("epsilon-decreasing-shaped-repaired", 2, Dash::LongDash),
     ("softmax-shaped-repaired", 3, Dash::LongDash),
+    ("epsilon-greedy-shaped-goal-bonus", 1, Dash::LongDashDot),
+    ("epsilon-decreasing-shaped-goal-bonus", 2, Dash::LongDashDot),
+    ("softmax-shaped-goal-bonus", 3, Dash::LongDashDot),
+    (
+        "epsilon-greedy-shaped-end-penalties",
+        1,
+        Dash::LongDashDotDot,
+    ),
+    (
+        "epsilon-decreasing-shaped-end-penalties",
+        2,
+        Dash::LongDashDotDot,
+    ),
+    ("softmax-shaped-end-penalties", 3, Dash::LongDashDotDot),
 ];
 
 /// The look of the method labelled `label` with role `role`: the fixed look of a preset
@@ -180,7 +201,12 @@ mod tests {
             let family = match style.dash {
                 Dash::Solid => Role::Paper,
                 Dash::Dashed => Role::Ablation,
-                Dash::Dotted | Dash::DashDot | Dash::DashDotDot | Dash::LongDash => Role::Control,
+                Dash::Dotted
+                | Dash::DashDot
+                | Dash::DashDotDot
+                | Dash::LongDash
+                | Dash::LongDashDot
+                | Dash::LongDashDotDot => Role::Control,
             };
             assert_eq!(family, spec.role, "{}", spec.label);
             if let Some(other) = seen.insert((style.colour, style.dash), spec.label.clone()) {

@@ -132,6 +132,38 @@ pub struct Figures {
     pub files: Vec<String>,
     /// `(file name, one-line caption)` of the key figures, in the order they are shown.
     pub captions: Vec<(String, String)>,
+    /// The figures left out because they would be empty axes, and why; one sentence
+    /// ([`not_drawn_sentence`]) stands for them in the report.
+    pub not_drawn: Vec<NotDrawn>,
+}
+
+/// A figure that is not written because it would be empty axes (no method it draws has a
+/// value to plot).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NotDrawn {
+    /// The file it would have been.
+    pub file: String,
+    /// What it would have shown, e.g. `reaching time over reaching episodes (Fig. 14)`.
+    pub what: String,
+    /// Why it is empty: the methods it draws (titles), none of which has a reaching episode.
+    pub methods: Vec<String>,
+}
+
+/// The one sentence that replaces the figures of `not_drawn` in the report (empty when every
+/// figure was drawn), e.g. "Not drawn, since none of EA-MADM, softmax reached the target in
+/// any training episode of any seed: average reward over reaching episodes (Fig. 13)."
+#[must_use]
+pub fn not_drawn_sentence(not_drawn: &[NotDrawn]) -> String {
+    let Some(first) = not_drawn.first() else {
+        return String::new();
+    };
+    let whats: Vec<&str> = not_drawn.iter().map(|n| n.what.as_str()).collect();
+    format!(
+        "Not drawn, since none of {} reached the target in any training episode of any seed: \
+         {}.",
+        first.methods.join(", "),
+        whats.join("; ")
+    )
 }
 
 impl ReportContext {

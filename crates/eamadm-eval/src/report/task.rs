@@ -141,7 +141,11 @@ pub(crate) fn write_task(
 /// inline image (a relative path, so the report shows it wherever the folder is) with its
 /// one-line caption; then links to the other figures.
 pub(crate) fn gallery(task: &str, figures: &Figures) -> String {
-    let Figures { files, captions } = figures;
+    let Figures {
+        files,
+        captions,
+        not_drawn,
+    } = figures;
     let mut text = String::new();
     for (file, caption) in captions {
         if files.iter().any(|f| f == file) {
@@ -159,6 +163,9 @@ pub(crate) fn gallery(task: &str, figures: &Figures) -> String {
         .collect();
     if !others.is_empty() {
         let _ = writeln!(text, "More figures: {}.\n", others.join(", "));
+    }
+    if !not_drawn.is_empty() {
+        let _ = writeln!(text, "{}\n", super::not_drawn_sentence(not_drawn));
     }
     text
 }

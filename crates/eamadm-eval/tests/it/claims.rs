@@ -3,7 +3,7 @@
 //! judgements are bit-identical with one and two threads.
 
 use eamadm_eval::Role;
-use eamadm_eval::claims::{self, ClaimOptions, Outcome, Verdict};
+use eamadm_eval::claims::{self, ClaimOptions, Outcome, Verdict, VersusSet};
 use eamadm_eval::paper_claims::{self as paper, CLAIMS};
 use eamadm_eval::scores::{COLUMNS, FinalScore};
 use eamadm_eval::stats::{Bootstrap, PermutationTest};
@@ -308,4 +308,152 @@ fn when_both_reach_c4_compares_the_metrics_as_before() {
     assert_eq!(judgement.comparisons.len(), 6);
     assert_eq!(judgement.verdict, Verdict::Inconclusive);
     assert!(judgement.deciding_comparison().is_some());
+}
+
+/// The robot with the repaired reading `ea-madm-repaired` (role ablation) and its reward-matched
+/// competitors `softmax-shaped-repaired` and `epsilon-greedy-shaped-repaired` (role control),
+/// 20 seeds each: the reading reaches below `repaired`, the matched competitors below
+/// `matched`; EA-MADM never, softmax below 11, ε-greedy below 3.
+fn robot_with_repaired(repaired: u64, matched: u64) -> Vec<FinalScore> {
+    let mut rows = robot(0, 11, 3);
+    for (method, role, kind, reaching) in [
+        ("ea-madm-repaired", Role::Ablation, "ea_madm", repaired),
+        ("softmax-shaped-repaired", Role::Control, "softmax", matched),
+        (
+            "epsilon-greedy-shaped-repaired",
+            Role::Control,
+            "epsilon_greedy",
+            matched,
+        ),
+        // A budget control of softmax: never in a set of a reading.
+        ("softmax-budget", Role::Control, "softmax", 20),
+    ] {
+        rows.extend((0..20).map(|seed| FinalScore {
+            role,
+            ..robot_row(method, kind, seed, seed < reaching)
+        }));
+    }
+    rows
+}
+
+fn c4_of(judgements: &[claims::Judgement], method: &str, set: VersusSet) -> claims::Judgement {
+    judgements
+        .iter()
+        .find(|j| j.claim.id == "C4" && j.method == method && j.versus_set == set)
+        .unwrap()
+        .clone()
+}
+
+#[test]
+fn a_repaired_reading_is_judged_against_the_paper_competitors_and_those_on_its_rewards() {
+    let scores = robot_with_repaired(0, 0);
+    let judgements = claims::judge(&scores, &options()).unwrap();
+    // The paper's EA-MADM has one judgement (the headline), the reading two, paper set first.
+    let sets = |method: &str| -> Vec<VersusSet> {
+        judgements
+            .iter()
+            .filter(|j| j.method == method)
+            .map(|j| j.versus_set)
+            .collect()
+    };
+    assert_eq!(sets("ea-madm"), [VersusSet::Paper]);
+    assert_eq!(
+        sets("ea-madm-repaired"),
+        [VersusSet::Paper, VersusSet::SameRewards]
+    );
+    assert_eq!(
+        claims::competitors_in(&scores, "robot", "ea-madm-repaired", VersusSet::Paper),
+        ["softmax", "epsilon-greedy"]
+    );
+    assert_eq!(
+        claims::competitors_in(&scores, "robot", "ea-madm-repaired", VersusSet::SameRewards),
+        ["softmax-shaped-repaired", "epsilon-greedy-shaped-repaired"]
+    );
+    // Against the paper's competitors the reading is contradicted (softmax 11/20), against
+    // those on its own rewards untestable: neither side reaches, and the reason says which
+    // competitors and why.
+    let paper = c4_of(&judgements, "ea-madm-repaired", VersusSet::Paper);
+    assert_eq!(paper.verdict, Verdict::Contradicted);
+    let same = c4_of(&judgements, "ea-madm-repaired", VersusSet::SameRewards);
+    assert_eq!(same.verdict, Verdict::Untestable);
+    assert_eq!(
+        same.reaching
+            .iter()
+            .map(|t| t.versus.as_str())
+            .collect::<Vec<_>>(),
+        ["softmax-shaped-repaired", "epsilon-greedy-shaped-repaired"]
+    );
+    assert!(
+        same.reason.starts_with(
+            "against the competitors trained on the sub-task rewards with both repairs: "
+        ) && same.reason.ends_with(
+            "ea-madm-repaired reaches on 0/20, softmax-shaped-repaired 0/20, \
+             epsilon-greedy-shaped-repaired 0/20"
+        ),
+        "{}",
+        same.reason
+    );
+    // claims.csv says which set each row judges against; the single-method rows carry the
+    // headline (paper) verdict.
+    let rows = claims::rows(
+        &judgements,
+        &claims::estimates(&scores, &options()).unwrap(),
+    );
+    let of = |versus: &str| {
+        rows.iter()
+            .find(|r| r.method == "ea-madm-repaired" && r.versus == versus)
+            .unwrap()
+    };
+    assert_eq!(of("softmax").versus_set, "paper");
+    assert_eq!(of("softmax").verdict, Some(Verdict::Contradicted));
+    assert_eq!(of("softmax-shaped-repaired").versus_set, "same_rewards");
+    assert_eq!(
+        of("softmax-shaped-repaired").verdict,
+        Some(Verdict::Untestable)
+    );
+    assert_eq!(of("").versus_set, "paper");
+    assert_eq!(of("").verdict, Some(Verdict::Contradicted));
+    let competitor_row = rows.iter().find(|r| r.method == "softmax").unwrap();
+    assert_eq!(competitor_row.versus_set, "");
+}
+
+#[test]
+fn a_reading_that_never_reaches_while_its_matched_competitors_do_is_contradicted() {
+    let judgements = claims::judge(&robot_with_repaired(0, 12), &options()).unwrap();
+    let same = c4_of(&judgements, "ea-madm-repaired", VersusSet::SameRewards);
+    assert_eq!(same.verdict, Verdict::Contradicted);
+    // binomtest(0, 12, 0.5).pvalue = 2 / 2¹², Holm over the two matched competitors.
+    assert!((same.reaching[0].p_holm - 2.0 * 2.0 / 4096.0).abs() < 1e-15);
+    // The reading reaching as often as its matched competitors compares the metrics.
+    let judgements = claims::judge(&robot_with_repaired(20, 20), &options()).unwrap();
+    let same = c4_of(&judgements, "ea-madm-repaired", VersusSet::SameRewards);
+    assert!(same.reaching.is_empty());
+    assert_eq!(same.comparisons.len(), 6);
+    assert!(
+        same.comparisons
+            .iter()
+            .all(|c| c.versus.ends_with("-shaped-repaired"))
+    );
+}
+
+#[test]
+fn a_reading_whose_matched_competitors_were_not_run_is_untestable_with_the_reason() {
+    let mut scores = robot_with_repaired(0, 0);
+    scores.retain(|row| !row.method.ends_with("-shaped-repaired"));
+    let judgements = claims::judge(&scores, &options()).unwrap();
+    let same = c4_of(&judgements, "ea-madm-repaired", VersusSet::SameRewards);
+    assert_eq!(same.verdict, Verdict::Untestable);
+    assert_eq!(
+        same.reason,
+        "against the competitors trained on the sub-task rewards with both repairs: none of \
+         them (`COMPETITOR-shaped-repaired`) was run"
+    );
+    // Every reading of SAME_REWARDS has two sets; any other EA-MADM method only the paper's.
+    for entry in &claims::SAME_REWARDS {
+        assert_eq!(
+            claims::versus_sets(entry.method),
+            [VersusSet::Paper, VersusSet::SameRewards]
+        );
+    }
+    assert_eq!(claims::versus_sets("ea-madm-table"), [VersusSet::Paper]);
 }
