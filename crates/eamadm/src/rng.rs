@@ -22,6 +22,10 @@ pub(crate) enum Stream {
     Warmup,
     /// The seeds handed to the environment's `reset` in warm-up episodes.
     WarmupEnvironment,
+    /// The periodic greedy evaluations' tie-breaks (during training, every `k` episodes).
+    PeriodicEvaluation,
+    /// The seeds handed to the environment's `reset` in the periodic greedy evaluations.
+    PeriodicEvaluationEnvironment,
     /// Sub-task `k`'s learner: initial values, exploration, tie-breaks.
     Pretrain(usize),
     /// The seeds handed to the environment's `reset` in sub-task `k`'s episodes.
@@ -39,6 +43,8 @@ impl Stream {
             Self::EvaluationEnvironment => 5,
             Self::Warmup => 6,
             Self::WarmupEnvironment => 7,
+            Self::PeriodicEvaluation => 8,
+            Self::PeriodicEvaluationEnvironment => 9,
             Self::Pretrain(k) => 1 << 32 | wide(k),
             Self::PretrainEnvironment(k) => 2 << 32 | wide(k),
         }
@@ -68,6 +74,8 @@ mod tests {
             Stream::EvaluationEnvironment,
             Stream::Warmup,
             Stream::WarmupEnvironment,
+            Stream::PeriodicEvaluation,
+            Stream::PeriodicEvaluationEnvironment,
             Stream::Pretrain(0),
             Stream::Pretrain(1),
             Stream::PretrainEnvironment(0),
