@@ -841,7 +841,8 @@ impl<E: TaskEnv> Session<'_, E> {
     /// After every `k`-th episode (`config.evaluation`) it plays one episode of `greedy` (the
     /// training policy without exploration) without learning, on its own environment copy
     /// and its own random streams ([`Stream::PeriodicEvaluation`]): nothing of training sees
-    /// it, so the training episodes are bit-identical whatever `k`.
+    /// it, so the training episodes are bit-identical whatever `k`; each evaluation has streams
+    /// of its own (keyed by the episodes done), so it is the same whichever others are made.
     fn train<P: ExplorationPolicy, G: ExplorationPolicy, S: RewardSignal>(
         &mut self,
         policy: &mut P,
@@ -853,8 +854,6 @@ impl<E: TaskEnv> Session<'_, E> {
         let episodes = self.config.episodes;
         let mut rng = stream_rng(self.seed, Stream::SourceTraining);
         let mut env_seeds = stream_rng(self.seed, Stream::SourceEnvironment);
-        let mut periodic_rng = stream_rng(self.seed, Stream::PeriodicEvaluation);
-        let mut periodic_env_seeds = stream_rng(self.seed, Stream::PeriodicEvaluationEnvironment);
         let mut records = Vec::with_capacity(usize::try_from(episodes).unwrap_or(0));
         let mut trajectories = Vec::new();
         let mut greedy_evaluations = Vec::new();
@@ -876,8 +875,12 @@ impl<E: TaskEnv> Session<'_, E> {
                 trajectories.push(trajectory);
             }
             if self.config.evaluation.after(episode, episodes) {
-                let options = EpisodeOptions::new(episode + 1)
-                    .with_seed(periodic_env_seeds.random())
+                let done = episode + 1;
+                let mut periodic_rng = stream_rng(self.seed, Stream::PeriodicEvaluation(done));
+                let env_seed =
+                    stream_rng(self.seed, Stream::PeriodicEvaluationEnvironment(done)).random();
+                let options = EpisodeOptions::new(done)
+                    .with_seed(env_seed)
                     .without_learning();
                 let outcome = run_episode(
                     &mut self.periodic_env,
