@@ -339,9 +339,21 @@ fn write_verdicts(text: &mut String, experiments: &[PlannedExperiment], verdicts
          **contradicted** when a competitor reaches on more seeds with a Holm p below \
          {alpha}, **inconclusive** when one reaches on 2 or more seeds but not significantly \
          more, **untestable** when none does (neither reaches), each with the counts \
-         (claims.csv: metric `reached`). The deciding number is the weakest comparison of a \
-         supported or equivalent claim, the strongest against a contradicted one, and the \
-         weakest non-favourable one of an inconclusive one.\n",
+         (claims.csv: metric `reached`). **C3** is judged on the greedy policy evaluated \
+         every few training episodes without exploration or learning: a seed is \
+         stable-reaching when each such evaluation in the second half of training reaches the \
+         target, and only those seeds have a greedy fluctuation (`fluctuation_greedy_*`), so a \
+         seed stuck at the step cap counts as a failure, never as stability. Against each \
+         competitor the stable-reaching seeds are compared by the exact paired sign test \
+         (claims.csv: metric `stable_reaching`, Holm across competitors) and the greedy \
+         fluctuation by the rule above; a comparison favours a side when either does and the \
+         other does not favour the other side. The fair comparison is ε-decreasing, which uses \
+         EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
+         without its exploration. The training curves' SDs (`fluctuation_steps`, \
+         `fluctuation_return`) are reported as secondary rows with no verdict. The deciding \
+         number is the weakest comparison of a supported or equivalent claim, the strongest \
+         against a contradicted one, and the weakest non-favourable one of an inconclusive \
+         one (or the per-seed test when it alone decides).\n",
         verdicts.options.bootstrap.resamples,
         verdicts.options.permutation.resamples,
         verdicts.options.sign_flip.resamples,
@@ -945,6 +957,10 @@ mod tests {
             collapse_episode: None,
             fluctuation_steps: steps / 10.0,
             fluctuation_return: steps / 10.0,
+            greedy_evaluations: 10,
+            stable_reaching: Some(true),
+            fluctuation_greedy_steps: Some(steps / 10.0),
+            fluctuation_greedy_return: Some(steps / 10.0),
             env_steps_total: 10_000,
             pretrain_env_steps: 0,
             step_cap: Some(2000),
