@@ -322,8 +322,8 @@ fn write_verdicts(text: &mut String, experiments: &[PlannedExperiment], verdicts
          95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
          when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
          method. A comparison favours one side when its Holm p is below {alpha}, its interval \
-         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps` \
-         and `fluctuation_steps`: the shortest detour on a grid), the difference exceeds the \
+         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps`, \
+         `fluctuation_greedy_steps` and `fluctuation_steps`: the shortest detour on a grid), the difference exceeds the \
          margin. Runs of one seed share their random streams, so each comparison is also \
          paired by seed: the mean paired difference with a paired bootstrap interval, a \
          sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
@@ -409,8 +409,9 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
         "## How the scores are made\n\n\
          - **Final** steps and return: per seed the mean over the last {} training episodes; \
          tables show the IQM over seeds with its bootstrap 95% interval.\n\
-         - **Fluctuation** (C3): per seed the sample standard deviation of steps and of return \
-         over the second half of training. These are training curves, so exploration is in \
+         - **Fluctuation** (C3, secondary; C3 is judged on the greedy evaluations, see the \
+         rule): per seed the sample standard deviation of steps and of return over the second \
+         half of training. These are training curves, so exploration is in \
          them: a fixed-ε method (ε-greedy, ε = 0.1) keeps exploring to the end, while the \
          decreasing schedules of ε-decreasing and EA-MADM hardly explore in the second half.\n\
          - **Robot** (C4): over a run's first {} training episodes that reach the target (the \
