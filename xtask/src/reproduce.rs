@@ -577,7 +577,8 @@ mod tests {
         let (mut singles, mut comparisons, mut outcomes, mut per_seed) = (0, 0, 0, 0);
         // Holm groups: (claim, method, what): the deciding comparisons, the secondary ones
         // (empty verdict), and the per-seed tests (across competitors).
-        let mut raw_p: std::collections::BTreeMap<(String, String, &str), Vec<(f64, f64)>> =
+        type HolmGroup<'a> = (String, String, &'a str);
+        let mut raw_p: std::collections::BTreeMap<HolmGroup<'_>, Vec<(f64, f64)>> =
             std::collections::BTreeMap::new();
         for line in lines {
             let row = cells(line);

@@ -251,7 +251,7 @@ impl EvaluationConfig {
     /// Whether training episode `episode` (0-based) is followed by a greedy evaluation.
     #[must_use]
     pub fn after(&self, episode: u64, episodes: u64) -> bool {
-        (episode + 1) % self.every(episodes) == 0
+        (episode + 1).is_multiple_of(self.every(episodes))
     }
 }
 
