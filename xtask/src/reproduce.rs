@@ -560,16 +560,25 @@ mod tests {
         let mut lines = claims.lines();
         let header = cells(lines.next().unwrap());
         let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
-        let of = |method: &str, metric: &str| -> Vec<f64> {
-            scores
+        // Per seed (in seed order) the value of `metric`, where the cell is not empty.
+        let seeded = |method: &str, metric: &str| -> Vec<(u64, f64)> {
+            let mut v: Vec<(u64, f64)> = scores
                 .iter()
                 .filter(|s| s.method == method)
-                .filter_map(|s| s.value(metric))
-                .collect()
+                .filter_map(|s| Some((s.seed, s.value(metric)?)))
+                .collect();
+            v.sort_by_key(|&(seed, _)| seed);
+            v
+        };
+        let of = |method: &str, metric: &str| -> Vec<f64> {
+            seeded(method, metric).into_iter().map(|(_, v)| v).collect()
         };
         let number = |cell: &str| cell.parse::<f64>().unwrap();
-        let (mut singles, mut comparisons, mut outcomes) = (0, 0, 0);
-        let mut raw_p: std::collections::BTreeMap<(String, String), Vec<(f64, f64)>> =
+        let (mut singles, mut comparisons, mut outcomes, mut per_seed) = (0, 0, 0, 0);
+        // Holm groups: (claim, method, what): the deciding comparisons, the secondary ones
+        // (empty verdict), and the per-seed tests (across competitors).
+        type HolmGroup<'a> = (String, String, &'a str);
+        let mut raw_p: std::collections::BTreeMap<HolmGroup<'_>, Vec<(f64, f64)>> =
             std::collections::BTreeMap::new();
         for line in lines {
             let row = cells(line);
@@ -615,8 +624,62 @@ mod tests {
                 outcomes += 1;
                 continue;
             }
+            if metric == "stable_reaching" || metric == "reached" {
+                // A per-seed test, paired by seed: the exact sign test on the discordant seeds,
+                // recomputed from the `stable_reaching` column (or, for `reached`, from
+                // `greedy_reached` and `reaching_episodes`); an empty cell is not stable.
+                let flag = |m: &str| -> Vec<(u64, bool)> {
+                    let mut v: Vec<(u64, bool)> = scores
+                        .iter()
+                        .filter(|s| s.method == m)
+                        .map(|s| {
+                            let yes = if metric == "stable_reaching" {
+                                s.stable_reaching == Some(true)
+                            } else {
+                                s.greedy_reached || s.reaching_episodes > 0
+                            };
+                            (s.seed, yes)
+                        })
+                        .collect();
+                    v.sort_unstable();
+                    v
+                };
+                let (mine, theirs) = (flag(method), flag(versus));
+                let wins = mine
+                    .iter()
+                    .zip(&theirs)
+                    .filter(|(a, b)| a.1 && !b.1)
+                    .count();
+                let losses = mine
+                    .iter()
+                    .zip(&theirs)
+                    .filter(|(a, b)| b.1 && !a.1)
+                    .count();
+                let hits = |v: &[(u64, bool)]| v.iter().filter(|(_, y)| *y).count() as f64;
+                let p = stats::sign_test(wins as u64, losses as u64);
+                assert_eq!(number(row[column("p_value")]), p, "{line}");
+                assert_eq!(
+                    number(row[column("estimate")]),
+                    (hits(&mine) - hits(&theirs)) / mine.len() as f64,
+                    "{line}"
+                );
+                raw_p
+                    .entry((
+                        row[column("claim")].to_owned(),
+                        method.to_owned(),
+                        "per seed",
+                    ))
+                    .or_default()
+                    .push((p, number(row[column("p_holm")])));
+                per_seed += 1;
+                continue;
+            }
             let x = of(method, metric);
-            if versus.is_empty() {
+            if versus.is_empty() && x.is_empty() {
+                // No seed has a value (e.g. no stable-reaching seed): an empty estimate.
+                assert_eq!(row[column("estimate")], "", "{line}");
+                singles += 1;
+            } else if versus.is_empty() {
                 // A single-method row: the IQM over seeds and its bootstrap interval.
                 let interval = Bootstrap::default().interval(&x, Statistic::Iqm).unwrap();
                 assert_eq!(
@@ -643,8 +706,18 @@ mod tests {
                 assert_eq!(number(row[column("ci_low")]), difference.low, "{line}");
                 assert_eq!(number(row[column("ci_high")]), difference.high, "{line}");
                 assert_eq!(number(row[column("p_value")]), p, "{line}");
-                // Paired by seed: the seeds are 0..n for every method here, in order.
-                let paired = eamadm::stats::paired::differences(&x, &y).unwrap();
+                // Paired by seed: the seeds where both have a value.
+                let theirs = seeded(versus, metric);
+                let (px, py): (Vec<f64>, Vec<f64>) = seeded(method, metric)
+                    .into_iter()
+                    .filter_map(|(seed, a)| {
+                        theirs
+                            .iter()
+                            .find(|(s, _)| *s == seed)
+                            .map(|&(_, b)| (a, b))
+                    })
+                    .unzip();
+                let paired = eamadm::stats::paired::differences(&px, &py).unwrap();
                 assert_eq!(
                     number(row[column("paired_estimate")]),
                     stats::mean(&paired).unwrap(),
@@ -661,22 +734,42 @@ mod tests {
                         .unwrap(),
                     "{line}"
                 );
+                let group = if row[column("verdict")].is_empty() {
+                    "secondary"
+                } else {
+                    "deciding"
+                };
                 raw_p
-                    .entry((row[column("claim")].to_owned(), method.to_owned()))
+                    .entry((row[column("claim")].to_owned(), method.to_owned(), group))
                     .or_default()
                     .push((p, number(row[column("p_holm")])));
                 comparisons += 1;
             }
         }
-        // C1, C2: one metric; C3: two. Three methods, one under test, two competitors.
-        assert_eq!(singles, 3 * (1 + 1 + 2));
-        assert_eq!(comparisons, 2 * (1 + 1 + 2));
+        // C1, C2: one metric; C3: two deciding and two secondary. Three methods, one under
+        // test, two competitors.
+        assert_eq!(singles, 3 * (1 + 1 + 2 + 2));
+        // C3's greedy fluctuation is compared with a competitor when both sides have 2 or
+        // more stable-reaching seeds (and the method under test must have them to be compared
+        // at all).
+        let greedy = |m: &str| of(m, "fluctuation_greedy_steps").len() >= 2;
+        let c3 = if greedy("ea-madm") {
+            2 * ["softmax", "epsilon-greedy"]
+                .iter()
+                .filter(|m| greedy(m))
+                .count()
+        } else {
+            0
+        };
+        assert_eq!(comparisons, 2 * (1 + 1 + 2) + c3);
+        // C3's stable-reaching test against each competitor.
+        assert_eq!(per_seed, 2);
         // One share per method, and the method under test against each competitor.
         assert_eq!(outcomes, 3 + 2);
-        for ((claim, method), pairs) in raw_p {
+        for ((claim, method, group), pairs) in raw_p {
             let raw: Vec<f64> = pairs.iter().map(|(p, _)| *p).collect();
             let holm: Vec<f64> = pairs.iter().map(|(_, h)| *h).collect();
-            assert_eq!(stats::holm(&raw).unwrap(), holm, "{claim} {method}");
+            assert_eq!(stats::holm(&raw).unwrap(), holm, "{claim} {method} {group}");
         }
         let report = std::fs::read_to_string(out.join("REPORT.md")).unwrap();
         assert!(

@@ -419,6 +419,7 @@ mod tests {
             ],
             total_env_steps: 19,
             trajectories: Vec::new(),
+            greedy_evaluations: Vec::new(),
             evaluation: episode(4, true, false),
             evaluation_trajectory: TrajectoryRecord {
                 episode: 3,

@@ -43,7 +43,30 @@
 //! - `untestable` when no competitor has two seeds with a value (the reason is given);
 //! - `contradicted` when any comparison favours a competitor;
 //! - `supported` when every testable comparison favours X;
+//! - `equivalent` when every comparison is equivalent (Holm-adjusted TOST p below α);
 //! - `inconclusive` otherwise.
+//!
+//! # C3: fluctuation that cannot be won by being stuck
+//!
+//! C3 is judged on the greedy policy evaluated during training (`fluctuation_greedy_steps`,
+//! `fluctuation_greedy_return`: the SDs over the second half's periodic greedy evaluations,
+//! which only a **stable-reaching** seed has, one whose every such evaluation reached; see
+//! [`scores`](crate::scores)). Against each competitor Y two things are compared:
+//!
+//! - **(a)** the stable-reaching seeds, paired by seed: the exact sign test on the seeds only
+//!   one side is stable-reaching on (McNemar), Holm over the competitors ([`per_seed_tests`],
+//!   claims.csv metric [`STABLE_REACHING`]);
+//! - **(b)** the greedy fluctuation over the seeds where each side has a value, by the same
+//!   statistics, margin (2 steps) and Holm as C1/C2.
+//!
+//! A comparison of a metric with Y favours a side when (a) or (b) does and the other does not
+//! favour the other side ([`combine`]); a competitor with no (b) comparison (fewer than two
+//! stable-reaching seeds) enters by (a) alone. The verdict rule above then applies to these
+//! combined outcomes; `equivalent` also needs every (a) unsettled. When X itself has fewer than
+//! two stable-reaching seeds, (a) alone decides as [`judge_by_reaching`] does. A seed stuck at
+//! the step cap is thus a failure, never the most stable seed. The training curves' SDs
+//! (`fluctuation_steps`, `fluctuation_return`) are C3's **secondary** metrics: estimated and
+//! compared (their own Holm) in claims.csv with an empty `verdict`, never deciding it.
 //!
 //! Comparisons with a competitor that has fewer than two values are listed as untestable and
 //! left out of the rule (that competitor reaches the target in fewer than two seeds).
@@ -212,14 +235,14 @@ pub struct PairedComparison {
 }
 
 /// The region of practical equivalence of a metric (a difference within `±margin` is no
-/// difference in practice; docs/paper-notes.md justifies each): 2 steps for `final_steps`
-/// and `fluctuation_steps` (on a grid the shortest detour from a shortest route costs 2
-/// steps: one step off and one back); none for the others, which are then never judged
-/// equivalent.
+/// difference in practice; docs/paper-notes.md justifies each): 2 steps for `final_steps`,
+/// `fluctuation_greedy_steps` and `fluctuation_steps` (on a grid the shortest detour from a
+/// shortest route costs 2 steps: one step off and one back); none for the others, which are
+/// then never judged equivalent.
 #[must_use]
 pub fn equivalence_margin(column: &str) -> Option<f64> {
     match column {
-        "final_steps" | "fluctuation_steps" => Some(2.0),
+        "final_steps" | "fluctuation_greedy_steps" | "fluctuation_steps" => Some(2.0),
         _ => None,
     }
 }
@@ -325,10 +348,15 @@ pub struct Judgement {
     /// for `contradicted` the strongest against (smallest Holm p), for `inconclusive` the
     /// weakest of those that do not favour the method.
     pub deciding: Option<usize>,
-    /// When the method has too few seeds with a value to compare the claim's metrics: the
-    /// per-seed reaching test against each competitor that decides the verdict instead
-    /// ([`judge_by_reaching`]); empty otherwise.
+    /// The per-seed tests against each competitor (paired exact sign test): when the method
+    /// has too few seeds with a value to compare the claim's metrics, the reaching test that
+    /// decides the verdict instead ([`judge_by_reaching`]); for a claim with a
+    /// [`per_seed`](Claim::per_seed) column (C3: `stable_reaching`), that column's test,
+    /// which takes part in the verdict ([`combine`]); empty otherwise.
     pub reaching: Vec<ReachingComparison>,
+    /// The comparisons on the claim's [`secondary`](Claim::secondary) metrics (C3: the
+    /// training curves' SDs), Holm-adjusted among themselves; they do not decide the verdict.
+    pub secondary: Vec<Comparison>,
 }
 
 impl Judgement {
@@ -343,6 +371,9 @@ impl Judgement {
 /// by seed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReachingComparison {
+    /// The per-seed column tested: [`REACHED`] ([`reached`]) or `stable_reaching`
+    /// ([`stable_reaching`]).
+    pub metric: &'static str,
     /// The competitor's label.
     pub versus: String,
     /// Seeds paired (both methods ran them).
@@ -378,6 +409,133 @@ pub fn reached(row: &FinalScore) -> bool {
     row.greedy_reached || row.reaching_episodes > 0
 }
 
+/// The `metric` of the `claims.csv` rows of C3's per-seed test: the `stable_reaching` column.
+pub const STABLE_REACHING: &str = "stable_reaching";
+
+/// Whether a run is a stable-reaching seed (C3): every periodic greedy evaluation of the
+/// second half of training reached the target. A run without such evaluations (an empty
+/// cell) is not.
+#[must_use]
+pub fn stable_reaching(row: &FinalScore) -> bool {
+    row.stable_reaching == Some(true)
+}
+
+/// The per-seed yes/no of a per-seed column ([`STABLE_REACHING`], else [`reached`]).
+fn per_seed_flag(column: &str) -> fn(&FinalScore) -> bool {
+    if column == STABLE_REACHING {
+        stable_reaching
+    } else {
+        reached
+    }
+}
+
+/// How the reasons say that a seed has the per-seed property of `column`.
+fn per_seed_words(column: &str) -> &'static str {
+    if column == STABLE_REACHING {
+        "reaches in every greedy evaluation of the second half"
+    } else {
+        "reaches"
+    }
+}
+
+/// What a metric comparison and the per-seed test with the same competitor settle together
+/// (C3): a side is favoured when either favours it and the other does not favour the other
+/// side; when they favour opposite sides, nothing is settled.
+#[must_use]
+pub fn combine(metric: Outcome, per_seed: Outcome) -> Outcome {
+    match (metric, per_seed) {
+        (x, Outcome::Unsettled) | (Outcome::Unsettled, x) => x,
+        (x, y) if x == y => x,
+        _ => Outcome::Unsettled,
+    }
+}
+
+/// The per-seed tests of `method` against each of `competitors` on `task` on the per-seed
+/// column `column` ([`REACHED`] or [`STABLE_REACHING`]), paired by seed: the exact two-sided
+/// sign test on the discordant seeds (McNemar's exact test), Holm-adjusted across the
+/// competitors; a side is favoured when it has the property on more discordant seeds and the
+/// Holm p is below `alpha`.
+///
+/// # Errors
+/// A [`StatsError`] from Holm (it cannot fail on sign-test p-values).
+pub fn per_seed_tests(
+    scores: &[FinalScore],
+    task: &str,
+    method: &str,
+    competitors: &[&str],
+    column: &'static str,
+    alpha: f64,
+) -> Result<Vec<ReachingComparison>, StatsError> {
+    let flag = per_seed_flag(column);
+    let per_seed = |method: &str| -> Vec<(u64, bool)> {
+        let mut seeds: Vec<(u64, bool)> = scores
+            .iter()
+            .filter(|row| row.task == task && row.method == method)
+            .map(|row| (row.seed, flag(row)))
+            .collect();
+        seeds.sort_unstable();
+        seeds
+    };
+    let mine = per_seed(method);
+    let mut tests = Vec::new();
+    for &versus in competitors {
+        let theirs = per_seed(versus);
+        let (mut n, mut reached_mine, mut reached_theirs) = (0, 0, 0);
+        let (mut wins, mut losses) = (0_u64, 0_u64);
+        for &(seed, a) in &mine {
+            if let Some(&(_, b)) = theirs.iter().find(|(s, _)| *s == seed) {
+                n += 1;
+                reached_mine += usize::from(a);
+                reached_theirs += usize::from(b);
+                wins += u64::from(a && !b);
+                losses += u64::from(b && !a);
+            }
+        }
+        if n > 0 {
+            tests.push(ReachingComparison {
+                metric: column,
+                versus: versus.to_owned(),
+                n,
+                reached: (reached_mine, reached_theirs),
+                discordant: (wins, losses),
+                p_value: stats::sign_test(wins, losses),
+                p_holm: 1.0,
+                outcome: Outcome::Unsettled,
+            });
+        }
+    }
+    if !tests.is_empty() {
+        let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
+        for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
+            test.p_holm = p;
+            let (wins, losses) = test.discordant;
+            test.outcome = if p >= alpha || wins == losses {
+                Outcome::Unsettled
+            } else if wins > losses {
+                Outcome::FavoursMethod
+            } else {
+                Outcome::FavoursCompetitor
+            };
+        }
+    }
+    Ok(tests)
+}
+
+/// A per-seed test in words, e.g. "EA-MADM reaches on 3/20 seeds, softmax on 11/20; exact
+/// paired sign test, Holm p < 0.001".
+fn per_seed_reason(method: &str, test: &ReachingComparison) -> String {
+    format!(
+        "{} {} on {}/{n} seeds, {} on {}/{n}; exact paired sign test, Holm p {}",
+        paper::method_title(method),
+        per_seed_words(test.metric),
+        test.reached.0,
+        paper::method_title(&test.versus),
+        test.reached.1,
+        p_text(test.p_holm),
+        n = test.n
+    )
+}
+
 /// A p-value as the report prints it: `< 0.001` or three decimals.
 fn p_text(p: f64) -> String {
     if p < 0.001 {
@@ -407,61 +565,26 @@ pub fn judge_by_reaching(
     scores: &[FinalScore],
     judgement: &mut Judgement,
     competitors: &[&str],
+    column: &'static str,
     lacking: &str,
     alpha: f64,
 ) -> Result<(), StatsError> {
-    let per_seed = |method: &str| -> Vec<(u64, bool)> {
-        let mut seeds: Vec<(u64, bool)> = scores
-            .iter()
-            .filter(|row| row.task == judgement.task && row.method == method)
-            .map(|row| (row.seed, reached(row)))
-            .collect();
-        seeds.sort_unstable();
-        seeds
-    };
-    let mine = per_seed(&judgement.method);
-    let mut tests = Vec::new();
-    for &versus in competitors {
-        let theirs = per_seed(versus);
-        let (mut n, mut reached_mine, mut reached_theirs) = (0, 0, 0);
-        let (mut wins, mut losses) = (0_u64, 0_u64);
-        for &(seed, a) in &mine {
-            if let Some(&(_, b)) = theirs.iter().find(|(s, _)| *s == seed) {
-                n += 1;
-                reached_mine += usize::from(a);
-                reached_theirs += usize::from(b);
-                wins += u64::from(a && !b);
-                losses += u64::from(b && !a);
-            }
-        }
-        if n > 0 {
-            tests.push(ReachingComparison {
-                versus: versus.to_owned(),
-                n,
-                reached: (reached_mine, reached_theirs),
-                discordant: (wins, losses),
-                p_value: stats::sign_test(wins, losses),
-                p_holm: 1.0,
-                outcome: Outcome::Unsettled,
-            });
-        }
-    }
-    if !tests.is_empty() {
-        let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
-        for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
-            test.p_holm = p;
-            let (wins, losses) = test.discordant;
-            test.outcome = if p >= alpha || wins == losses {
-                Outcome::Unsettled
-            } else if wins > losses {
-                Outcome::FavoursMethod
-            } else {
-                Outcome::FavoursCompetitor
-            };
-        }
-    }
+    let tests = per_seed_tests(
+        scores,
+        &judgement.task,
+        &judgement.method,
+        competitors,
+        column,
+        alpha,
+    )?;
+    let flag = per_seed_flag(column);
+    let mine: Vec<bool> = scores
+        .iter()
+        .filter(|row| row.task == judgement.task && row.method == judgement.method)
+        .map(flag)
+        .collect();
     let title = paper::method_title(&judgement.method);
-    let mine_reached = mine.iter().filter(|(_, r)| *r).count();
+    let mine_reached = mine.iter().filter(|r| **r).count();
     let best = tests
         .iter()
         .enumerate()
@@ -473,8 +596,9 @@ pub fn judge_by_reaching(
             .map(|t| format!("{} {}/{}", paper::method_title(&t.versus), t.reached.1, t.n))
             .collect();
         judgement.verdict = Verdict::Untestable;
+        let words = per_seed_words(column);
         judgement.reason = format!(
-            "{lacking}, and no competitor reaches on 2 or more seeds: {title} reaches on \
+            "{lacking}, and no competitor {words} on 2 or more seeds: {title} {words} on \
              {mine_reached}/{}, {}",
             mine.len(),
             if counts.is_empty() {
@@ -499,13 +623,8 @@ pub fn judge_by_reaching(
     };
     let deciding = &tests[against.unwrap_or(best)];
     judgement.reason = format!(
-        "{title} reaches on {}/{n} seeds, {} on {}/{n}; exact paired sign test, Holm p {}; \
-         {lacking}",
-        deciding.reached.0,
-        paper::method_title(&deciding.versus),
-        deciding.reached.1,
-        p_text(deciding.p_holm),
-        n = deciding.n
+        "{}; {lacking}",
+        per_seed_reason(&judgement.method, deciding)
     );
     judgement.reaching = tests;
     Ok(())
@@ -767,12 +886,13 @@ pub fn estimate(
     })
 }
 
-/// Every claim metric's column, each once, in claim order.
+/// Every claim metric's column (the deciding ones, then the secondary ones, of each claim),
+/// each once, in claim order.
 #[must_use]
 pub fn claim_columns() -> Vec<&'static str> {
     let mut columns: Vec<&'static str> = Vec::new();
     for claim in &paper::CLAIMS {
-        for metric in claim.metrics {
+        for metric in claim.metrics.iter().chain(claim.secondary) {
             if !columns.contains(&metric.column) {
                 columns.push(metric.column);
             }
@@ -880,20 +1000,30 @@ fn judge_versus(
         untested: Vec::new(),
         deciding: None,
         reaching: Vec::new(),
+        secondary: Vec::new(),
     };
     if competitors.is_empty() {
         judgement.reason = none_run(method, set);
         return Ok(judgement);
     }
+    judgement.secondary = secondary_comparisons(scores, claim, task, method, &competitors, options)
+        .map_err(|(metric, e)| error(metric, e))?;
+    let per_seed_column = claim.per_seed.unwrap_or(REACHED);
     let mut raw_p = Vec::new();
     for metric in claim.metrics {
         let (x, seeds) = values(scores, task, method, metric.column);
         if x.len() < 2 {
             let lacking = format!(
-                "{} has a `{}` value in {} of {seeds} seeds (it needs a reaching episode)",
+                "{} has a `{}` value in {} of {seeds} seeds (it needs {})",
                 paper::method_title(method),
                 metric.column,
-                x.len()
+                x.len(),
+                if per_seed_column == STABLE_REACHING {
+                    "a seed whose every greedy evaluation of the second half reaches, 2 or \
+                     more of them"
+                } else {
+                    "a reaching episode"
+                }
             );
             judgement.comparisons.clear();
             judgement.untested.clear();
@@ -901,10 +1031,11 @@ fn judge_versus(
                 scores,
                 &mut judgement,
                 &competitors,
+                per_seed_column,
                 &lacking,
                 options.alpha,
             )
-            .map_err(|e| error("reached", e))?;
+            .map_err(|e| error(per_seed_column, e))?;
             return Ok(judgement);
         }
         for &versus in &competitors {
@@ -930,9 +1061,19 @@ fn judge_versus(
             judgement.comparisons.push(comparison);
         }
     }
-    if judgement.comparisons.is_empty() {
+    if let Some(column) = claim.per_seed {
+        judgement.reaching =
+            per_seed_tests(scores, task, method, &competitors, column, options.alpha)
+                .map_err(|e| error(column, e))?;
+    }
+    if judgement.comparisons.is_empty() && judgement.reaching.is_empty() {
         judgement.reason =
             "no competitor has a value in 2 or more seeds (none reaches the target)".to_owned();
+        return Ok(judgement);
+    }
+    if judgement.comparisons.is_empty() {
+        // Only the per-seed tests (no competitor has 2 values on a metric) decide.
+        decide(&mut judgement, options.alpha);
         return Ok(judgement);
     }
     let adjusted = stats::holm(&raw_p).map_err(|e| error("(holm)", e))?;
@@ -958,12 +1099,37 @@ fn judge_versus(
             paired.p_equivalence_holm = paired.p_equivalence.map(|_| p);
         }
     }
+    decide(&mut judgement, options.alpha);
+    Ok(judgement)
+}
+
+/// The verdict of a judgement whose comparisons and per-seed tests are made (see the module
+/// docs): each metric comparison counts with the outcome [`combine`]d with the per-seed test
+/// against the same competitor (C3), and a per-seed test against a competitor with no metric
+/// comparison counts by itself.
+fn decide(judgement: &mut Judgement, alpha: f64) {
     let comparisons = &judgement.comparisons;
-    let by_p = |pick_max: bool, keep: &dyn Fn(&Comparison) -> bool| {
+    let tests = &judgement.reaching;
+    let test_of = |versus: &str| tests.iter().find(|t| t.versus == versus);
+    let effective: Vec<Outcome> = comparisons
+        .iter()
+        .map(|c| test_of(&c.versus).map_or(c.outcome, |t| combine(c.outcome, t.outcome)))
+        .collect();
+    let alone: Vec<&ReachingComparison> = tests
+        .iter()
+        .filter(|t| !comparisons.iter().any(|c| c.versus == t.versus))
+        .collect();
+    let all = || {
+        effective
+            .iter()
+            .copied()
+            .chain(alone.iter().map(|t| t.outcome))
+    };
+    let by_p = |pick_max: bool, keep: &dyn Fn(usize, &Comparison) -> bool| {
         comparisons
             .iter()
             .enumerate()
-            .filter(|(_, c)| keep(c))
+            .filter(|&(i, c)| keep(i, c))
             .max_by(|(i, a), (j, b)| {
                 let order = a.p_holm.total_cmp(&b.p_holm);
                 // Ties go to the earlier comparison either way.
@@ -971,31 +1137,119 @@ fn judge_versus(
             })
             .map(|(i, _)| i)
     };
-    if comparisons
-        .iter()
-        .any(|c| c.outcome == Outcome::FavoursCompetitor)
+    // The per-seed test that decides when no metric comparison can (ties: the earlier one).
+    let test_by_p = |pick_max: bool, outcome: Option<Outcome>| {
+        tests
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| outcome.is_none_or(|o| t.outcome == o))
+            .max_by(|(i, a), (j, b)| {
+                let order = a.p_holm.total_cmp(&b.p_holm);
+                (if pick_max { order } else { order.reverse() }).then(j.cmp(i))
+            })
+            .map(|(_, t)| t)
+    };
+    let (verdict, deciding, test) = if all().any(|o| o == Outcome::FavoursCompetitor) {
+        // A metric comparison that favours the competitor by itself shows the numbers;
+        // otherwise the per-seed test that does.
+        match by_p(false, &|i, c| {
+            effective[i] == Outcome::FavoursCompetitor && c.outcome == Outcome::FavoursCompetitor
+        }) {
+            Some(i) => (Verdict::Contradicted, Some(i), None),
+            None => (
+                Verdict::Contradicted,
+                None,
+                test_by_p(false, Some(Outcome::FavoursCompetitor)),
+            ),
+        }
+    } else if all().all(|o| o == Outcome::FavoursMethod) {
+        match by_p(true, &|_, c| c.outcome == Outcome::FavoursMethod) {
+            Some(i) => (Verdict::Supported, Some(i), None),
+            None => (
+                Verdict::Supported,
+                None,
+                test_by_p(true, Some(Outcome::FavoursMethod)),
+            ),
+        }
+    } else if alone.is_empty()
+        && tests.iter().all(|t| t.outcome == Outcome::Unsettled)
+        && !comparisons.is_empty()
+        && comparisons.iter().all(|c| {
+            c.paired
+                .as_ref()
+                .and_then(|p| p.p_equivalence_holm)
+                .is_some_and(|p| p < alpha)
+        })
     {
-        judgement.verdict = Verdict::Contradicted;
-        judgement.deciding = by_p(false, &|c| c.outcome == Outcome::FavoursCompetitor);
-    } else if comparisons
-        .iter()
-        .all(|c| c.outcome == Outcome::FavoursMethod)
-    {
-        judgement.verdict = Verdict::Supported;
-        judgement.deciding = by_p(true, &|_| true);
-    } else if comparisons.iter().all(|c| {
-        c.paired
-            .as_ref()
-            .and_then(|p| p.p_equivalence_holm)
-            .is_some_and(|p| p < options.alpha)
-    }) {
-        judgement.verdict = Verdict::Equivalent;
-        judgement.deciding = by_p(true, &|_| true);
+        (Verdict::Equivalent, by_p(true, &|_, _| true), None)
     } else {
-        judgement.verdict = Verdict::Inconclusive;
-        judgement.deciding = by_p(true, &|c| c.outcome != Outcome::FavoursMethod);
+        match by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod) {
+            Some(i) => (Verdict::Inconclusive, Some(i), None),
+            None => (
+                Verdict::Inconclusive,
+                None,
+                test_by_p(true, Some(Outcome::Unsettled)).or_else(|| test_by_p(true, None)),
+            ),
+        }
+    };
+    judgement.verdict = verdict;
+    judgement.deciding = deciding;
+    if let Some(test) = test {
+        judgement.reason = per_seed_reason(&judgement.method, test);
     }
-    Ok(judgement)
+}
+
+/// The comparisons of `method` with each competitor on `claim`'s secondary metrics (both
+/// sides need 2 or more seeds with a value; the others are left out), Holm-adjusted among
+/// themselves.
+///
+/// # Errors
+/// The metric and the [`StatsError`] when a statistic fails.
+fn secondary_comparisons(
+    scores: &[FinalScore],
+    claim: &Claim,
+    task: &str,
+    method: &str,
+    competitors: &[&str],
+    options: &ClaimOptions,
+) -> Result<Vec<Comparison>, (&'static str, StatsError)> {
+    let mut comparisons = Vec::new();
+    for metric in claim.secondary {
+        let (x, _) = values(scores, task, method, metric.column);
+        for &versus in competitors {
+            let (y, _) = values(scores, task, versus, metric.column);
+            if x.len() < 2 || y.len() < 2 {
+                continue;
+            }
+            let fail = |e| (metric.column, e);
+            let mut comparison = compare(&x, &y, *metric, versus, options).map_err(fail)?;
+            let (px, py) = paired_values(scores, task, method, versus, metric.column);
+            comparison.paired = compare_paired(&px, &py, metric.column, options).map_err(fail)?;
+            comparisons.push(comparison);
+        }
+    }
+    let raw: Vec<f64> = comparisons.iter().map(|c| c.p_value).collect();
+    if !raw.is_empty() {
+        let holm = stats::holm(&raw).map_err(|e| ("(holm)", e))?;
+        let equivalence: Vec<f64> = comparisons
+            .iter()
+            .map(|c| {
+                c.paired
+                    .as_ref()
+                    .and_then(|p| p.p_equivalence)
+                    .unwrap_or(1.0)
+            })
+            .collect();
+        let equivalence_holm = stats::holm(&equivalence).map_err(|e| ("(holm)", e))?;
+        for ((c, p), q) in comparisons.iter_mut().zip(holm).zip(equivalence_holm) {
+            c.p_holm = p;
+            c.outcome = outcome(c, options.alpha);
+            if let Some(paired) = c.paired.as_mut() {
+                paired.p_equivalence_holm = paired.p_equivalence.map(|_| q);
+            }
+        }
+    }
+    Ok(comparisons)
 }
 
 /// One comparison of the per-seed values `x` of a method with the values `y` of `versus` on
@@ -1091,7 +1345,8 @@ pub struct ClaimRow {
     pub p_improvement: Option<f64>,
     /// What the comparison settles (`favours_method`, `favours_competitor`, `unsettled`).
     pub outcome: Option<Outcome>,
-    /// The claim × task × method verdict (rows of a method under test only).
+    /// The claim × task × method verdict (rows of a method under test only; empty on the rows
+    /// of a secondary metric, which does not decide it).
     pub verdict: Option<Verdict>,
     /// Seeds paired (both methods have a value; comparisons only).
     pub paired_n: Option<usize>,
@@ -1113,10 +1368,13 @@ pub struct ClaimRow {
 
 /// The rows of `claims.csv`: per claim and task, first one single-method row per method and
 /// metric (IQM over seeds, `versus` empty; the verdict on rows of a method under test), then
-/// every comparison of every method under test: the per-seed reaching tests of a judgement
-/// decided by them (metric [`REACHED`]: `estimate` the difference in the share of paired seeds
-/// reaching, [`reaching_difference`]; `p_value` the exact sign test, `p_holm` over the
-/// competitors), then the metric comparisons.
+/// every comparison of every method under test: the per-seed tests of a judgement (metric
+/// [`REACHED`] when they decide it instead of the metrics, [`STABLE_REACHING`] for C3:
+/// `estimate` the difference in the share of paired seeds with the property,
+/// [`reaching_difference`]; `p_value` the exact sign test, `p_holm` over the competitors),
+/// then the metric comparisons. The claim's secondary metrics (C3's training-curve SDs) have
+/// single-method rows and comparison rows too, after the deciding ones, with an empty
+/// `verdict`: they do not decide it (their `p_holm` is adjusted among themselves).
 #[must_use]
 pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
     let mut rows = Vec::new();
@@ -1125,7 +1383,9 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
         let key = (judgement.claim.id, judgement.task.as_str());
         if !seen.contains(&key) {
             seen.push(key);
-            for metric in judgement.claim.metrics {
+            let deciding = judgement.claim.metrics.iter().map(|m| (m, true));
+            let secondary = judgement.claim.secondary.iter().map(|m| (m, false));
+            for (metric, decides) in deciding.chain(secondary) {
                 for estimate in estimates
                     .iter()
                     .filter(|e| e.task == judgement.task && e.metric == metric.column)
@@ -1138,7 +1398,8 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                                 && j.method == estimate.method
                                 && j.versus_set == VersusSet::Paper
                         })
-                        .map(|j| j.verdict);
+                        .map(|j| j.verdict)
+                        .filter(|_| decides);
                     rows.push(ClaimRow {
                         claim: judgement.claim.id,
                         task: judgement.task.clone(),
@@ -1175,7 +1436,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 task: judgement.task.clone(),
                 method: judgement.method.clone(),
                 role: judgement.role,
-                metric: REACHED,
+                metric: t.metric,
                 better: Direction::HigherIsBetter.name(),
                 versus: t.versus.clone(),
                 versus_set: judgement.versus_set.name(),
@@ -1190,7 +1451,9 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 ..ClaimRow::paired_none()
             });
         }
-        for c in &judgement.comparisons {
+        let deciding = judgement.comparisons.iter().map(|c| (c, true));
+        let secondary = judgement.secondary.iter().map(|c| (c, false));
+        for (c, decides) in deciding.chain(secondary) {
             rows.push(ClaimRow {
                 claim: judgement.claim.id,
                 task: judgement.task.clone(),
@@ -1209,7 +1472,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 p_holm: Some(c.p_holm),
                 p_improvement: Some(c.p_improvement),
                 outcome: Some(c.outcome),
-                verdict: Some(judgement.verdict),
+                verdict: decides.then_some(judgement.verdict),
                 paired_n: c.paired.as_ref().map(|p| p.n),
                 paired_estimate: c.paired.as_ref().map(|p| p.difference.estimate),
                 paired_ci_low: c.paired.as_ref().map(|p| p.difference.low),

@@ -30,6 +30,15 @@ pub struct RunRecord {
     pub total_env_steps: u64,
     /// Trajectories of the training episodes the config keeps.
     pub trajectories: Vec<TrajectoryRecord>,
+    /// The periodic greedy evaluations during training, in order: after every `k`-th training
+    /// episode (`k` = the config's `evaluation.every`), one episode of the policy as it is
+    /// then, without exploration and without learning, on random streams of their own (so
+    /// training is the same with or without them). In each, `episode` is the number of
+    /// training episodes done before it (`k`, `2k`, …), `env_steps` the run's cumulative
+    /// training steps at that point (its own steps are counted nowhere), `learning_return` 0.
+    /// C3's greedy fluctuation is measured on them. Empty in records made before they existed.
+    #[serde(default)]
+    pub greedy_evaluations: Vec<EpisodeRecord>,
     /// The greedy evaluation episode after training (no exploration, no learning).
     pub evaluation: EpisodeRecord,
     /// The evaluation episode's trajectory.

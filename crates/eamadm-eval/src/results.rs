@@ -356,6 +356,7 @@ mod tests {
             ],
             total_env_steps: 101,
             trajectories: Vec::new(),
+            greedy_evaluations: Vec::new(),
             evaluation: episode(2, None),
             evaluation_trajectory: trajectory,
             final_window_episodes: 2,

@@ -9,13 +9,25 @@
 //!   run is shorter), as the report has always used. `final_steps` and `final_return` are the
 //!   means of steps and task return over it, `success_rate` the share of its episodes that
 //!   reached the target.
-//! - **Fluctuation** (C3): the sample standard deviation (divisor n − 1) of steps and of task
-//!   return over the second half of training (episodes `⌊E/2⌋ .. E`). These are the training
-//!   curves the paper plots, so exploration is part of them: a fixed-ε method (ε-greedy, ε = 0.1)
-//!   keeps taking random actions to the end and its curves keep that noise, while the
-//!   decreasing schedules (ε-decreasing, EA-MADM: ε < 0.006 after episode 100) hardly explore in
-//!   the second half. That is the paper's own comparison ("the ε-greedy method has the largest
-//!   fluctuation"), not a flaw of the metric; the report says so.
+//! - **Greedy fluctuation** (C3, deciding): during training the runner plays one greedy
+//!   episode of the current policy every `k` training episodes (no exploration, no learning;
+//!   `RunRecord::greedy_evaluations`). Over those taken in the second half of training
+//!   ([`greedy_in_second_half`]: after training episodes `⌊E/2⌋ .. E`), a seed is
+//!   **stable-reaching** (`stable_reaching`) when every one of them reached the target; its
+//!   `fluctuation_greedy_steps` and `fluctuation_greedy_return` are the sample SDs (divisor
+//!   n − 1) of their steps and task return. A seed that fails any of them has no greedy
+//!   fluctuation (an empty cell): a policy stuck at the step cap repeats the same 2000 steps
+//!   and would have SD 0, the "most stable" of all, so it counts as a failure to reach
+//!   (`stable_reaching = false`), never as stability. A seed with fewer than two evaluations
+//!   there has no SD either (empty cell). Exploration is not part of these episodes, so a
+//!   fixed-ε method is measured on the policy it learned, not on its coin.
+//! - **Training-curve fluctuation** (C3, secondary, not deciding): the sample SD of steps and
+//!   of task return over the second half of training's episodes (`fluctuation_steps`,
+//!   `fluctuation_return`), the curves the paper plots. Exploration is part of them: a fixed-ε
+//!   method (ε-greedy, ε = 0.1) keeps taking random actions to the end and its curves keep that
+//!   noise, while the decreasing schedules (ε-decreasing, EA-MADM: ε < 0.006 after episode 100)
+//!   hardly explore in the second half, and a seed stuck at the step cap has SD 0. They are kept
+//!   as the paper's own reading, reported but not judged on.
 //! - **Reaching episodes** (C4, robot): the paper takes "100 episodes that are to reach the
 //!   target". We take a run's first [`REACHING_EPISODES`] training episodes that reached the
 //!   target (all of them when fewer did) and report how many (`reaching_episodes`). Over them:
@@ -48,7 +60,7 @@ pub const FINAL_WINDOW: usize = crate::summary::DEFAULT_FINAL_WINDOW;
 pub const REACHING_EPISODES: usize = 100;
 
 /// The columns of `final-scores.csv`, in order (the fields of [`FinalScore`]).
-pub const COLUMNS: [&str; 25] = [
+pub const COLUMNS: [&str; 29] = [
     "task",
     "method",
     "role",
@@ -65,6 +77,10 @@ pub const COLUMNS: [&str; 25] = [
     "collapse_episode",
     "fluctuation_steps",
     "fluctuation_return",
+    "greedy_evaluations",
+    "stable_reaching",
+    "fluctuation_greedy_steps",
+    "fluctuation_greedy_return",
     "env_steps_total",
     "pretrain_env_steps",
     "step_cap",
@@ -220,6 +236,20 @@ pub struct FinalScore {
     pub fluctuation_steps: f64,
     /// Sample SD of task return per episode over the second half of training (C3).
     pub fluctuation_return: f64,
+    /// Periodic greedy evaluations in the second half of training: those taken after
+    /// training episodes `⌊E/2⌋ .. E` (the episodes `fluctuation_steps` is taken over); 0 for
+    /// a record without them.
+    pub greedy_evaluations: u64,
+    /// Whether every one of those evaluations reached the target (C3's stable-reaching
+    /// seed); empty when there is none.
+    pub stable_reaching: Option<bool>,
+    /// Sample SD of the steps of those evaluations (C3, deciding): only for a stable-reaching
+    /// seed with at least two of them, empty otherwise — a seed stuck at the step cap has SD
+    /// 0 there, and counts as a failure to reach, not as stability.
+    pub fluctuation_greedy_steps: Option<f64>,
+    /// Sample SD of the task return of those evaluations (C3, deciding); filled as
+    /// `fluctuation_greedy_steps`.
+    pub fluctuation_greedy_return: Option<f64>,
     /// Environment steps of the whole run, sub-task pre-training included.
     pub env_steps_total: u64,
     /// Environment steps of sub-task pre-training (0 for the competitors).
@@ -264,6 +294,10 @@ impl FinalScore {
             "collapse_episode" => self.collapse_episode.map(|e| e as f64),
             "fluctuation_steps" => Some(self.fluctuation_steps),
             "fluctuation_return" => Some(self.fluctuation_return),
+            "greedy_evaluations" => Some(self.greedy_evaluations as f64),
+            "stable_reaching" => self.stable_reaching.map(|s| if s { 1.0 } else { 0.0 }),
+            "fluctuation_greedy_steps" => self.fluctuation_greedy_steps,
+            "fluctuation_greedy_return" => self.fluctuation_greedy_return,
             "env_steps_total" => Some(self.env_steps_total as f64),
             "pretrain_env_steps" => Some(self.pretrain_env_steps as f64),
             "step_cap" => self.step_cap.map(|cap| cap as f64),
@@ -358,6 +392,17 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
     let fluctuation_steps = stats::sample_sd(&of(second_half, &steps)).map_err(stats_error)?;
     let fluctuation_return =
         stats::sample_sd(&of(second_half, &|e| e.task_return)).map_err(stats_error)?;
+    let greedy = greedy_in_second_half(record);
+    let stable_reaching = (!greedy.is_empty()).then(|| greedy.iter().all(|e| e.reached));
+    let (fluctuation_greedy_steps, fluctuation_greedy_return) =
+        if stable_reaching == Some(true) && greedy.len() >= 2 {
+            (
+                Some(stats::sample_sd(&of(&greedy, &steps)).map_err(stats_error)?),
+                Some(stats::sample_sd(&of(&greedy, &|e| e.task_return)).map_err(stats_error)?),
+            )
+        } else {
+            (None, None)
+        };
     let step_cap = episodes
         .iter()
         .filter(|e| e.truncated)
@@ -404,6 +449,10 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
         collapse_episode,
         fluctuation_steps,
         fluctuation_return,
+        greedy_evaluations: greedy.len() as u64,
+        stable_reaching,
+        fluctuation_greedy_steps,
+        fluctuation_greedy_return,
         env_steps_total: record.total_env_steps,
         pretrain_env_steps: record.pretrain_env_steps,
         step_cap,
@@ -414,6 +463,21 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
         reach_retention_time,
         retention_decay,
     })
+}
+
+/// The periodic greedy evaluations of `record` taken in the second half of training: after
+/// training episodes `⌊E/2⌋ .. E` of its `E` episodes, i.e. those whose `episode` (the
+/// training episodes done before it) exceeds `⌊E/2⌋`. C3's greedy fluctuation and
+/// stable-reaching are taken over them.
+#[must_use]
+pub fn greedy_in_second_half(record: &RunRecord) -> Vec<EpisodeRecord> {
+    let half = record.episodes.len() as u64 / 2;
+    record
+        .greedy_evaluations
+        .iter()
+        .filter(|e| e.episode > half)
+        .cloned()
+        .collect()
 }
 
 /// Least-squares slope of `y` against its index `0, 1, …, n − 1`:
@@ -468,6 +532,7 @@ pub fn read_csv<R: Read>(reader: R) -> Result<Vec<FinalScore>, ScoresError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::record::TrajectoryRecord;
 
     #[test]
     fn slope_of_a_line_and_of_too_few_points() {
@@ -515,6 +580,88 @@ mod tests {
         );
     }
 
+    /// A run of `episodes` training episodes of 10 steps each whose greedy evaluations (one
+    /// after every episode) take `greedy[i]` steps and reach when below the cap of 2000.
+    fn run_with_greedy(episodes: u64, greedy: &[u64]) -> RunRecord {
+        let episode = |i: u64, steps: u64| EpisodeRecord {
+            episode: i,
+            steps,
+            task_return: -(steps as f64),
+            learning_return: 0.0,
+            terminated: steps < 2000,
+            truncated: steps >= 2000,
+            reached: steps < 2000,
+            collisions: 0,
+            env_steps: 0,
+            robot: None,
+        };
+        let trajectory = TrajectoryRecord {
+            episode: episodes,
+            greedy: true,
+            states: vec![0],
+            actions: Vec::new(),
+            positions: vec![[0.0, 0.0]],
+        };
+        RunRecord {
+            experiment: "t".into(),
+            method: "m".into(),
+            seed: 0,
+            optimum_steps: None,
+            subtasks: Vec::new(),
+            pretrain_env_steps: 0,
+            episodes: (0..episodes).map(|i| episode(i, 10)).collect(),
+            total_env_steps: 10 * episodes,
+            trajectories: Vec::new(),
+            greedy_evaluations: greedy
+                .iter()
+                .zip(1..)
+                .map(|(&steps, i)| episode(i, steps))
+                .collect(),
+            evaluation: episode(episodes, 10),
+            evaluation_trajectory: trajectory,
+            final_window_episodes: 0,
+            final_window_actions: Vec::new(),
+            agreement: None,
+        }
+    }
+
+    #[test]
+    fn a_seed_stuck_at_the_cap_is_not_stable_reaching_and_has_no_greedy_fluctuation() {
+        // Six episodes: the second half is evaluations 4, 5, 6 (after episodes 3, 4, 5).
+        let stuck = final_score(
+            &run_with_greedy(6, &[12, 14, 2000, 2000, 2000, 2000]),
+            Role::Paper,
+            "x",
+        )
+        .unwrap();
+        assert_eq!(stuck.greedy_evaluations, 3);
+        assert_eq!(stuck.stable_reaching, Some(false));
+        assert_eq!(stuck.fluctuation_greedy_steps, None);
+        assert_eq!(stuck.fluctuation_greedy_return, None);
+        // Its training curve is flat: SD 0 there, the metric the greedy one replaces.
+        assert_eq!(stuck.fluctuation_steps, 0.0);
+        // One failure in the window is enough; failures before it do not count.
+        let once = final_score(
+            &run_with_greedy(6, &[2000, 2000, 2000, 20, 2000, 20]),
+            Role::Paper,
+            "x",
+        )
+        .unwrap();
+        assert_eq!(once.stable_reaching, Some(false));
+        let late = final_score(
+            &run_with_greedy(6, &[2000, 2000, 2000, 20, 22, 24]),
+            Role::Paper,
+            "x",
+        )
+        .unwrap();
+        assert_eq!(late.stable_reaching, Some(true));
+        assert_eq!(late.fluctuation_greedy_steps, Some(2.0));
+        assert_eq!(late.fluctuation_greedy_return, Some(2.0));
+        // Without evaluations (an old record): nothing to say.
+        let none = final_score(&run_with_greedy(6, &[]), Role::Paper, "x").unwrap();
+        assert_eq!((none.greedy_evaluations, none.stable_reaching), (0, None));
+    }
+
     #[test]
     fn columns_are_the_fields_in_order() {
         let row = FinalScore {
@@ -534,6 +681,10 @@ mod tests {
             collapse_episode: None,
             fluctuation_steps: 0.25,
             fluctuation_return: 0.125,
+            greedy_evaluations: 3,
+            stable_reaching: Some(false),
+            fluctuation_greedy_steps: None,
+            fluctuation_greedy_return: None,
             env_steps_total: 99,
             pretrain_env_steps: 0,
             step_cap: None,
@@ -551,7 +702,7 @@ mod tests {
         assert_eq!(lines.next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             lines.next().unwrap(),
-            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,99,0,,12,0,,,,-0.1"
+            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,,12,0,,,,-0.1"
         );
         assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
         for column in COLUMNS {
@@ -559,6 +710,8 @@ mod tests {
                 let absent = matches!(
                     column,
                     "step_cap"
+                        | "fluctuation_greedy_steps"
+                        | "fluctuation_greedy_return"
                         | "collapse_episode"
                         | "reach_average_reward"
                         | "reach_time"

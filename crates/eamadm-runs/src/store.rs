@@ -354,6 +354,9 @@ struct StoredRecord {
     episodes: EpisodeColumns,
     total_env_steps: u64,
     trajectories: Vec<TrajectoryRecord>,
+    /// A few per run (one per `evaluation.every` episodes): kept as records.
+    #[serde(default)]
+    greedy_evaluations: Vec<EpisodeRecord>,
     evaluation: EpisodeRecord,
     evaluation_trajectory: TrajectoryRecord,
     final_window_episodes: u64,
@@ -405,6 +408,7 @@ impl StoredRecord {
                 KeepTrajectories::All => record.trajectories.clone(),
                 KeepTrajectories::Figures => Vec::new(),
             },
+            greedy_evaluations: record.greedy_evaluations.clone(),
             evaluation: record.evaluation.clone(),
             evaluation_trajectory: record.evaluation_trajectory.clone(),
             final_window_episodes: record.final_window_episodes,
@@ -456,6 +460,7 @@ impl StoredRecord {
             episodes,
             total_env_steps: self.total_env_steps,
             trajectories: self.trajectories,
+            greedy_evaluations: self.greedy_evaluations,
             evaluation: self.evaluation,
             evaluation_trajectory: self.evaluation_trajectory,
             final_window_episodes: self.final_window_episodes,

@@ -81,6 +81,10 @@ pub struct ExperimentConfig {
     /// Which training episodes keep their trajectory (the greedy evaluation always does).
     #[serde(default)]
     pub trajectories: TrajectoryConfig,
+    /// How often training pauses for a greedy evaluation episode of the current policy
+    /// (`[evaluation] every = k`; every [`DEFAULT_EVALUATION_EVERY`] episodes when absent).
+    #[serde(default, skip_serializing_if = "EvaluationConfig::is_default")]
+    pub evaluation: EvaluationConfig,
     /// The methods compared, in report order. Labels must be unique.
     pub methods: Vec<MethodSpec>,
 }
@@ -209,6 +213,45 @@ impl TrajectoryConfig {
         (self.first && episode == 0)
             || (self.last && episode + 1 == episodes)
             || self.episodes.contains(&episode)
+    }
+}
+
+/// Training episodes between two periodic greedy evaluations when the config does not say.
+pub const DEFAULT_EVALUATION_EVERY: u64 = 10;
+
+/// The periodic greedy evaluation during training: after every `every`-th training episode
+/// (episodes `k − 1, 2k − 1, …`) the run plays one episode of its current policy without
+/// exploration and without learning, on its own random streams, so training is exactly what
+/// it would be without it. C3's fluctuation is measured on these episodes
+/// (docs/paper-notes.md, "C3 on the greedy policy").
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EvaluationConfig {
+    /// Training episodes between two evaluations, in `1..=episodes`;
+    /// `min(`[`DEFAULT_EVALUATION_EVERY`]`, episodes)` when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub every: Option<u64>,
+}
+
+impl EvaluationConfig {
+    /// Whether nothing is set (the default is used).
+    #[must_use]
+    pub fn is_default(&self) -> bool {
+        self.every.is_none()
+    }
+
+    /// The evaluation period of a run of `episodes` training episodes.
+    #[must_use]
+    pub fn every(&self, episodes: u64) -> u64 {
+        self.every
+            .unwrap_or_else(|| DEFAULT_EVALUATION_EVERY.min(episodes))
+            .max(1)
+    }
+
+    /// Whether training episode `episode` (0-based) is followed by a greedy evaluation.
+    #[must_use]
+    pub fn after(&self, episode: u64, episodes: u64) -> bool {
+        (episode + 1).is_multiple_of(self.every(episodes))
     }
 }
 
@@ -888,6 +931,19 @@ impl ExperimentConfig {
                     format!("an episode index below episodes = {}", self.episodes),
                 ));
             }
+        }
+        if let Some(every) = self.evaluation.every
+            && (every == 0 || every > self.episodes)
+        {
+            return Err(ConfigError::invalid(
+                "evaluation.every",
+                every,
+                format!(
+                    "a number of training episodes between greedy evaluations in 1..=episodes \
+                     (episodes = {})",
+                    self.episodes
+                ),
+            ));
         }
         if self.methods.is_empty() {
             return Err(ConfigError::invalid("methods", "[]", "at least one method"));

@@ -199,10 +199,11 @@ pub use agent::{EaMadmPolicy, PolicyError};
 // `behaviour` (the function) comes with the module of the same name above.
 pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour};
 pub use config::{
-    CompetitorSignal, CompetitorTraining, ConfigError, EaMadmConfig, ExperimentConfig,
-    MAX_INPUT_FILE_BYTES, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML,
-    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role, Storage,
-    SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, is_safe_slug, read_input_file,
+    CompetitorSignal, CompetitorTraining, ConfigError, DEFAULT_EVALUATION_EVERY, EaMadmConfig,
+    EvaluationConfig, ExperimentConfig, MAX_INPUT_FILE_BYTES, Method, MethodSpec,
+    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+    PretrainConfig, RESERVED_NAMES, Role, Storage, SubtaskGreedyConfig, TaskConfig,
+    TrajectoryConfig, is_safe_slug, read_input_file,
 };
 pub use diagnosis::{SubtaskDiagnosis, subtask_diagnosis};
 pub use error::{RunError, RunFailure};

@@ -32,9 +32,9 @@ use crate::report::{ExperimentFacts, Figures, PaperTaskFacts, ReportContext};
 use ea_tree::EaTreeConfig;
 
 use crate::config::{
-    CompetitorSignal, CompetitorTraining, DEFAULT_SCENARIO, EaMadmConfig, ExperimentConfig, Method,
-    MethodSpec, PretrainConfig, Role, Storage, SubtaskGreedyConfig, TaskConfig, TrajectoryConfig,
-    table1_epsilon_decreasing, table1_learner, table1_temperature,
+    CompetitorSignal, CompetitorTraining, DEFAULT_SCENARIO, EaMadmConfig, EvaluationConfig,
+    ExperimentConfig, Method, MethodSpec, PretrainConfig, Role, Storage, SubtaskGreedyConfig,
+    TaskConfig, TrajectoryConfig, table1_epsilon_decreasing, table1_learner, table1_temperature,
 };
 #[cfg(doc)]
 use crate::config::{
@@ -265,6 +265,7 @@ fn maze(name: &str, preset: Preset, pretrain_budget: u64) -> ExperimentConfig {
         base_seed: 0,
         learner: table1_learner(),
         trajectories: TrajectoryConfig::default(),
+        evaluation: EvaluationConfig::default(),
         methods: [methods(), controls(pretrain_budget)].concat(),
     }
 }

@@ -22,6 +22,12 @@ pub(crate) enum Stream {
     Warmup,
     /// The seeds handed to the environment's `reset` in warm-up episodes.
     WarmupEnvironment,
+    /// The tie-breaks of the periodic greedy evaluation after `n` training episodes (one
+    /// stream per evaluation, so each is the same whichever others are made).
+    PeriodicEvaluation(u64),
+    /// The seed handed to the environment's `reset` in the periodic greedy evaluation after
+    /// `n` training episodes.
+    PeriodicEvaluationEnvironment(u64),
     /// Sub-task `k`'s learner: initial values, exploration, tie-breaks.
     Pretrain(usize),
     /// The seeds handed to the environment's `reset` in sub-task `k`'s episodes.
@@ -41,6 +47,8 @@ impl Stream {
             Self::WarmupEnvironment => 7,
             Self::Pretrain(k) => 1 << 32 | wide(k),
             Self::PretrainEnvironment(k) => 2 << 32 | wide(k),
+            Self::PeriodicEvaluation(n) => 3 << 32 | (n & 0xFFFF_FFFF),
+            Self::PeriodicEvaluationEnvironment(n) => 4 << 32 | (n & 0xFFFF_FFFF),
         }
     }
 }
@@ -68,6 +76,10 @@ mod tests {
             Stream::EvaluationEnvironment,
             Stream::Warmup,
             Stream::WarmupEnvironment,
+            Stream::PeriodicEvaluation(1),
+            Stream::PeriodicEvaluation(2),
+            Stream::PeriodicEvaluationEnvironment(1),
+            Stream::PeriodicEvaluationEnvironment(2),
             Stream::Pretrain(0),
             Stream::Pretrain(1),
             Stream::PretrainEnvironment(0),

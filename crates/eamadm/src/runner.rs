@@ -480,6 +480,7 @@ fn run_on<E: TaskEnv>(
     let final_from = config.episodes - window;
     let mut session = Session {
         env: Counting::new(prototype.clone()),
+        periodic_env: Counting::new(prototype.clone()),
         learner,
         config,
         seed,
@@ -514,13 +515,24 @@ fn run_on<E: TaskEnv>(
                 });
             }
             let pretrain_env_steps = subtasks.iter().map(|s| s.env_steps).sum();
+            // The periodic evaluations' policy: the same decision rule on its own copy of the
+            // prior (its cache and counts are its own, so the training policy never sees them).
+            let mut periodic = EaMadmPolicy::new(prior.clone(), ea.epsilon, ea.weighting.clone())?
+                .with_normalisation(ea.normalisation)
+                .without_exploration();
             let policy = EaMadmPolicy::new(prior, ea.epsilon, ea.weighting.clone())?
                 .with_normalisation(ea.normalisation)
                 .with_agreement(&learners, final_from);
             let mut policy = ActionTally::new(policy, n_actions, final_from);
             let mut signal = StandardisedReward::new(ea.standardisation, subtasks.len())?;
-            let trained = session.train(&mut policy, &mut signal, pretrain_env_steps, true)?;
-            if let Some(error) = policy.inner.failure() {
+            let trained = session.train(
+                &mut policy,
+                &mut signal,
+                &mut periodic,
+                pretrain_env_steps,
+                true,
+            )?;
+            if let Some(error) = policy.inner.failure().or(periodic.failure()) {
                 return Err(RunFailure::Decision(error.clone()));
             }
             let agreement = policy.inner.agreement();
@@ -581,8 +593,13 @@ fn run_on<E: TaskEnv>(
             let mut policy =
                 ActionTally::new(EpsilonGreedy::new(alone.epsilon)?, n_actions, final_from);
             let mut signal = SubtaskRewardSignal(alone.subtask);
-            let trained =
-                session.train(&mut policy, &mut signal, pretrain_env_steps, alone.learn)?;
+            let trained = session.train(
+                &mut policy,
+                &mut signal,
+                &mut Greedy,
+                pretrain_env_steps,
+                alone.learn,
+            )?;
             let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
             Outcome {
                 subtasks: vec![subtask],
@@ -612,6 +629,7 @@ fn run_on<E: TaskEnv>(
         episodes: trained.episodes,
         total_env_steps: trained.env_steps,
         trajectories: trained.trajectories,
+        greedy_evaluations: trained.greedy_evaluations,
         evaluation,
         evaluation_trajectory,
         final_window_episodes: window,
@@ -737,6 +755,9 @@ impl RewardSignal for CompetitorReward {
 /// The source task's learner on its environment, for one run.
 struct Session<'a, E> {
     env: Counting<E>,
+    /// The environment of the periodic greedy evaluations: a copy of its own, so that the
+    /// training episodes' environment never sees them.
+    periodic_env: Counting<E>,
     learner: DoubleQ,
     config: &'a ExperimentConfig,
     seed: u64,
@@ -746,6 +767,8 @@ struct Session<'a, E> {
 struct Trained {
     episodes: Vec<EpisodeRecord>,
     trajectories: Vec<TrajectoryRecord>,
+    /// The periodic greedy evaluations ([`crate::config::EvaluationConfig`]), in order.
+    greedy_evaluations: Vec<EpisodeRecord>,
     /// Cumulative environment steps, pre-training included.
     env_steps: u64,
 }
@@ -762,7 +785,13 @@ impl<E: TaskEnv> Session<'_, E> {
         let mut policy = ActionTally::new(policy, self.env.n_actions(), final_from);
         let warmup_env_steps =
             self.warm_up(&mut policy.inner, &mut signal, training.warmup_env_steps)?;
-        let trained = self.train(&mut policy, &mut signal, warmup_env_steps, true)?;
+        let trained = self.train(
+            &mut policy,
+            &mut signal,
+            &mut Greedy,
+            warmup_env_steps,
+            true,
+        )?;
         let evaluation = self.evaluate(&mut Greedy, trained.env_steps)?;
         Ok(Outcome {
             subtasks: Vec::new(),
@@ -808,10 +837,17 @@ impl<E: TaskEnv> Session<'_, E> {
 
     /// Trains for the config's episodes; `env_steps` counts the steps already spent
     /// (pre-training or warm-up); `learn = false` acts without updating the learner.
-    fn train<P: ExplorationPolicy, S: RewardSignal>(
+    ///
+    /// After every `k`-th episode (`config.evaluation`) it plays one episode of `greedy` (the
+    /// training policy without exploration) without learning, on its own environment copy
+    /// and its own random streams ([`Stream::PeriodicEvaluation`]): nothing of training sees
+    /// it, so the training episodes are bit-identical whatever `k`; each evaluation has streams
+    /// of its own (keyed by the episodes done), so it is the same whichever others are made.
+    fn train<P: ExplorationPolicy, G: ExplorationPolicy, S: RewardSignal>(
         &mut self,
         policy: &mut P,
         signal: &mut S,
+        greedy: &mut G,
         mut env_steps: u64,
         learn: bool,
     ) -> Result<Trained, DqlError> {
@@ -820,6 +856,7 @@ impl<E: TaskEnv> Session<'_, E> {
         let mut env_seeds = stream_rng(self.seed, Stream::SourceEnvironment);
         let mut records = Vec::with_capacity(usize::try_from(episodes).unwrap_or(0));
         let mut trajectories = Vec::new();
+        let mut greedy_evaluations = Vec::new();
         for episode in 0..episodes {
             let mut options = EpisodeOptions::new(episode).with_seed(env_seeds.random());
             options.record_trajectory = self.config.trajectories.keeps(episode, episodes);
@@ -837,10 +874,32 @@ impl<E: TaskEnv> Session<'_, E> {
             if let Some(trajectory) = self.trajectory(episode, false, &outcome) {
                 trajectories.push(trajectory);
             }
+            if self.config.evaluation.after(episode, episodes) {
+                let done = episode + 1;
+                let mut periodic_rng = stream_rng(self.seed, Stream::PeriodicEvaluation(done));
+                let env_seed =
+                    stream_rng(self.seed, Stream::PeriodicEvaluationEnvironment(done)).random();
+                let options = EpisodeOptions::new(done)
+                    .with_seed(env_seed)
+                    .without_learning();
+                let outcome = run_episode(
+                    &mut self.periodic_env,
+                    &mut self.learner,
+                    greedy,
+                    &mut TaskRewardSignal,
+                    &mut periodic_rng,
+                    &options,
+                )?;
+                let mut record =
+                    episode_record(&self.periodic_env, episode + 1, &outcome, env_steps);
+                record.learning_return = 0.0;
+                greedy_evaluations.push(record);
+            }
         }
         Ok(Trained {
             episodes: records,
             trajectories,
+            greedy_evaluations,
             env_steps,
         })
     }

@@ -8,7 +8,7 @@ use serde::Deserialize;
 
 use super::ReportContext;
 use super::verdicts::VERDICTS_HEADING;
-use crate::claims::REACHED;
+use crate::claims::{REACHED, STABLE_REACHING};
 use crate::paper_claims::{CLAIMS, Direction, method_title};
 
 /// The method whose verdicts the answer states.
@@ -192,6 +192,8 @@ pub fn answer_paragraph(
         groups.join("; ")
     );
 
+    // The comparisons that decide a verdict: a secondary metric's rows (C3's training-curve
+    // SDs) carry no verdict and are left out.
     let comparisons = |task: &str, ids: &[String]| -> Vec<&ClaimsCsvRow> {
         claims
             .iter()
@@ -199,6 +201,7 @@ pub fn answer_paragraph(
                 r.method == METHOD
                     && r.task == task
                     && !r.versus.is_empty()
+                    && !r.verdict.is_empty()
                     && ids.contains(&r.claim)
             })
             .collect()
@@ -227,10 +230,21 @@ pub fn answer_paragraph(
         if !supported.is_empty() {
             let rows = comparisons(task, &supported);
             let weakest = rows.iter().filter_map(|r| r.p_holm).fold(0.0_f64, f64::max);
+            let favour = rows
+                .iter()
+                .filter(|r| r.outcome == "favours_method")
+                .count();
+            // C3 counts a comparison for EA-MADM when its greedy fluctuation or its
+            // stable-reaching test does, so a supported claim can hold unsettled rows (never
+            // one that favours a competitor).
+            let how_many = if favour == rows.len() {
+                format!("all {}", rows.len())
+            } else {
+                format!("{favour} (none against it) of {}", rows.len())
+            };
             let _ = write!(
                 text,
-                " On {title}, all {} of EA-MADM's comparisons on {} favour it (the weakest at Holm p {}).",
-                rows.len(),
+                " On {title}, {how_many} of EA-MADM's comparisons on {} favour it (the weakest at Holm p {}).",
                 list(&supported),
                 p_value(Some(weakest))
             );
@@ -330,7 +344,20 @@ pub fn answer_paragraph(
                         .partial_cmp(&key(b))
                         .unwrap_or(std::cmp::Ordering::Equal)
                 });
-            if let Some(row) = against.filter(|r| r.metric == REACHED) {
+            if let Some(row) = against.filter(|r| r.metric == STABLE_REACHING) {
+                let _ = write!(
+                    text,
+                    " On {title}, {} beats EA-MADM on {id} by reaching the target in every \
+                     greedy evaluation of the second half of training on more seeds: EA-MADM's \
+                     share of such seeds minus {}'s is {} over {} paired seeds, exact paired sign \
+                     test Holm p {}.",
+                    method_title(&row.versus),
+                    method_title(&row.versus),
+                    number(row.estimate.unwrap_or(f64::NAN)),
+                    row.n,
+                    p_value(row.p_holm)
+                );
+            } else if let Some(row) = against.filter(|r| r.metric == REACHED) {
                 // A method that cannot be compared on the claim's metrics is judged on
                 // per-seed reaching (`crate::claims::judge_by_reaching`).
                 let _ = write!(

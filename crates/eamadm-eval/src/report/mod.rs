@@ -300,8 +300,9 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
         "## How the scores are made\n\n\
          - **Final** steps and return: per seed the mean over the last {} training episodes; \
          tables show the IQM over seeds with its bootstrap 95% interval.\n\
-         - **Fluctuation** (C3): per seed the sample standard deviation of steps and of return \
-         over the second half of training. These are training curves, so exploration is in \
+         - **Fluctuation** (C3, secondary; C3 is judged on the greedy evaluations, see the \
+         rule): per seed the sample standard deviation of steps and of return over the second \
+         half of training. These are training curves, so exploration is in \
          them: a fixed-ε method (ε-greedy, ε = 0.1) keeps exploring to the end, while the \
          decreasing schedules of ε-decreasing and EA-MADM hardly explore in the second half.\n\
          - **Robot** (C4): over a run's first {} training episodes that reach the target (the \
@@ -402,6 +403,10 @@ pub(crate) mod tests {
             collapse_episode: None,
             fluctuation_steps: steps / 10.0,
             fluctuation_return: steps / 10.0,
+            greedy_evaluations: 10,
+            stable_reaching: Some(true),
+            fluctuation_greedy_steps: Some(steps / 10.0),
+            fluctuation_greedy_return: Some(steps / 10.0),
             env_steps_total: 10_000,
             pretrain_env_steps: 0,
             step_cap: Some(2000),

@@ -105,8 +105,9 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
          when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
          method. A comparison favours one side when its Holm p is below {alpha}, its interval \
-         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps` \
-         and `fluctuation_steps`: the shortest detour on a grid), the difference exceeds the \
+         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps`, \
+         `fluctuation_greedy_steps` and `fluctuation_steps`: the shortest detour on a grid), \
+         the difference exceeds the \
          margin. Runs of one seed share their random streams, so each comparison is also \
          paired by seed: the mean paired difference with a paired bootstrap interval, a \
          sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
@@ -122,9 +123,21 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          **contradicted** when a competitor reaches on more seeds with a Holm p below \
          {alpha}, **inconclusive** when one reaches on 2 or more seeds but not significantly \
          more, **untestable** when none does (neither reaches), each with the counts \
-         (claims.csv: metric `reached`). The deciding number is the weakest comparison of a \
-         supported or equivalent claim, the strongest against a contradicted one, and the \
-         weakest non-favourable one of an inconclusive one.\n",
+         (claims.csv: metric `reached`). **C3** is judged on the greedy policy evaluated \
+         every few training episodes without exploration or learning: a seed is \
+         stable-reaching when each such evaluation in the second half of training reaches the \
+         target, and only those seeds have a greedy fluctuation (`fluctuation_greedy_*`), so a \
+         seed stuck at the step cap counts as a failure, never as stability. Against each \
+         competitor the stable-reaching seeds are compared by the exact paired sign test \
+         (claims.csv: metric `stable_reaching`, Holm across competitors) and the greedy \
+         fluctuation by the rule above; a comparison favours a side when either does and the \
+         other does not favour the other side. The fair comparison is ε-decreasing, which uses \
+         EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
+         without its exploration. The training curves' SDs (`fluctuation_steps`, \
+         `fluctuation_return`) are reported as secondary rows with no verdict. The deciding \
+         number is the weakest comparison of a supported or equivalent claim, the strongest \
+         against a contradicted one, and the weakest non-favourable one of an inconclusive \
+         one (or the per-seed test when it alone decides).\n",
         verdicts.options.bootstrap.resamples,
         verdicts.options.permutation.resamples,
         verdicts.options.sign_flip.resamples,

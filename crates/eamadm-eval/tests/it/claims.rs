@@ -26,6 +26,10 @@ fn row(method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScor
         collapse_episode: Some(150),
         fluctuation_steps: steps / 4.0,
         fluctuation_return: steps / 4.0,
+        greedy_evaluations: 10,
+        stable_reaching: Some(true),
+        fluctuation_greedy_steps: Some(steps / 4.0),
+        fluctuation_greedy_return: Some(steps / 4.0),
         env_steps_total: 1000,
         pretrain_env_steps: 0,
         step_cap: Some(2000),
@@ -105,6 +109,120 @@ fn the_verdict_flips_when_the_numbers_flip() {
     assert_eq!(deciding.outcome, Outcome::FavoursCompetitor);
     assert!(deciding.difference.low > 0.0, "{deciding:?}");
     assert!(deciding.p_holm < 0.05);
+}
+
+/// Ten seeds of EA-MADM that reach in every greedy evaluation (greedy SD 3 + seed/10, a
+/// training-curve SD of 30) against a softmax stuck at the step cap on `stuck` of its seeds
+/// (no greedy SD there, a flat training curve: SD 0) and stable-reaching on the others.
+fn stuck_competitor(stuck: u64) -> Vec<FinalScore> {
+    let mut rows = scores(100.0, 100.0);
+    for row in &mut rows {
+        let sd = 3.0 + row.seed as f64 / 10.0;
+        if row.method == "softmax" && row.seed < stuck {
+            row.stable_reaching = Some(false);
+            row.fluctuation_greedy_steps = None;
+            row.fluctuation_greedy_return = None;
+            row.fluctuation_steps = 0.0;
+            row.fluctuation_return = 0.0;
+        } else {
+            row.fluctuation_greedy_steps = Some(sd);
+            row.fluctuation_greedy_return = Some(sd);
+            row.fluctuation_steps = 30.0;
+            row.fluctuation_return = 30.0;
+        }
+    }
+    rows
+}
+
+fn c3(scores: &[FinalScore]) -> claims::Judgement {
+    claims::judge(scores, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C3" && j.method == "ea-madm")
+        .unwrap()
+}
+
+#[test]
+fn c3_counts_a_seed_stuck_at_the_cap_as_a_failure_not_as_stability() {
+    // Stuck on every seed: the training-curve SD (secondary) favours softmax, but it has no
+    // stable-reaching seed, so the paired sign test on stable-reaching decides for EA-MADM.
+    let judgement = c3(&stuck_competitor(10));
+    assert_eq!(judgement.verdict, Verdict::Supported, "{judgement:?}");
+    assert!(judgement.comparisons.is_empty());
+    let test = &judgement.reaching[0];
+    assert_eq!(test.metric, claims::STABLE_REACHING);
+    assert_eq!((test.reached, test.discordant), ((10, 0), (10, 0)));
+    assert_eq!(test.outcome, Outcome::FavoursMethod);
+    assert!(
+        judgement
+            .reason
+            .contains("reaches in every greedy evaluation of the second half on 10/10 seeds"),
+        "{}",
+        judgement.reason
+    );
+    let secondary = &judgement.secondary;
+    assert_eq!(secondary.len(), 2);
+    // The training curves say the opposite (softmax's SD is 0 on every seed), and do not
+    // decide.
+    assert!(
+        secondary
+            .iter()
+            .all(|c| c.difference.estimate == 30.0 && c.outcome != Outcome::FavoursMethod),
+        "{secondary:?}"
+    );
+    // claims.csv: the stable-reaching row carries the verdict, the secondary rows do not.
+    let rows = claims::rows(
+        std::slice::from_ref(&judgement),
+        &claims::estimates(&stuck_competitor(10), &options()).unwrap(),
+    );
+    let stable: Vec<_> = rows
+        .iter()
+        .filter(|r| r.metric == claims::STABLE_REACHING)
+        .collect();
+    assert_eq!(stable.len(), 1);
+    assert_eq!(stable[0].estimate, Some(1.0));
+    assert_eq!(stable[0].verdict, Some(Verdict::Supported));
+    for row in rows.iter().filter(|r| r.metric == "fluctuation_steps") {
+        assert_eq!(row.verdict, None, "{row:?}");
+    }
+    // Stuck on 3 seeds only: 3 discordant seeds cannot reach p < 0.05, and on the 7 paired
+    // stable seeds the greedy SDs are equal: nothing favours either side.
+    let judgement = c3(&stuck_competitor(3));
+    assert_eq!(judgement.verdict, Verdict::Inconclusive, "{judgement:?}");
+    assert_eq!(judgement.reaching[0].discordant, (3, 0));
+    assert!(judgement.comparisons.iter().all(|c| c.n == (10, 7)));
+    // The other way round: EA-MADM stuck on every seed is contradicted, not "most stable".
+    let flipped: Vec<FinalScore> = stuck_competitor(10)
+        .into_iter()
+        .map(|mut row| {
+            row.method = if row.method == "softmax" {
+                "ea-madm"
+            } else {
+                "softmax"
+            }
+            .to_owned();
+            (row.role, row.kind) = if row.method == "softmax" {
+                (Role::Paper, "softmax".to_owned())
+            } else {
+                (Role::Paper, "ea_madm".to_owned())
+            };
+            row
+        })
+        .collect();
+    let judgement = c3(&flipped);
+    assert_eq!(judgement.verdict, Verdict::Contradicted, "{judgement:?}");
+    assert_eq!(judgement.reaching[0].discordant, (0, 10));
+}
+
+#[test]
+fn c3_combines_the_two_tests_and_conflicts_settle_nothing() {
+    use Outcome::{FavoursCompetitor as Y, FavoursMethod as X, Unsettled as U};
+    assert_eq!(claims::combine(X, U), X);
+    assert_eq!(claims::combine(U, Y), Y);
+    assert_eq!(claims::combine(X, X), X);
+    assert_eq!(claims::combine(U, U), U);
+    assert_eq!(claims::combine(X, Y), U);
+    assert_eq!(claims::combine(Y, X), U);
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! End-to-end runs on a small maze: EA-MADM learns a near-optimal route, runs are
-//! deterministic whatever the thread count, the literal standardisation is a zero learning
+//! deterministic whatever the thread count, periodic greedy evaluations leave training
+//! untouched, the literal standardisation is a zero learning
 //! signal, and a short run's curve is pinned.
 
 #![allow(
@@ -294,4 +295,72 @@ fn robot_runs_carry_the_robot_metrics_and_paths_in_metres() {
     // Pure function of (config, method, seed), robot noise included.
     let (method, seed) = experiment.jobs()[0];
     assert_eq!(experiment.run(method, seed).unwrap(), records[0]);
+}
+
+#[test]
+fn periodic_greedy_evaluations_do_not_change_training() {
+    // Every method (the paper's, the ablations and every control: warm-up, reward-matched,
+    // sub-task alone) evaluated after every episode and only after the last one: the training
+    // episodes, the final evaluation and everything counted in training are bit-identical.
+    let episodes = 12;
+    let mut config = small_config(episodes, 1);
+    config.methods.extend(eamadm::paper::controls(500));
+    let with_every = |every: u64| {
+        let mut config = config.clone();
+        config.evaluation.every = Some(every);
+        Experiment::new(config).unwrap().run_all().unwrap()
+    };
+    let often = with_every(1);
+    let once = with_every(episodes);
+    let default = Experiment::new(config.clone()).unwrap().run_all().unwrap();
+    assert_eq!(often.len(), config.methods.len());
+    for ((often, once), default) in often.iter().zip(&once).zip(&default) {
+        let training = |r: &RunRecord| RunRecord {
+            greedy_evaluations: Vec::new(),
+            ..r.clone()
+        };
+        assert_eq!(training(often), training(once), "{}", often.method);
+        assert_eq!(training(often), training(default), "{}", often.method);
+        let numbers = |r: &RunRecord| -> Vec<u64> {
+            r.greedy_evaluations.iter().map(|e| e.episode).collect()
+        };
+        assert_eq!(numbers(often), (1..=episodes).collect::<Vec<_>>());
+        assert_eq!(numbers(once), [episodes]);
+        // The default: every 10 episodes.
+        assert_eq!(numbers(default), [10]);
+        // The evaluation after episode k is the same whatever else is evaluated, and it
+        // carries the training's cumulative steps at that point.
+        assert_eq!(
+            often.greedy_evaluations[episodes as usize - 1],
+            once.greedy_evaluations[0],
+            "{}",
+            often.method
+        );
+        assert_eq!(
+            often.greedy_evaluations[9], default.greedy_evaluations[0],
+            "{}",
+            often.method
+        );
+        for e in &often.greedy_evaluations {
+            let trained = &often.episodes[e.episode as usize - 1];
+            assert_eq!(e.env_steps, trained.env_steps);
+            assert_eq!(e.learning_return, 0.0);
+        }
+    }
+}
+
+#[test]
+fn an_evaluation_period_of_zero_or_beyond_the_episodes_is_refused_by_name() {
+    for every in [0, 13] {
+        let mut config = small_config(12, 1);
+        config.evaluation.every = Some(every);
+        let message = Experiment::new(config).unwrap_err().to_string();
+        assert!(
+            message.contains("evaluation.every") && message.contains("1..=episodes"),
+            "{message}"
+        );
+    }
+    let mut config = small_config(12, 1);
+    config.evaluation.every = Some(12);
+    assert!(Experiment::new(config).is_ok());
 }

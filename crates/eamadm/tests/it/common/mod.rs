@@ -9,7 +9,9 @@
 use eamadm::config::table1_learner;
 use eamadm::mazes::{GeneratorParams, Pos, Preset, generate_seeded};
 use eamadm::paper::methods as paper_methods;
-use eamadm::{ExperimentConfig, Method, MethodSpec, TaskConfig, TrajectoryConfig};
+use eamadm::{
+    EvaluationConfig, ExperimentConfig, Method, MethodSpec, TaskConfig, TrajectoryConfig,
+};
 
 /// A 10 × 10 maze with 15 obstacles, start top-left, target bottom-right.
 pub(crate) fn small_map() -> String {
@@ -45,6 +47,7 @@ pub(crate) fn small_config(episodes: u64, seeds: u32) -> ExperimentConfig {
         base_seed: 100,
         learner: table1_learner(),
         trajectories: TrajectoryConfig::default(),
+        evaluation: EvaluationConfig::default(),
         methods,
     }
 }
