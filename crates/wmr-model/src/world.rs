@@ -190,6 +190,11 @@ impl World {
                 near |= 1 << index;
             }
         }
+        if walls_beyond && near == 0 && self.bounds.len() <= 64 {
+            // Nothing within reach (the common case away from walls and obstacles): every ray
+            // below would start at `max_range` and skip every obstacle.
+            return [max_range; N];
+        }
         directions.map(|direction| {
             let origin = centre + direction * rim;
             let mut nearest = if walls_near {

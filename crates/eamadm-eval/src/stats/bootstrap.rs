@@ -4,7 +4,8 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::location::{ExactIntegers, Statistic, quantile_unsorted};
+use super::batch::BatchedStatistic;
+use super::location::{Statistic, quantile_unsorted};
 use super::{
     Interval, StatsError, check_confidence, check_len, check_resamples, check_sample, finite,
     sorted_copy,
@@ -58,13 +59,13 @@ impl Bootstrap {
         let sample = Resampler::new(x)?;
         let estimate = statistic.of(x)?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let mut replicates = Vec::with_capacity(self.resamples as usize);
+        let mut replicates = sample.batch(statistic, self.resamples);
         let mut counts = vec![0; x.len()];
         for _ in 0..self.resamples {
-            let value = sample.draw(&mut rng, &mut counts, statistic);
-            replicates.push(value);
+            sample.draw(&mut rng, &mut counts);
+            replicates.push(&counts);
         }
-        self.percentile_interval(estimate, &mut replicates, statistic.name())
+        self.percentile_interval(estimate, &mut replicates.finish(), statistic.name())
     }
 
     /// Interval of statistic(x) − statistic(y), x and y resampled independently (stratified by
@@ -82,14 +83,24 @@ impl Bootstrap {
         let sample_y = Resampler::new(y)?;
         let estimate = finite(statistic.of(x)? - statistic.of(y)?, "difference")?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let mut replicates = Vec::with_capacity(self.resamples as usize);
+        let mut of_x = sample_x.batch(statistic, self.resamples);
+        let mut of_y = sample_y.batch(statistic, self.resamples);
         let mut counts_x = vec![0; x.len()];
         let mut counts_y = vec![0; y.len()];
+        // Both resamples are drawn in the documented order; their statistics are computed
+        // later, in batches, which changes no draw and no bit.
         for _ in 0..self.resamples {
-            let of_x = sample_x.draw(&mut rng, &mut counts_x, statistic);
-            let of_y = sample_y.draw(&mut rng, &mut counts_y, statistic);
-            replicates.push(of_x - of_y);
+            sample_x.draw(&mut rng, &mut counts_x);
+            of_x.push(&counts_x);
+            sample_y.draw(&mut rng, &mut counts_y);
+            of_y.push(&counts_y);
         }
+        let mut replicates: Vec<f64> = of_x
+            .finish()
+            .iter()
+            .zip(of_y.finish())
+            .map(|(of_x, of_y)| of_x - of_y)
+            .collect();
         self.percentile_interval(estimate, &mut replicates, "difference")
     }
 
@@ -140,9 +151,8 @@ impl Bootstrap {
             offset += values.len();
         }
 
-        let integers = ExactIntegers::new(&sorted, total);
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let mut replicates = Vec::with_capacity(self.resamples as usize);
+        let mut replicates = BatchedStatistic::new(statistic, &sorted, self.resamples as usize);
         let mut counts = vec![0; total];
         for _ in 0..self.resamples {
             counts.fill(0);
@@ -152,9 +162,9 @@ impl Bootstrap {
                     counts[group[uniform_below(&mut rng, size) as usize]] += 1;
                 }
             }
-            replicates.push(statistic.of_counts_exact(&sorted, integers.as_ref(), &counts, total));
+            replicates.push(&counts);
         }
-        self.percentile_interval(estimate, &mut replicates, statistic.name())
+        self.percentile_interval(estimate, &mut replicates.finish(), statistic.name())
     }
 
     /// The percentile interval of `replicates` (reordered in place) around `estimate`.
@@ -179,8 +189,6 @@ impl Bootstrap {
 /// A sample sorted once, ready to be resampled with replacement.
 struct Resampler {
     sorted: Vec<f64>,
-    /// `sorted` as integers, when they are small integers (see [`ExactIntegers`]).
-    integers: Option<ExactIntegers>,
     size: u32,
 }
 
@@ -189,25 +197,20 @@ impl Resampler {
     fn new(x: &[f64]) -> Result<Self, StatsError> {
         let size = check_len(x.len(), "the sample's size")?;
         let sorted = sorted_copy(x);
-        Ok(Self {
-            integers: ExactIntegers::new(&sorted, x.len()),
-            sorted,
-            size,
-        })
+        Ok(Self { sorted, size })
     }
 
-    /// Draws one resample (its multiplicities into `counts`) and returns its statistic.
-    fn draw(&self, rng: &mut ChaCha8Rng, counts: &mut [u32], statistic: Statistic) -> f64 {
+    /// Draws one resample: its multiplicities, into `counts`.
+    fn draw(&self, rng: &mut ChaCha8Rng, counts: &mut [u32]) {
         counts.fill(0);
         for _ in 0..self.size {
             counts[uniform_below(rng, self.size) as usize] += 1;
         }
-        statistic.of_counts_exact(
-            &self.sorted,
-            self.integers.as_ref(),
-            counts,
-            self.sorted.len(),
-        )
+    }
+
+    /// Collects `resamples` resamples' values of `statistic`.
+    fn batch(&self, statistic: Statistic, resamples: u32) -> BatchedStatistic<'_> {
+        BatchedStatistic::new(statistic, &self.sorted, resamples as usize)
     }
 }
 

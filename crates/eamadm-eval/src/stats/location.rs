@@ -43,22 +43,7 @@ impl Statistic {
     /// all, `total ≥ 1`), with `sorted` ascending. Adds in ascending order, so the bits equal
     /// those of the statistic of the materialised multiset.
     pub(crate) fn of_counts(self, sorted: &[f64], counts: &[u32], total: usize) -> f64 {
-        self.of_counts_exact(sorted, None, counts, total)
-    }
-
-    /// [`of_counts`](Self::of_counts), summing in integers when `integers` is given: `sorted`
-    /// as [`ExactIntegers`] built for this `total`. The bits are the same either way.
-    pub(crate) fn of_counts_exact(
-        self,
-        sorted: &[f64],
-        integers: Option<&ExactIntegers>,
-        counts: &[u32],
-        total: usize,
-    ) -> f64 {
-        let trimmed_mean = |start, end| match integers {
-            Some(integers) => integers.trimmed_mean_of_counts(sorted, counts, start, end),
-            None => trimmed_mean_of_counts(sorted, counts, start, end),
-        };
+        let trimmed_mean = |start, end| trimmed_mean_of_counts(sorted, counts, start, end);
         match self {
             Self::Mean => trimmed_mean(0, total),
             Self::Iqm => {
@@ -165,59 +150,6 @@ pub(crate) fn trimmed_mean_of_counts(
         scaled
     };
     mean.clamp(lowest, highest)
-}
-
-/// Sorted integer-valued data small enough that every sum of `total` of them (with
-/// repetition, any signs) is an integer of magnitude at most 2⁵³, so exactly representable:
-/// then each floating-point addition of [`trimmed_mean_of_counts`] is exact and its sum equals
-/// the exact integer sum, whatever the order. Summing in `i64` instead gives the same bits
-/// without the chain of dependent floating-point additions (most metrics are step counts).
-pub(crate) struct ExactIntegers(Vec<i64>);
-
-impl ExactIntegers {
-    /// The largest magnitude 2⁵³ (every integer up to it is an `f64`).
-    const EXACT: f64 = 9_007_199_254_740_992.0;
-
-    /// `Some` when every value of `sorted` is an integer with `total · |value| ≤ 2⁵³`.
-    pub(crate) fn new(sorted: &[f64], total: usize) -> Option<Self> {
-        let bound = Self::EXACT / total.max(1) as f64;
-        sorted
-            .iter()
-            .map(|&v| (v.fract() == 0.0 && v.abs() <= bound).then_some(v as i64))
-            .collect::<Option<Vec<i64>>>()
-            .map(Self)
-    }
-
-    /// [`trimmed_mean_of_counts`] of `sorted` (the values these integers were built from),
-    /// bit for bit, for counts that add up to at most the `total` given to [`new`](Self::new).
-    fn trimmed_mean_of_counts(
-        &self,
-        sorted: &[f64],
-        counts: &[u32],
-        start: usize,
-        end: usize,
-    ) -> f64 {
-        let mut sum = 0_i64;
-        let mut lowest = f64::INFINITY;
-        let mut highest = f64::NEG_INFINITY;
-        let mut position = 0;
-        for ((&integer, &value), &count) in self.0.iter().zip(sorted).zip(counts) {
-            let next = position + count as usize;
-            let taken = next.min(end).saturating_sub(position.max(start));
-            if taken > 0 {
-                lowest = lowest.min(value);
-                highest = highest.max(value);
-                sum += integer * taken as i64;
-            }
-            position = next;
-            if position >= end {
-                break;
-            }
-        }
-        // |sum| ≤ 2⁵³: the conversion is exact, and the floating-point sum (which starts at
-        // +0.0 and so is never −0.0) equals it.
-        (sum as f64 / (end - start) as f64).clamp(lowest, highest)
-    }
 }
 
 /// The value at 0-based `position` of the sorted multiset holding `sorted[i]` `counts[i]`
@@ -342,53 +274,6 @@ mod tests {
                 trimmed_mean_of_counts_reference(&sorted, &counts, start, end).to_bits()
             );
         }
-    }
-
-    /// Integer data, with the awkward zero and magnitudes near the exactness bound.
-    fn integer_value() -> impl Strategy<Value = f64> {
-        prop_oneof![
-            (-3_i32..=3).prop_map(f64::from),
-            Just(-0.0),
-            (-2000_i32..=2000).prop_map(f64::from),
-            Just(ExactIntegers::EXACT / 64.0),
-            Just(-ExactIntegers::EXACT / 64.0),
-        ]
-    }
-
-    proptest! {
-        /// Summing small integers in `i64` gives the bits of adding them one by one in
-        /// ascending order as floating-point numbers, for every trimmed range.
-        #[test]
-        fn integer_sums_equal_the_floating_point_walk(
-            values in prop::collection::vec(integer_value(), 1..40),
-            draws in prop::collection::vec(0_usize..1000, 1..64),
-            trim in 0_usize..20,
-        ) {
-            let mut sorted = values;
-            sorted.sort_unstable_by(f64::total_cmp);
-            let total = draws.len();
-            let mut counts = vec![0_u32; sorted.len()];
-            for d in &draws {
-                counts[d % sorted.len()] += 1;
-            }
-            let start = trim.min((total - 1) / 2);
-            let end = total - start;
-            match ExactIntegers::new(&sorted, total) {
-                Some(integers) => prop_assert_eq!(
-                    integers.trimmed_mean_of_counts(&sorted, &counts, start, end).to_bits(),
-                    trimmed_mean_of_counts(&sorted, &counts, start, end).to_bits()
-                ),
-                // Only data beyond the bound are refused, never small integers.
-                None => prop_assert!(sorted.iter().any(|v| v.abs() * total as f64 > ExactIntegers::EXACT)),
-            }
-        }
-    }
-
-    #[test]
-    fn only_small_integers_sum_in_integers() {
-        assert!(ExactIntegers::new(&[-3.0, 0.0, 58.0], 1000).is_some());
-        assert!(ExactIntegers::new(&[-3.0, 0.5, 58.0], 1000).is_none());
-        assert!(ExactIntegers::new(&[ExactIntegers::EXACT / 2.0], 3).is_none());
     }
 
     #[test]

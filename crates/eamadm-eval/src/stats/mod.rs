@@ -132,6 +132,7 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+mod batch;
 pub mod bootstrap;
 pub mod comparison;
 pub mod distribution;
