@@ -188,19 +188,27 @@ fn write_c4_verdicts(
         text,
         "C4 for each method under test, with the evidence that decides it:\n"
     );
+    let mut explained = Vec::new();
     for judgement in judgements {
-        let _ = writeln!(text, "- {}", c4_sentence(judgement, experiment, overviews));
+        let _ = writeln!(
+            text,
+            "- {}",
+            c4_sentence(judgement, experiment, overviews, &mut explained)
+        );
     }
     text.push('\n');
 }
 
 /// One method's C4 verdict in words: reproduced or not, the per-seed reaching counts with the
 /// exact test when it is judged on reaching (else the deciding comparison), and for a method
-/// that never reaches the diagnosis of its sub-task rewards.
+/// that never reaches the diagnosis of its sub-task rewards. `explained` holds `(reading,
+/// method)` of the readings already explained in the list, so a later method on the same
+/// sub-task rewards refers to the first instead of repeating it.
 pub(crate) fn c4_sentence(
     judgement: &Judgement,
     experiment: &ExperimentFacts,
     overviews: &[&MethodOverview],
+    explained: &mut Vec<(String, String)>,
 ) -> String {
     let who = if judgement.role == Role::Paper {
         format!(
@@ -236,12 +244,26 @@ pub(crate) fn c4_sentence(
             )
         }
     };
-    let why = overviews
+    let never = overviews
         .iter()
-        .find(|o| o.method == judgement.method)
-        .filter(|o| never_reaches(o))
-        .and_then(|_| why_never(experiment, &judgement.method))
-        .map_or_else(String::new, |why| format!(" {why}"));
+        .any(|o| o.method == judgement.method && never_reaches(o));
+    let reading = experiment
+        .reward_readings
+        .iter()
+        .find(|r| r.methods.iter().any(|m| m == &judgement.method))
+        .map(reading_name);
+    let why = match reading {
+        Some(reading) if never => {
+            if let Some((_, first)) = explained.iter().find(|(r, _)| *r == reading) {
+                format!(" Why: the same sub-task rewards as {first} above.")
+            } else {
+                explained.push((reading, method_title(&judgement.method)));
+                why_never(experiment, &judgement.method)
+                    .map_or_else(String::new, |why| format!(" {why}"))
+            }
+        }
+        _ => String::new(),
+    };
     format!(
         "{who}: C4 is **{}** (verdict `{}`); {evidence}.{why}",
         reproduced(judgement.verdict),
@@ -907,8 +929,9 @@ mod tests {
                 .find(|j| j.claim.id == "C4" && j.method == method)
                 .unwrap()
         };
+        let mut explained = Vec::new();
         // 0/8 against 8/8: exact sign test p = 2 / 2⁸ = 0.0078.
-        let paper = c4_sentence(judgement("ea-madm"), &facts, &overviews);
+        let paper = c4_sentence(judgement("ea-madm"), &facts, &overviews, &mut explained);
         assert!(
             paper.starts_with(
                 "**EA-MADM** (the paper's method): C4 is **not reproduced** (verdict \
@@ -930,7 +953,12 @@ mod tests {
         );
         // The repaired reading: one sub-task values reaching, and the learned values follow
         // the variant's own sub-tasks.
-        let bonus = c4_sentence(judgement("ea-madm-goal-bonus"), &facts, &overviews);
+        let bonus = c4_sentence(
+            judgement("ea-madm-goal-bonus"),
+            &facts,
+            &overviews,
+            &mut explained,
+        );
         assert!(
             bonus.starts_with("`ea-madm-goal-bonus`: C4 is **not reproduced**"),
             "{bonus}"
@@ -942,6 +970,12 @@ mod tests {
         assert!(
             bonus.contains("*reach* ending the episode at once"),
             "{bonus}"
+        );
+        // A later method on already explained rewards refers to the first.
+        let again = c4_sentence(judgement("ea-madm"), &facts, &overviews, &mut explained);
+        assert!(
+            again.ends_with(" Why: the same sub-task rewards as EA-MADM above."),
+            "{again}"
         );
         // Without a reading (a method on no sub-task rewards) there is no why.
         assert_eq!(
@@ -955,7 +989,7 @@ mod tests {
         ]);
         let overviews: Vec<&MethodOverview> = none.overviews.iter().collect();
         let j = none.judgements.iter().find(|j| j.claim.id == "C4").unwrap();
-        let sentence = c4_sentence(j, &facts, &overviews);
+        let sentence = c4_sentence(j, &facts, &overviews, &mut Vec::new());
         assert!(
             sentence.contains("C4 is **not testable here** (verdict `untestable`); "),
             "{sentence}"
@@ -972,7 +1006,12 @@ mod tests {
         let overviews: Vec<&MethodOverview> = v.overviews.iter().collect();
         let j = v.judgements.iter().find(|j| j.claim.id == "C4").unwrap();
         assert!(j.reaching.is_empty());
-        let sentence = c4_sentence(j, &experiment(behaviour(), readings()), &overviews);
+        let sentence = c4_sentence(
+            j,
+            &experiment(behaviour(), readings()),
+            &overviews,
+            &mut Vec::new(),
+        );
         // Identical per seed: no comparison favours anyone.
         assert!(!sentence.contains("Why:"), "{sentence}");
         assert!(
