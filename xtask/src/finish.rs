@@ -253,6 +253,7 @@ pub(crate) fn write_outputs(
         }
         let mut experiment =
             eamadm::paper::experiment_facts(&planned.name, &planned.title, planned.config());
+        experiment.reward_readings = eamadm::diagnosis::reward_readings(&planned.experiment);
         if let Some((experiment_figures, robot_behaviour)) = collected {
             experiment.figures = experiment_figures.write(out)?;
             if let Some(robot_behaviour) = robot_behaviour {

@@ -25,6 +25,13 @@ pub struct SubtaskBehaviour {
     pub start_values: Vec<f64>,
     /// The action with the largest mean start value (the first of equals).
     pub best_start_action: usize,
+    /// Mean over seeds of the learner's largest start value, `max_a (Q1 + Q2) / 2` at the start
+    /// state: the value of its learned greedy policy from the start, what
+    /// `eamadm::diagnosis` sets against the reward definition's reference values. It can
+    /// exceed the largest of `start_values` (a mean per action), since seeds differ in their
+    /// best action. 0 without start values.
+    #[serde(default)]
+    pub learned_start_value: f64,
     /// Share of EA-MADM's final-window decisions (exploitation steps) equal to one of this
     /// sub-task's greedy actions, pooled over seeds.
     pub agreement: f64,
@@ -187,6 +194,10 @@ struct SubtaskAccumulator {
     start_value_sums: Vec<f64>,
     /// Runs summed into `start_value_sums`.
     start_value_runs: usize,
+    /// Sum over every run with start values of its largest start value.
+    best_value_sum: f64,
+    /// Runs summed into `best_value_sum`.
+    best_value_runs: usize,
     greedy_steps: f64,
     greedy_runs: usize,
     greedy_endings: Endings,
@@ -304,6 +315,10 @@ impl SubtaskAccumulator {
         if self.name.is_none() {
             self.name = Some(subtask.name.clone());
         }
+        if let Some(best) = subtask.start_values.iter().copied().reduce(f64::max) {
+            self.best_value_sum += best;
+            self.best_value_runs += 1;
+        }
         let actions = subtask.start_values.len();
         if actions > self.start_value_sums.len() {
             // More actions than every earlier run: those are left out of the mean.
@@ -340,6 +355,7 @@ impl SubtaskAccumulator {
             name: self.name.unwrap_or_default(),
             start_values,
             best_start_action,
+            learned_start_value: mean(self.best_value_sum, self.best_value_runs),
             agreement,
             greedy_alone_steps: mean(self.greedy_steps, self.greedy_runs),
             greedy_alone_endings: self.greedy_endings,
@@ -501,6 +517,8 @@ mod tests {
         // Start values of the runs with the most actions (3) only.
         assert_eq!(first.start_values, vec![3.0, 3.0, 5.0]);
         assert_eq!(first.best_start_action, 2);
+        // The mean of each run's own best start value: (3 + 8 + 5) / 3, above the best mean.
+        assert_eq!(first.learned_start_value, 16.0 / 3.0);
         assert_eq!(first.agreement, 0.4);
         assert_eq!(first.greedy_alone_steps, 7.0);
         assert_eq!(first.greedy_alone_endings.truncated, 1);

@@ -9,9 +9,12 @@
 //! alternatives, no aggregation of their values can lead to the target.
 
 use serde::Serialize;
-use wmr_model::{ReferenceEpisode, ReferenceValues, SubtaskRepairs};
+use wmr_model::{ReferenceEpisode, ReferenceValues, SUBTASK_COUNT, SUBTASK_NAMES, SubtaskRepairs};
 
+use crate::config::{CompetitorSignal, Method};
 use crate::record::RunRecord;
+use crate::report::{RewardReading, SubtaskReference};
+use crate::runner::Experiment;
 use crate::task::Task;
 
 /// One sub-task's learned start value against its reward's reference values.
@@ -62,22 +65,10 @@ pub fn subtask_diagnosis(
     repairs: SubtaskRepairs,
     gamma: f64,
 ) -> Option<Vec<SubtaskDiagnosis>> {
-    let scenario = task.scenario()?;
     if record.subtasks.is_empty() {
         return None;
     }
-    let episode = ReferenceEpisode {
-        start_distance: (scenario.target.x - scenario.start.x)
-            .hypot(scenario.target.y - scenario.start.y),
-        reach_radius: scenario.target.reach_radius,
-        step_length: scenario.robot.max_linear_speed() * scenario.control_period,
-        step_cap: scenario.step_cap,
-        gamma,
-        noise: scenario.sensors.noise,
-    };
-    let mut reward = scenario.reward;
-    reward.repairs = repairs;
-    let references = reward.reference_values(&episode);
+    let (_, references) = reference_values(task, repairs, gamma)?;
     Some(
         record
             .subtasks
@@ -94,6 +85,108 @@ pub fn subtask_diagnosis(
             })
             .collect(),
     )
+}
+
+/// The reference episode of the robot `task` at discount `gamma` and each sub-task's
+/// [`ReferenceValues`] under the sub-task rewards repaired by `repairs`; `None` for a maze.
+#[must_use]
+pub fn reference_values(
+    task: &Task,
+    repairs: SubtaskRepairs,
+    gamma: f64,
+) -> Option<(ReferenceEpisode, [ReferenceValues; SUBTASK_COUNT])> {
+    let scenario = task.scenario()?;
+    let episode = ReferenceEpisode {
+        start_distance: (scenario.target.x - scenario.start.x)
+            .hypot(scenario.target.y - scenario.start.y),
+        reach_radius: scenario.target.reach_radius,
+        step_length: scenario.robot.max_linear_speed() * scenario.control_period,
+        step_cap: scenario.step_cap,
+        gamma,
+        noise: scenario.sensors.noise,
+    };
+    let mut reward = scenario.reward;
+    reward.repairs = repairs;
+    let references = reward.reference_values(&episode);
+    Some((episode, references))
+}
+
+/// The repairs a method's sub-task rewards run with, when it learns from them at all: EA-MADM
+/// and a sub-task alone always, a competitor only on a shaped signal.
+fn learns_from_subtask_rewards(method: &Method) -> Option<SubtaskRepairs> {
+    match method {
+        Method::EaMadm(_) | Method::SubtaskGreedy(_) => Some(method.subtask_repairs()),
+        Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
+            (training.signal != CompetitorSignal::Task).then(|| method.subtask_repairs())
+        }
+    }
+}
+
+/// How a reader names `repairs`: empty for the paper's rewards.
+fn repair_names(repairs: SubtaskRepairs) -> Vec<String> {
+    let mut names = Vec::new();
+    if repairs.reach_goal_bonus {
+        names.push("goal bonus for reach".to_owned());
+    }
+    if repairs.end_penalties {
+        names.push("end penalties".to_owned());
+    }
+    names
+}
+
+/// The report's [`RewardReading`]s of a robot `experiment`: one per distinct repair of the
+/// sub-task rewards among its methods that learn from them, the paper's rewards first (always
+/// present on the robot), each with its methods and the controls that run a sub-task alone.
+/// Empty for a maze. The values are discounted at the experiment's learner γ.
+#[must_use]
+pub fn reward_readings(experiment: &Experiment) -> Vec<RewardReading> {
+    let config = experiment.config();
+    let mut repairs_seen = vec![SubtaskRepairs::PAPER];
+    for spec in &config.methods {
+        if let Some(repairs) = learns_from_subtask_rewards(&spec.method)
+            && !repairs_seen.contains(&repairs)
+        {
+            repairs_seen.push(repairs);
+        }
+    }
+    repairs_seen
+        .into_iter()
+        .filter_map(|repairs| {
+            let (episode, references) =
+                reference_values(experiment.task(), repairs, config.learner.gamma)?;
+            let learners = || {
+                config
+                    .methods
+                    .iter()
+                    .filter(move |spec| learns_from_subtask_rewards(&spec.method) == Some(repairs))
+            };
+            Some(RewardReading {
+                repairs: repair_names(repairs),
+                methods: learners().map(|spec| spec.label.clone()).collect(),
+                reach_steps: episode.reach_steps(),
+                step_cap: episode.step_cap,
+                subtasks: SUBTASK_NAMES
+                    .iter()
+                    .zip(references)
+                    .enumerate()
+                    .map(|(k, (name, values))| SubtaskReference {
+                        name: (*name).to_owned(),
+                        reach: values.reach,
+                        lose_at_once: values.lose_at_once,
+                        idle: values.idle,
+                        alone: learners()
+                            .filter_map(|spec| match &spec.method {
+                                Method::SubtaskGreedy(alone) if alone.subtask == k => {
+                                    Some((spec.label.clone(), alone.learn))
+                                }
+                                _ => None,
+                            })
+                            .collect(),
+                    })
+                    .collect(),
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -136,5 +229,40 @@ mod tests {
             reference: diagnosis[2].reference,
         };
         assert_eq!(closest.closest_play(), "idle");
+    }
+
+    #[test]
+    fn the_robot_preset_has_one_reading_per_repair_with_its_learners() {
+        let mut config = crate::paper::robot();
+        config.seeds = 1;
+        let experiment = Experiment::new(config).unwrap();
+        let readings = reward_readings(&experiment);
+        // The paper's rewards, goal bonus, end penalties and both.
+        assert_eq!(readings.len(), 4);
+        let paper = &readings[0];
+        assert!(paper.repairs.is_empty());
+        assert!(paper.methods.iter().any(|m| m == "ea-madm"));
+        assert!(paper.methods.iter().any(|m| m == "softmax-shaped"));
+        // The competitors on the task reward learn from none of the readings.
+        assert!(
+            readings
+                .iter()
+                .all(|r| !r.methods.iter().any(|m| m == "softmax"))
+        );
+        assert_eq!(paper.subtasks.len(), 3);
+        assert!(paper.subtasks.iter().all(|s| !s.reaching_pays()));
+        assert_eq!(
+            paper.subtasks[0].alone,
+            vec![
+                ("subtask0-alone".to_owned(), false),
+                ("subtask0-alone-learning".to_owned(), true)
+            ]
+        );
+        let both = readings.iter().find(|r| r.repairs.len() == 2).unwrap();
+        assert!(both.methods.iter().any(|m| m == "ea-madm-repaired"));
+        assert!(both.subtasks[0].reach > both.subtasks[0].lose_at_once);
+        // A maze has none.
+        let maze = Experiment::new(crate::paper::task1()).unwrap();
+        assert!(reward_readings(&maze).is_empty());
     }
 }

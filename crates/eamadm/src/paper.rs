@@ -152,7 +152,8 @@ pub fn report_context(quick: bool) -> ReportContext {
 }
 
 /// The report's facts of one experiment (folder `name`, `title`, and from `config` its
-/// episodes, seeds and γ), with no figures and no behaviour yet.
+/// episodes, seeds and γ), with no figures, no behaviour and no reward readings yet (see
+/// [`diagnosis::reward_readings`](crate::diagnosis::reward_readings)).
 #[must_use]
 pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> ExperimentFacts {
     ExperimentFacts {
@@ -163,6 +164,7 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         gamma: config.learner.gamma,
         figures: Figures::default(),
         behaviour: Vec::new(),
+        reward_readings: Vec::new(),
     }
 }
 

@@ -119,14 +119,9 @@ pub(crate) fn write_task(
             .iter()
             .any(|s| s.task == task && s.reach_time.is_some())
     {
-        super::robot::write_robot(text, task, &overviews, verdicts);
+        super::robot::write_robot(text, experiment, &overviews, verdicts);
     }
-    super::robot::write_robot_behaviour(
-        text,
-        &experiment.behaviour,
-        experiment.gamma,
-        &context.action_names,
-    );
+    super::robot::write_robot_behaviour(text, experiment, &overviews, &context.action_names);
     if !experiment.figures.files.is_empty() {
         text.push_str(&gallery(task, &experiment.figures));
         let _ = writeln!(
@@ -374,12 +369,12 @@ fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
     Some(format!(
         "EA-MADM's runs use {} environment steps each, {} of them in sub-task pre-training \
          (on the sub-tasks' shaped rewards), against at most {} for a competitor: {}× the \
-         budget. The controls (when run) ask what an equal budget or equal reward \
-         information gives the competitors.",
+         budget. {}",
         format_fixed(ea.env_steps_total, 0),
         format_fixed(ea.pretrain_env_steps, 0),
         format_fixed(most, 0),
-        format_fixed(ea.env_steps_total / most, 1)
+        format_fixed(ea.env_steps_total / most, 1),
+        super::robot::controls_sentence(overviews)
     ))
 }
 
