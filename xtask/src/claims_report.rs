@@ -14,6 +14,7 @@ use eamadm::claims::{
     self, ClaimOptions, ClaimsError, Comparison, ControlComparison, Estimate, Judgement,
     MethodOverview, Outcome,
 };
+use eamadm::output_names as names;
 use eamadm::paper::{self, CLAIMS, PaperTask, method_title};
 use eamadm::scores::{self, FinalScore, ScoresError};
 use eamadm::stats::Interval;
@@ -99,19 +100,24 @@ pub(crate) fn write_claim_outputs(
 ) -> Result<(), ClaimsReportError> {
     let mut scores_csv = Vec::new();
     scores::write_csv(&verdicts.scores, &mut scores_csv)?;
-    write_atomic(&out.join("final-scores.csv"), &scores_csv)?;
+    write_atomic(&out.join(names::FINAL_SCORES), &scores_csv)?;
     let mut claims_csv = Vec::new();
     let mut rows = claims::rows(&verdicts.judgements, &verdicts.estimates);
     rows.extend(claims::outcome_rows(&verdicts.scores)?);
     claims::write_csv(&rows, &mut claims_csv)?;
-    write_atomic(&out.join("claims.csv"), &claims_csv)?;
+    write_atomic(&out.join(names::CLAIMS), &claims_csv)?;
+    // Every column of the two tables, typed and documented, beside them.
+    write_atomic(
+        &out.join(names::DATA_PACKAGE),
+        eamadm::data_package::data_package_text().as_bytes(),
+    )?;
     let report = render_report(experiments, figures, behaviour, verdicts, quick);
     let report = with_answer(
         report,
         &String::from_utf8_lossy(&claims_csv),
         &String::from_utf8_lossy(&scores_csv),
     );
-    write_atomic(&out.join("REPORT.md"), report.as_bytes())?;
+    write_atomic(&out.join(names::REPORT), report.as_bytes())?;
     Ok(())
 }
 
@@ -947,7 +953,7 @@ mod tests {
             fluctuation_return: steps / 10.0,
             env_steps_total: 10_000,
             pretrain_env_steps: 0,
-            step_cap: Some(2000),
+            step_cap: 2000,
             optimum_steps: Some(58),
             reaching_episodes: 100,
             reach_average_reward: None,

@@ -16,6 +16,7 @@
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`paper_claims`] | the paper's claims C1–C4 as data, metric directions, method titles |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`columns`] | every column of `final-scores.csv` and `claims.csv` documented: the data package and its Markdown |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
 //!
@@ -45,6 +46,7 @@
 
 pub mod behaviour;
 pub mod claims;
+pub mod columns;
 pub mod paper_claims;
 pub mod record;
 pub mod results;
