@@ -55,6 +55,10 @@ const CURVES: [&str; 10] = [
 /// (`float64` with NaN for a robot metric a maze has not, or a time to reach of an episode that
 /// did not reach), and the store's warnings about entries it set aside.
 #[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "pyo3 hands extracted arguments over by value"
+)]
 pub(crate) fn load_runs(
     py: Python<'_>,
     path: PathBuf,

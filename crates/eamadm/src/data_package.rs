@@ -1,6 +1,6 @@
 //! `datapackage.json`: the [Frictionless Data Package](https://specs.frictionlessdata.io/data-package/)
 //! that the main job writes beside `final-scores.csv` and `claims.csv`, so that every column
-//! carries its type, unit, meaning and when it is blank ([`columns`](crate::columns)), and
+//! carries its type, unit, meaning and when it is blank ([`columns`](mod@crate::columns)), and
 //! `frictionless`, pandas or R can load the tables typed. The columns are documented once, in
 //! `eamadm-eval` next to the code that writes them ([`scores::COLUMNS`], [`claims::CLAIM_COLUMNS`]);
 //! this module names the files ([`output_names`](crate::output_names)) and composes the package.
