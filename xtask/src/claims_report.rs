@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use eamadm::claims::ClaimsError;
+use eamadm::output_names as names;
 use eamadm::report::{self, ReportContext, ReportError, Verdicts};
 use eamadm::scores::ScoresError;
 use thiserror::Error;
@@ -41,11 +42,16 @@ pub(crate) fn write_claim_outputs(
     verdicts: &Verdicts,
 ) -> Result<(), ClaimsReportError> {
     write_atomic(
-        &out.join("final-scores.csv"),
+        &out.join(names::FINAL_SCORES),
         verdicts.scores_csv()?.as_bytes(),
     )?;
-    write_atomic(&out.join("claims.csv"), verdicts.claims_csv()?.as_bytes())?;
+    write_atomic(&out.join(names::CLAIMS), verdicts.claims_csv()?.as_bytes())?;
+    // Every column of the two tables, typed and documented, beside them.
+    write_atomic(
+        &out.join(names::DATA_PACKAGE),
+        eamadm::data_package::data_package_text().as_bytes(),
+    )?;
     let report = report::render(context, verdicts)?;
-    write_atomic(&out.join("REPORT.md"), report.as_bytes())?;
+    write_atomic(&out.join(names::REPORT), report.as_bytes())?;
     Ok(())
 }

@@ -222,7 +222,7 @@ pub(crate) fn write_outputs(
                         robot_behaviour.push(&run.record);
                     }
                     if let Ok(rows) = scores.as_mut() {
-                        match eamadm::scores::final_score_of(&run.record, planned.config()) {
+                        match eamadm::scores::final_score_of(&run.record, &planned.experiment) {
                             Ok(row) => rows.push(row),
                             Err(error) => scores = Err(error),
                         }

@@ -98,7 +98,39 @@ pub(crate) fn regen_fixtures(check: bool, workspace: &Workspace) -> Result<(), F
             println!("wrote fixtures/{}", file.path);
         }
     }
+    outputs_page(check, workspace)?;
     readme_parts(check, workspace)
+}
+
+/// The page that documents the output tables' columns.
+pub(crate) const OUTPUTS_PAGE: &str = "docs/outputs.md";
+
+/// `page` (the text of [`OUTPUTS_PAGE`]) with its generated column tables
+/// ([`eamadm::data_package::markdown`], the same tables `datapackage.json` is made from).
+pub(crate) fn outputs_page_text(page: &str) -> Result<String, String> {
+    readme::splice(page, "columns", &eamadm::data_package::markdown())
+}
+
+/// Writes (or with `check` compares) the generated column tables of [`OUTPUTS_PAGE`].
+fn outputs_page(check: bool, workspace: &Workspace) -> Result<(), Failure> {
+    let path = workspace.root.join(OUTPUTS_PAGE);
+    let committed = std::fs::read_to_string(&path)
+        .map_err(|error| Failure::failed(format!("cannot read {}: {error}", path.display())))?;
+    let generated = outputs_page_text(&committed).map_err(Failure::failed)?;
+    if check {
+        if let Some(diff) = first_difference(&committed, &generated) {
+            return Err(Failure::failed(format!(
+                "{OUTPUTS_PAGE}'s column tables differ from the code's \
+                 (`eamadm_eval::scores::COLUMNS`, `claims::CLAIM_COLUMNS`; run `cargo xtask \
+                 regen-fixtures` and review the diff):\n{diff}"
+            )));
+        }
+        println!("{OUTPUTS_PAGE}'s column tables are up to date");
+    } else {
+        write_atomic(&path, generated.as_bytes()).map_err(Failure::failed)?;
+        println!("wrote {OUTPUTS_PAGE}'s column tables");
+    }
+    Ok(())
 }
 
 /// Makes the default run in a temporary folder with this binary, then writes (or with `check`
@@ -343,6 +375,25 @@ fn committed(path: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_outputs_page_documents_every_column_the_code_writes() {
+        let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(OUTPUTS_PAGE);
+        let committed = std::fs::read_to_string(path).unwrap();
+        assert_eq!(
+            outputs_page_text(&committed).unwrap(),
+            committed,
+            "{OUTPUTS_PAGE} is stale: run `cargo xtask regen-fixtures`"
+        );
+        for column in eamadm::scores::COLUMNS
+            .iter()
+            .chain(eamadm::claims::CLAIM_COLUMNS)
+        {
+            assert!(committed.contains(&format!("| `{}` |", column.name)));
+        }
+    }
 
     #[test]
     fn floats_are_rounded_to_six_significant_digits() {

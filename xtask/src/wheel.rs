@@ -7,8 +7,9 @@
 //!    extra from pip, with a `PATH` that holds no `cargo` or `rustc`, so that pip could not
 //!    build the package from source even if it tried;
 //! 3. every ```` ```python ```` block of `README.md` runs in that virtualenv, each in a fresh
-//!    interpreter in an empty folder (so `import eamadm` finds the installed wheel, not the
-//!    sources), and must print something.
+//!    interpreter in a scratch folder (so `import eamadm` finds the installed wheel, not the
+//!    sources) that holds only a `--quick` output of the main job at `target/reproduce-paper`
+//!    (made by this binary, for the examples that read one), and must print something.
 //!
 //! `cargo xtask test` runs it after the pytest suite.
 
@@ -107,6 +108,17 @@ pub(crate) fn wheel(workspace: &Workspace) -> Result<(), Failure> {
         return Err(Failure::failed("README.md has no ```python block to run"));
     }
     let scratch = tempfile::tempdir().map_err(Failure::failed)?;
+    // The examples that read the main job's output find a `--quick` one where the README
+    // says it is, `target/reproduce-paper`, made by this very binary.
+    announce("reproduce-paper --quick --out target/reproduce-paper (for the README's examples)");
+    let xtask = std::env::current_exe().map_err(Failure::failed)?;
+    run(
+        Command::new(&xtask)
+            .args(["reproduce-paper", "--quick", "--out"])
+            .arg(scratch.path().join("target").join("reproduce-paper"))
+            .stdout(std::process::Stdio::null()),
+        "reproduce-paper --quick",
+    )?;
     for (index, snippet) in snippets.iter().enumerate() {
         announce(&format!(
             "README python block {} of {} (installed wheel)",

@@ -78,6 +78,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 use crate::Role;
+use crate::columns::{Column, FieldType};
 use crate::paper_claims::{self as paper, Claim, ClaimMetric, Direction};
 use crate::scores::{FinalScore, RunOutcome};
 use crate::stats::paired::{differences, paired_difference};
@@ -1613,34 +1614,47 @@ pub fn outcome_rows(scores: &[FinalScore]) -> Result<Vec<ClaimRow>, ClaimsError>
     Ok(rows)
 }
 
-/// The columns of `claims.csv`, in order.
-pub const CLAIM_COLUMNS: [&str; 26] = [
-    "claim",
-    "task",
-    "method",
-    "role",
-    "metric",
-    "better",
-    "versus",
-    "versus_set",
-    "n",
-    "n_versus",
-    "estimate",
-    "ci_low",
-    "ci_high",
-    "p_value",
-    "p_holm",
-    "p_improvement",
-    "outcome",
-    "verdict",
-    "paired_n",
-    "paired_estimate",
-    "paired_ci_low",
-    "paired_ci_high",
-    "paired_p_value",
-    "margin",
-    "p_equivalence",
-    "p_equivalence_holm",
+/// When the paired columns of `claims.csv` are blank.
+const PAIRED_BLANK: &str =
+    "the row is not a comparison, or fewer than 2 seeds have a value for both methods";
+
+/// The columns of `claims.csv`, in order (the fields of [`ClaimRow`]), each with its type,
+/// unit, meaning and when it is blank: the source of `datapackage.json` and of
+/// `docs/outputs.md`. A new field of [`ClaimRow`] needs its entry here (a test compares the
+/// CSV header with this table).
+///
+/// A row is one of four kinds, and which cells are blank follows from the kind: a
+/// *single-method* row (`versus` blank: one method's IQM over seeds, or for claim `outcome` its
+/// share of converged seeds), a *comparison* (a method under test against the competitor
+/// `versus` on a metric), a *reaching test* (metric `reached`: per-seed reaching, paired by
+/// seed) and an *outcome comparison* (claim `outcome` with `versus`: converged seeds, paired).
+pub const CLAIM_COLUMNS: &[Column] = &[
+    Column::new("claim", FieldType::String, "The paper's claim tested (C1 fewer steps, C2 higher cumulative reward, C3 smaller fluctuation, C4 the robot's reward, reaching time and retention decay), or `outcome` for the per-seed run outcome."),
+    Column::new("task", FieldType::String, "The experiment (`task` of `final-scores.csv`)."),
+    Column::new("method", FieldType::String, "The method: the one under test in a comparison, any method in a single-method row."),
+    Column::new("role", FieldType::String, "The method's role (as in `final-scores.csv`).").values(&["paper", "ablation", "control"]),
+    Column::new("metric", FieldType::String, "The column of `final-scores.csv` the row is about; `reached` for a per-seed reaching test (C4), `stable_reaching` for C3's paired test of stable-reaching seeds, `converged` for an outcome row. C3's `fluctuation_steps` and `fluctuation_return` (training curves) are secondary rows that carry no verdict."),
+    Column::new("better", FieldType::String, "Which way of the metric is better.").values(&["lower", "higher"]),
+    Column::new("versus", FieldType::String, "The competitor or control compared against.").blank_when("the row is a single-method row"),
+    Column::new("versus_set", FieldType::String, "Which competitors the method is judged against: `paper` (the paper's competitors on the task reward; every method), or `same_rewards` (a repaired robot reading judged a second time against the competitors trained on its own sub-task rewards).").values(&["paper", "same_rewards"]).blank_when("the row carries no verdict: a single-method row of a method not under test on the claim, or an outcome row"),
+    Column::new("n", FieldType::Integer, "Seeds with a value of the method (the paired seeds in a reaching test or an outcome comparison).").unit("seeds"),
+    Column::new("n_versus", FieldType::Integer, "Seeds with a value of the competitor.").unit("seeds").blank_when("the row is a single-method row"),
+    Column::new("estimate", FieldType::Number, "Single-method row: the interquartile mean (IQM) of the metric over seeds, or for claim `outcome` the share of seeds that converged. Comparison: IQM(method) − IQM(versus). Reaching test: share of paired seeds the method reaches on minus the competitor's. Outcome comparison: (seeds only the method converged on − seeds only `versus` did) / paired seeds. In the metric's unit (a share for `reached` and `converged`).").blank_when("the row is a single-method row and no seed of the method has a value (a C4 metric of a method that never reached the target)"),
+    Column::new("ci_low", FieldType::Number, "Lower end of the estimate's 95 % interval: a bootstrap interval for an IQM or IQM difference, a Wilson interval for a share of converged seeds.").blank_when("the row is a reaching test or an outcome comparison (they carry an exact test instead), or no seed has a value"),
+    Column::new("ci_high", FieldType::Number, "Upper end of that interval.").blank_when("as `ci_low`"),
+    Column::new("p_value", FieldType::Number, "Two-sided p-value: a permutation test of the IQM difference for a comparison, the exact sign test on discordant seeds (McNemar's exact test) for a reaching test or an outcome comparison.").blank_when("the row is a single-method row"),
+    Column::new("p_holm", FieldType::Number, "`p_value` Holm-adjusted across the claim × task × method's comparisons (the reaching tests across the competitors).").blank_when("the row is a single-method row or an outcome comparison (not adjusted: outcomes explain, they never enter a verdict)"),
+    Column::new("p_improvement", FieldType::Number, "Probability that a random seed of the method beats one of `versus` in the metric's better direction (ties count ½).").unit("probability").blank_when("the row is not a comparison"),
+    Column::new("outcome", FieldType::String, "What the comparison settles at α = 0.05: `favours_method` or `favours_competitor` needs Holm p < α, an interval excluding 0 and an effect beyond the metric's margin; otherwise `unsettled`.").values(&["favours_method", "favours_competitor", "unsettled"]).blank_when("the row is a single-method row or an outcome comparison"),
+    Column::new("verdict", FieldType::String, "The verdict on the claim × task × method under test, repeated on each of its rows.").values(&["supported", "contradicted", "equivalent", "inconclusive", "untestable"]).blank_when("the method is not under test on this claim (a competitor's, ablation's or control's single-method row), the row is a secondary metric (C3's training-curve `fluctuation_steps`, `fluctuation_return`), or the row is about outcomes"),
+    Column::new("paired_n", FieldType::Integer, "Seeds where both methods have a value (runs of one seed share their random streams across methods).").unit("seeds").blank_when("the row is a single-method row, or a comparison with fewer than 2 such seeds"),
+    Column::new("paired_estimate", FieldType::Number, "Mean over paired seeds of the difference method − versus, in the metric's unit.").blank_when(PAIRED_BLANK),
+    Column::new("paired_ci_low", FieldType::Number, "Lower end of the paired bootstrap 95 % interval of `paired_estimate`.").blank_when(PAIRED_BLANK),
+    Column::new("paired_ci_high", FieldType::Number, "Upper end of that interval.").blank_when(PAIRED_BLANK),
+    Column::new("paired_p_value", FieldType::Number, "Two-sided sign-flip (paired permutation) p-value of `paired_estimate`.").blank_when(PAIRED_BLANK),
+    Column::new("margin", FieldType::Number, "The metric's equivalence margin (region of practical equivalence): ±2 steps for `final_steps`, `fluctuation_greedy_steps` and `fluctuation_steps`, the shortest detour on a grid; in the metric's unit.").blank_when("the metric has no margin, the row is not a comparison, or it has fewer than 2 paired seeds"),
+    Column::new("p_equivalence", FieldType::Number, "TOST p-value that the mean paired difference lies within ±`margin`.").blank_when("`margin` is blank"),
+    Column::new("p_equivalence_holm", FieldType::Number, "`p_equivalence` Holm-adjusted across the claim × task × method's comparisons.").blank_when("`margin` is blank"),
 ];
 
 /// Writes `claims.csv` (header: the fields of [`ClaimRow`]; empty cells for absent values).
@@ -1650,7 +1664,7 @@ pub const CLAIM_COLUMNS: [&str; 26] = [
 pub fn write_csv<W: Write>(rows: &[ClaimRow], writer: W) -> Result<(), ClaimsError> {
     let mut csv = csv::Writer::from_writer(writer);
     if rows.is_empty() {
-        csv.write_record(CLAIM_COLUMNS)?;
+        csv.write_record(CLAIM_COLUMNS.iter().map(|c| c.name))?;
     }
     for row in rows {
         csv.serialize(row)?;
@@ -1794,7 +1808,7 @@ pub fn overview(scores: &[FinalScore]) -> Result<Vec<MethodOverview>, ClaimsErro
         let step_cap = scores
             .iter()
             .filter(|row| row.task == task)
-            .filter_map(|row| row.step_cap)
+            .map(|row| row.step_cap)
             .max();
         for (method, role, kind) in methods(scores, task) {
             let error = |source| ClaimsError::Stats {
@@ -1847,4 +1861,41 @@ pub fn overview(scores: &[FinalScore]) -> Result<Vec<MethodOverview>, ClaimsErro
         }
     }
     Ok(overviews)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_header_is_the_documented_columns_and_blank_cells_are_documented() {
+        let single = ClaimRow {
+            claim: "C1",
+            task: "task1".into(),
+            method: "ea-madm".into(),
+            metric: "final_steps",
+            better: "lower",
+            n: 0,
+            // No seed has a value (a C4 metric of a method that never reached).
+            estimate: None,
+            ..ClaimRow::paired_none()
+        };
+        let mut bytes = Vec::new();
+        write_csv(&[single], &mut bytes).unwrap();
+        let text = String::from_utf8(bytes).unwrap();
+        let mut lines = text.lines();
+        let header = lines.next().unwrap();
+        assert_eq!(header, crate::columns::names(CLAIM_COLUMNS).join(","));
+        // Every cell a single-method row leaves blank is a column that says when it is.
+        for (column, cell) in CLAIM_COLUMNS.iter().zip(lines.next().unwrap().split(',')) {
+            assert!(
+                !cell.is_empty() || column.blank_when.is_some(),
+                "{} is blank but documented as always filled",
+                column.name
+            );
+        }
+        let mut empty = Vec::new();
+        write_csv(&[], &mut empty).unwrap();
+        assert_eq!(String::from_utf8(empty).unwrap().trim_end(), header);
+    }
 }

@@ -48,6 +48,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::Role;
+use crate::columns::{Column, FieldType};
 use crate::reaching::ReachingMetric;
 use crate::record::{EpisodeRecord, RunRecord};
 use crate::stats::{self, StatsError};
@@ -59,37 +60,40 @@ pub const FINAL_WINDOW: usize = crate::summary::DEFAULT_FINAL_WINDOW;
 /// are to reach the target".
 pub const REACHING_EPISODES: usize = 100;
 
-/// The columns of `final-scores.csv`, in order (the fields of [`FinalScore`]).
-pub const COLUMNS: [&str; 29] = [
-    "task",
-    "method",
-    "role",
-    "kind",
-    "seed",
-    "episodes",
-    "final_window",
-    "final_steps",
-    "final_return",
-    "success_rate",
-    "greedy_reached",
-    "greedy_steps",
-    "outcome",
-    "collapse_episode",
-    "fluctuation_steps",
-    "fluctuation_return",
-    "greedy_evaluations",
-    "stable_reaching",
-    "fluctuation_greedy_steps",
-    "fluctuation_greedy_return",
-    "env_steps_total",
-    "pretrain_env_steps",
-    "step_cap",
-    "optimum_steps",
-    "reaching_episodes",
-    "reach_average_reward",
-    "reach_time",
-    "reach_retention_time",
-    "retention_decay",
+/// The columns of `final-scores.csv`, in order (the fields of [`FinalScore`]), each with its
+/// type, unit, meaning and when it is blank: the source of `datapackage.json` and of
+/// `docs/outputs.md`. A new field of [`FinalScore`] needs its entry here (a test compares the
+/// CSV header with this table).
+pub const COLUMNS: &[Column] = &[
+    Column::new("task", FieldType::String, "The experiment's name: `task1`, `task2`, `robot`, `robot-paper-state`, or a custom config's `name`."),
+    Column::new("method", FieldType::String, "The method's label in the experiment's config (e.g. `ea-madm`, `softmax`, `subtask0-alone`)."),
+    Column::new("role", FieldType::String, "Why the method is in the experiment: one of the paper's methods, an ablation of EA-MADM, or a control the paper does not run.").values(&["paper", "ablation", "control"]),
+    Column::new("kind", FieldType::String, "The method's algorithm (`eamadm::Method::kind_name`), e.g. `ea_madm`, `epsilon_greedy`, `epsilon_decreasing`, `softmax`."),
+    Column::new("seed", FieldType::Integer, "The run's seed. Runs of one seed share their random streams across methods, so rows of equal task and seed pair."),
+    Column::new("episodes", FieldType::Integer, "Training episodes of the source task in the run (sub-task pre-training not counted).").unit("episodes"),
+    Column::new("final_window", FieldType::Integer, "Episodes in the final window: the last 20 training episodes, or all of them in a shorter run.").unit("episodes"),
+    Column::new("final_steps", FieldType::Number, "Mean steps per episode over the final window (claim C1).").unit("steps"),
+    Column::new("final_return", FieldType::Number, "Mean task return (sum of the task's own rewards) per episode over the final window (claim C2).").unit("reward"),
+    Column::new("success_rate", FieldType::Number, "Share of the final window's episodes that reached the target, 0 to 1.").unit("fraction"),
+    Column::new("greedy_reached", FieldType::Boolean, "Whether the greedy evaluation episode after training (the final greedy policy: no exploration, no learning) reached the target."),
+    Column::new("greedy_steps", FieldType::Integer, "Steps of that greedy evaluation episode (the step cap when it loops).").unit("steps"),
+    Column::new("outcome", FieldType::String, "How the run ended: `converged` (the greedy policy reaches), `collapsed` (it does not, no final-window episode does, an earlier one did), `reaches_while_learning` (it does not, but final-window training episodes still reach), `never_reached` (no episode ever reached).").values(&["converged", "collapsed", "reaches_while_learning", "never_reached"]),
+    Column::new("collapse_episode", FieldType::Integer, "For a collapsed run, the first training episode (0-based) of its permanent non-reaching tail: one past the last episode that reached.").unit("episode").blank_when("the outcome is not `collapsed`"),
+    Column::new("fluctuation_steps", FieldType::Number, "Sample standard deviation (divisor n − 1) of steps per episode over the second half of training, episodes ⌊E/2⌋ to E − 1 (claim C3, secondary: exploration included).").unit("steps"),
+    Column::new("fluctuation_return", FieldType::Number, "Sample standard deviation (divisor n − 1) of task return per episode over the second half of training (claim C3, secondary).").unit("reward"),
+    Column::new("greedy_evaluations", FieldType::Integer, "Greedy evaluations taken in the second half of training: after every `evaluation.every`-th training episode (default 10) the run plays one episode of its current greedy policy (no exploration, no learning, the task's step cap), on its own random streams, so training is unchanged. C3 is judged on these.").unit("evaluations"),
+    Column::new("stable_reaching", FieldType::Boolean, "Whether every greedy evaluation of the second half of training reached the target (claim C3): a seed stuck at the step cap is not stable-reaching.").blank_when("the run has no greedy evaluation in the second half of training"),
+    Column::new("fluctuation_greedy_steps", FieldType::Number, "Sample standard deviation (divisor n − 1) of the steps of the greedy evaluations in the second half of training (claim C3, deciding).").unit("steps").blank_when("the run is not stable-reaching (a failure for C3, not stability), or it has fewer than two greedy evaluations in the second half"),
+    Column::new("fluctuation_greedy_return", FieldType::Number, "Sample standard deviation (divisor n − 1) of the task return of the greedy evaluations in the second half of training (claim C3, deciding).").unit("reward").blank_when("the run is not stable-reaching (a failure for C3, not stability), or it has fewer than two greedy evaluations in the second half"),
+    Column::new("env_steps_total", FieldType::Integer, "Environment steps of the whole run: sub-task pre-training plus training (not the greedy evaluation).").unit("steps"),
+    Column::new("pretrain_env_steps", FieldType::Integer, "Environment steps spent before the recorded episodes: EA-MADM's (or a sub-task alone's) sub-task pre-training, a budget-matched competitor's warm-up; 0 for the paper's competitors.").unit("steps"),
+    Column::new("step_cap", FieldType::Integer, "The task's step cap: an episode is truncated after this many steps (2000 for the paper's mazes, the scenario's for the robot, or the config's `task.step_cap`). A run whose `final_steps` equals it finished no episode of its final window.").unit("steps"),
+    Column::new("optimum_steps", FieldType::Integer, "The task's optimal route in steps: the BFS shortest path of a maze, the planner's shortest route for the robot.").unit("steps").blank_when("no route is known (the robot's planner found none)"),
+    Column::new("reaching_episodes", FieldType::Integer, "Reaching episodes the C4 scores are taken over: the run's first training episodes that reached the target, at most 100 (the paper's \"100 episodes that are to reach the target\").").unit("episodes"),
+    Column::new("reach_average_reward", FieldType::Number, "Mean average reward (episode return divided by its duration) over the reaching episodes (claim C4).").unit("reward/s").blank_when("the task is not the robot, or no training episode reached the target"),
+    Column::new("reach_time", FieldType::Number, "Mean time to reach the target over the reaching episodes (claim C4).").unit("s").blank_when("the task is not the robot, or no training episode reached the target"),
+    Column::new("reach_retention_time", FieldType::Number, "Mean retention time (time stalled in front of an obstacle) over the reaching episodes.").unit("s").blank_when("the task is not the robot, or no training episode reached the target"),
+    Column::new("retention_decay", FieldType::Number, "Least-squares slope of retention time against the reaching episode's index 0, 1, … (claim C4); negative: it falls.").unit("s/episode").blank_when("the task is not the robot, fewer than two training episodes reached the target, or the slope is not finite"),
 ];
 
 /// How a run ended, from what its record holds: the greedy evaluation episode after training
@@ -254,9 +258,9 @@ pub struct FinalScore {
     pub env_steps_total: u64,
     /// Environment steps of sub-task pre-training (0 for the competitors).
     pub pretrain_env_steps: u64,
-    /// The step cap, read off the run's truncated episodes (empty when none was truncated):
-    /// a seed whose `final_steps` equals it never finished an episode in its final window.
-    pub step_cap: Option<u64>,
+    /// The task's step cap (an episode is truncated after this many steps): a seed whose
+    /// `final_steps` equals it never finished an episode in its final window.
+    pub step_cap: u64,
     /// The task's optimal route in steps, when known (BFS for a maze, the planner's route for
     /// the robot).
     pub optimum_steps: Option<u64>,
@@ -300,7 +304,7 @@ impl FinalScore {
             "fluctuation_greedy_return" => self.fluctuation_greedy_return,
             "env_steps_total" => Some(self.env_steps_total as f64),
             "pretrain_env_steps" => Some(self.pretrain_env_steps as f64),
-            "step_cap" => self.step_cap.map(|cap| cap as f64),
+            "step_cap" => Some(self.step_cap as f64),
             "optimum_steps" => self.optimum_steps.map(|steps| steps as f64),
             "reaching_episodes" => Some(self.reaching_episodes as f64),
             "reach_average_reward" => self.reach_average_reward,
@@ -312,17 +316,20 @@ impl FinalScore {
     }
 }
 
-/// What [`final_scores`] needs to know of an experiment's config: each method's role and kind.
-/// `eamadm` implements it for its `ExperimentConfig`, so `final_scores(&records,
-/// experiment.config())` reads as before.
+/// What [`final_scores`] needs to know of an experiment beyond its records: each method's
+/// role and kind, and the task's step cap. `eamadm` implements it for its loaded `Experiment`
+/// (the step cap is the loaded task's), so `final_scores(&records, &experiment)`.
 pub trait MethodRoles {
     /// The role and kind (`ea_madm`, `epsilon_greedy`, …: `eamadm::Method::kind_name`) of the
     /// method labelled `label`; `None` when the experiment has no such method.
     fn role_and_kind(&self, label: &str) -> Option<(Role, &'static str)>;
+
+    /// The task's step cap: steps after which an episode is truncated.
+    fn step_cap(&self) -> u64;
 }
 
-/// The final scores of `records`, in record order. `config` is the experiment's config (for
-/// each method's role and kind).
+/// The final scores of `records`, in record order. `config` is the experiment (for each
+/// method's role and kind, and the step cap).
 ///
 /// # Errors
 /// [`ScoresError::NoEpisodes`], [`ScoresError::UnknownMethod`], [`ScoresError::Stats`] for a
@@ -338,7 +345,7 @@ pub fn final_scores(
 }
 
 /// The final score of one run of the experiment `config` (which gives its method's role and
-/// kind): one row of [`final_scores`], for a caller that streams runs and keeps only their rows.
+/// kind, and the step cap): one row of [`final_scores`], for a caller that streams runs and keeps only their rows.
 ///
 /// # Errors
 /// As [`final_scores`].
@@ -354,10 +361,11 @@ pub fn final_score_of(
                 method: record.method.clone(),
                 seed: record.seed,
             })?;
-    final_score(record, role, kind)
+    final_score(record, role, kind, config.step_cap())
 }
 
-/// The final score of one run whose method has this `role` and `kind`.
+/// The final score of one run whose method has this `role` and `kind`, on a task whose
+/// episodes are truncated after `step_cap` steps.
 ///
 /// # Errors
 /// [`ScoresError::NoEpisodes`]; [`ScoresError::Stats`] for a non-finite return.
@@ -365,7 +373,12 @@ pub fn final_score_of(
     clippy::cast_precision_loss,
     reason = "episode and step counts are far below 2^52"
 )]
-pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalScore, ScoresError> {
+pub fn final_score(
+    record: &RunRecord,
+    role: Role,
+    kind: &str,
+    step_cap: u64,
+) -> Result<FinalScore, ScoresError> {
     let stats_error = |source| ScoresError::Stats {
         task: record.experiment.clone(),
         method: record.method.clone(),
@@ -403,11 +416,6 @@ pub fn final_score(record: &RunRecord, role: Role, kind: &str) -> Result<FinalSc
         } else {
             (None, None)
         };
-    let step_cap = episodes
-        .iter()
-        .filter(|e| e.truncated)
-        .map(|e| e.steps)
-        .max();
 
     let reaching: Vec<&EpisodeRecord> = crate::reaching::first_reaching(episodes).collect();
     let robot: Vec<_> = reaching.iter().filter_map(|e| e.robot).collect();
@@ -503,7 +511,7 @@ pub fn slope(y: &[f64]) -> Option<f64> {
     Some(sxy / sxx).filter(|s| s.is_finite())
 }
 
-/// Writes `rows` as `final-scores.csv`: a header of [`COLUMNS`], one row per run; empty cells
+/// Writes `rows` as `final-scores.csv`: a header of the names of [`COLUMNS`], one row per run; empty cells
 /// for absent values; floats printed so that they read back bit for bit.
 ///
 /// # Errors
@@ -511,7 +519,7 @@ pub fn slope(y: &[f64]) -> Option<f64> {
 pub fn write_csv<W: Write>(rows: &[FinalScore], writer: W) -> Result<(), ScoresError> {
     let mut csv = csv::Writer::from_writer(writer);
     if rows.is_empty() {
-        csv.write_record(COLUMNS)?;
+        csv.write_record(COLUMNS.iter().map(|c| c.name))?;
     }
     for row in rows {
         csv.serialize(row)?;
@@ -632,6 +640,7 @@ mod tests {
             &run_with_greedy(6, &[12, 14, 2000, 2000, 2000, 2000]),
             Role::Paper,
             "x",
+            2000,
         )
         .unwrap();
         assert_eq!(stuck.greedy_evaluations, 3);
@@ -645,6 +654,7 @@ mod tests {
             &run_with_greedy(6, &[2000, 2000, 2000, 20, 2000, 20]),
             Role::Paper,
             "x",
+            2000,
         )
         .unwrap();
         assert_eq!(once.stable_reaching, Some(false));
@@ -652,13 +662,14 @@ mod tests {
             &run_with_greedy(6, &[2000, 2000, 2000, 20, 22, 24]),
             Role::Paper,
             "x",
+            2000,
         )
         .unwrap();
         assert_eq!(late.stable_reaching, Some(true));
         assert_eq!(late.fluctuation_greedy_steps, Some(2.0));
         assert_eq!(late.fluctuation_greedy_return, Some(2.0));
         // Without evaluations (an old record): nothing to say.
-        let none = final_score(&run_with_greedy(6, &[]), Role::Paper, "x").unwrap();
+        let none = final_score(&run_with_greedy(6, &[]), Role::Paper, "x", 2000).unwrap();
         assert_eq!((none.greedy_evaluations, none.stable_reaching), (0, None));
     }
 
@@ -687,7 +698,7 @@ mod tests {
             fluctuation_greedy_return: None,
             env_steps_total: 99,
             pretrain_env_steps: 0,
-            step_cap: None,
+            step_cap: 500,
             optimum_steps: Some(12),
             reaching_episodes: 0,
             reach_average_reward: None,
@@ -699,26 +710,34 @@ mod tests {
         write_csv(std::slice::from_ref(&row), &mut bytes).unwrap();
         let text = String::from_utf8(bytes.clone()).unwrap();
         let mut lines = text.lines();
-        assert_eq!(lines.next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             lines.next().unwrap(),
-            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,,12,0,,,,-0.1"
+            crate::columns::names(COLUMNS).join(",")
+        );
+        assert_eq!(
+            lines.next().unwrap(),
+            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,500,12,0,,,,-0.1"
         );
         assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
         for column in COLUMNS {
-            if !matches!(column, "task" | "method" | "role" | "kind" | "outcome") {
+            if column.field_type != FieldType::String {
                 let absent = matches!(
-                    column,
-                    "step_cap"
-                        | "fluctuation_greedy_steps"
+                    column.name,
+                    "fluctuation_greedy_steps"
                         | "fluctuation_greedy_return"
                         | "collapse_episode"
                         | "reach_average_reward"
                         | "reach_time"
                         | "reach_retention_time"
                 );
-                assert_eq!(row.value(column).is_none(), absent, "{column}");
+                assert_eq!(row.value(column.name).is_none(), absent, "{}", column.name);
+                // A column that is blank here must say when it can be.
+                assert!(!absent || column.blank_when.is_some(), "{}", column.name);
             }
         }
+        // The descriptions state the windows the code uses.
+        let described = |name: &str| COLUMNS.iter().find(|c| c.name == name).unwrap().description;
+        assert!(described("final_window").contains(&format!("last {FINAL_WINDOW} ")));
+        assert!(described("reaching_episodes").contains(&format!("at most {REACHING_EPISODES} ")));
     }
 }

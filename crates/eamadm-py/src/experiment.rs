@@ -1,12 +1,14 @@
 //! Experiments from Python: the paper's presets as TOML text, configs checked and converted,
-//! and runs on the Rust runner (GIL released) returned as column dicts.
+//! and runs on the Rust runner (GIL released) returned as numpy columns and the text of
+//! `final-scores.csv`.
 
 use eamadm::config::{
     PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
 };
-use eamadm::results::{CURVE_COLUMNS, curve_rows};
-use eamadm::summary::final_window_summary;
+use eamadm::results::{CURVE_COLUMNS, CurveRow, curve_rows};
+use eamadm::scores::{final_scores, write_csv};
 use eamadm::{Experiment, RunRecord};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
@@ -66,22 +68,21 @@ pub(crate) fn toml_to_json(toml_text: &str) -> PyResult<String> {
 /// Runs the experiment `toml_text`: every method in `methods` (labels; default all, in the
 /// config's order) with every seed in `seeds` (default the config's `base_seed + i`), on
 /// `threads` threads (default rayon's), with the GIL released. Returns
-/// `{"curves": columns, "finals": columns}`: one row per (run, episode) with the columns of the
-/// Rust runner's `curves.csv.gz`, and one row per run with its final scores (means over the last
-/// `window` training episodes, as in the report).
+/// `{"curves": columns, "final_scores": text}`: one row per (run, episode) with the columns of
+/// the Rust runner's `curves.csv.gz` (numpy arrays; a column with blank cells is `float64` with
+/// NaN, text columns are lists), and `final-scores.csv` of the runs as the main job writes it.
 #[pyfunction]
 #[expect(
     clippy::needless_pass_by_value,
     reason = "pyo3 hands extracted arguments over by value"
 )]
-#[pyo3(signature = (toml_text, seeds=None, methods=None, threads=None, window=eamadm::DEFAULT_FINAL_WINDOW))]
+#[pyo3(signature = (toml_text, seeds=None, methods=None, threads=None))]
 pub(crate) fn run_config<'py>(
     py: Python<'py>,
     toml_text: &str,
     seeds: Option<Vec<u64>>,
     methods: Option<Vec<String>>,
     threads: Option<usize>,
-    window: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let experiment =
         Experiment::from_toml_str(toml_text).map_err(|error| value_error("config", error))?;
@@ -114,9 +115,6 @@ pub(crate) fn run_config<'py>(
         Some(seeds) => seeds,
         None => config.seed_values().collect(),
     };
-    if window == 0 {
-        return Err(value_error("window", "expected at least 1, got 0"));
-    }
     let pool = match threads {
         Some(0) => return Err(value_error("threads", "expected at least 1, got 0")),
         Some(n) => rayon::ThreadPoolBuilder::new().num_threads(n),
@@ -140,108 +138,64 @@ pub(crate) fn run_config<'py>(
         .map_err(|error| value_error("config", error))?;
     let result = PyDict::new(py);
     result.set_item("curves", curve_columns(py, &records)?)?;
-    result.set_item("finals", final_columns(py, &records, window)?)?;
+    result.set_item("final_scores", final_scores_csv(&records, &experiment)?)?;
     Ok(result)
 }
 
-/// One list per column of the curves table, in `CURVE_COLUMNS` order.
+/// One column per column of the curves table, in `CURVE_COLUMNS` order: text as lists,
+/// numbers and flags as numpy arrays (`float64` with NaN where a cell is blank).
+#[expect(
+    clippy::cast_precision_loss,
+    reason = "an optimum route is far shorter than 2^52 steps"
+)]
 fn curve_columns<'py>(py: Python<'py>, records: &[RunRecord]) -> PyResult<Bound<'py, PyDict>> {
-    let columns: Vec<Bound<'py, PyList>> =
-        CURVE_COLUMNS.iter().map(|_| PyList::empty(py)).collect();
-    for record in records {
-        for row in curve_rows(record) {
-            let cells: [Bound<'py, PyAny>; 17] = [
-                row.experiment.into_pyobject(py)?.into_any(),
-                row.method.into_pyobject(py)?.into_any(),
-                row.seed.into_pyobject(py)?.into_any(),
-                row.episode.into_pyobject(py)?.into_any(),
-                row.steps.into_pyobject(py)?.into_any(),
-                row.task_return.into_pyobject(py)?.into_any(),
-                row.learning_return.into_pyobject(py)?.into_any(),
-                row.terminated.into_pyobject(py)?.to_owned().into_any(),
-                row.truncated.into_pyobject(py)?.to_owned().into_any(),
-                row.reached.into_pyobject(py)?.to_owned().into_any(),
-                row.collisions.into_pyobject(py)?.into_any(),
-                row.env_steps.into_pyobject(py)?.into_any(),
-                row.optimum_steps.into_pyobject(py)?.into_any(),
-                row.time.into_pyobject(py)?.into_any(),
-                row.average_reward.into_pyobject(py)?.into_any(),
-                row.time_to_reach.into_pyobject(py)?.into_any(),
-                row.retention_time.into_pyobject(py)?.into_any(),
-            ];
-            for (column, cell) in columns.iter().zip(cells) {
-                column.append(cell)?;
-            }
-        }
-    }
+    let rows: Vec<_> = records.iter().flat_map(curve_rows).collect();
+    let text = |f: fn(&CurveRow) -> &str| PyList::new(py, rows.iter().map(f));
+    let int = |f: fn(&CurveRow) -> u64| rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py);
+    let real = |f: fn(&CurveRow) -> f64| rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py);
+    let flag = |f: fn(&CurveRow) -> bool| rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py);
     let dict = PyDict::new(py);
-    for (name, column) in CURVE_COLUMNS.iter().zip(columns) {
+    for name in CURVE_COLUMNS {
+        let column = match name {
+            "experiment" => text(|r| &r.experiment)?.into_any(),
+            "method" => text(|r| &r.method)?.into_any(),
+            "seed" => int(|r| r.seed).into_any(),
+            "episode" => int(|r| r.episode).into_any(),
+            "steps" => int(|r| r.steps).into_any(),
+            "task_return" => real(|r| r.task_return).into_any(),
+            "learning_return" => real(|r| r.learning_return).into_any(),
+            "terminated" => flag(|r| r.terminated).into_any(),
+            "truncated" => flag(|r| r.truncated).into_any(),
+            "reached" => flag(|r| r.reached).into_any(),
+            "collisions" => int(|r| r.collisions).into_any(),
+            "env_steps" => int(|r| r.env_steps).into_any(),
+            "optimum_steps" => real(|r| nan_if_blank(r.optimum_steps.map(|s| s as f64))).into_any(),
+            "time" => real(|r| nan_if_blank(r.time)).into_any(),
+            "average_reward" => real(|r| nan_if_blank(r.average_reward)).into_any(),
+            "time_to_reach" => real(|r| nan_if_blank(r.time_to_reach)).into_any(),
+            "retention_time" => real(|r| nan_if_blank(r.retention_time)).into_any(),
+            other => {
+                return Err(value_error(
+                    "curves",
+                    format!("column {other:?} of the curves table has no conversion (a bug)"),
+                ));
+            }
+        };
         dict.set_item(name, column)?;
     }
     Ok(dict)
 }
 
-/// The mean of `curve`'s last `window` values (all of them when shorter), by the report's rule.
-fn final_mean(curve: Vec<f64>, window: usize) -> PyResult<f64> {
-    final_window_summary(&[curve], window)
-        .map(|summary| summary.mean)
-        .map_err(|error| value_error("window", error))
+/// A blank cell as NaN (numpy's missing value of a float column).
+fn nan_if_blank(value: Option<f64>) -> f64 {
+    value.unwrap_or(f64::NAN)
 }
 
-/// One row per run: its final scores, evaluation and step counts.
-#[expect(
-    clippy::cast_precision_loss,
-    reason = "episode counts and steps stay far below 2^52"
-)]
-fn final_columns<'py>(
-    py: Python<'py>,
-    records: &[RunRecord],
-    window: usize,
-) -> PyResult<Bound<'py, PyDict>> {
-    let mut experiment = Vec::new();
-    let mut method = Vec::new();
-    let mut seed = Vec::new();
-    let mut final_steps = Vec::new();
-    let mut final_return = Vec::new();
-    let mut final_reached = Vec::new();
-    let mut final_collisions = Vec::new();
-    let mut evaluation_steps = Vec::new();
-    let mut evaluation_reached = Vec::new();
-    let mut pretrain_env_steps = Vec::new();
-    let mut total_env_steps = Vec::new();
-    let mut optimum_steps = Vec::new();
-    for record in records {
-        let curve = |value: fn(&eamadm::EpisodeRecord) -> f64| -> Vec<f64> {
-            record.episodes.iter().map(value).collect()
-        };
-        experiment.push(record.experiment.clone());
-        method.push(record.method.clone());
-        seed.push(record.seed);
-        final_steps.push(final_mean(curve(|e| e.steps as f64), window)?);
-        final_return.push(final_mean(curve(|e| e.task_return), window)?);
-        final_reached.push(final_mean(
-            curve(|e| if e.reached { 1.0 } else { 0.0 }),
-            window,
-        )?);
-        final_collisions.push(final_mean(curve(|e| e.collisions as f64), window)?);
-        evaluation_steps.push(record.evaluation.steps);
-        evaluation_reached.push(record.evaluation.reached);
-        pretrain_env_steps.push(record.pretrain_env_steps);
-        total_env_steps.push(record.total_env_steps);
-        optimum_steps.push(record.optimum_steps);
-    }
-    let dict = PyDict::new(py);
-    dict.set_item("experiment", experiment)?;
-    dict.set_item("method", method)?;
-    dict.set_item("seed", seed)?;
-    dict.set_item("final_steps", final_steps)?;
-    dict.set_item("final_return", final_return)?;
-    dict.set_item("final_reached", final_reached)?;
-    dict.set_item("final_collisions", final_collisions)?;
-    dict.set_item("evaluation_steps", evaluation_steps)?;
-    dict.set_item("evaluation_reached", evaluation_reached)?;
-    dict.set_item("pretrain_env_steps", pretrain_env_steps)?;
-    dict.set_item("total_env_steps", total_env_steps)?;
-    dict.set_item("optimum_steps", optimum_steps)?;
-    Ok(dict)
+/// `final-scores.csv` of `records` as text, computed and written by `eamadm-eval`
+/// (`final_scores`, `write_csv`): the same columns and numbers as the main job's file.
+fn final_scores_csv(records: &[RunRecord], experiment: &Experiment) -> PyResult<String> {
+    let rows = final_scores(records, experiment).map_err(|error| value_error("config", error))?;
+    let mut bytes = Vec::new();
+    write_csv(&rows, &mut bytes).map_err(|error| value_error("config", error))?;
+    String::from_utf8(bytes).map_err(|error| value_error("config", error))
 }

@@ -5,7 +5,9 @@
 //! Python classes in `python/eamadm/` wrap into Gymnasium environments; vector cores that
 //! step N mazes or N robots in one call on numpy arrays; and the experiment runner (EA-MADM, Algorithm 2,
 //! with its decision of Eq. 13–16 and the standardised reward of Eq. 10–12, against the
-//! double-Q competitors of Eq. 9) with the GIL released.
+//! double-Q competitors of Eq. 9) with the GIL released; and the readers of what the main job
+//! writes (the run store through `eamadm-runs`, the data package of `final-scores.csv` and
+//! `claims.csv`).
 //!
 //! This layer is thin on purpose: every rule lives in the `eamadm` crates; here arguments are
 //! checked, Rust's typed errors become `ValueError`s that name the Python argument, and results
@@ -24,6 +26,7 @@
 mod error;
 mod experiment;
 mod maze;
+mod outputs;
 mod robot;
 
 use pyo3::prelude::*;
@@ -42,5 +45,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(experiment::check_config, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::json_to_toml, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::toml_to_json, module)?)?;
+    module.add_function(wrap_pyfunction!(outputs::load_runs, module)?)?;
+    module.add_function(wrap_pyfunction!(outputs::data_package_json, module)?)?;
     Ok(())
 }

@@ -27,3 +27,13 @@ def run_xtask(xtask, *args):
     )
     assert done.returncode == 0, done.stdout + done.stderr
     return done
+
+
+@pytest.fixture(scope="session")
+def quick_out(tmp_path_factory, xtask):
+    """An output folder of the main job's `--quick` plan, made once per session, at
+    `<tmp>/target/reproduce-paper` (the README's examples read `target/reproduce-paper` from
+    the folder they run in)."""
+    out = tmp_path_factory.mktemp("main-job") / "target" / "reproduce-paper"
+    run_xtask(xtask, "reproduce-paper", "--quick", "--out", str(out))
+    return out

@@ -17,7 +17,9 @@ def test_the_readme_has_python_snippets():
 
 
 @pytest.mark.parametrize("index", range(len(python_snippets())))
-def test_readme_snippet_runs(index, capsys):
+def test_readme_snippet_runs(index, capsys, monkeypatch, quick_out):
+    # The snippets that read the main job's output find it at target/reproduce-paper.
+    monkeypatch.chdir(quick_out.parents[1])
     snippet = python_snippets()[index]
     exec(compile(snippet, f"README.md python snippet {index}", "exec"), {"__name__": "readme"})
     assert capsys.readouterr().out.strip()

@@ -37,6 +37,7 @@
 //! let store = RunStore::open(out.path(), &mut |warning| panic!("{warning}"))?;
 //! let loaded = store.load(&key, KeepTrajectories::Figures)?.expect("stored");
 //! assert_eq!(loaded.record.episodes, record.episodes);
+//! assert_eq!(store.keys(), [&key]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

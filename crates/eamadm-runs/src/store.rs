@@ -771,6 +771,16 @@ impl RunStore {
         self.index.len()
     }
 
+    /// The keys of every verified run, in storage order: file by file (bundles and loose run
+    /// files by path, so experiment by experiment), and in a file by place; a packed bundle
+    /// holds its runs in the plan's job order (method by method, seed by seed).
+    #[must_use]
+    pub fn keys(&self) -> Vec<&RunKey> {
+        let mut keys: Vec<(&RunKey, &Location)> = self.index.iter().collect();
+        keys.sort_by(|(_, a), (_, b)| (&a.file, a.offset).cmp(&(&b.file, b.offset)));
+        keys.into_iter().map(|(key, _)| key).collect()
+    }
+
     /// Whether the store holds no verified run.
     #[must_use]
     pub fn is_empty(&self) -> bool {
@@ -1228,6 +1238,21 @@ mod tests {
         let (store, warnings) = open(dir.path());
         assert!(warnings.is_empty(), "{warnings:?}");
         assert_eq!(store.len(), 2);
+        // Packed, the keys come in the order the runs were packed (job order), whatever the
+        // order of their hashes.
+        let wanted = keys(&runs);
+        assert_eq!(store.keys(), wanted.iter().collect::<Vec<_>>());
+        let reversed: Vec<RunKey> = wanted.iter().rev().cloned().collect();
+        let other = tempfile::tempdir().unwrap();
+        let (store, _) = open(other.path());
+        for (key, description, record) in runs.iter().rev() {
+            store
+                .append(key, description, record, KeepTrajectories::Figures)
+                .unwrap();
+        }
+        assert!(pack(other.path(), &reversed).is_empty());
+        let (store, _) = open(other.path());
+        assert_eq!(store.keys(), reversed.iter().collect::<Vec<_>>());
     }
 
     #[test]

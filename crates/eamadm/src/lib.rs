@@ -28,6 +28,7 @@
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4) and the seeds behind each point |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`output_names`] | the name of every file the tooling writes into an output folder |
+//! | [`data_package`], [`columns`] | `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its type, unit and meaning |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
 //!
 //! # A first experiment
@@ -102,7 +103,7 @@
 //! eamadm::results::write_curves_csv(&records, &mut csv)?;
 //! assert_eq!(String::from_utf8(csv)?.lines().count(), 1 + 6 * 40);
 //! // Per-seed final scores (one row per run) and `final-scores.csv`, read back unchanged.
-//! let rows = eamadm::scores::final_scores(&records, experiment.config())?;
+//! let rows = eamadm::scores::final_scores(&records, &experiment)?;
 //! assert_eq!(rows.len(), 6);
 //! assert_eq!(rows[0].final_window, 20);
 //! let mut csv = Vec::new();
@@ -178,11 +179,12 @@ pub use wmr_model;
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
 pub use eamadm_eval::{
-    behaviour, claims, reaching, record, report, results, scores, stats, summary,
+    behaviour, claims, columns, reaching, record, report, results, scores, stats, summary,
 };
 
 pub mod agent;
 pub mod config;
+pub mod data_package;
 pub mod diagnosis;
 pub mod error;
 pub mod output_names;
@@ -218,10 +220,15 @@ pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};
 pub use task::Task;
 
-impl scores::MethodRoles for ExperimentConfig {
+impl scores::MethodRoles for Experiment {
     fn role_and_kind(&self, label: &str) -> Option<(Role, &'static str)> {
-        self.method(label)
+        self.config()
+            .method(label)
             .map(|spec| (spec.role, spec.method.kind_name()))
+    }
+
+    fn step_cap(&self) -> u64 {
+        self.task().step_cap()
     }
 }
 

@@ -168,6 +168,16 @@ impl Task {
         self.optimum_steps
     }
 
+    /// Steps after which an episode is truncated: the maze's task spec's, or the robot
+    /// scenario's (either with the config's `task.step_cap` applied).
+    #[must_use]
+    pub fn step_cap(&self) -> u64 {
+        u64::from(match &self.kind {
+            TaskKind::Maze(env) => env.spec().step_cap,
+            TaskKind::Robot(env) => env.scenario().step_cap,
+        })
+    }
+
     /// The maze, for a maze task.
     #[must_use]
     pub fn maze(&self) -> Option<&Maze> {

@@ -530,7 +530,7 @@ pub(crate) mod tests {
             fluctuation_greedy_return: Some(steps / 10.0),
             env_steps_total: 10_000,
             pretrain_env_steps: 0,
-            step_cap: Some(2000),
+            step_cap: 2000,
             optimum_steps: Some(58),
             reaching_episodes: 100,
             reach_average_reward: None,

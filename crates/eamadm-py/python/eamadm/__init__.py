@@ -9,8 +9,10 @@ Importing the package registers three Gymnasium ids:
   as a native vector env, :class:`RobotVectorEnv`).
 
 :func:`run` runs an experiment config (the TOML schema of the Rust runner) on the Rust runner
-and :func:`paper_config` returns the paper's presets. Everything is computed by the Rust
-crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
+and :func:`paper_config` returns the paper's presets. :func:`load_runs` reads the run store of
+an output folder of ``cargo xtask reproduce-paper`` and :func:`read_scores` its
+``final-scores.csv`` and ``claims.csv``, typed by its ``datapackage.json``. Everything is
+computed by the Rust crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import gymnasium
 from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
 from eamadm.experiment import Results, paper_config, run
+from eamadm.outputs import Scores, data_package, load_runs, read_scores
 from eamadm.vector import MazeVectorEnv, RobotVectorEnv
 
 __all__ = [
@@ -28,8 +31,12 @@ __all__ = [
     "Results",
     "RobotEnv",
     "RobotVectorEnv",
+    "Scores",
     "__version__",
+    "data_package",
+    "load_runs",
     "paper_config",
+    "read_scores",
     "run",
 ]
 

@@ -2,7 +2,8 @@
 
 A config is the Rust runner's TOML schema, given as text, as a dict of the same shape, or as
 a path to a ``.toml`` file. :func:`run` returns the same numbers ``cargo xtask reproduce-paper``
-writes to ``<task>/curves.csv.gz`` for the same config and seeds, bit for bit.
+writes to ``<task>/curves.csv.gz`` and ``final-scores.csv`` for the same config and seeds, bit
+for bit.
 """
 
 from __future__ import annotations
@@ -12,23 +13,25 @@ import os
 import pathlib
 from typing import Any, Iterable, NamedTuple, Optional, Union
 
+import numpy
+
 from eamadm import _native
+from eamadm import outputs
 
 Config = Union[str, dict, "os.PathLike[str]"]
 
-#: Episodes at the end of each run averaged into its final scores (as in the report).
-DEFAULT_FINAL_WINDOW = 20
-
-
 class Results(NamedTuple):
-    """What :func:`run` returns: two tables, each a pandas ``DataFrame`` (or a dict of
-    columns when pandas is missing or ``dataframe=False``)."""
+    """What :func:`run` returns: two tables, each a pandas ``DataFrame`` (or a dict of numpy
+    arrays when pandas is missing or ``dataframe=False``)."""
 
-    #: One row per (run, episode): the columns of the Rust runner's ``curves.csv.gz``.
+    #: One row per (run, episode): the columns of the Rust runner's ``curves.csv.gz``
+    #: (a column with blank cells, such as the robot's metrics on a maze, is ``float64`` with
+    #: NaN).
     curves: Any
-    #: One row per run: final-window means of steps, return, reached and collisions, the greedy
-    #: evaluation, and the step counts.
-    finals: Any
+    #: One row per run: the columns of the main job's ``final-scores.csv``, computed by the
+    #: same library code (``eamadm::scores::final_scores``) and typed by its data package
+    #: (``docs/outputs.md`` explains every column).
+    final_scores: Any
 
 
 def paper_config(name: str, *, as_dict: bool = False) -> Union[str, dict]:
@@ -116,7 +119,6 @@ def run(
     episodes: Optional[int] = None,
     methods: Optional[Iterable[str]] = None,
     threads: Optional[int] = None,
-    window: int = DEFAULT_FINAL_WINDOW,
     dataframe: bool = True,
 ) -> Results:
     """Runs ``config`` on the Rust runner, with Python's GIL released.
@@ -130,9 +132,8 @@ def run(
             most as many, and a warm-up budget shrinks in proportion (as ``--quick`` does).
         methods: the labels of the methods to run (default: all, in the config's order).
         threads: worker threads (default: one per core). Results do not depend on it.
-        window: training episodes at the end of each run averaged into its final scores.
         dataframe: return pandas DataFrames when pandas is installed (``False``: dicts of
-            column lists).
+            numpy arrays, one per column).
 
     Runs come in job order: method by method, seed by seed.
     """
@@ -148,20 +149,20 @@ def run(
         methods = list(methods)
         if not all(isinstance(label, str) for label in methods):
             raise ValueError(f"methods: expected str labels, got {methods!r}")
-    window_value = _positive(window, "window")
-    columns = _native.run_config(
-        text,
-        _seed_list(seeds),
-        methods,
-        _positive(threads, "threads"),
-        window_value if window_value is not None else DEFAULT_FINAL_WINDOW,
-    )
-    curves, finals = columns["curves"], columns["finals"]
+    columns = _native.run_config(text, _seed_list(seeds), methods, _positive(threads, "threads"))
+    curves = {
+        name: outputs.signed(values)
+        if isinstance(values, numpy.ndarray)
+        else numpy.array(values, dtype=object)
+        for name, values in columns["curves"].items()
+    }
+    fields = outputs._fields(outputs.data_package(), "final-scores")
+    scores = outputs.typed_columns(columns["final_scores"], fields)
     if dataframe:
         try:
             import pandas
         except ImportError:
             pass
         else:
-            return Results(pandas.DataFrame(curves), pandas.DataFrame(finals))
-    return Results(curves, finals)
+            return Results(pandas.DataFrame(curves), outputs.as_frame(scores, fields))
+    return Results(curves, outputs.as_arrays(scores, fields))

@@ -19,6 +19,8 @@ const UNSAFE: &[&str] = &[
     "REPORT.md",
     "report.md",
     "results.json",
+    "datapackage.json",
+    "DataPackage.json",
     ".hidden",
     "a/b",
     "..\\x",

@@ -1,0 +1,239 @@
+"""Reading what the main job (``cargo xtask reproduce-paper``) writes into its output folder.
+
+* :func:`load_runs`: the run store ``<out>/runs/`` (read and checked by the Rust crate
+  ``eamadm-runs``), one row per stored run with its per-episode curves as numpy arrays;
+* :func:`read_scores`: ``final-scores.csv`` and ``claims.csv``, typed by the Frictionless data
+  package ``datapackage.json`` written beside them (integers as integers, booleans as
+  booleans, blank cells as missing values);
+* :func:`data_package`: that package as a dict (every column's type, unit, meaning and when
+  it is blank).
+
+A place is kept for ``report(dir)`` (the verdicts and ``REPORT.md`` of the main job), which
+needs the report's text rules in a library crate first.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import pathlib
+import warnings
+from typing import Any, NamedTuple, Union
+
+import numpy
+
+from eamadm import _native
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: The file name of the data package beside the tables (``eamadm::output_names::DATA_PACKAGE``).
+DATA_PACKAGE = "datapackage.json"
+
+
+class Scores(NamedTuple):
+    """What :func:`read_scores` returns: two pandas ``DataFrame`` objects."""
+
+    #: ``final-scores.csv``: one row per run (task, method, seed).
+    final_scores: Any
+    #: ``claims.csv``: the paper's claims tested.
+    claims: Any
+
+
+def data_package(dir: PathLike | None = None) -> dict:
+    """The Frictionless data package of ``final-scores.csv`` and ``claims.csv``: the
+    ``datapackage.json`` of the output folder ``dir``, or when ``dir`` is None (or the folder
+    predates the package) the one this version of the package writes."""
+    if dir is not None:
+        path = _folder(dir) / DATA_PACKAGE
+        if path.is_file():
+            try:
+                return json.loads(path.read_text(encoding="utf-8"))
+            except (OSError, UnicodeDecodeError, ValueError) as error:
+                raise ValueError(f"dir: cannot read {path}: {error}") from error
+    return json.loads(_native.data_package_json())
+
+
+def _folder(dir: PathLike) -> pathlib.Path:
+    if not isinstance(dir, (str, os.PathLike)):
+        raise ValueError(f"dir: expected a path, got {type(dir).__name__}")
+    folder = pathlib.Path(dir)
+    if not folder.is_dir():
+        raise ValueError(f"dir: {os.fspath(dir)!r} is not a folder (give the main job's --out)")
+    return folder
+
+
+def _fields(package: dict, resource: str) -> list:
+    for entry in package.get("resources", []):
+        if entry.get("name") == resource:
+            return entry["schema"]["fields"]
+    raise ValueError(f"dir: the data package has no resource {resource!r}")
+
+
+def _cell(text: str, kind: str, column: str) -> Any:
+    """One CSV cell as its Table Schema type; ``None`` for a blank cell."""
+    if text == "":
+        return None
+    try:
+        if kind == "integer":
+            return int(text)
+        if kind == "number":
+            # Rust writes the shortest text that reads back to the same bits.
+            return float(text)
+        if kind == "boolean":
+            return {"true": True, "false": False}[text]
+    except (ValueError, KeyError) as error:
+        raise ValueError(f"{column}: {text!r} is not a {kind}") from error
+    return text
+
+
+def typed_columns(text: str, fields: list) -> dict:
+    """The CSV ``text`` as one typed Python list per column (``None`` for a blank cell); its
+    header must equal the names of ``fields`` (Table Schema field descriptors)."""
+    reader = csv.reader(io.StringIO(text, newline=""))
+    header = next(reader, None)
+    names = [field["name"] for field in fields]
+    if header != names:
+        raise ValueError(f"the header {header} is not the data package's columns {names}")
+    kinds = [field["type"] for field in fields]
+    columns: dict = {name: [] for name in names}
+    for line, row in enumerate(reader, start=2):
+        if len(row) != len(names):
+            raise ValueError(f"line {line}: {len(row)} cells, expected {len(names)}")
+        for name, kind, cell in zip(names, kinds, row):
+            columns[name].append(_cell(cell, kind, f"line {line}, column {name}"))
+    return columns
+
+
+def as_arrays(columns: dict, fields: list) -> dict:
+    """Typed columns as numpy arrays: ``int64`` (``float64`` with NaN if a cell is blank),
+    ``float64`` with NaN for blanks, ``bool`` (``object`` with None if a cell is blank), and
+    ``object`` for text (None for blanks)."""
+    arrays = {}
+    for field in fields:
+        name, kind = field["name"], field["type"]
+        values = columns[name]
+        blank = any(value is None for value in values)
+        if kind == "integer" and not blank and all(value < 2**63 for value in values):
+            arrays[name] = numpy.array(values, dtype=numpy.int64)
+        elif kind in ("integer", "number"):
+            arrays[name] = numpy.array(
+                [math.nan if value is None else value for value in values], dtype=numpy.float64
+            )
+        elif kind == "boolean" and not blank:
+            arrays[name] = numpy.array(values, dtype=bool)
+        else:
+            arrays[name] = numpy.array(values, dtype=object)
+    return arrays
+
+
+def as_frame(columns: dict, fields: list) -> Any:
+    """Typed columns as a pandas ``DataFrame``: ``int64`` (nullable ``Int64`` if a cell is
+    blank), ``float64`` with NaN for blanks, ``bool`` (nullable ``boolean`` if a cell is
+    blank), and text with missing values for blanks."""
+    pandas = _pandas("read the tables")
+    data = {}
+    for field in fields:
+        name, kind = field["name"], field["type"]
+        values = columns[name]
+        blank = any(value is None for value in values)
+        if kind == "integer" and all(value is None or value < 2**63 for value in values):
+            data[name] = pandas.array(values, dtype="Int64" if blank else "int64")
+        elif kind == "integer":
+            data[name] = pandas.array(values, dtype=object)
+        elif kind == "number":
+            data[name] = numpy.array(
+                [math.nan if value is None else value for value in values], dtype=numpy.float64
+            )
+        elif kind == "boolean":
+            data[name] = pandas.array(values, dtype="boolean" if blank else "bool")
+        else:
+            data[name] = pandas.array(values, dtype=object)
+    return pandas.DataFrame(data, columns=[field["name"] for field in fields])
+
+
+def _pandas(purpose: str) -> Any:
+    try:
+        import pandas
+    except ImportError as error:
+        raise ImportError(
+            f"pandas is needed to {purpose}: pip install 'eamadm[pandas]'"
+        ) from error
+    return pandas
+
+
+def read_scores(dir: PathLike) -> Scores:
+    """``final-scores.csv`` and ``claims.csv`` of the output folder ``dir`` as typed pandas
+    ``DataFrame`` objects, by the column types of its ``datapackage.json`` (see
+    :func:`as_frame`; ``docs/outputs.md`` explains every column)."""
+    folder = _folder(dir)
+    package = data_package(folder)
+    tables = []
+    for resource in ("final-scores", "claims"):
+        entry = next(e for e in package["resources"] if e.get("name") == resource)
+        path = folder / entry["path"]
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as error:
+            raise ValueError(f"dir: cannot read {path}: {error}") from error
+        try:
+            fields = _fields(package, resource)
+            tables.append(as_frame(typed_columns(text, fields), fields))
+        except ValueError as error:
+            raise ValueError(f"dir: {path}: {error}") from error
+    return Scores(*tables)
+
+
+def load_runs(dir: PathLike, *, dataframe: bool = True) -> Any:
+    """Every run stored in the output folder ``dir`` (its ``runs/``, read and checked by the
+    Rust crate ``eamadm-runs``), one row per run in storage order (experiment by experiment,
+    then the plan's job order: method by method, seed by seed).
+
+    Columns: ``task``, ``method``, ``role``, ``kind``, ``seed``, ``episodes``, ``key`` (the
+    run's key in the store), ``pretrain_env_steps``, ``total_env_steps``, ``optimum_steps``
+    (None when unknown), ``greedy_reached`` and ``greedy_steps`` (the greedy evaluation after
+    training); then the per-episode curves, each cell one numpy array of that run's training
+    episodes: ``steps``, ``task_return``, ``learning_return``, ``reached``, ``collisions``,
+    ``env_steps`` (cumulative, pre-training included), and the robot's ``time``,
+    ``average_reward``, ``time_to_reach`` and ``retention_time`` (NaN on a maze, and
+    ``time_to_reach`` NaN for an episode that did not reach). ``numpy.stack`` of a method's
+    ``steps`` gives a seeds × episodes matrix.
+
+    Returns a pandas ``DataFrame`` (``dataframe=False``: a dict of columns, per-run columns
+    as lists). A stored entry that fails its checks is skipped with a ``RuntimeWarning``.
+    """
+    folder = _folder(dir)
+    columns, problems = _native.load_runs(os.fspath(folder))
+    columns = {
+        name: [signed(v) for v in values] if _is_curve(values) else values
+        for name, values in columns.items()
+    }
+    for problem in problems:
+        warnings.warn(f"run store of {os.fspath(folder)!r}: {problem}", RuntimeWarning, stacklevel=2)
+    if not dataframe:
+        return columns
+    pandas = _pandas("load runs as a DataFrame")
+    frame = pandas.DataFrame({name: values for name, values in columns.items() if not _is_curve(values)})
+    for name, values in columns.items():
+        if _is_curve(values):
+            frame[name] = pandas.Series(values, dtype=object)
+    frame = frame[list(columns)]
+    for name in ("seed", "episodes", "pretrain_env_steps", "total_env_steps", "greedy_steps"):
+        frame[name] = frame[name].astype("int64")
+    frame["optimum_steps"] = pandas.array(columns["optimum_steps"], dtype="Int64")
+    frame["greedy_reached"] = frame["greedy_reached"].astype(bool)
+    return frame
+
+
+def signed(values: numpy.ndarray) -> numpy.ndarray:
+    """A ``uint64`` array (Rust's counts) as ``int64`` when every value fits, so that
+    differences and means behave as numpy users expect; other arrays unchanged."""
+    if values.dtype == numpy.uint64 and (values.size == 0 or values.max() < 2**63):
+        return values.astype(numpy.int64)
+    return values
+
+
+def _is_curve(values: list) -> bool:
+    return bool(values) and isinstance(values[0], numpy.ndarray)

@@ -1,0 +1,63 @@
+//! `datapackage.json`: the [Frictionless Data Package](https://specs.frictionlessdata.io/data-package/)
+//! that the main job writes beside `final-scores.csv` and `claims.csv`, so that every column
+//! carries its type, unit, meaning and when it is blank ([`columns`](mod@crate::columns)), and
+//! `frictionless`, pandas or R can load the tables typed. The columns are documented once, in
+//! `eamadm-eval` next to the code that writes them ([`scores::COLUMNS`], [`claims::CLAIM_COLUMNS`]);
+//! this module names the files ([`output_names`](crate::output_names)) and composes the package.
+//!
+//! ```
+//! let package = eamadm::data_package::data_package();
+//! assert_eq!(package["resources"][0]["path"], eamadm::output_names::FINAL_SCORES);
+//! assert_eq!(package["resources"][1]["path"], eamadm::output_names::CLAIMS);
+//! assert!(eamadm::data_package::markdown().contains("| `step_cap` | integer | steps |"));
+//! ```
+
+use serde_json::Value;
+
+use crate::columns::{self, Resource};
+use crate::output_names::{CLAIMS, FINAL_SCORES};
+use crate::{claims, scores};
+
+/// The package's name.
+pub const NAME: &str = "eamadm-results";
+
+/// The package's tables: `final-scores.csv`, then `claims.csv`.
+pub const RESOURCES: [Resource; 2] = [
+    Resource {
+        name: "final-scores",
+        path: FINAL_SCORES,
+        title: "Per-run final scores",
+        description: "One row per run (task, method, seed): the scores the claims are tested \
+                      on, computed from the run's record by `eamadm::scores::final_scores`.",
+        columns: scores::COLUMNS,
+    },
+    Resource {
+        name: "claims",
+        path: CLAIMS,
+        title: "The paper's claims tested",
+        description: "Per claim and task: one row per method and metric (its IQM over seeds, \
+                      the verdict on a method under test), then each comparison of a method \
+                      under test with a competitor, then the per-seed outcome rows; computed \
+                      from `final-scores.csv` by `eamadm::claims`.",
+        columns: claims::CLAIM_COLUMNS,
+    },
+];
+
+/// The data package of [`RESOURCES`].
+#[must_use]
+pub fn data_package() -> Value {
+    columns::data_package(NAME, &RESOURCES)
+}
+
+/// The text of `datapackage.json`.
+#[must_use]
+pub fn data_package_text() -> String {
+    columns::to_json_text(&data_package())
+}
+
+/// [`RESOURCES`] as Markdown: a section with a table of columns per file (spliced into
+/// `docs/outputs.md`).
+#[must_use]
+pub fn markdown() -> String {
+    columns::markdown(&RESOURCES)
+}
