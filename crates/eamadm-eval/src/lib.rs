@@ -16,6 +16,7 @@
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`paper_claims`] | the paper's claims C1–C4 as data, metric directions, method titles |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
+//! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
 //!
@@ -50,6 +51,7 @@ pub mod record;
 pub mod results;
 mod role;
 pub mod scores;
+pub mod sensitivity;
 pub mod stats;
 pub mod summary;
 

@@ -176,7 +176,7 @@ pub use wmr_model;
 
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
-pub use eamadm_eval::{behaviour, claims, record, results, scores, stats, summary};
+pub use eamadm_eval::{behaviour, claims, record, results, scores, sensitivity, stats, summary};
 
 pub mod agent;
 pub mod config;
