@@ -16,6 +16,7 @@ use eamadm::claims::{
 };
 use eamadm::paper::{self, CLAIMS, PaperTask, method_title};
 use eamadm::scores::{self, FinalScore, ScoresError};
+use eamadm::sensitivity::SensitivityRow;
 use eamadm::stats::Interval;
 use thiserror::Error;
 
@@ -53,6 +54,9 @@ pub(crate) struct Verdicts {
     pub(crate) controls: Vec<ControlComparison>,
     /// The settings the comparisons were made with.
     pub(crate) options: ClaimOptions,
+    /// The paper's EA-MADM judged again under each reading of the paper (filled by the caller
+    /// when readings ran; empty otherwise).
+    pub(crate) sensitivity: Vec<SensitivityRow>,
 }
 
 impl Verdicts {
@@ -68,6 +72,7 @@ impl Verdicts {
             controls: claims::control_comparisons(&scores, options)?,
             scores,
             options: *options,
+            sensitivity: Vec::new(),
         })
     }
 
@@ -105,6 +110,7 @@ pub(crate) fn write_claim_outputs(
     rows.extend(claims::outcome_rows(&verdicts.scores)?);
     claims::write_csv(&rows, &mut claims_csv)?;
     write_atomic(&out.join("claims.csv"), &claims_csv)?;
+    crate::sensitivity_report::write_sensitivity_csv(out, &verdicts.sensitivity)?;
     let report = render_report(experiments, figures, behaviour, verdicts, quick);
     let report = with_answer(
         report,
@@ -244,6 +250,7 @@ pub(crate) fn render_report(
         }
     );
     write_verdicts(&mut text, experiments, verdicts);
+    crate::sensitivity_report::write_sensitivity(&mut text, experiments, &verdicts.sensitivity);
     write_method(&mut text, verdicts);
     for (index, planned) in experiments.iter().enumerate() {
         write_task(

@@ -51,6 +51,7 @@ mod readme;
 mod report;
 mod reproduce;
 mod robot_report;
+mod sensitivity_report;
 mod test_all;
 mod text_diff;
 #[cfg(test)]

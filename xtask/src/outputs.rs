@@ -1018,6 +1018,7 @@ epsilon = {{ constant = 0.1 }}
             name: "tiny".to_owned(),
             title: "Tiny".to_owned(),
             experiment: Experiment::new(config).unwrap(),
+            reading: None,
         }
     }
 

@@ -75,8 +75,18 @@ fn prepare(
     Ok((plan, experiments))
 }
 
-/// The task name of an experiment for `--list-jobs`.
-fn task_name(args: &ReproduceArgs, plan: &ReproducePlan, experiment: usize) -> &'static str {
+/// The task name of an experiment for `--list-jobs` (a reading's experiment runs its base's
+/// task).
+fn task_name(
+    args: &ReproduceArgs,
+    plan: &ReproducePlan,
+    experiments: &[PlannedExperiment],
+    experiment: usize,
+) -> &'static str {
+    let experiment = experiments
+        .get(experiment)
+        .and_then(|planned| planned.reading)
+        .map_or(experiment, |(_, base)| base);
     if args.config.is_some() {
         "config"
     } else {
@@ -108,6 +118,10 @@ pub(crate) fn reproduce_paper(
         jobs.retain(|job| shard.holds(&job.key));
     }
     print!("{}", plan.describe());
+    print!(
+        "{}",
+        crate::sensitivity_report::describe_readings(&experiments, &jobs)
+    );
     if let Some(shard) = shard {
         println!(
             "  shard:    {shard}: {} of the runs; the report is made by `cargo xtask merge`",
@@ -192,7 +206,7 @@ fn job_lines(
             let line = JobLine {
                 key: job.key.as_str(),
                 experiment: &experiments[job.experiment].name,
-                task: task_name(args, plan, job.experiment),
+                task: task_name(args, plan, experiments, job.experiment),
                 method: &job.method.label,
                 seed: job.seed,
                 run,

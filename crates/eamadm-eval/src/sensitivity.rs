@@ -21,6 +21,7 @@
 //!     change,
 //!     versus: String::new(),
 //!     metric: String::new(),
+//!     statistic: "",
 //!     estimate: None,
 //!     ci_low: None,
 //!     ci_high: None,
@@ -35,11 +36,12 @@
 
 use std::io::Write;
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::Role;
 use crate::claims::{self, ClaimOptions, ClaimsError, Judgement, REACHED, Verdict};
-use crate::paper_claims::CLAIMS;
+use crate::paper_claims::{CLAIMS, Claim};
 use crate::scores::FinalScore;
 
 /// The runs of one reading on one task: the final scores of the methods it reran.
@@ -100,19 +102,25 @@ pub struct SensitivityRow {
     /// Its metric (a column of `final-scores.csv`, or `reached` for a verdict on per-seed
     /// reaching).
     pub metric: String,
-    /// The deciding comparison's estimate under the reading: IQM(EA-MADM) − IQM(competitor),
-    /// or for `reached` the share of paired seeds EA-MADM reaches on minus the competitor's.
+    /// What `estimate` is: `iqm_difference` (IQM(EA-MADM) − IQM(competitor), the verdict
+    /// rule's comparison), `paired_mean_difference` (for an `equivalent` verdict: the mean of
+    /// the seed-paired differences, as the TOST judges it) or `reached_share_difference` (for
+    /// a verdict on per-seed reaching: the share of paired seeds EA-MADM reaches on minus the
+    /// competitor's); empty when nothing decides.
+    pub statistic: &'static str,
+    /// The deciding comparison's estimate under the reading (see `statistic`).
     pub estimate: Option<f64>,
     /// Lower end of its bootstrap 95 % interval (empty for `reached`).
     pub ci_low: Option<f64>,
     /// Upper end of its bootstrap 95 % interval (empty for `reached`).
     pub ci_high: Option<f64>,
-    /// Its Holm-adjusted p-value.
+    /// Its Holm-adjusted p-value: of the two-sided test, or of the TOST for
+    /// `paired_mean_difference`, or of the exact sign test for `reached_share_difference`.
     pub p_holm: Option<f64>,
 }
 
 /// The columns of `sensitivity.csv`, in order.
-pub const SENSITIVITY_COLUMNS: [&str; 13] = [
+pub const SENSITIVITY_COLUMNS: [&str; 14] = [
     "claim",
     "task",
     "reading",
@@ -122,6 +130,7 @@ pub const SENSITIVITY_COLUMNS: [&str; 13] = [
     "change",
     "versus",
     "metric",
+    "statistic",
     "estimate",
     "ci_low",
     "ci_high",
@@ -170,10 +179,23 @@ fn fill_deciding(row: &mut SensitivityRow, judgement: &Judgement) {
     if let Some(c) = judgement.deciding_comparison() {
         row.versus.clone_from(&c.versus);
         c.metric.column.clone_into(&mut row.metric);
-        row.estimate = Some(c.difference.estimate);
-        row.ci_low = Some(c.difference.low);
-        row.ci_high = Some(c.difference.high);
-        row.p_holm = Some(c.p_holm);
+        let paired = c
+            .paired
+            .as_ref()
+            .filter(|_| judgement.verdict == Verdict::Equivalent);
+        let (statistic, interval, p) = match paired {
+            Some(p) => (
+                "paired_mean_difference",
+                p.difference,
+                p.p_equivalence_holm.unwrap_or(1.0),
+            ),
+            None => ("iqm_difference", c.difference, c.p_holm),
+        };
+        row.statistic = statistic;
+        row.estimate = Some(interval.estimate);
+        row.ci_low = Some(interval.low);
+        row.ci_high = Some(interval.high);
+        row.p_holm = Some(p);
     } else if let Some(t) = judgement
         .reaching
         .iter()
@@ -181,6 +203,7 @@ fn fill_deciding(row: &mut SensitivityRow, judgement: &Judgement) {
     {
         row.versus.clone_from(&t.versus);
         REACHED.clone_into(&mut row.metric);
+        row.statistic = "reached_share_difference";
         row.estimate = Some(claims::reaching_difference(t));
         row.p_holm = Some(t.p_holm);
     }
@@ -198,38 +221,70 @@ pub fn sensitivity(
     readings: &[ReadingRuns],
     options: &ClaimOptions,
 ) -> Result<Vec<SensitivityRow>, ClaimsError> {
-    let mut rows = Vec::new();
-    for runs in readings {
+    let substituted: Vec<Vec<FinalScore>> =
+        readings.iter().map(|runs| substitute(base, runs)).collect();
+    // Every judgement needed, the base's once per claim × task: (reading index or `None` for
+    // the base, claim, task, method). Judged in parallel; each is a pure function of its
+    // scores, so the rows do not depend on the thread count.
+    let mut jobs: Vec<(Option<usize>, &'static Claim, &str, &str)> = Vec::new();
+    for (index, runs) in readings.iter().enumerate() {
         let task = runs.task.as_str();
         let Some(method) = paper_ea_madm(base, task) else {
             continue;
         };
-        let substituted = substitute(base, runs);
         for claim in CLAIMS.iter().filter(|c| c.tasks.contains(&task)) {
-            let before = claims::judge_one(base, claim, task, method, Role::Paper, options)?;
-            let after = claims::judge_one(&substituted, claim, task, method, Role::Paper, options)?;
-            let mut row = SensitivityRow {
-                claim: claim.id,
-                task: task.to_owned(),
-                reading: runs.reading.clone(),
-                method: method.to_owned(),
-                base_verdict: before.verdict,
-                verdict: after.verdict,
-                change: if before.verdict == after.verdict {
-                    Change::Holds
-                } else {
-                    Change::Flips
-                },
-                versus: String::new(),
-                metric: String::new(),
-                estimate: None,
-                ci_low: None,
-                ci_high: None,
-                p_holm: None,
-            };
-            fill_deciding(&mut row, &after);
-            rows.push(row);
+            let base_job = (None, claim, task, method);
+            if !jobs
+                .iter()
+                .any(|&(r, c, t, _)| r.is_none() && c.id == claim.id && t == task)
+            {
+                jobs.push(base_job);
+            }
+            jobs.push((Some(index), claim, task, method));
         }
+    }
+    let judged: Vec<Judgement> = jobs
+        .par_iter()
+        .map(|&(reading, claim, task, method)| {
+            let scores = reading.map_or(base, |index| substituted[index].as_slice());
+            claims::judge_one(scores, claim, task, method, Role::Paper, options)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut rows = Vec::new();
+    for (&(reading, claim, task, method), after) in jobs.iter().zip(&judged) {
+        let Some(index) = reading else {
+            continue;
+        };
+        let Some(before) = jobs
+            .iter()
+            .zip(&judged)
+            .find(|&(&(r, c, t, _), _)| r.is_none() && c.id == claim.id && t == task)
+            .map(|(_, judgement)| judgement)
+        else {
+            continue;
+        };
+        let mut row = SensitivityRow {
+            claim: claim.id,
+            task: task.to_owned(),
+            reading: readings[index].reading.clone(),
+            method: method.to_owned(),
+            base_verdict: before.verdict,
+            verdict: after.verdict,
+            change: if before.verdict == after.verdict {
+                Change::Holds
+            } else {
+                Change::Flips
+            },
+            versus: String::new(),
+            metric: String::new(),
+            statistic: "",
+            estimate: None,
+            ci_low: None,
+            ci_high: None,
+            p_holm: None,
+        };
+        fill_deciding(&mut row, after);
+        rows.push(row);
     }
     Ok(rows)
 }
