@@ -371,6 +371,11 @@ mod tests {
         }
     }
 
+    /// Runs per seed of the readings [`small`] plans on Task I (the readings change no robot
+    /// task): γ (EA-MADM and softmax), pre-training half and double (EA-MADM) and the
+    /// temperature floor (softmax).
+    const SMALL_READING_RUNS_PER_SEED: usize = 5;
+
     /// A small plan: two methods, two seeds, Task I and the robot, shortened by a config-free
     /// --quick.
     fn small(out: &str) -> ReproduceArgs {
@@ -799,7 +804,7 @@ mod tests {
         let (plan, experiments) = prepare(&args, &ws).unwrap();
         let jobs = plan_jobs(&experiments, &plan.methods).unwrap();
         let lines = job_lines(&args, &plan, &experiments, &jobs, &ws).unwrap();
-        assert_eq!(lines.len(), 2 * 2 * 2);
+        assert_eq!(lines.len(), 2 * 2 * 2 + 2 * SMALL_READING_RUNS_PER_SEED);
         let mut keys = std::collections::BTreeSet::new();
         for (line, job) in lines.iter().zip(&jobs) {
             let value: serde_json::Value = serde_json::from_str(line).unwrap();
@@ -913,7 +918,7 @@ mod tests {
         let (_dir, ws) = workspace();
         reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
         let whole = stored_runs(&ws.root.join("whole"));
-        assert_eq!(whole.len(), 8);
+        assert_eq!(whole.len(), 8 + 2 * SMALL_READING_RUNS_PER_SEED);
         for (n, order) in [[3, 1, 2], [2, 3, 1], [1, 2, 3]].iter().enumerate() {
             let out = format!("one{n}");
             for &k in order {
@@ -966,7 +971,7 @@ mod tests {
         };
         reproduce_paper(&command(wider, RunModeArgs::default()), &ws).unwrap();
         let after = stored_runs(&ws.root.join("out"));
-        assert_eq!(after.len(), 12);
+        assert_eq!(after.len(), 12 + 3 * SMALL_READING_RUNS_PER_SEED);
         assert!(before.keys().all(|key| after.contains_key(key)));
     }
 
@@ -982,13 +987,13 @@ mod tests {
         for _ in 0..2 {
             reproduce_paper(&command(all(), RunModeArgs::default()), &ws).unwrap();
             let runs = stored_runs(&ws.root.join("out"));
-            assert_eq!(runs.len(), 8);
+            assert_eq!(runs.len(), 8 + 2 * SMALL_READING_RUNS_PER_SEED);
             assert!(runs.values().all(|&all| all), "{runs:?}");
         }
         // Needing less: served by the richer runs, which stay (4dc0c45 stripped them).
         reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
         let runs = stored_runs(&ws.root.join("out"));
-        assert_eq!(runs.len(), 8);
+        assert_eq!(runs.len(), 8 + 2 * SMALL_READING_RUNS_PER_SEED);
         assert!(runs.values().all(|&all| all), "{runs:?}");
     }
 
