@@ -46,6 +46,7 @@ pub(crate) fn write_claim_outputs(
         verdicts.scores_csv()?.as_bytes(),
     )?;
     write_atomic(&out.join(names::CLAIMS), verdicts.claims_csv()?.as_bytes())?;
+    crate::sensitivity_report::write_sensitivity_csv(out, &verdicts.sensitivity)?;
     // Every column of the two tables, typed and documented, beside them.
     write_atomic(
         &out.join(names::DATA_PACKAGE),

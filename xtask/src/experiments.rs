@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use eamadm::config::TaskConfig;
+use eamadm::paper::Reading;
 use eamadm::{ConfigError, Experiment, ExperimentConfig, Method, Role};
 use thiserror::Error;
 
@@ -44,6 +45,11 @@ pub(crate) struct PlannedExperiment {
     pub(crate) title: String,
     /// The loaded experiment (config with `--seeds` and `--quick` applied).
     pub(crate) experiment: Experiment,
+    /// For a reading's experiment (the methods a reading of the paper reruns on a paper task,
+    /// [`eamadm::paper::Reading`]): the reading and the index of its base experiment in the
+    /// plan. Such experiments come after every base experiment, write no tables or figures of
+    /// their own and feed `sensitivity.csv`; `None` for the base experiments.
+    pub(crate) reading: Option<(Reading, usize)>,
 }
 
 impl PlannedExperiment {
@@ -143,6 +149,8 @@ pub(crate) fn shorten(
 /// The experiments to run: one per selected task (its preset), or the `--config` file's one
 /// (read once by [`load_config_file`]: its path and config); `seeds` per method, shortened when
 /// `quick`. Each experiment (and so its task: a maze's BFS, the robot's planner) is built once.
+/// After the presets come their readings' experiments ([`reading_experiments`]); a config file
+/// has none (the readings are readings of the paper's presets).
 pub(crate) fn plan_experiments(
     tasks: &[Task],
     tasks_given: bool,
@@ -165,7 +173,7 @@ pub(crate) fn plan_experiments(
             }
         }
     }
-    configs
+    let planned: Vec<PlannedExperiment> = configs
         .into_iter()
         .map(|(title, mut config)| {
             config.seeds = seeds;
@@ -182,9 +190,53 @@ pub(crate) fn plan_experiments(
                 name,
                 title,
                 experiment,
+                reading: None,
             })
         })
-        .collect()
+        .collect::<Result<_, ExperimentError>>()?;
+    if config_file.is_some() {
+        return Ok(planned);
+    }
+    let readings = reading_experiments(&planned)?;
+    Ok([planned, readings].concat())
+}
+
+/// The experiments of every reading of the paper ([`eamadm::paper::readings`]) on each of
+/// `bases` it changes, reading-major: each base's config (seeds and `--quick` applied) with the
+/// reading's change and only the methods it reruns.
+pub(crate) fn reading_experiments(
+    bases: &[PlannedExperiment],
+) -> Result<Vec<PlannedExperiment>, ExperimentError> {
+    let mut planned = Vec::new();
+    for &reading in eamadm::paper::readings() {
+        for (index, base) in bases.iter().enumerate() {
+            let Some(config) = reading.apply(base.config()) else {
+                continue;
+            };
+            let name = config.name.clone();
+            let experiment = Experiment::new(config).map_err(|source| ExperimentError::Config {
+                path: name.clone().into(),
+                source: Box::new(source),
+            })?;
+            planned.push(PlannedExperiment {
+                title: format!("{} under the reading {}", base.title, reading.name()),
+                name,
+                experiment,
+                reading: Some((reading, index)),
+            });
+        }
+    }
+    Ok(planned)
+}
+
+/// The number of base experiments at the front of `experiments` (those that are not a
+/// reading's).
+#[cfg(test)]
+pub(crate) fn base_count(experiments: &[PlannedExperiment]) -> usize {
+    experiments
+        .iter()
+        .take_while(|planned| planned.reading.is_none())
+        .count()
 }
 
 #[cfg(test)]
@@ -252,7 +304,30 @@ mod tests {
     fn presets_are_planned_with_the_given_seeds() {
         let planned = plan_experiments(&Task::ALL, false, None, 2, true).unwrap();
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(names, ["task1", "task2", "robot", "robot-paper-state"]);
+        assert_eq!(names[..4], ["task1", "task2", "robot", "robot-paper-state"]);
+        assert_eq!(base_count(&planned), 4);
+        // Then each reading on each maze task it changes, reading-major.
+        assert_eq!(
+            names[4..],
+            [
+                "task2-reading-task2-reward-as-task1",
+                "task1-reading-epsilon-greedy-0.95",
+                "task2-reading-epsilon-greedy-0.95",
+                "task1-reading-gamma-0.99",
+                "task2-reading-gamma-0.99",
+                "task1-reading-pretrain-half",
+                "task2-reading-pretrain-half",
+                "task1-reading-pretrain-double",
+                "task2-reading-pretrain-double",
+                "task1-reading-temperature-floor-0.1",
+                "task2-reading-temperature-floor-0.1",
+            ]
+        );
+        for reading in &planned[4..] {
+            let (_, base) = reading.reading.unwrap();
+            assert_eq!(reading.config().seeds, 2);
+            assert_eq!(reading.config().episodes, planned[base].config().episodes);
+        }
         assert!(planned.iter().all(|p| p.config().seeds == 2));
         assert_eq!(planned[1].title, "Task II");
         assert!(planned[0].is_paper_method("softmax"));

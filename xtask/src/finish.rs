@@ -17,6 +17,7 @@ use eamadm::BehaviourAccumulator;
 use eamadm::claims::ClaimOptions;
 use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
 use eamadm::scores::{FinalScore, ScoresError};
+use eamadm::sensitivity::ReadingRuns;
 use thiserror::Error;
 
 use crate::claims_report::{ClaimsReportError, write_claim_outputs};
@@ -149,6 +150,40 @@ fn load(
     Ok(None)
 }
 
+/// The reruns of the reading experiment `index` (of `reading` on the base experiment `base`):
+/// the methods its jobs ran and their final scores, read in job order.
+fn reading_runs(
+    experiments: &[PlannedExperiment],
+    jobs: &[Job<'_>],
+    stores: &[RunStore],
+    keep: KeepTrajectories,
+    index: usize,
+    reading: eamadm::paper::Reading,
+    base: usize,
+) -> Result<ReadingRuns, FinishError> {
+    let planned = &experiments[index];
+    let mut runs = ReadingRuns {
+        reading: reading.name().to_owned(),
+        task: experiments[base].name.clone(),
+        methods: Vec::new(),
+        scores: Vec::new(),
+    };
+    for job in jobs.iter().filter(|job| job.experiment == index) {
+        let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
+            missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
+            total: jobs.len(),
+        })?;
+        if !runs.methods.contains(&job.method.label) {
+            runs.methods.push(job.method.label.clone());
+        }
+        runs.scores.push(eamadm::scores::final_score_of(
+            &run.record,
+            &planned.experiment,
+        )?);
+    }
+    Ok(runs)
+}
+
 /// Writes `outputs` for `jobs` (in job order), reading every run from the first of `stores`
 /// that holds it: the CSV tables, figures, `final-scores.csv`, `claims.csv` and `REPORT.md`
 /// under `out` (the staging folder that is swapped into the output folder whole); files of
@@ -174,8 +209,24 @@ pub(crate) fn write_outputs(
     // Every run's final scores (the verdicts bootstrap over seeds), and the first run whose
     // scores failed, reported after the figures as when all runs were scored at the end.
     let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
+    // The final scores of each reading's reruns, judged against the base's at the end.
+    let mut readings: Vec<ReadingRuns> = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
+        if let Some((reading, base)) = planned.reading {
+            if everything {
+                readings.push(reading_runs(
+                    experiments,
+                    jobs,
+                    stores,
+                    keep,
+                    index,
+                    reading,
+                    base,
+                )?);
+            }
+            continue;
+        }
         let folder = out.join(&planned.name);
         let mut tables = if everything {
             Some((
@@ -265,8 +316,11 @@ pub(crate) fn write_outputs(
     remove_legacy_files(store_out, experiments)?;
     if let Outputs::Everything { quick } = outputs {
         let scores = scores?;
-        let verdicts =
+        let mut verdicts =
             Verdicts::compute(scores, &ClaimOptions::default()).map_err(ClaimsReportError::from)?;
+        verdicts.sensitivity =
+            eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
+                .map_err(ClaimsReportError::from)?;
         let mut context = eamadm::paper::report_context(quick);
         context.experiments = facts;
         write_claim_outputs(out, &context, &verdicts)?;

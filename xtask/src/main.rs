@@ -49,6 +49,7 @@ mod plan;
 mod progress;
 mod readme;
 mod reproduce;
+mod sensitivity_report;
 mod test_all;
 mod text_diff;
 #[cfg(test)]

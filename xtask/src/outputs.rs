@@ -1026,6 +1026,7 @@ epsilon = {{ constant = 0.1 }}
             name: "tiny".to_owned(),
             title: "Tiny".to_owned(),
             experiment: Experiment::new(config).unwrap(),
+            reading: None,
         }
     }
 
@@ -1043,6 +1044,7 @@ epsilon = {{ constant = 0.1 }}
             name: "robot".to_owned(),
             title: "Robot".to_owned(),
             experiment: Experiment::new(config).unwrap(),
+            reading: None,
         };
         let mut runs = planned.experiment.run_all().unwrap();
         for episode in runs.iter_mut().flat_map(|run| &mut run.episodes) {

@@ -75,8 +75,18 @@ fn prepare(
     Ok((plan, experiments))
 }
 
-/// The task name of an experiment for `--list-jobs`.
-fn task_name(args: &ReproduceArgs, plan: &ReproducePlan, experiment: usize) -> &'static str {
+/// The task name of an experiment for `--list-jobs` (a reading's experiment runs its base's
+/// task).
+fn task_name(
+    args: &ReproduceArgs,
+    plan: &ReproducePlan,
+    experiments: &[PlannedExperiment],
+    experiment: usize,
+) -> &'static str {
+    let experiment = experiments
+        .get(experiment)
+        .and_then(|planned| planned.reading)
+        .map_or(experiment, |(_, base)| base);
     if args.config.is_some() {
         "config"
     } else {
@@ -108,6 +118,10 @@ pub(crate) fn reproduce_paper(
         jobs.retain(|job| shard.holds(&job.key));
     }
     print!("{}", plan.describe());
+    print!(
+        "{}",
+        crate::sensitivity_report::describe_readings(&experiments, &jobs)
+    );
     if let Some(shard) = shard {
         println!(
             "  shard:    {shard}: {} of the runs; the report is made by `cargo xtask merge`",
@@ -192,7 +206,7 @@ fn job_lines(
             let line = JobLine {
                 key: job.key.as_str(),
                 experiment: &experiments[job.experiment].name,
-                task: task_name(args, plan, job.experiment),
+                task: task_name(args, plan, experiments, job.experiment),
                 method: &job.method.label,
                 seed: job.seed,
                 run,
@@ -356,6 +370,11 @@ mod tests {
             assert!(b[name] == *bytes, "{name} differs");
         }
     }
+
+    /// Runs per seed of the readings [`small`] plans on Task I (the readings change no robot
+    /// task): γ (EA-MADM and softmax), pre-training half and double (EA-MADM) and the
+    /// temperature floor (softmax).
+    const SMALL_READING_RUNS_PER_SEED: usize = 5;
 
     /// A small plan: two methods, two seeds, Task I and the robot, shortened by a config-free
     /// --quick.
@@ -878,7 +897,7 @@ mod tests {
         let (plan, experiments) = prepare(&args, &ws).unwrap();
         let jobs = plan_jobs(&experiments, &plan.methods).unwrap();
         let lines = job_lines(&args, &plan, &experiments, &jobs, &ws).unwrap();
-        assert_eq!(lines.len(), 2 * 2 * 2);
+        assert_eq!(lines.len(), 2 * 2 * 2 + 2 * SMALL_READING_RUNS_PER_SEED);
         let mut keys = std::collections::BTreeSet::new();
         for (line, job) in lines.iter().zip(&jobs) {
             let value: serde_json::Value = serde_json::from_str(line).unwrap();
@@ -992,7 +1011,7 @@ mod tests {
         let (_dir, ws) = workspace();
         reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
         let whole = stored_runs(&ws.root.join("whole"));
-        assert_eq!(whole.len(), 8);
+        assert_eq!(whole.len(), 8 + 2 * SMALL_READING_RUNS_PER_SEED);
         for (n, order) in [[3, 1, 2], [2, 3, 1], [1, 2, 3]].iter().enumerate() {
             let out = format!("one{n}");
             for &k in order {
@@ -1045,7 +1064,7 @@ mod tests {
         };
         reproduce_paper(&command(wider, RunModeArgs::default()), &ws).unwrap();
         let after = stored_runs(&ws.root.join("out"));
-        assert_eq!(after.len(), 12);
+        assert_eq!(after.len(), 12 + 3 * SMALL_READING_RUNS_PER_SEED);
         assert!(before.keys().all(|key| after.contains_key(key)));
     }
 
@@ -1061,13 +1080,13 @@ mod tests {
         for _ in 0..2 {
             reproduce_paper(&command(all(), RunModeArgs::default()), &ws).unwrap();
             let runs = stored_runs(&ws.root.join("out"));
-            assert_eq!(runs.len(), 8);
+            assert_eq!(runs.len(), 8 + 2 * SMALL_READING_RUNS_PER_SEED);
             assert!(runs.values().all(|&all| all), "{runs:?}");
         }
         // Needing less: served by the richer runs, which stay (4dc0c45 stripped them).
         reproduce_paper(&command(small("out"), RunModeArgs::default()), &ws).unwrap();
         let runs = stored_runs(&ws.root.join("out"));
-        assert_eq!(runs.len(), 8);
+        assert_eq!(runs.len(), 8 + 2 * SMALL_READING_RUNS_PER_SEED);
         assert!(runs.values().all(|&all| all), "{runs:?}");
     }
 

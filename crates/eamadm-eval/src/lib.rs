@@ -18,6 +18,7 @@
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4, Fig. 13–15) and the seeds behind each point |
 //! | [`columns`] | every column of `final-scores.csv` and `claims.csv` documented: the data package and its Markdown |
+//! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
 //!
@@ -55,6 +56,7 @@ pub mod report;
 pub mod results;
 mod role;
 pub mod scores;
+pub mod sensitivity;
 pub mod stats;
 pub mod summary;
 

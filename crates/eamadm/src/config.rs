@@ -91,7 +91,8 @@ pub struct ExperimentConfig {
 
 /// The task: a maze (preset, map file or inline map) or the wheeled robot.
 ///
-/// TOML: `kind = "maze"` with `preset = "task1" | "task2"`; `kind = "maze_file"` with `path`
+/// TOML: `kind = "maze"` with `preset = "task1" | "task2"` (and optionally `rewards`, whose
+/// rewards and sub-tasks to use on that layout); `kind = "maze_file"` with `path`
 /// (a text map, see [`mazes::Maze::parse`]) and `rewards = "task1" | "task2"` (whose rewards
 /// and sub-tasks to use); `kind = "maze_text"` with the map inline in `map`. Every kind takes
 /// an optional `step_cap` overriding the task's own (2000 for the mazes); `kind = "robot"` with
@@ -109,6 +110,12 @@ pub enum TaskConfig {
     Maze {
         /// `"task1"` or `"task2"`.
         preset: Preset,
+        /// Whose rewards, sub-tasks and step cap to use on the preset's layout: `"task1"` or
+        /// `"task2"`; the preset's own when absent. `rewards = "task1"` on the `task2` preset is
+        /// the other reading of the paper's Task II rewards ("Similar to the scenario of task
+        /// 1", Sec. VI.A), run by `eamadm::paper::Reading::Task2RewardAsTask1`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rewards: Option<Preset>,
         /// Episode step cap; the preset's (2000) when absent.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         step_cap: Option<u32>,

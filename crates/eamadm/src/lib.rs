@@ -179,7 +179,8 @@ pub use wmr_model;
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
 pub use eamadm_eval::{
-    behaviour, claims, columns, reaching, record, report, results, scores, stats, summary,
+    behaviour, claims, columns, reaching, record, report, results, scores, sensitivity, stats,
+    summary,
 };
 
 pub mod agent;

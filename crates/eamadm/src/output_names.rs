@@ -24,6 +24,9 @@ pub const CLAIMS: &str = "claims.csv";
 /// The Frictionless Data Package beside [`FINAL_SCORES`] and [`CLAIMS`]: every column's type,
 /// unit and meaning ([`crate::data_package`]).
 pub const DATA_PACKAGE: &str = "datapackage.json";
+/// The verdicts judged again under other readings of the paper (`eamadm::paper::readings`):
+/// one row per claim × task × reading, holds or flips.
+pub const SENSITIVITY: &str = "sensitivity.csv";
 /// Every record in one JSON file, written by earlier versions (removed when found).
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
@@ -45,13 +48,14 @@ pub const SET_ASIDE: &str = ".set-aside";
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 6] = [
+pub const TOP_LEVEL: [&str; 7] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
     FINAL_SCORES,
     CLAIMS,
     DATA_PACKAGE,
+    SENSITIVITY,
 ];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.

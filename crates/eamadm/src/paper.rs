@@ -27,7 +27,7 @@ use serde::Serialize;
 use wmr_model::{Action, SubtaskRepairs};
 
 use crate::output_names;
-use crate::report::{ExperimentFacts, Figures, PaperTaskFacts, ReportContext};
+use crate::report::{ExperimentFacts, Figures, PaperTaskFacts, ReadingFacts, ReportContext};
 
 use ea_tree::EaTreeConfig;
 
@@ -148,6 +148,15 @@ pub fn report_context(quick: bool) -> ReportContext {
         curves_file: output_names::CURVES.to_owned(),
         trajectories_file: output_names::TRAJECTORIES.to_owned(),
         experiments: Vec::new(),
+        readings: readings()
+            .iter()
+            .map(|reading| ReadingFacts {
+                name: reading.name().to_owned(),
+                change: reading.change().to_owned(),
+                source: reading.source().to_owned(),
+                methods: reading.methods().iter().map(|m| (*m).to_owned()).collect(),
+            })
+            .collect(),
     }
 }
 
@@ -260,6 +269,7 @@ fn maze(name: &str, preset: Preset, pretrain_budget: u64) -> ExperimentConfig {
         name: name.to_owned(),
         task: TaskConfig::Maze {
             preset,
+            rewards: None,
             step_cap: None,
         },
         episodes: 200,
@@ -574,6 +584,205 @@ pub fn robot_controls(pretrain_budget: u64) -> Vec<MethodSpec> {
     methods
 }
 
+/// A reading of the paper that can flip a verdict (issue 20 item 4; docs/paper-notes.md §10.3):
+/// the paper's words read another way, as one change to a preset. The default run reruns only
+/// the methods a reading changes, on the tasks it changes, with the same seeds (so the same
+/// random streams), and judges the maze claims again with those runs in place of the base
+/// experiment's (`eamadm::sensitivity`). [`readings`] lists them.
+///
+/// ```
+/// use eamadm::paper::{self, Reading};
+///
+/// let reading = Reading::EpsilonGreedy095;
+/// let rerun = reading.apply(&paper::task1()).unwrap();
+/// assert_eq!(rerun.name, "task1-reading-epsilon-greedy-0.95");
+/// assert_eq!(rerun.methods.len(), 1); // only ε-greedy runs again
+/// assert!(Reading::Task2RewardAsTask1.apply(&paper::task1()).is_none()); // Task II only
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub enum Reading {
+    /// Task II's rewards "similar to the scenario of task 1": Task I's reward rules (task
+    /// reward and sub-task rewards, [`mazes::RewardScheme::TASK_I`]) on Task II's map, instead
+    /// of the literal +10 / −1.
+    Task2RewardAsTask1,
+    /// ε-greedy with Table 1's "exploring rate 0.95" as its constant ε, instead of 0.1.
+    EpsilonGreedy095,
+    /// γ = 0.99 instead of Table 1's 0.95, for every learner.
+    Gamma099,
+    /// EA-MADM's sub-tasks pre-trained for half as many episodes (100 instead of 200).
+    PretrainHalf,
+    /// EA-MADM's sub-tasks pre-trained for twice as many episodes (400 instead of 200).
+    PretrainDouble,
+    /// softmax's temperature floor at Table 1's maximum, 0.1, instead of its minimum 0.01: a
+    /// constant T = 0.1.
+    TemperatureFloor01,
+}
+
+/// The paper's methods (`role = "paper"`) a reading of the task's reward or learner reruns.
+const PAPER_METHODS: [&str; 4] = ["ea-madm", "epsilon-greedy", "epsilon-decreasing", "softmax"];
+
+impl Reading {
+    /// Every reading, in report order.
+    pub const ALL: [Self; 6] = [
+        Self::Task2RewardAsTask1,
+        Self::EpsilonGreedy095,
+        Self::Gamma099,
+        Self::PretrainHalf,
+        Self::PretrainDouble,
+        Self::TemperatureFloor01,
+    ];
+
+    /// The reading's name (a safe slug): the `reading` column of `sensitivity.csv`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Task2RewardAsTask1 => "task2-reward-as-task1",
+            Self::EpsilonGreedy095 => "epsilon-greedy-0.95",
+            Self::Gamma099 => "gamma-0.99",
+            Self::PretrainHalf => "pretrain-half",
+            Self::PretrainDouble => "pretrain-double",
+            Self::TemperatureFloor01 => "temperature-floor-0.1",
+        }
+    }
+
+    /// What the reading changes, for people: ours, then the alternative.
+    #[must_use]
+    pub fn change(self) -> &'static str {
+        match self {
+            Self::Task2RewardAsTask1 => {
+                "Task II reward: +10 / −1 (ours) → Task I's rules (+1 closer, −1 otherwise, \
+                 −100 bump, +100 target) on the Task II map, sub-tasks included"
+            }
+            Self::EpsilonGreedy095 => "ε of ε-greedy: 0.1 (ours) → 0.95",
+            Self::Gamma099 => "γ of every learner: 0.95 (ours) → 0.99",
+            Self::PretrainHalf => "EA-MADM's sub-task pre-training: 200 episodes (ours) → 100",
+            Self::PretrainDouble => "EA-MADM's sub-task pre-training: 200 episodes (ours) → 400",
+            Self::TemperatureFloor01 => "softmax's temperature floor: 0.01 (ours) → 0.1",
+        }
+    }
+
+    /// Where the reading comes from in the paper, in one sentence.
+    #[must_use]
+    pub fn source(self) -> &'static str {
+        match self {
+            Self::Task2RewardAsTask1 => {
+                "Sec. VI.A gives Task II \"+10 at the target, −1 otherwise\" but also calls it \
+                 \"similar to the scenario of task 1\"."
+            }
+            Self::EpsilonGreedy095 => {
+                "Tables 1 and 2 list one \"exploring rate ε 0.95\" and no other ε, which we read \
+                 as the start of the annealed schedules and give fixed ε-greedy 0.1."
+            }
+            Self::Gamma099 => {
+                "Table 1's γ = 0.95 has a horizon 1/(1−γ) of 20 steps, shorter than either \
+                 maze's shortest path (58, 73); 0.99 (horizon 100) is the common choice that \
+                 lets the target's value reach the start."
+            }
+            Self::PretrainHalf | Self::PretrainDouble => {
+                "The paper never says how long the sub-tasks are pre-trained; we give each as \
+                 many episodes as the source task (200)."
+            }
+            Self::TemperatureFloor01 => {
+                "Table 1 lists a maximum (0.1) and a minimum (0.01) temperature and one \
+                 annealing factor without saying what it anneals; at T = 0.01 softmax is greedy \
+                 on rewards of ±1 to ±100."
+            }
+        }
+    }
+
+    /// The tasks the reading changes.
+    #[must_use]
+    pub fn tasks(self) -> &'static [PaperTask] {
+        match self {
+            Self::Task2RewardAsTask1 => &[PaperTask::Task2],
+            _ => &[PaperTask::Task1, PaperTask::Task2],
+        }
+    }
+
+    /// The labels of the methods the reading changes, and so reruns: a change of the task's
+    /// reward or of the learner reruns every paper method; ablations and controls are never
+    /// rerun.
+    #[must_use]
+    pub fn methods(self) -> &'static [&'static str] {
+        match self {
+            Self::Task2RewardAsTask1 | Self::Gamma099 => &PAPER_METHODS,
+            Self::EpsilonGreedy095 => &["epsilon-greedy"],
+            Self::PretrainHalf | Self::PretrainDouble => &["ea-madm"],
+            Self::TemperatureFloor01 => &["softmax"],
+        }
+    }
+
+    /// The name of the reading's experiment on `task`: `<task>-reading-<reading>`.
+    #[must_use]
+    pub fn experiment_name(self, task: &str) -> String {
+        format!("{task}-reading-{}", self.name())
+    }
+
+    /// The reading's experiment on the experiment `base` (a paper maze preset, possibly
+    /// shortened or with other seeds): `base` with the reading's change, only the methods it
+    /// reruns ([`methods`](Self::methods), those `base` has), named
+    /// [`experiment_name`](Self::experiment_name). `None` when `base` is not one of the
+    /// reading's [`tasks`](Self::tasks) or has none of its methods.
+    #[must_use]
+    pub fn apply(self, base: &ExperimentConfig) -> Option<ExperimentConfig> {
+        let task = PaperTask::from_name(&base.name)?;
+        if !self.tasks().contains(&task) {
+            return None;
+        }
+        let mut config = base.clone();
+        config.name = self.experiment_name(&base.name);
+        config
+            .methods
+            .retain(|spec| self.methods().contains(&spec.label.as_str()));
+        if config.methods.is_empty() {
+            return None;
+        }
+        match self {
+            Self::Task2RewardAsTask1 => {
+                if let TaskConfig::Maze { rewards, .. } = &mut config.task {
+                    *rewards = Some(Preset::Task1);
+                }
+            }
+            Self::Gamma099 => config.learner.gamma = 0.99,
+            Self::EpsilonGreedy095 | Self::PretrainHalf | Self::PretrainDouble => {
+                for spec in &mut config.methods {
+                    match (&mut spec.method, self) {
+                        (Method::EpsilonGreedy { epsilon, .. }, Self::EpsilonGreedy095) => {
+                            *epsilon = Schedule::Constant(0.95);
+                        }
+                        (Method::EaMadm(ea), Self::PretrainHalf) => {
+                            ea.pretrain.episodes = (ea.pretrain.episodes / 2).max(1);
+                        }
+                        (Method::EaMadm(ea), Self::PretrainDouble) => {
+                            ea.pretrain.episodes = ea.pretrain.episodes.saturating_mul(2);
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            Self::TemperatureFloor01 => {
+                for spec in &mut config.methods {
+                    if let Method::Softmax {
+                        temperature: Schedule::Exponential { floor, start, .. },
+                        ..
+                    } = &mut spec.method
+                    {
+                        // The floor never above the start (a schedule's rule).
+                        *floor = start.min(0.1);
+                    }
+                }
+            }
+        }
+        Some(config)
+    }
+}
+
+/// The readings of the paper that can flip a verdict, in report order ([`Reading::ALL`]).
+#[must_use]
+pub fn readings() -> &'static [Reading] {
+    &Reading::ALL
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -623,6 +832,60 @@ mod tests {
                 assert_eq!(matched.method, expected, "{label}");
             }
         }
+    }
+
+    #[test]
+    fn each_reading_reruns_only_its_methods_with_one_change() {
+        for reading in readings() {
+            assert!(crate::config::is_safe_slug(reading.name()), "{reading:?}");
+            for task in [PaperTask::Task1, PaperTask::Task2] {
+                let base = task.config();
+                let Some(rerun) = reading.apply(&base) else {
+                    assert!(!reading.tasks().contains(&task), "{reading:?} on {task:?}");
+                    continue;
+                };
+                assert!(rerun.validate().is_ok(), "{reading:?}");
+                assert!(crate::config::is_safe_slug(&rerun.name), "{}", rerun.name);
+                let labels: Vec<&str> = rerun.methods.iter().map(|m| m.label.as_str()).collect();
+                assert_eq!(labels, reading.methods(), "{reading:?}");
+                // Something changed in every rerun method or in what they all share.
+                let shared_changed = rerun.task != base.task || rerun.learner != base.learner;
+                for spec in &rerun.methods {
+                    let before = base.method(&spec.label).unwrap();
+                    assert_eq!(spec.role, Role::Paper);
+                    assert!(
+                        shared_changed || before != spec,
+                        "{reading:?} {}",
+                        spec.label
+                    );
+                }
+                assert_eq!(rerun.episodes, base.episodes);
+                assert_eq!(rerun.seeds, base.seeds);
+            }
+        }
+        assert!(Reading::Gamma099.apply(&robot()).is_none());
+    }
+
+    #[test]
+    fn task2_read_as_task1_loads_task1_rewards_on_the_task2_map() {
+        let rerun = Reading::Task2RewardAsTask1.apply(&task2()).unwrap();
+        let task = crate::task::Task::load(&rerun.task).unwrap();
+        let base = crate::task::Task::load(&task2().task).unwrap();
+        assert_eq!(task.optimum_steps(), base.optimum_steps());
+        assert_eq!(task.n_states(), base.n_states());
+        let crate::task::TaskKind::Maze(env) = task.kind() else {
+            panic!("a maze");
+        };
+        assert_eq!(env.spec(), &mazes::TaskSpec::task1());
+        let crate::config::TaskConfig::Maze {
+            rewards, preset, ..
+        } = rerun.task
+        else {
+            panic!("a maze");
+        };
+        assert_eq!((preset, rewards), (Preset::Task2, Some(Preset::Task1)));
+        // The base serialises as before the `rewards` field existed (run keys stay).
+        assert!(!task2().to_toml_string().unwrap().contains("rewards"));
     }
 
     #[test]

@@ -34,9 +34,16 @@ impl Task {
     /// cap.
     pub fn load(config: &TaskConfig) -> Result<Self, ConfigError> {
         match config {
-            TaskConfig::Maze { preset, step_cap } => {
-                Self::from_maze(preset.maze(), *preset, *step_cap, "task.preset")
-            }
+            TaskConfig::Maze {
+                preset,
+                rewards,
+                step_cap,
+            } => Self::from_maze(
+                preset.maze(),
+                rewards.unwrap_or(*preset),
+                *step_cap,
+                "task.preset",
+            ),
             TaskConfig::MazeFile {
                 path,
                 rewards,

@@ -51,6 +51,7 @@ mod answer;
 pub mod format;
 mod paper_numbers;
 mod robot;
+mod sensitivity;
 mod task;
 mod verdicts;
 
@@ -89,6 +90,22 @@ pub struct ReportContext {
     pub trajectories_file: String,
     /// The experiments of this run, in run order.
     pub experiments: Vec<ExperimentFacts>,
+    /// The readings of the paper whose verdicts the report may judge again (the
+    /// [`Verdicts::sensitivity`] rows name them), in the order the report lists them.
+    pub readings: Vec<ReadingFacts>,
+}
+
+/// One reading of the paper as the report describes it (`eamadm::paper::Reading`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReadingFacts {
+    /// Its name, as in `sensitivity.csv`, e.g. `gamma-0.99`.
+    pub name: String,
+    /// What it changes, in words.
+    pub change: String,
+    /// The paper's words it rests on, in one sentence.
+    pub source: String,
+    /// The methods it runs again (labels).
+    pub methods: Vec<String>,
 }
 
 /// One of the paper's tasks as the report names it.
@@ -312,6 +329,9 @@ pub struct Verdicts {
     pub controls: Vec<ControlComparison>,
     /// The settings the comparisons were made with.
     pub options: ClaimOptions,
+    /// The paper's EA-MADM judged again under each reading of the paper (filled by the caller
+    /// when readings ran: [`crate::sensitivity::sensitivity`]; empty otherwise).
+    pub sensitivity: Vec<crate::sensitivity::SensitivityRow>,
 }
 
 impl Verdicts {
@@ -324,6 +344,7 @@ impl Verdicts {
             controls: claims::control_comparisons(&scores, options)?,
             scores,
             options: *options,
+            sensitivity: Vec::new(),
         })
     }
 
@@ -400,6 +421,7 @@ fn render_body(context: &ReportContext, verdicts: &Verdicts) -> String {
         }
     );
     verdicts::write_verdicts(&mut text, context, verdicts);
+    sensitivity::write_sensitivity(&mut text, context, &verdicts.sensitivity);
     write_method(&mut text, verdicts);
     for experiment in &context.experiments {
         task::write_task(&mut text, context, experiment, verdicts);
@@ -496,6 +518,7 @@ pub(crate) mod tests {
             curves_file: "curves.csv.gz".to_owned(),
             trajectories_file: "trajectories.csv".to_owned(),
             experiments: Vec::new(),
+            readings: Vec::new(),
         }
     }
 

@@ -9,4 +9,5 @@ mod band;
 mod claims;
 mod monte_carlo;
 mod paired;
+mod sensitivity;
 mod stats;

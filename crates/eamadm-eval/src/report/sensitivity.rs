@@ -1,0 +1,141 @@
+//! The report's section "Sensitivity to the readings of the paper" (issue 20 item 4): each
+//! verdict judged again under the other readings of the paper ([`crate::sensitivity`]), laid
+//! out; the readings' descriptions come in as data ([`ReadingFacts`](super::ReadingFacts)).
+
+use std::fmt::Write as _;
+
+use super::ReportContext;
+use super::format::{Align, MarkdownTable, decimals_for, format_fixed};
+use crate::paper_claims::method_title;
+use crate::sensitivity::{self, SensitivityRow};
+
+/// A number with `significant` digits (none after the point from 10^significant up).
+fn number(value: f64, significant: i32) -> String {
+    format_fixed(value, decimals_for(value, significant))
+}
+
+/// The deciding number of a row under its reading, in words.
+fn deciding(row: &SensitivityRow) -> String {
+    let (Some(estimate), Some(p)) = (row.estimate, row.p_holm) else {
+        return "nothing decides (untestable)".to_owned();
+    };
+    let p = if p < 0.001 {
+        "< 0.001".to_owned()
+    } else {
+        format_fixed(p, 3)
+    };
+    let versus = method_title(&row.versus);
+    let interval = match (row.ci_low, row.ci_high) {
+        (Some(low), Some(high)) => {
+            // Two significant digits of the interval's width, and at least one of each
+            // non-zero end (as the verdict table rounds).
+            let by_width = decimals_for(high - low, 2);
+            let decimals = [estimate, low, high]
+                .into_iter()
+                .filter(|x| *x != 0.0)
+                .map(|x| decimals_for(x, 1))
+                .fold(by_width, usize::max);
+            format!(
+                "{} [{}, {}]",
+                format_fixed(estimate, decimals),
+                format_fixed(low, decimals),
+                format_fixed(high, decimals)
+            )
+        }
+        _ => number(estimate, 2),
+    };
+    match row.statistic {
+        "paired_mean_difference" => format!(
+            "vs {versus}: paired Δ mean `{}` = {interval}, TOST Holm p {p}",
+            row.metric
+        ),
+        "reached_share_difference" => {
+            format!("vs {versus}: Δ share of seeds reaching = {interval}, sign test Holm p {p}")
+        }
+        _ => format!(
+            "vs {versus}: Δ IQM `{}` = {interval}, Holm p {p}",
+            row.metric
+        ),
+    }
+}
+
+/// The report's section on the readings (nothing when no reading ran).
+pub(crate) fn write_sensitivity(
+    text: &mut String,
+    context: &ReportContext,
+    rows: &[SensitivityRow],
+) {
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        text,
+        "## Sensitivity to the readings of the paper\n\n\
+         Each reading below takes one thing the paper leaves open, or says two ways, the other \
+         way. Only the methods it changes run again, with the same seeds (so the same random \
+         streams); every other run is the base experiment's own, and the same rule judges the \
+         claim again. A verdict **holds** when it is the same under the reading and **flips** \
+         otherwise. Every row is in [sensitivity.csv](sensitivity.csv).\n"
+    );
+    for reading in &context.readings {
+        if !rows.iter().any(|row| row.reading == reading.name) {
+            continue;
+        }
+        let reruns: Vec<String> = reading
+            .methods
+            .iter()
+            .map(|label| method_title(label))
+            .collect();
+        let _ = writeln!(
+            text,
+            "- `{}`: {}; reruns {}. {}",
+            reading.name,
+            reading.change,
+            reruns.join(", "),
+            reading.source
+        );
+    }
+    let survival: Vec<String> = sensitivity::survival(rows)
+        .iter()
+        .map(|entry| {
+            let title = context.task_title(&entry.task);
+            if entry.survives {
+                format!("{} on {title} survives all {}", entry.claim, entry.readings)
+            } else {
+                let by: Vec<String> = entry.flipped_by.iter().map(|r| format!("`{r}`")).collect();
+                format!("{} on {title} flips under {}", entry.claim, by.join(", "))
+            }
+        })
+        .collect();
+    let _ = writeln!(
+        text,
+        "
+Of the verdicts: {}.
+",
+        survival.join("; ")
+    );
+    let mut table = MarkdownTable::new([
+        ("claim", Align::Left),
+        ("task", Align::Left),
+        ("reading", Align::Left),
+        ("verdict → under the reading", Align::Left),
+        ("holds or flips", Align::Left),
+        ("the number that decides it under the reading", Align::Left),
+    ]);
+    for row in rows {
+        let _ = table.push_row([
+            row.claim.to_owned(),
+            context.task_title(&row.task),
+            format!("`{}`", row.reading),
+            format!("{} → {}", row.base_verdict.name(), row.verdict.name()),
+            if row.change == sensitivity::Change::Flips {
+                "**flips**".to_owned()
+            } else {
+                "holds".to_owned()
+            },
+            deciding(row),
+        ]);
+    }
+    text.push_str(&table.render());
+    text.push('\n');
+}

@@ -1,0 +1,353 @@
+//! Sensitivity of the verdicts to the readings of the paper (issue 20 item 4): the paper's
+//! EA-MADM judged again after some methods were rerun under another reading of the paper, and
+//! whether each verdict holds or flips; `sensitivity.csv`.
+//!
+//! A reading (the list is `eamadm::paper::readings()`) reruns only the methods it changes, on the
+//! tasks it changes, with the same seeds (so the same random streams). Here the runs of those
+//! methods replace the base experiment's runs of the same methods on that task; every other run
+//! is the base experiment's own, and the same verdict computation ([`claims::judge_one`]) judges
+//! each claim made on the task again. Pure: scores in, rows out.
+//!
+//! ```
+//! use eamadm_eval::sensitivity::{Change, SensitivityRow, survival};
+//!
+//! let row = |reading: &str, change| SensitivityRow {
+//!     claim: "C1",
+//!     task: "task2".to_owned(),
+//!     reading: reading.to_owned(),
+//!     method: "ea-madm".to_owned(),
+//!     base_verdict: eamadm_eval::claims::Verdict::Supported,
+//!     verdict: eamadm_eval::claims::Verdict::Supported,
+//!     change,
+//!     versus: String::new(),
+//!     metric: String::new(),
+//!     statistic: "",
+//!     estimate: None,
+//!     ci_low: None,
+//!     ci_high: None,
+//!     p_holm: None,
+//! };
+//! let rows = [row("gamma-0.99", Change::Holds), row("epsilon-greedy-0.95", Change::Flips)];
+//! let survival = survival(&rows);
+//! assert_eq!(survival.len(), 1);
+//! assert!(!survival[0].survives);
+//! assert_eq!(survival[0].flipped_by, ["epsilon-greedy-0.95"]);
+//! ```
+
+use std::io::Write;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::Role;
+use crate::claims::{self, ClaimOptions, ClaimsError, Judgement, REACHED, Verdict};
+use crate::paper_claims::{CLAIMS, Claim};
+use crate::scores::FinalScore;
+
+/// The runs of one reading on one task: the final scores of the methods it reran.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReadingRuns {
+    /// The reading's name (`eamadm::paper::Reading::name`).
+    pub reading: String,
+    /// The base experiment's task the reading changes (`task1`, `task2`).
+    pub task: String,
+    /// The labels of the methods the reading reran; their base runs on `task` are replaced.
+    pub methods: Vec<String>,
+    /// The reruns' final scores (their `task` cell may name the reading's experiment: it is
+    /// replaced by `task`).
+    pub scores: Vec<FinalScore>,
+}
+
+/// Whether a verdict survives a reading.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Change {
+    /// The verdict under the reading equals the base verdict.
+    Holds,
+    /// It differs.
+    Flips,
+}
+
+impl Change {
+    /// `holds` or `flips`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Holds => "holds",
+            Self::Flips => "flips",
+        }
+    }
+}
+
+/// One row of `sensitivity.csv`: one claim × task × reading, for the paper's EA-MADM.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SensitivityRow {
+    /// `C1` … `C3`.
+    pub claim: &'static str,
+    /// The task.
+    pub task: String,
+    /// The reading's name.
+    pub reading: String,
+    /// The method under test (the paper's EA-MADM).
+    pub method: String,
+    /// The verdict of the base experiment (as in `claims.csv`).
+    pub base_verdict: Verdict,
+    /// The verdict under the reading.
+    pub verdict: Verdict,
+    /// `holds` or `flips`.
+    pub change: Change,
+    /// The competitor of the comparison that decides the verdict under the reading; empty when
+    /// none decides (untestable).
+    pub versus: String,
+    /// Its metric (a column of `final-scores.csv`, or `reached` for a verdict on per-seed
+    /// reaching).
+    pub metric: String,
+    /// What `estimate` is: `iqm_difference` (IQM(EA-MADM) − IQM(competitor), the verdict
+    /// rule's comparison), `paired_mean_difference` (for an `equivalent` verdict: the mean of
+    /// the seed-paired differences, as the TOST judges it) or `reached_share_difference` (for
+    /// a verdict on per-seed reaching: the share of paired seeds EA-MADM reaches on minus the
+    /// competitor's); empty when nothing decides.
+    pub statistic: &'static str,
+    /// The deciding comparison's estimate under the reading (see `statistic`).
+    pub estimate: Option<f64>,
+    /// Lower end of its bootstrap 95 % interval (empty for `reached`).
+    pub ci_low: Option<f64>,
+    /// Upper end of its bootstrap 95 % interval (empty for `reached`).
+    pub ci_high: Option<f64>,
+    /// Its Holm-adjusted p-value: of the two-sided test, or of the TOST for
+    /// `paired_mean_difference`, or of the exact sign test for `reached_share_difference`.
+    pub p_holm: Option<f64>,
+}
+
+/// The columns of `sensitivity.csv`, in order.
+pub const SENSITIVITY_COLUMNS: [&str; 14] = [
+    "claim",
+    "task",
+    "reading",
+    "method",
+    "base_verdict",
+    "verdict",
+    "change",
+    "versus",
+    "metric",
+    "statistic",
+    "estimate",
+    "ci_low",
+    "ci_high",
+    "p_holm",
+];
+
+/// `base` with the runs of `runs.methods` on `runs.task` replaced by `runs.scores` (relabelled
+/// to `runs.task`), in the base's order: each replaced method keeps its place, with the reruns
+/// in their own (seed) order.
+#[must_use]
+pub fn substitute(base: &[FinalScore], runs: &ReadingRuns) -> Vec<FinalScore> {
+    let rerun = |row: &FinalScore| row.task == runs.task && runs.methods.contains(&row.method);
+    let mut out = Vec::with_capacity(base.len());
+    let mut placed: Vec<&str> = Vec::new();
+    for row in base {
+        if !rerun(row) {
+            out.push(row.clone());
+        } else if !placed.contains(&row.method.as_str()) {
+            placed.push(&row.method);
+            out.extend(
+                runs.scores
+                    .iter()
+                    .filter(|new| new.method == row.method)
+                    .map(|new| FinalScore {
+                        task: runs.task.clone(),
+                        ..new.clone()
+                    }),
+            );
+        }
+    }
+    out
+}
+
+/// The paper's EA-MADM on `task`: the first method of kind `ea_madm` with role `paper`.
+fn paper_ea_madm<'a>(scores: &'a [FinalScore], task: &str) -> Option<&'a str> {
+    claims::methods(scores, task)
+        .into_iter()
+        .find(|&(_, role, kind)| role == Role::Paper && claims::is_under_test(kind))
+        .map(|(label, _, _)| label)
+}
+
+/// Fills `row`'s deciding cells from `judgement` (the verdict under the reading): its deciding
+/// comparison, or for a verdict on per-seed reaching the strongest reaching test (smallest Holm
+/// p, the first on ties); left empty when nothing decides (untestable).
+fn fill_deciding(row: &mut SensitivityRow, judgement: &Judgement) {
+    if let Some(c) = judgement.deciding_comparison() {
+        row.versus.clone_from(&c.versus);
+        c.metric.column.clone_into(&mut row.metric);
+        let paired = c
+            .paired
+            .as_ref()
+            .filter(|_| judgement.verdict == Verdict::Equivalent);
+        let (statistic, interval, p) = match paired {
+            Some(p) => (
+                "paired_mean_difference",
+                p.difference,
+                p.p_equivalence_holm.unwrap_or(1.0),
+            ),
+            None => ("iqm_difference", c.difference, c.p_holm),
+        };
+        row.statistic = statistic;
+        row.estimate = Some(interval.estimate);
+        row.ci_low = Some(interval.low);
+        row.ci_high = Some(interval.high);
+        row.p_holm = Some(p);
+    } else if let Some(t) = judgement
+        .reaching
+        .iter()
+        .reduce(|best, t| if t.p_holm < best.p_holm { t } else { best })
+    {
+        row.versus.clone_from(&t.versus);
+        REACHED.clone_into(&mut row.metric);
+        row.statistic = "reached_share_difference";
+        row.estimate = Some(claims::reaching_difference(t));
+        row.p_holm = Some(t.p_holm);
+    }
+}
+
+/// One row per claim × task × reading: every claim made on each reading's task, judged for the
+/// paper's EA-MADM on `base` with the reading's reruns substituted ([`substitute`]), beside its
+/// verdict on `base`. In the order of `readings`, then claim order. A task without the paper's
+/// EA-MADM in `base` gives no rows.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn sensitivity(
+    base: &[FinalScore],
+    readings: &[ReadingRuns],
+    options: &ClaimOptions,
+) -> Result<Vec<SensitivityRow>, ClaimsError> {
+    let substituted: Vec<Vec<FinalScore>> =
+        readings.iter().map(|runs| substitute(base, runs)).collect();
+    // Every judgement needed, the base's once per claim × task: (reading index or `None` for
+    // the base, claim, task, method). Judged in parallel; each is a pure function of its
+    // scores, so the rows do not depend on the thread count.
+    let mut jobs: Vec<(Option<usize>, &'static Claim, &str, &str)> = Vec::new();
+    for (index, runs) in readings.iter().enumerate() {
+        let task = runs.task.as_str();
+        let Some(method) = paper_ea_madm(base, task) else {
+            continue;
+        };
+        for claim in CLAIMS.iter().filter(|c| c.tasks.contains(&task)) {
+            let base_job = (None, claim, task, method);
+            if !jobs
+                .iter()
+                .any(|&(r, c, t, _)| r.is_none() && c.id == claim.id && t == task)
+            {
+                jobs.push(base_job);
+            }
+            jobs.push((Some(index), claim, task, method));
+        }
+    }
+    let judged: Vec<Judgement> = jobs
+        .par_iter()
+        .map(|&(reading, claim, task, method)| {
+            let scores = reading.map_or(base, |index| substituted[index].as_slice());
+            claims::judge_one(scores, claim, task, method, Role::Paper, options)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut rows = Vec::new();
+    for (&(reading, claim, task, method), after) in jobs.iter().zip(&judged) {
+        let Some(index) = reading else {
+            continue;
+        };
+        let Some(before) = jobs
+            .iter()
+            .zip(&judged)
+            .find(|&(&(r, c, t, _), _)| r.is_none() && c.id == claim.id && t == task)
+            .map(|(_, judgement)| judgement)
+        else {
+            continue;
+        };
+        let mut row = SensitivityRow {
+            claim: claim.id,
+            task: task.to_owned(),
+            reading: readings[index].reading.clone(),
+            method: method.to_owned(),
+            base_verdict: before.verdict,
+            verdict: after.verdict,
+            change: if before.verdict == after.verdict {
+                Change::Holds
+            } else {
+                Change::Flips
+            },
+            versus: String::new(),
+            metric: String::new(),
+            statistic: "",
+            estimate: None,
+            ci_low: None,
+            ci_high: None,
+            p_holm: None,
+        };
+        fill_deciding(&mut row, after);
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+/// Whether one claim × task's verdict survives every reading run on its task.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Survival {
+    /// The claim.
+    pub claim: &'static str,
+    /// The task.
+    pub task: String,
+    /// Readings run on the task.
+    pub readings: usize,
+    /// No reading flips the verdict.
+    pub survives: bool,
+    /// The readings that flip it, in row order.
+    pub flipped_by: Vec<String>,
+}
+
+/// Per claim × task (first-appearance order of `rows`): whether its verdict survives every
+/// reading, and which readings flip it. A claim × task no reading touched has no entry.
+#[must_use]
+pub fn survival(rows: &[SensitivityRow]) -> Vec<Survival> {
+    let mut out: Vec<Survival> = Vec::new();
+    for row in rows {
+        if !out
+            .iter()
+            .any(|s| s.claim == row.claim && s.task == row.task)
+        {
+            out.push(Survival {
+                claim: row.claim,
+                task: row.task.clone(),
+                readings: 0,
+                survives: true,
+                flipped_by: Vec::new(),
+            });
+        }
+        for entry in out
+            .iter_mut()
+            .filter(|s| s.claim == row.claim && s.task == row.task)
+        {
+            entry.readings += 1;
+            if row.change == Change::Flips {
+                entry.survives = false;
+                entry.flipped_by.push(row.reading.clone());
+            }
+        }
+    }
+    out
+}
+
+/// Writes `sensitivity.csv` (header: [`SENSITIVITY_COLUMNS`]; empty cells for absent values).
+///
+/// # Errors
+/// [`ClaimsError::Csv`] when writing fails.
+pub fn write_csv<W: Write>(rows: &[SensitivityRow], writer: W) -> Result<(), ClaimsError> {
+    let mut csv = csv::Writer::from_writer(writer);
+    if rows.is_empty() {
+        csv.write_record(SENSITIVITY_COLUMNS)?;
+    }
+    for row in rows {
+        csv.serialize(row)?;
+    }
+    csv.flush().map_err(csv::Error::from)?;
+    Ok(())
+}
