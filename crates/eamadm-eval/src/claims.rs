@@ -681,6 +681,30 @@ pub fn judge_one(
     role: Role,
     options: &ClaimOptions,
 ) -> Result<Judgement, ClaimsError> {
+    let competitors: Vec<&str> = methods(scores, task)
+        .into_iter()
+        .filter(|&(_, role, kind)| is_competitor(role, kind))
+        .map(|(label, _, _)| label)
+        .collect();
+    judge_against(scores, claim, task, method, role, &competitors, options)
+}
+
+/// Judges one claim on one task for one method under test against `competitors` (labels of
+/// methods of `task`) by the rule of [`judge_one`]: what the report uses to judge EA-MADM
+/// against a control (the strongest one) exactly as against the paper's competitors.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn judge_against(
+    scores: &[FinalScore],
+    claim: &'static Claim,
+    task: &str,
+    method: &str,
+    role: Role,
+    competitors: &[&str],
+    options: &ClaimOptions,
+) -> Result<Judgement, ClaimsError> {
+    let competitors = competitors.to_vec();
     let error = |metric: &str, source| ClaimsError::Stats {
         claim: claim.id.to_owned(),
         task: task.to_owned(),
@@ -688,11 +712,6 @@ pub fn judge_one(
         metric: metric.to_owned(),
         source: Box::new(source),
     };
-    let competitors: Vec<&str> = methods(scores, task)
-        .into_iter()
-        .filter(|&(_, role, kind)| is_competitor(role, kind))
-        .map(|(label, _, _)| label)
-        .collect();
     let mut judgement = Judgement {
         claim,
         task: task.to_owned(),

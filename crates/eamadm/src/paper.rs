@@ -27,7 +27,7 @@ use serde::Serialize;
 use wmr_model::{Action, SubtaskRepairs};
 
 use crate::output_names;
-use crate::report::{ExperimentFacts, Figures, PaperTaskFacts, ReportContext};
+use crate::report::{ExperimentFacts, Figures, FinalEpsilon, PaperTaskFacts, ReportContext};
 
 use ea_tree::EaTreeConfig;
 
@@ -163,7 +163,33 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         gamma: config.learner.gamma,
         figures: Figures::default(),
         behaviour: Vec::new(),
+        final_epsilon: final_epsilon(config),
     }
+}
+
+/// ε over the final window of every method of `config` that explores ε-greedily (EA-MADM, its
+/// ε-greedy competitors and the sub-task-alone controls), from its schedule.
+fn final_epsilon(config: &ExperimentConfig) -> Vec<FinalEpsilon> {
+    let window = config.episodes.min(crate::DEFAULT_FINAL_WINDOW as u64);
+    let first = config.episodes.saturating_sub(window);
+    let last = config.episodes.saturating_sub(1);
+    config
+        .methods
+        .iter()
+        .filter_map(|spec| {
+            let schedule = match &spec.method {
+                Method::EaMadm(ea) => &ea.epsilon,
+                Method::EpsilonGreedy { epsilon, .. } => epsilon,
+                Method::SubtaskGreedy(alone) => &alone.epsilon,
+                _ => return None,
+            };
+            Some(FinalEpsilon {
+                method: spec.label.clone(),
+                first: schedule.value(first),
+                last: schedule.value(last),
+            })
+        })
+        .collect()
 }
 
 /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`SEEDS`] seeds,
