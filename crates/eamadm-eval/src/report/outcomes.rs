@@ -530,8 +530,7 @@ mod tests {
         // The paired table comes second.
         let alone = text
             .lines()
-            .filter(|l| l.starts_with("| subtask0-alone"))
-            .last()
+            .rfind(|l| l.starts_with("| subtask0-alone"))
             .unwrap();
         let cells: Vec<&str> = alone.split('|').map(str::trim).collect();
         assert_eq!(&cells[2..7], ["4", "0", "1", "1", "1.000"], "{alone}");
