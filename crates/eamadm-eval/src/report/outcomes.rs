@@ -175,6 +175,15 @@ pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts)
     text.push('\n');
 }
 
+/// `subtaskN-alone`: one pre-trained sub-task acting alone with frozen values, the same
+/// learner as in the EA-MADM run of the seed (the `-learning` variants keep learning).
+fn is_frozen_subtask_alone(label: &str) -> bool {
+    label
+        .strip_prefix("subtask")
+        .and_then(|rest| rest.strip_suffix("-alone"))
+        .is_some_and(|n| n.parse::<usize>().is_ok())
+}
+
 /// A method as a sentence names it: the paper's methods by title, others by label in code.
 fn label(method: &str) -> String {
     let title = method_title(method);
@@ -233,9 +242,7 @@ pub(crate) fn equalities_with_subtasks(task: &str, verdicts: &Verdicts) -> Optio
             continue;
         }
         for &(other, role, _) in &methods {
-            if role != Role::Control
-                || super::strongest::control_family(other) != Some("sub-task alone")
-            {
+            if role != Role::Control || !is_frozen_subtask_alone(other) {
                 continue;
             }
             let (equal, both) = equal_seeds(scores, task, method, other);
@@ -263,9 +270,7 @@ pub(crate) fn pretraining_shares(task: &str, verdicts: &Verdicts) -> Option<Stri
     let ea = verdicts.paper_ea_madm(task)?;
     let alone: Vec<&str> = claims::methods(scores, task)
         .into_iter()
-        .filter(|&(m, role, _)| {
-            role == Role::Control && super::strongest::control_family(m) == Some("sub-task alone")
-        })
+        .filter(|&(m, role, _)| role == Role::Control && is_frozen_subtask_alone(m))
         .map(|(m, _, _)| m)
         .collect();
     if alone.is_empty() {

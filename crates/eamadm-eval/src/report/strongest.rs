@@ -27,16 +27,16 @@ pub struct ControlVerdict {
 }
 
 /// What kind of control `label` is, by the facade's naming of the controls
-/// (`eamadm::paper::controls`): `*-shaped` learn from EA-MADM's shaped sub-task rewards,
-/// `*-budget` get EA-MADM's pre-training steps as warm-up, `subtask*-alone` are one
-/// pre-trained sub-task acting alone.
+/// (`eamadm::paper::controls`): `*-shaped*` learn from EA-MADM's shaped sub-task rewards
+/// (standardised, summed or repaired), `*-budget` get EA-MADM's pre-training steps as warm-up,
+/// `subtask*-alone*` are one pre-trained sub-task acting alone (frozen or learning).
 #[must_use]
 pub fn control_family(label: &str) -> Option<&'static str> {
-    if label.ends_with("-shaped") {
+    if label.contains("-shaped") {
         Some("reward-matched")
     } else if label.ends_with("-budget") {
         Some("budget-matched")
-    } else if label.starts_with("subtask") && label.ends_with("-alone") {
+    } else if label.starts_with("subtask") && label.contains("-alone") {
         Some("sub-task alone")
     } else {
         None
