@@ -93,6 +93,40 @@ const ALLOWED_EDGES: &[(&str, &[&str])] = &[
     ("eamadm-benches", &["eamadm"]),
 ];
 
+/// The sources of the evaluation crate, which touches no file and no environment variable:
+/// it returns numbers and text (`REPORT.md`'s and the README's included) and takes any
+/// reader or writer; xtask gathers the inputs and writes the files.
+const PURE_EVAL_SRC: &str = "crates/eamadm-eval/src/";
+
+/// What reaches the file system or the environment.
+const IMPURE_PATHS: [&str; 3] = ["std::fs", "File::", "std::env"];
+
+/// Flags file-system or environment access in the evaluation crate ([`PURE_EVAL_SRC`]).
+fn check_pure_eval(path: &str, text: &str) -> Vec<Violation> {
+    if !path.starts_with(PURE_EVAL_SRC) {
+        return Vec::new();
+    }
+    text.lines()
+        .enumerate()
+        .filter(|(_, line)| {
+            let code = line.trim_start();
+            !code.starts_with("//") && IMPURE_PATHS.iter().any(|p| code.contains(p))
+        })
+        .map(|(index, line)| {
+            violation(
+                path,
+                index + 1,
+                "pure-eval",
+                format!(
+                    "`{}` reaches files or the environment in the pure evaluation crate",
+                    line.trim()
+                ),
+                "return the text or take a reader or writer; let xtask read and write the files",
+            )
+        })
+        .collect()
+}
+
 /// One workspace package as `cargo metadata` describes it: its name, manifest path and the
 /// names of the workspace crates it depends on.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -606,6 +640,7 @@ fn check_workspace(root: &Path) -> Vec<Violation> {
             }
             found.extend(check_lint_reasons(&path, &text));
             found.extend(check_should_panic(&path, &text));
+            found.extend(check_pure_eval(&path, &text));
             let parts: Vec<&str> = path.split('/').collect();
             if parts.len() == 4 && parts[0] == "crates" && parts[2..] == ["src", "lib.rs"] {
                 found.extend(check_lib_docs(&path, &text));
@@ -730,6 +765,19 @@ fn the_metadata_reader_keeps_only_workspace_dependencies() {
     });
     let packages = packages_from_metadata(&metadata, Path::new("/ws"));
     assert_eq!(packages, [package("dql", &[]), package("mazes", &["dql"])]);
+}
+
+#[test]
+fn the_pure_eval_rule_flags_file_and_environment_access_only_in_the_evaluation_crate() {
+    let reads = "//! Text.\n// std::fs is for xtask\nfn f() { let _ = std::fs::read(\"a\"); }\n";
+    let found = check_pure_eval("crates/eamadm-eval/src/report/mod.rs", reads);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!((found[0].line, found[0].rule), (3, "pure-eval"));
+    assert_eq!(
+        check_pure_eval("crates/eamadm-eval/src/x.rs", "use std::env::var;\n").len(),
+        1
+    );
+    assert!(check_pure_eval("xtask/src/readme.rs", reads).is_empty());
 }
 
 #[test]

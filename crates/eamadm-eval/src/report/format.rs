@@ -251,4 +251,35 @@ mod tests {
             "| a   |   b |\n| :-- | --: |\n| 1   |   2 |\n"
         );
     }
+
+    #[test]
+    fn numbers_are_rounded_to_their_interval() {
+        let i = Interval {
+            estimate: 80.1234,
+            low: 75.5,
+            high: 90.25,
+        };
+        assert_eq!(interval(&i), "80 [76, 90]");
+        let flat = Interval {
+            estimate: 2000.0,
+            low: 2000.0,
+            high: 2000.0,
+        };
+        assert_eq!(interval(&flat), "2000 [2000, 2000]");
+        let tenth = Interval {
+            estimate: 73.0,
+            low: 73.0,
+            high: 73.1,
+        };
+        assert_eq!(interval(&tenth), "73.00 [73.00, 73.10]");
+        // A small estimate in a wide interval keeps a significant digit.
+        let small = Interval {
+            estimate: 0.385,
+            low: 0.307,
+            high: 12.68,
+        };
+        assert_eq!(interval(&small), "0.4 [0.3, 12.7]");
+        assert_eq!(p_value(0.0004), "< 0.001");
+        assert_eq!(p_value(0.0312), "0.031");
+    }
 }

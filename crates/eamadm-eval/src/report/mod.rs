@@ -2,7 +2,7 @@
 //! claims first, then per task the numbers behind them. Pure: it returns text and never
 //! touches a file; `xtask` gathers the inputs ([`ReportContext`], [`Verdicts`]) and writes.
 //!
-//! Every number comes from [`scores`](crate::scores) and [`claims`](crate::claims); this
+//! Every number comes from [`scores`] and [`claims`]; this
 //! module only lays them out, and every sentence that states a result is chosen by the numbers
 //! (tests flip the numbers and watch the sentence flip). The text is a pure function of the
 //! scores and the context (no paths, dates or timings), so an interrupted and resumed run
@@ -14,7 +14,7 @@
 //!
 //! | file | what it writes |
 //! |---|---|
-//! | [`format`] | Markdown tables and numbers, intervals, p-values, shares |
+//! | [`format`](mod@format) | Markdown tables and numbers, intervals, p-values, shares |
 //! | `answer` | the answer paragraph `REPORT.md` opens with and the README states |
 //! | `verdicts` | the verdict table, the claims, the rule, the ablations' verdicts |
 //! | `task` | per task: scores, controls, comparisons, distributions, explanations, figures |
@@ -170,7 +170,7 @@ impl ReportContext {
     }
 }
 
-/// Everything the report states: the per-seed scores and what [`claims`](crate::claims) computes from them.
+/// Everything the report states: the per-seed scores and what [`claims`] computes from them.
 #[derive(Debug, Clone)]
 pub struct Verdicts {
     /// One row per task, method and seed.
@@ -341,13 +341,11 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::format::{interval, p_value};
     use super::robot::robot_ranking;
     use super::task::training_versus_greedy;
     use super::verdicts::deciding_number;
     use super::*;
     use crate::claims::{Share, Verdict};
-    use crate::stats::Interval;
 
     /// The paper's tasks as `eamadm::paper::report_context` states them, and no experiment.
     pub(crate) fn context() -> ReportContext {
@@ -718,33 +716,19 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn numbers_are_rounded_to_their_interval() {
-        let i = Interval {
-            estimate: 80.1234,
-            low: 75.5,
-            high: 90.25,
-        };
-        assert_eq!(interval(&i), "80 [76, 90]");
-        let flat = Interval {
-            estimate: 2000.0,
-            low: 2000.0,
-            high: 2000.0,
-        };
-        assert_eq!(interval(&flat), "2000 [2000, 2000]");
-        let tenth = Interval {
-            estimate: 73.0,
-            low: 73.0,
-            high: 73.1,
-        };
-        assert_eq!(interval(&tenth), "73.00 [73.00, 73.10]");
-        // A small estimate in a wide interval keeps a significant digit.
-        let small = Interval {
-            estimate: 0.385,
-            low: 0.307,
-            high: 12.68,
-        };
-        assert_eq!(interval(&small), "0.4 [0.3, 12.7]");
-        assert_eq!(p_value(0.0004), "< 0.001");
-        assert_eq!(p_value(0.0312), "0.031");
+    fn the_report_from_final_scores_csv_is_the_reports_bytes() {
+        let verdicts = Verdicts::compute(scores(60.0), &options()).unwrap();
+        let report = render(&context(), &verdicts).unwrap();
+        assert!(report.contains("## The answer\n\n**Task I.** "), "{report}");
+        let scores_csv = verdicts.scores_csv().unwrap();
+        assert_eq!(
+            render_from_csv(&context(), &scores_csv, &options()).unwrap(),
+            report
+        );
+        let error = render_from_csv(&context(), "task,method\ntask1\n", &options()).unwrap_err();
+        assert!(
+            error.to_string().starts_with("final-scores.csv: "),
+            "{error}"
+        );
     }
 }
