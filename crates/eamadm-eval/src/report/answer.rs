@@ -101,16 +101,23 @@ pub(crate) fn task_answer(
     );
     let collapsed = super::strongest::collapsed_seeds(&verdicts.scores, task, ea);
     if !collapsed.is_empty() {
+        let seeds = outcomes(&verdicts.scores, task, ea).len();
         let _ = write!(
             text,
-            " EA-MADM collapsed on {} ({}: seed (first episode of the permanent failure)), \
-             which the IQM trims away.",
+            " EA-MADM collapsed on {} (seed, then the episode from which it never reached \
+             again: {}){}.",
             if collapsed.len() == 1 {
                 "1 seed".to_owned()
             } else {
                 format!("{} seeds", collapsed.len())
             },
-            collapsed_list(&verdicts.scores, task, ea)
+            collapsed_list(&verdicts.scores, task, ea),
+            // The IQM trims a quarter of the seeds from each end.
+            if 4 * collapsed.len() <= seeds {
+                ", few enough for the IQM to trim away"
+            } else {
+                ""
+            }
         );
         // Whether the collapses alone keep a verdict from a better one.
         let again: Vec<_> = verdicts
@@ -391,8 +398,8 @@ mod tests {
         let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
         assert!(
             text.contains(
-                " EA-MADM collapsed on 2 seeds (3 (ep. 63), 5 (ep. 65): seed (first episode of \
-                 the permanent failure)), which the IQM trims away."
+                " EA-MADM collapsed on 2 seeds (seed, then the episode from which it never \
+                 reached again: 3 (ep. 63), 5 (ep. 65)), few enough for the IQM to trim away."
             ),
             "{text}"
         );
@@ -406,6 +413,9 @@ mod tests {
             ),
             "{text}"
         );
+        // More than a quarter of the seeds: the IQM no longer trims them all.
+        let text = answer_of(scores(100.0, &[1, 3, 5], 200.0, &[]), Vec::new());
+        assert!(text.contains("3 (ep. 63), 5 (ep. 65))."), "{text}");
     }
 
     #[test]
