@@ -229,6 +229,20 @@ pub(crate) fn task_answer(
             converged(verdicts, task, ea),
             list(&against)
         );
+        let converged_count = |method: &str| {
+            outcomes(&verdicts.scores, task, method)
+                .iter()
+                .filter(|(_, o)| *o == RunOutcome::Converged)
+                .count()
+        };
+        if converged_count(control) < converged_count(ea) {
+            let _ = write!(
+                text,
+                " It converges on fewer seeds than EA-MADM, so its better `{}` does not come \
+                 from reaching the target better.",
+                first.metric
+            );
+        }
         let overturned: Vec<String> = group
             .iter()
             .filter(|c| {
@@ -432,6 +446,23 @@ mod tests {
         );
         assert!(
             text.contains("So on C1, C2 and C3 the verdict against the paper's competitors does not hold against a reward-matched control."),
+            "{text}"
+        );
+        assert!(!text.contains("does not come from reaching"), "{text}");
+        // A control that converges on fewer seeds cannot owe its better metric to reaching.
+        let mut rows = scores(60.0, &[], 10.0, &[]);
+        for r in rows
+            .iter_mut()
+            .filter(|r| r.method == "softmax-shaped" && r.seed < 4)
+        {
+            r.outcome = RunOutcome::NeverReached;
+        }
+        let text = answer_of(rows, Vec::new());
+        assert!(
+            text.contains(
+                " It converges on fewer seeds than EA-MADM, so its better `final_steps` does not \
+                 come from reaching the target better."
+            ),
             "{text}"
         );
         // Controls worse than EA-MADM overturn nothing.
