@@ -202,7 +202,10 @@ pub(crate) fn task_answer(
         let own_iqm = verdicts
             .estimate(task, ea, first.metric)
             .and_then(|e| e.iqm.as_ref())
-            .map_or_else(|| "none".to_owned(), |i| number(i.estimate));
+            .map_or_else(
+                || "none (no seed has a value)".to_owned(),
+                |i| number(i.estimate),
+            );
         let steps = match (
             env_steps(verdicts, task, control),
             env_steps(verdicts, task, ea),
