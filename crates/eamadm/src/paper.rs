@@ -597,6 +597,25 @@ mod tests {
     use super::*;
 
     #[test]
+    fn final_epsilon_is_the_schedule_over_the_final_window_of_epsilon_greedy_methods() {
+        let config = task2();
+        let facts = experiment_facts("task2", "Task II", &config);
+        let of = |label: &str| facts.final_epsilon.iter().find(|e| e.method == label);
+        // ε-greedy's fixed ε; the decreasing schedules far below one random action per episode.
+        let fixed = of("epsilon-greedy").unwrap();
+        assert_eq!((fixed.first, fixed.last), (0.1, 0.1));
+        let decreasing = of("ea-madm").unwrap();
+        assert!(decreasing.first < 1e-3 && decreasing.last <= decreasing.first);
+        let window = config.episodes - crate::DEFAULT_FINAL_WINDOW as u64;
+        let Method::EaMadm(ea) = &config.methods[0].method else {
+            panic!("the first method of Task II is EA-MADM");
+        };
+        assert_eq!(decreasing.first, ea.epsilon.value(window));
+        // Softmax explores by temperature: no ε.
+        assert!(of("softmax").is_none());
+    }
+
+    #[test]
     fn tasks_round_trip_by_name_and_match_their_presets() {
         for task in PaperTask::ALL {
             assert_eq!(PaperTask::from_name(task.name()), Some(task));
