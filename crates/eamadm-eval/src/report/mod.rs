@@ -587,7 +587,11 @@ pub(crate) mod tests {
         assert!(report.find("## Verdicts").unwrap() < report.find("## How the scores").unwrap());
     }
 
-    fn overview(training: (u64, u64), greedy: (u64, u64), at_cap: usize) -> MethodOverview {
+    pub(crate) fn overview(
+        training: (u64, u64),
+        greedy: (u64, u64),
+        at_cap: usize,
+    ) -> MethodOverview {
         let share = |(s, t): (u64, u64)| Share {
             successes: s,
             trials: t,

@@ -562,3 +562,45 @@ fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
         )
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::overview;
+    use super::*;
+
+    #[test]
+    fn the_disagreement_note_appears_only_with_such_rows() {
+        assert_eq!(disagreement_note(&[], "p", 0.05), "");
+        let note = disagreement_note(&["`a` on `final_steps`".to_owned()], "Holm p", 0.05);
+        assert!(
+            note.starts_with(
+                "`a` on `final_steps` has a Holm p below 0.05 with an interval that holds 0"
+            ),
+            "{note}"
+        );
+        assert!(note.contains("so such a row settles nothing"), "{note}");
+    }
+
+    #[test]
+    fn the_controls_sentence_names_the_controls_that_ran() {
+        let control = |label: &str| {
+            let mut o = overview((1, 2), (1, 2), 0);
+            o.method = label.to_owned();
+            o.role = Role::Control;
+            o
+        };
+        let (budget, shaped) = (control("softmax-budget"), control("softmax-shaped"));
+        assert!(controls_run(&[]).starts_with("No control with an equal budget"));
+        assert!(controls_run(&[&budget]).starts_with(
+            "The budget-matched controls (`softmax-budget`) give the competitors the same \
+                 steps; no reward-matched control was run here."
+        ));
+        assert!(controls_run(&[&shaped]).ends_with("no budget-matched control was run here."));
+        assert_eq!(
+            controls_run(&[&budget, &shaped]),
+            "The budget-matched controls (`softmax-budget`) give the competitors the same \
+             steps, the reward-matched ones (`softmax-shaped`) the same reward information (the \
+             controls table above)."
+        );
+    }
+}
