@@ -318,9 +318,9 @@ pub(crate) fn write_outputs(
         let scores = scores?;
         let mut verdicts =
             Verdicts::compute(scores, &ClaimOptions::default()).map_err(ClaimsReportError::from)?;
-        verdicts.sensitivity =
-            eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
-                .map_err(ClaimsReportError::from)?;
+        let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
+            .map_err(ClaimsReportError::from)?;
+        verdicts = verdicts.with_sensitivity(rows);
         let mut context = eamadm::paper::report_context(quick);
         context.experiments = facts;
         write_claim_outputs(out, &context, &verdicts)?;

@@ -4,9 +4,8 @@
 //! - between `<!-- generated:verdicts -->` and `<!-- /generated:verdicts -->`: the verdict table
 //!   as the run's `REPORT.md` opens, then the claims C1–C4 in a line each
 //!   ([`readme_verdicts`]);
-//! - between `<!-- generated:answer -->` and `<!-- /generated:answer -->`: the answer in one
-//!   paragraph, every sentence computed from the run's `claims.csv` and `final-scores.csv`
-//!   ([`answer_paragraph`], the words `REPORT.md` opens with);
+//! - between `<!-- generated:answer -->` and `<!-- /generated:answer -->`: the answer, a
+//!   paragraph per task, exactly as the run's `REPORT.md` opens ([`readme_answer`]);
 //! - [`FIGURE`]: the run's `task1/steps.svg`, byte for byte.
 //!
 //! The text is made by [`eamadm::report`]; this module reads the run's files and splices.
@@ -16,8 +15,7 @@
 
 use std::path::Path;
 
-use eamadm::report::{ClaimsCsvRow, ScoresCsvRow, answer_paragraph, readme_verdicts};
-use serde::Deserialize;
+use eamadm::report::{readme_answer, readme_verdicts};
 
 /// The README, relative to the workspace root.
 pub(crate) const README: &str = "README.md";
@@ -31,10 +29,6 @@ const FIGURE_SOURCE: &str = "task1/steps.svg";
 pub(crate) struct DefaultRun {
     /// `REPORT.md`.
     pub(crate) report: String,
-    /// `claims.csv`.
-    pub(crate) claims: Vec<ClaimsCsvRow>,
-    /// `final-scores.csv`.
-    pub(crate) scores: Vec<ScoresCsvRow>,
     /// `task1/steps.svg`.
     pub(crate) figure: Vec<u8>,
 }
@@ -52,31 +46,14 @@ pub(crate) fn read_run(out: &Path) -> Result<DefaultRun, String> {
     };
     Ok(DefaultRun {
         report: text("REPORT.md")?,
-        claims: parse_csv(&text("claims.csv")?, "claims.csv")?,
-        scores: parse_csv(&text("final-scores.csv")?, "final-scores.csv")?,
         figure: read(FIGURE_SOURCE)?,
     })
-}
-
-fn parse_csv<T: for<'de> Deserialize<'de>>(text: &str, name: &str) -> Result<Vec<T>, String> {
-    csv::Reader::from_reader(text.as_bytes())
-        .deserialize()
-        .collect::<Result<Vec<T>, _>>()
-        .map_err(|error| format!("{name}: {error}"))
 }
 
 /// The README with its generated parts replaced by those of `run`.
 pub(crate) fn generate(readme: &str, run: &DefaultRun) -> Result<String, String> {
     let readme = splice(readme, "verdicts", &readme_verdicts(&run.report)?)?;
-    splice(
-        &readme,
-        "answer",
-        &answer_paragraph(
-            &run.claims,
-            &run.scores,
-            &eamadm::paper::report_context(false),
-        )?,
-    )
+    splice(&readme, "answer", &readme_answer(&run.report)?)
 }
 
 /// `text` with the lines between `<!-- generated:NAME … -->` and `<!-- /generated:NAME -->`

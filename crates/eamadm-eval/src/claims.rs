@@ -959,7 +959,61 @@ pub fn judge_against(
     set: VersusSet,
     options: &ClaimOptions,
 ) -> Result<Judgement, ClaimsError> {
-    let mut judgement = judge_versus(scores, claim, task, method, role, set, options)?;
+    let competitors = competitors_in(scores, task, method, set);
+    judge_labels(
+        scores,
+        claim,
+        task,
+        method,
+        role,
+        set,
+        &competitors,
+        options,
+    )
+}
+
+/// Judges one claim on one task for one method under test against `competitors` (labels of
+/// methods of `task`) by the rule of [`judge_one`]: what the report uses to judge EA-MADM
+/// against a control (the strongest one) exactly as against the paper's competitors. The
+/// judgement's set is [`VersusSet::Paper`] (the rule is the paper's; only the competitors
+/// differ).
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn judge_against_competitors(
+    scores: &[FinalScore],
+    claim: &'static Claim,
+    task: &str,
+    method: &str,
+    role: Role,
+    competitors: &[&str],
+    options: &ClaimOptions,
+) -> Result<Judgement, ClaimsError> {
+    judge_labels(
+        scores,
+        claim,
+        task,
+        method,
+        role,
+        VersusSet::Paper,
+        competitors,
+        options,
+    )
+}
+
+/// [`judge_versus`] against the given competitors.
+#[allow(clippy::too_many_arguments)]
+fn judge_labels(
+    scores: &[FinalScore],
+    claim: &'static Claim,
+    task: &str,
+    method: &str,
+    role: Role,
+    set: VersusSet,
+    competitors: &[&str],
+    options: &ClaimOptions,
+) -> Result<Judgement, ClaimsError> {
+    let mut judgement = judge_versus(scores, claim, task, method, role, set, competitors, options)?;
     if let (VersusSet::SameRewards, Some(entry)) = (set, same_rewards(method))
         && !judgement.reason.is_empty()
     {
@@ -971,7 +1025,8 @@ pub fn judge_against(
     Ok(judgement)
 }
 
-/// [`judge_against`] without the words on the set.
+/// [`judge_labels`] without the words on the set.
+#[allow(clippy::too_many_arguments)]
 fn judge_versus(
     scores: &[FinalScore],
     claim: &'static Claim,
@@ -979,8 +1034,10 @@ fn judge_versus(
     method: &str,
     role: Role,
     set: VersusSet,
+    competitors: &[&str],
     options: &ClaimOptions,
 ) -> Result<Judgement, ClaimsError> {
+    let competitors = competitors.to_vec();
     let error = |metric: &str, source| ClaimsError::Stats {
         claim: claim.id.to_owned(),
         task: task.to_owned(),
@@ -988,7 +1045,6 @@ fn judge_versus(
         metric: metric.to_owned(),
         source: Box::new(source),
     };
-    let competitors = competitors_in(scores, task, method, set);
     let mut judgement = Judgement {
         claim,
         task: task.to_owned(),

@@ -27,7 +27,9 @@ use serde::Serialize;
 use wmr_model::{Action, SubtaskRepairs};
 
 use crate::output_names;
-use crate::report::{ExperimentFacts, Figures, PaperTaskFacts, ReadingFacts, ReportContext};
+use crate::report::{
+    ExperimentFacts, Figures, FinalEpsilon, PaperTaskFacts, ReadingFacts, ReportContext,
+};
 
 use ea_tree::EaTreeConfig;
 
@@ -174,7 +176,33 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         figures: Figures::default(),
         behaviour: Vec::new(),
         reward_readings: Vec::new(),
+        final_epsilon: final_epsilon(config),
     }
+}
+
+/// ε over the final window of every method of `config` that explores ε-greedily (EA-MADM, its
+/// ε-greedy competitors and the sub-task-alone controls), from its schedule.
+fn final_epsilon(config: &ExperimentConfig) -> Vec<FinalEpsilon> {
+    let window = config.episodes.min(crate::DEFAULT_FINAL_WINDOW as u64);
+    let first = config.episodes.saturating_sub(window);
+    let last = config.episodes.saturating_sub(1);
+    config
+        .methods
+        .iter()
+        .filter_map(|spec| {
+            let schedule = match &spec.method {
+                Method::EaMadm(ea) => &ea.epsilon,
+                Method::EpsilonGreedy { epsilon, .. } => epsilon,
+                Method::SubtaskGreedy(alone) => &alone.epsilon,
+                _ => return None,
+            };
+            Some(FinalEpsilon {
+                method: spec.label.clone(),
+                first: schedule.value(first),
+                last: schedule.value(last),
+            })
+        })
+        .collect()
 }
 
 /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`SEEDS`] seeds,
@@ -786,6 +814,25 @@ pub fn readings() -> &'static [Reading] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn final_epsilon_is_the_schedule_over_the_final_window_of_epsilon_greedy_methods() {
+        let config = task2();
+        let facts = experiment_facts("task2", "Task II", &config);
+        let of = |label: &str| facts.final_epsilon.iter().find(|e| e.method == label);
+        // ε-greedy's fixed ε; the decreasing schedules far below one random action per episode.
+        let fixed = of("epsilon-greedy").unwrap();
+        assert_eq!((fixed.first, fixed.last), (0.1, 0.1));
+        let decreasing = of("ea-madm").unwrap();
+        assert!(decreasing.first < 1e-3 && decreasing.last <= decreasing.first);
+        let window = config.episodes - crate::DEFAULT_FINAL_WINDOW as u64;
+        let Method::EaMadm(ea) = &config.methods[0].method else {
+            panic!("the first method of Task II is EA-MADM");
+        };
+        assert_eq!(decreasing.first, ea.epsilon.value(window));
+        // Softmax explores by temperature: no ε.
+        assert!(of("softmax").is_none());
+    }
 
     #[test]
     fn tasks_round_trip_by_name_and_match_their_presets() {

@@ -1,641 +1,539 @@
-//! The answer in one paragraph: what `REPORT.md` opens with and the README states, every
-//! sentence computed from a run's `claims.csv` and `final-scores.csv` text.
+//! The answer on top of `REPORT.md` (and in the README): one short paragraph per task that
+//! answers "does EA-MADM beat its competitors, and why?", every sentence chosen by the numbers:
+//! the verdicts against the paper's competitors, how the seeds ended (the collapses the IQM
+//! hides), whether the collapses alone keep a verdict from a better one, the paired comparison
+//! with the sub-task alone, and the strongest control, which can overturn a verdict.
 
-use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
-use serde::Deserialize;
+use super::format::{format_fixed, list, number};
+use super::outcomes::{collapsed_list, discordant, outcomes};
+use super::strongest::control_family;
+use super::verdicts::{VERDICTS_HEADING, deciding_number};
+use super::{ReportContext, Verdicts};
+use crate::claims::{self, SUBTASK_ALONE, Verdict};
+use crate::paper_claims::method_title;
+use crate::scores::RunOutcome;
 
-use super::ReportContext;
-use super::verdicts::VERDICTS_HEADING;
-use crate::claims::{REACHED, STABLE_REACHING};
-use crate::paper_claims::{CLAIMS, Direction, method_title};
+/// The heading of the answer in `REPORT.md`.
+pub(crate) const ANSWER_HEADING: &str = "## The answer";
 
-/// The method whose verdicts the answer states.
-const METHOD: &str = "ea-madm";
-
-/// One row of `claims.csv` (the columns the README needs).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct ClaimsCsvRow {
-    /// `C1` … `C4`.
-    pub claim: String,
-    /// The task.
-    pub task: String,
-    /// The method judged or estimated.
-    pub method: String,
-    /// Its role: `paper`, `ablation` or `control`.
-    pub role: String,
-    /// The metric column.
-    pub metric: String,
-    /// Empty on a method's own row (its IQM), a competitor on a comparison row.
-    pub versus: String,
-    /// Seeds with a value.
-    pub n: u32,
-    /// The IQM (own row) or the IQM difference method − versus (comparison row).
-    pub estimate: Option<f64>,
-    /// The interval's low end.
-    pub ci_low: Option<f64>,
-    /// The interval's high end.
-    pub ci_high: Option<f64>,
-    /// The Holm-adjusted p-value of a comparison.
-    pub p_holm: Option<f64>,
-    /// `favours_method`, `favours_competitor`, `unsettled` on comparison rows.
-    pub outcome: String,
-    /// The verdict of the claim × task × method (empty on rows that carry none).
-    pub verdict: String,
-}
-
-/// One row of `final-scores.csv` (the columns the README needs).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-pub struct ScoresCsvRow {
-    /// The task.
-    pub task: String,
-    /// The method's label.
-    pub method: String,
-    /// Its role: `paper`, `ablation` or `control`.
-    pub role: String,
-    /// The method's kind (`ea_madm`, `softmax`, …).
-    pub kind: String,
-    /// The seed.
-    pub seed: u64,
-    /// Final-window success rate.
-    pub success_rate: Option<f64>,
-    /// Environment steps of the run, pre-training included.
-    pub env_steps_total: f64,
-}
-
-/// The answer paragraph ([`answer_paragraph`]) of a run from the text of its `claims.csv` and
-/// `final-scores.csv`: what `REPORT.md` opens with, the same words the README states.
-pub fn answer_from_csv(
-    claims_csv: &str,
-    scores_csv: &str,
-    context: &ReportContext,
-) -> Result<String, String> {
-    answer_paragraph(
-        &parse_csv(claims_csv, "claims.csv")?,
-        &parse_csv(scores_csv, "final-scores.csv")?,
-        context,
-    )
-}
-
-fn parse_csv<T: for<'de> Deserialize<'de>>(text: &str, name: &str) -> Result<Vec<T>, String> {
-    csv::Reader::from_reader(text.as_bytes())
-        .deserialize()
-        .collect::<Result<Vec<T>, _>>()
-        .map_err(|error| format!("{name}: {error}"))
-}
-
-/// A number for people: three significant figures at most, no trailing zeros' noise.
-fn number(value: f64) -> String {
-    let magnitude = value.abs();
-    if magnitude >= 100.0 {
-        format!("{value:.0}")
-    } else if magnitude >= 10.0 {
-        format!("{value:.1}")
-    } else {
-        format!("{value:.2}")
+/// How good a verdict is for EA-MADM, to tell whether another comparison overturns it.
+fn rank(verdict: Verdict) -> u8 {
+    match verdict {
+        Verdict::Contradicted => 0,
+        Verdict::Inconclusive | Verdict::Untestable => 1,
+        Verdict::Equivalent => 2,
+        Verdict::Supported => 3,
     }
 }
 
-fn p_value(p: Option<f64>) -> String {
-    match p {
-        Some(p) if p < 0.001 => "< 0.001".to_owned(),
-        Some(p) => format!("= {p:.3}"),
-        None => "not computed".to_owned(),
-    }
-}
-
-fn task_title(task: &str, context: &ReportContext) -> String {
-    context.paper_task(task).map_or_else(
-        || format!("`{task}`"),
-        |paper| paper.title_in_sentence.clone(),
-    )
-}
-
-/// `a`, `a and b`, `a, b and c`.
-fn list(items: &[String]) -> String {
-    match items {
-        [] => String::new(),
-        [one] => one.clone(),
-        [init @ .., last] => format!("{} and {last}", init.join(", ")),
-    }
-}
-
-fn plural(count: usize, one: &str, many: &str) -> String {
-    format!("{count} {}", if count == 1 { one } else { many })
-}
-
-/// The answer in one paragraph, every sentence computed from the claim rows and final scores of
-/// the default run: how many claim–task pairs each verdict has, and per task the facts that
-/// decide them (the comparisons' outcomes, the deciding comparison of a contradiction, the
-/// environment-step budget and the best control where EA-MADM wins, the seeds with a value and
-/// the success rates where a claim is untestable).
-pub fn answer_paragraph(
-    claims: &[ClaimsCsvRow],
-    scores: &[ScoresCsvRow],
-    context: &ReportContext,
-) -> Result<String, String> {
-    // (claim, task) → verdict of EA-MADM, in claims.csv's order.
-    let mut pairs: Vec<(String, String, String)> = Vec::new();
-    for row in claims {
-        if row.method == METHOD && row.versus.is_empty() && !row.verdict.is_empty() {
-            let pair = (row.claim.clone(), row.task.clone(), row.verdict.clone());
-            if !pairs.iter().any(|(c, t, _)| *c == pair.0 && *t == pair.1) {
-                pairs.push(pair);
-            }
-        }
-    }
-    if pairs.is_empty() {
-        return Err(format!("claims.csv has no verdict of `{METHOD}`"));
-    }
-    let seeds: BTreeSet<u64> = scores
+/// `18/20` seeds converged of `method` on `task`.
+fn converged(verdicts: &Verdicts, task: &str, method: &str) -> String {
+    let seeds = outcomes(&verdicts.scores, task, method);
+    let hits = seeds
         .iter()
-        .filter(|s| s.method == METHOD)
-        .map(|s| s.seed)
-        .collect();
-    let tasks: Vec<String> = pairs.iter().fold(Vec::new(), |mut tasks, (_, task, _)| {
-        if !tasks.contains(task) {
-            tasks.push(task.clone());
-        }
-        tasks
-    });
-    let claims_of = |task: &str, verdict: &str| -> Vec<String> {
-        pairs
-            .iter()
-            .filter(|(_, t, v)| t == task && v == verdict)
-            .map(|(c, _, _)| c.clone())
-            .collect()
-    };
+        .filter(|(_, o)| *o == RunOutcome::Converged)
+        .count();
+    format!("{hits}/{}", seeds.len())
+}
 
-    let mut text = String::new();
-    let verdicts = ["supported", "contradicted", "inconclusive", "untestable"];
-    let mut groups = Vec::new();
-    for verdict in verdicts {
-        let per_task: Vec<String> = tasks
-            .iter()
-            .filter_map(|task| {
-                let ids = claims_of(task, verdict);
-                (!ids.is_empty())
-                    .then(|| format!("{} on {}", list(&ids), task_title(task, context)))
-            })
-            .collect();
-        let count = pairs.iter().filter(|(_, _, v)| v == verdict).count();
-        if count > 0 {
-            groups.push(format!("{verdict} {count} ({})", list(&per_task)));
-        }
+/// Mean environment steps per run of `method` on `task`, in thousands (`599 k`).
+fn env_steps(verdicts: &Verdicts, task: &str, method: &str) -> Option<String> {
+    verdicts
+        .overviews
+        .iter()
+        .find(|o| o.task == task && o.method == method)
+        .map(|o| format!("{} k", format_fixed(o.env_steps_total / 1000.0, 0)))
+}
+
+/// The answer paragraph of one task, or `None` when the paper's EA-MADM has no verdict there.
+pub(crate) fn task_answer(
+    context: &ReportContext,
+    verdicts: &Verdicts,
+    task: &str,
+) -> Option<String> {
+    let ea = verdicts.paper_ea_madm(task)?;
+    let judgements: Vec<_> = verdicts
+        .judgements
+        .iter()
+        .filter(|j| j.task == task && j.method == ea)
+        .collect();
+    if judgements.is_empty() {
+        return None;
     }
+    let mut text = format!("**{}.** ", context.task_title(task));
+
+    // The verdicts against the paper's competitors, with the deciding number of a supported or
+    // contradicted one.
+    let verdict_words: Vec<String> = judgements
+        .iter()
+        .map(|j| match j.verdict {
+            Verdict::Supported | Verdict::Contradicted => format!(
+                "{} {} ({})",
+                j.claim.id,
+                j.verdict.name(),
+                deciding_number(j)
+            ),
+            _ => format!("{} {}", j.claim.id, j.verdict.name()),
+        })
+        .collect();
     let _ = write!(
         text,
-        "Over {} claim–task pairs and {} per method, EA-MADM's verdicts are: {}.",
-        pairs.len(),
-        plural(seeds.len(), "seed", "seeds"),
-        groups.join("; ")
+        "Against the paper's competitors EA-MADM's verdicts are {}.",
+        list(&verdict_words)
     );
 
-    // The comparisons that decide a verdict: a secondary metric's rows (C3's training-curve
-    // SDs) carry no verdict and are left out.
-    let comparisons = |task: &str, ids: &[String]| -> Vec<&ClaimsCsvRow> {
-        claims
-            .iter()
-            .filter(|r| {
-                r.method == METHOD
-                    && r.task == task
-                    && !r.versus.is_empty()
-                    && !r.verdict.is_empty()
-                    && ids.contains(&r.claim)
-            })
-            .collect()
-    };
-    let paper_mean = |task: &str, method: &str, value: fn(&ScoresCsvRow) -> Option<f64>| {
-        let values: Vec<f64> = scores
-            .iter()
-            .filter(|s| s.task == task && s.method == method)
-            .filter_map(value)
-            .collect();
-        (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
-    };
-    let competitors = |task: &str| -> Vec<String> {
-        let mut labels: Vec<String> = scores
-            .iter()
-            .filter(|s| s.task == task && s.role == "paper" && s.method != METHOD)
-            .map(|s| s.method.clone())
-            .collect();
-        labels.dedup();
-        labels
-    };
-
-    for task in &tasks {
-        let title = task_title(task, context);
-        let supported = claims_of(task, "supported");
-        if !supported.is_empty() {
-            let rows = comparisons(task, &supported);
-            let weakest = rows.iter().filter_map(|r| r.p_holm).fold(0.0_f64, f64::max);
-            let favour = rows
-                .iter()
-                .filter(|r| r.outcome == "favours_method")
-                .count();
-            // C3 counts a comparison for EA-MADM when its greedy fluctuation or its
-            // stable-reaching test does, so a supported claim can hold unsettled rows (never
-            // one that favours a competitor).
-            let how_many = if favour == rows.len() {
-                format!("all {}", rows.len())
+    // How the seeds ended.
+    let competitors: Vec<&str> = claims::methods(&verdicts.scores, task)
+        .into_iter()
+        .filter(|&(_, role, kind)| claims::is_competitor(role, kind))
+        .map(|(m, _, _)| m)
+        .collect();
+    let converged_words: Vec<String> = std::iter::once(ea)
+        .chain(competitors.iter().copied())
+        .map(|m| format!("{} {}", method_title(m), converged(verdicts, task, m)))
+        .collect();
+    let _ = write!(
+        text,
+        " Seeds converged (greedy policy after training reaches the target): {}.",
+        list(&converged_words)
+    );
+    let collapsed = super::strongest::collapsed_seeds(&verdicts.scores, task, ea);
+    if !collapsed.is_empty() {
+        let seeds = outcomes(&verdicts.scores, task, ea).len();
+        let _ = write!(
+            text,
+            " EA-MADM collapsed on {} (seed, then the episode from which it never reached \
+             again: {}){}.",
+            if collapsed.len() == 1 {
+                "1 seed".to_owned()
             } else {
-                format!("{favour} (none against it) of {}", rows.len())
-            };
+                format!("{} seeds", collapsed.len())
+            },
+            collapsed_list(&verdicts.scores, task, ea),
+            // The IQM trims a quarter of the seeds from each end.
+            if 4 * collapsed.len() <= seeds {
+                ", few enough for the IQM to trim away"
+            } else {
+                ""
+            }
+        );
+        // Whether the collapses alone keep a verdict from a better one.
+        let again: Vec<_> = verdicts
+            .without_collapses
+            .iter()
+            .filter(|j| j.task == task && j.method == ea)
+            .collect();
+        let better: Vec<String> = again
+            .iter()
+            .filter_map(|j| {
+                let before = judgements.iter().find(|b| b.claim.id == j.claim.id)?;
+                (rank(j.verdict) > rank(before.verdict))
+                    .then(|| format!("{} {}", j.claim.id, j.verdict.name()))
+            })
+            .collect();
+        let same: Vec<String> = again
+            .iter()
+            .filter(|j| {
+                judgements
+                    .iter()
+                    .any(|b| b.claim.id == j.claim.id && rank(j.verdict) <= rank(b.verdict))
+            })
+            .map(|j| j.claim.id.to_owned())
+            .collect();
+        if !better.is_empty() {
             let _ = write!(
                 text,
-                " On {title}, {how_many} of EA-MADM's comparisons on {} favour it (the weakest at Holm p {}).",
-                list(&supported),
-                p_value(Some(weakest))
+                " Judged again without those seeds (left out of every method, so still \
+                 paired) the verdicts would be {}: the collapses are what keep them there.",
+                list(&better)
             );
-            let own = paper_mean(task, METHOD, |s| Some(s.env_steps_total));
-            let others: Vec<f64> = competitors(task)
-                .iter()
-                .filter_map(|m| paper_mean(task, m, |s| Some(s.env_steps_total)))
-                .collect();
-            if let (Some(own), false) = (own, others.is_empty()) {
-                let others_mean = others.iter().sum::<f64>() / others.len() as f64;
-                let _ = write!(
-                    text,
-                    " There EA-MADM used {:.1}× the environment steps of the paper's competitors \
-                     (mean over seeds, its sub-tasks' pre-training included)",
-                    own / others_mean
-                );
-                // The best control that is not an EA-MADM variant on the first supported claim.
-                let kinds: BTreeMap<&str, &str> = scores
-                    .iter()
-                    .filter(|s| s.task == *task)
-                    .map(|s| (s.method.as_str(), s.kind.as_str()))
-                    .collect();
-                let first = &supported[0];
-                let own_row = claims.iter().find(|r| {
-                    r.task == *task
-                        && r.claim == *first
-                        && r.method == METHOD
-                        && r.versus.is_empty()
-                });
-                let controls: Vec<&ClaimsCsvRow> = claims
-                    .iter()
-                    .filter(|r| {
-                        r.task == *task
-                            && r.claim == *first
-                            && r.versus.is_empty()
-                            && r.role == "control"
-                            && kinds.get(r.method.as_str()) != Some(&"ea_madm")
-                            && r.estimate.is_some()
-                    })
-                    .collect();
-                let lower = CLAIMS
-                    .iter()
-                    .find(|c| c.id == *first)
-                    .and_then(|c| {
-                        c.metrics
-                            .iter()
-                            .find(|m| own_row.is_some_and(|o| o.metric == m.column))
-                    })
-                    .is_some_and(|m| m.direction == Direction::LowerIsBetter);
-                let best = controls.iter().min_by(|a, b| {
-                    let (a, b) = (
-                        a.estimate.unwrap_or(f64::NAN),
-                        b.estimate.unwrap_or(f64::NAN),
-                    );
-                    if lower {
-                        a.total_cmp(&b)
-                    } else {
-                        b.total_cmp(&a)
-                    }
-                });
-                match (best, own_row.and_then(|o| o.estimate)) {
-                    (Some(best), Some(own)) => {
-                        let value = best.estimate.unwrap_or(f64::NAN);
-                        let better = if lower { value < own } else { value > own };
-                        let relation = if value == own {
-                            "equal to"
-                        } else if better {
-                            "better than"
-                        } else {
-                            "worse than"
-                        };
-                        let _ = write!(
-                            text,
-                            "; of the {} controls there that are not EA-MADM variants, the best on \
-                             {first} is `{}` with an IQM `{}` of {}, {relation} EA-MADM's {}.",
-                            controls.len(),
-                            best.method,
-                            best.metric,
-                            number(value),
-                            number(own)
-                        );
-                    }
-                    _ => text.push('.'),
-                }
-            }
         }
-        for id in claims_of(task, "contradicted") {
-            let rows = comparisons(task, std::slice::from_ref(&id));
-            let against = rows
-                .iter()
-                .filter(|r| r.outcome == "favours_competitor")
-                .min_by(|a, b| {
-                    let key = |r: &ClaimsCsvRow| {
-                        (r.p_holm.unwrap_or(1.0), -r.estimate.unwrap_or(0.0).abs())
-                    };
-                    key(a)
-                        .partial_cmp(&key(b))
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                });
-            if let Some(row) = against.filter(|r| r.metric == STABLE_REACHING) {
-                let _ = write!(
-                    text,
-                    " On {title}, {} beats EA-MADM on {id} by reaching the target in every \
-                     greedy evaluation of the second half of training on more seeds: EA-MADM's \
-                     share of such seeds minus {}'s is {} over {} paired seeds, exact paired sign \
-                     test Holm p {}.",
-                    method_title(&row.versus),
-                    method_title(&row.versus),
-                    number(row.estimate.unwrap_or(f64::NAN)),
-                    row.n,
-                    p_value(row.p_holm)
-                );
-            } else if let Some(row) = against.filter(|r| r.metric == REACHED) {
-                // A method that cannot be compared on the claim's metrics is judged on
-                // per-seed reaching (`crate::claims::judge_by_reaching`).
-                let _ = write!(
-                    text,
-                    " On {title}, {} beats EA-MADM on {id} by reaching the target on more \
-                     seeds: EA-MADM's share of seeds reaching minus {}'s is {} over {} paired \
-                     seeds, exact paired sign test Holm p {}.",
-                    method_title(&row.versus),
-                    method_title(&row.versus),
-                    number(row.estimate.unwrap_or(f64::NAN)),
-                    row.n,
-                    p_value(row.p_holm)
-                );
-            } else if let Some(row) = against {
-                let _ = write!(
-                    text,
-                    " On {title}, {} beats EA-MADM on {id}: EA-MADM minus {} in IQM `{}` is {} \
-                     [{}, {}], Holm p {}.",
-                    method_title(&row.versus),
-                    method_title(&row.versus),
-                    row.metric,
-                    number(row.estimate.unwrap_or(f64::NAN)),
-                    number(row.ci_low.unwrap_or(f64::NAN)),
-                    number(row.ci_high.unwrap_or(f64::NAN)),
-                    p_value(row.p_holm)
-                );
-            }
-        }
-        let inconclusive = claims_of(task, "inconclusive");
-        if !inconclusive.is_empty() {
-            let rows = comparisons(task, &inconclusive);
-            let count = |outcome: &str| rows.iter().filter(|r| r.outcome == outcome).count();
-            let mut parts = vec![format!("{} favour EA-MADM", count("favours_method"))];
-            if count("favours_competitor") > 0 {
-                parts.push(format!("{} a competitor", count("favours_competitor")));
-            }
-            parts.push(format!(
-                "{} are unsettled (an interval that holds 0 or Holm p ≥ 0.05)",
-                count("unsettled")
-            ));
+        if !same.is_empty() {
             let _ = write!(
                 text,
-                " On {title}, {} {}: of EA-MADM's {} comparisons there, {}.",
-                list(&inconclusive),
-                if inconclusive.len() == 1 {
-                    "is inconclusive"
-                } else {
-                    "are inconclusive"
-                },
-                rows.len(),
-                list(&parts)
+                " Without those seeds {} would not improve, so the collapses do not decide \
+                 {}.",
+                list(&same),
+                if same.len() == 1 { "it" } else { "them" }
             );
-        }
-        for id in claims_of(task, "untestable") {
-            let own = claims
-                .iter()
-                .filter(|r| {
-                    r.task == *task && r.claim == id && r.method == METHOD && r.versus.is_empty()
-                })
-                .min_by_key(|r| r.n);
-            if let Some(row) = own {
-                let _ = write!(
-                    text,
-                    " {id} on {title} is untestable: EA-MADM has a `{}` value in {} of {} seeds.",
-                    row.metric,
-                    row.n,
-                    seeds.len()
-                );
-            }
-            let rate = |method: &str| paper_mean(task, method, |s| s.success_rate);
-            let best = competitors(task)
-                .into_iter()
-                .filter_map(|m| rate(&m).map(|r| (m, r)))
-                .max_by(|a, b| a.1.total_cmp(&b.1));
-            if let (Some(own), Some((best, best_rate))) = (rate(METHOD), best) {
-                let _ = write!(
-                    text,
-                    " Its mean success rate over the final window there is {:.0}%, against {:.0}% \
-                     for the best competitor, {}.",
-                    own * 100.0,
-                    best_rate * 100.0,
-                    method_title(&best)
-                );
-            }
         }
     }
-    Ok(text)
+
+    // Paired with the sub-task alone: the same pre-trained learner without the MADM step.
+    if claims::methods(&verdicts.scores, task)
+        .iter()
+        .any(|(m, _, _)| *m == SUBTASK_ALONE)
+    {
+        let d = discordant(&verdicts.scores, task, ea, SUBTASK_ALONE);
+        let reverse = if d.only_method == 0 {
+            "never the reverse".to_owned()
+        } else {
+            format!("the reverse on {}", d.only_method)
+        };
+        let _ = write!(
+            text,
+            " Paired by seed with `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone), \
+             EA-MADM fails to converge on {} of {} seeds where the sub-task alone converges \
+             ({} of them collapsed), {reverse}.",
+            d.only_versus, d.paired, d.method_collapsed
+        );
+    }
+
+    // The strongest control, grouped by control.
+    let mut by_control: Vec<(&str, Vec<&super::ControlVerdict>)> = Vec::new();
+    for c in verdicts
+        .against_strongest
+        .iter()
+        .filter(|c| c.judgement.task == task && c.judgement.method == ea)
+    {
+        match by_control.iter_mut().find(|(name, _)| *name == c.control) {
+            Some((_, group)) => group.push(c),
+            None => by_control.push((c.control.as_str(), vec![c])),
+        }
+    }
+    for (control, group) in by_control {
+        let claims_of: Vec<String> = group
+            .iter()
+            .map(|c| c.judgement.claim.id.to_owned())
+            .collect();
+        let first = group[0];
+        let own_iqm = verdicts
+            .estimate(task, ea, first.metric)
+            .and_then(|e| e.iqm.as_ref())
+            .map_or_else(
+                || "none (no seed has a value)".to_owned(),
+                |i| number(i.estimate),
+            );
+        let steps = match (
+            env_steps(verdicts, task, control),
+            env_steps(verdicts, task, ea),
+        ) {
+            (Some(theirs), Some(ours)) => {
+                format!(", {theirs} environment steps per run against {ours}")
+            }
+            _ => String::new(),
+        };
+        let against: Vec<String> = group
+            .iter()
+            .map(|c| format!("{} {}", c.judgement.claim.id, c.judgement.verdict.name()))
+            .collect();
+        let _ = write!(
+            text,
+            " The strongest control on {} is `{control}` ({}): IQM `{}` {} against EA-MADM's \
+             {own_iqm}, converged on {} seeds against {}{steps}; judged against it by the same \
+             rule, EA-MADM's verdicts are {}.",
+            list(&claims_of),
+            control_family(control).unwrap_or("control"),
+            first.metric,
+            number(first.control_iqm),
+            converged(verdicts, task, control),
+            converged(verdicts, task, ea),
+            list(&against)
+        );
+        let converged_count = |method: &str| {
+            outcomes(&verdicts.scores, task, method)
+                .iter()
+                .filter(|(_, o)| *o == RunOutcome::Converged)
+                .count()
+        };
+        if converged_count(control) < converged_count(ea) {
+            let _ = write!(
+                text,
+                " It converges on fewer seeds than EA-MADM, so its better `{}` does not come \
+                 from reaching the target better.",
+                first.metric
+            );
+        }
+        let overturned: Vec<String> = group
+            .iter()
+            .filter(|c| {
+                judgements.iter().any(|b| {
+                    b.claim.id == c.judgement.claim.id
+                        && rank(c.judgement.verdict) < rank(b.verdict)
+                })
+            })
+            .map(|c| c.judgement.claim.id.to_owned())
+            .collect();
+        if !overturned.is_empty() {
+            let _ = write!(
+                text,
+                " So on {} the verdict against the paper's competitors does not hold against \
+                 a {} control.",
+                list(&overturned),
+                control_family(control).unwrap_or("")
+            );
+        }
+    }
+
+    // The readings of the paper, when the sensitivity runs were made.
+    let readings: Vec<_> = verdicts
+        .survives_readings
+        .iter()
+        .filter(|s| s.task == task)
+        .collect();
+    if !readings.is_empty() {
+        let holds: Vec<String> = readings
+            .iter()
+            .filter(|s| s.holds)
+            .map(|s| s.claim.clone())
+            .collect();
+        let flips: Vec<String> = readings
+            .iter()
+            .filter(|s| !s.holds)
+            .map(|s| s.claim.clone())
+            .collect();
+        let mut parts = Vec::new();
+        if !holds.is_empty() {
+            parts.push(format!("{} survive every reading", list(&holds)));
+        }
+        if !flips.is_empty() {
+            parts.push(format!("{} flip under some reading", list(&flips)));
+        }
+        let _ = write!(
+            text,
+            " Under the other readings of the paper {}.",
+            list(&parts)
+        );
+    }
+    Some(text)
 }
 
-/// `report` with the answer paragraph ([`answer_from_csv`]) on top, before the verdict
-/// table, computed from the same `claims.csv` and `final-scores.csv`. A plan without
-/// EA-MADM's verdicts (a config of one's own) has no such answer: the report then opens with
-/// the table, as before.
-pub(crate) fn with_answer(
-    report: String,
-    claims_csv: &str,
-    scores_csv: &str,
-    context: &ReportContext,
-) -> String {
-    let (Ok(answer), Some(at)) = (
-        answer_from_csv(claims_csv, scores_csv, context),
-        report.find(VERDICTS_HEADING),
-    ) else {
-        return report;
-    };
-    format!(
-        "{}## The answer\n\n{answer}\n\n{}",
-        &report[..at],
-        &report[at..]
-    )
+/// The answer: a paragraph per task of the run on which the paper's EA-MADM has verdicts;
+/// `None` when it has none (a config of one's own).
+pub(crate) fn answer(context: &ReportContext, verdicts: &Verdicts) -> Option<String> {
+    let paragraphs: Vec<String> = claims::tasks(&verdicts.scores)
+        .into_iter()
+        .filter_map(|task| task_answer(context, verdicts, task))
+        .collect();
+    (!paragraphs.is_empty()).then(|| paragraphs.join("\n\n"))
+}
+
+/// The README's answer: the paragraphs under `REPORT.md`'s answer heading, up to the verdicts.
+pub fn readme_answer(report: &str) -> Result<String, String> {
+    let after = report
+        .split_once(&format!("{ANSWER_HEADING}\n\n"))
+        .map(|(_, rest)| rest)
+        .ok_or_else(|| format!("REPORT.md has no `{ANSWER_HEADING}` section"))?;
+    let end = after.find(VERDICTS_HEADING).unwrap_or(after.len());
+    Ok(after[..end].trim_end().to_owned())
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::context;
+    use super::super::tests::{context, options, row};
+    use super::super::{SurvivesReadings, render};
     use super::*;
+    use crate::Role;
+    use crate::scores::FinalScore;
 
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "one argument per claims.csv column the tests vary"
-    )]
-    fn claim(
-        claim: &str,
-        task: &str,
-        method: &str,
-        versus: &str,
-        estimate: f64,
-        p_holm: Option<f64>,
-        outcome: &str,
-        verdict: &str,
-    ) -> ClaimsCsvRow {
-        ClaimsCsvRow {
-            claim: claim.to_owned(),
-            task: task.to_owned(),
-            method: method.to_owned(),
-            role: if method.ends_with("-budget") {
-                "control"
-            } else {
-                "paper"
+    /// Task I, 8 seeds: EA-MADM at `ea` steps, collapsing on the seeds in `collapses`; two
+    /// competitors at 100 + seed; `subtask0-alone` converging on every seed; a reward-matched
+    /// control at `shaped` steps.
+    fn scores(ea: f64, collapses: &[u64], shaped: f64, alone_fails: &[u64]) -> Vec<FinalScore> {
+        let mut rows = Vec::new();
+        for seed in 0..8 {
+            let noise = seed as f64;
+            let mut r = row("task1", "ea-madm", Role::Paper, "ea_madm", seed, ea + noise);
+            if collapses.contains(&seed) {
+                r.outcome = RunOutcome::Collapsed;
+                r.collapse_episode = Some(60 + seed);
+                r.greedy_reached = false;
+                r.final_steps = 2000.0;
+                r.final_return = -2000.0;
             }
-            .to_owned(),
-            metric: "final_steps".to_owned(),
-            versus: versus.to_owned(),
-            n: 2,
-            estimate: Some(estimate),
-            ci_low: Some(estimate - 1.0),
-            ci_high: Some(estimate + 1.0),
-            p_holm,
-            outcome: outcome.to_owned(),
-            verdict: verdict.to_owned(),
+            rows.push(r);
         }
+        for (method, kind, role, base) in [
+            ("epsilon-greedy", "epsilon_greedy", Role::Paper, 100.0),
+            ("softmax", "softmax", Role::Paper, 100.0),
+            ("subtask0-alone", "subtask_greedy", Role::Control, ea),
+            ("softmax-shaped", "softmax", Role::Control, shaped),
+        ] {
+            for seed in 0..8 {
+                let mut r = row("task1", method, role, kind, seed, base + seed as f64);
+                if method == "subtask0-alone" && alone_fails.contains(&seed) {
+                    r.outcome = RunOutcome::NeverReached;
+                }
+                rows.push(r);
+            }
+        }
+        rows
     }
 
-    fn score(task: &str, method: &str, seed: u64, success: f64, env_steps: f64) -> ScoresCsvRow {
-        ScoresCsvRow {
-            task: task.to_owned(),
-            method: method.to_owned(),
-            role: if method.ends_with("-budget") {
-                "control"
-            } else {
-                "paper"
-            }
-            .to_owned(),
-            kind: if method == "ea-madm" {
-                "ea_madm"
-            } else {
-                "softmax"
-            }
-            .to_owned(),
-            seed,
-            success_rate: Some(success),
-            env_steps_total: env_steps,
-        }
+    fn last_cell(line: &str) -> &str {
+        line.trim_end()
+            .trim_end_matches('|')
+            .rsplit('|')
+            .next()
+            .unwrap()
+            .trim()
+    }
+
+    fn answer_of(scores: Vec<FinalScore>, survives: Vec<SurvivesReadings>) -> String {
+        let mut verdicts = Verdicts::compute(scores, &options()).unwrap();
+        verdicts.survives_readings = survives;
+        answer(&context(), &verdicts).unwrap()
     }
 
     #[test]
-    fn the_answer_states_counts_and_deciding_numbers_from_the_rows() {
-        let claims = vec![
-            claim("C1", "task1", "ea-madm", "", 60.0, None, "", "contradicted"),
-            claim(
-                "C1",
-                "task1",
-                "ea-madm",
-                "softmax",
-                5.0,
-                Some(0.0004),
-                "favours_competitor",
-                "contradicted",
-            ),
-            claim("C1", "task2", "ea-madm", "", 80.0, None, "", "supported"),
-            claim(
-                "C1",
-                "task2",
-                "ea-madm",
-                "softmax",
-                -50.0,
-                Some(0.02),
-                "favours_method",
-                "supported",
-            ),
-            claim("C1", "task2", "softmax-budget", "", 70.0, None, "", ""),
-        ];
-        let scores = vec![
-            score("task1", "ea-madm", 0, 1.0, 300.0),
-            score("task1", "ea-madm", 1, 1.0, 300.0),
-            score("task1", "softmax", 0, 1.0, 100.0),
-            score("task2", "ea-madm", 0, 0.5, 300.0),
-            score("task2", "softmax", 0, 0.5, 200.0),
-            score("task2", "softmax-budget", 0, 0.5, 300.0),
-        ];
-        let text = answer_paragraph(&claims, &scores, &context()).unwrap();
-        assert_eq!(
-            text,
-            "Over 2 claim–task pairs and 2 seeds per method, EA-MADM's verdicts are: supported 1 \
-             (C1 on Task II); contradicted 1 (C1 on Task I). On Task I, softmax beats EA-MADM on \
-             C1: EA-MADM minus softmax in IQM `final_steps` is 5.00 [4.00, 6.00], Holm p < 0.001. \
-             On Task II, all 1 of EA-MADM's comparisons on C1 favour it (the weakest at Holm p = \
-             0.020). There EA-MADM used 1.5× the environment steps of the paper's competitors \
-             (mean over seeds, its sub-tasks' pre-training included); of the 1 controls there \
-             that are not EA-MADM variants, the best on C1 is `softmax-budget` with an IQM \
-             `final_steps` of 70.0, better than EA-MADM's 80.0."
-        );
-        assert!(answer_paragraph(&[], &scores, &context()).is_err());
-    }
-
-    #[test]
-    fn the_answer_of_an_untestable_claim_gives_seeds_and_success_rates() {
-        let mut own = claim("C4", "robot", "ea-madm", "", 0.0, None, "", "untestable");
-        own.n = 0;
-        own.estimate = None;
-        let scores = vec![
-            score("robot", "ea-madm", 0, 0.0, 1.0),
-            score("robot", "ea-madm", 1, 0.0, 1.0),
-            score("robot", "softmax", 0, 0.25, 1.0),
-            score("robot", "softmax", 1, 0.35, 1.0),
-        ];
-        let text = answer_paragraph(&[own], &scores, &context()).unwrap();
+    fn the_answer_states_verdicts_outcomes_and_the_sub_task_pairing() {
+        let text = answer_of(scores(60.0, &[], 50.0, &[]), Vec::new());
         assert!(
-            text.ends_with(
-                " C4 on the robot is untestable: EA-MADM has a `final_steps` value in 0 of 2 \
-                 seeds. Its mean success rate over the final window there is 0%, against 30% for \
-                 the best competitor, softmax."
+            text.starts_with(
+                "**Task I.** Against the paper's competitors EA-MADM's verdicts are C1 supported \
+                 (vs "
             ),
             "{text}"
         );
-    }
-
-    #[test]
-    fn a_claim_contradicted_by_reaching_states_the_share_and_the_sign_test() {
-        let mut own = claim("C4", "robot", "ea-madm", "", 0.0, None, "", "contradicted");
-        own.n = 0;
-        own.estimate = None;
-        let mut reached = claim(
-            "C4",
-            "robot",
-            "ea-madm",
-            "softmax",
-            -0.55,
-            Some(0.001_953_125),
-            "favours_competitor",
-            "contradicted",
-        );
-        reached.metric = REACHED.to_owned();
-        reached.n = 20;
-        reached.ci_low = None;
-        reached.ci_high = None;
-        let scores = vec![
-            score("robot", "ea-madm", 0, 0.0, 1.0),
-            score("robot", "softmax", 0, 0.5, 1.0),
-        ];
-        let text = answer_paragraph(&[own, reached], &scores, &context()).unwrap();
         assert!(
             text.contains(
-                " On the robot, softmax beats EA-MADM on C4 by reaching the target on more \
-                 seeds: EA-MADM's share of seeds reaching minus softmax's is -0.55 over 20 \
-                 paired seeds, exact paired sign test Holm p = 0.002."
+                " Seeds converged (greedy policy after training reaches the target): EA-MADM \
+                 8/8, ε-greedy 8/8 and softmax 8/8."
             ),
             "{text}"
         );
+        assert!(!text.contains("collapsed on"), "{text}");
+        assert!(
+            text.contains(
+                "EA-MADM fails to converge on 0 of 8 seeds where the sub-task alone converges \
+                 (0 of them collapsed), never the reverse."
+            ),
+            "{text}"
+        );
+        // The sub-task alone fails where EA-MADM converges: the reverse is counted.
+        let text = answer_of(scores(60.0, &[], 50.0, &[1, 2]), Vec::new());
+        assert!(
+            text.contains("(0 of them collapsed), the reverse on 2."),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn collapsed_seeds_are_named_with_their_episode_and_rejudged_without_them() {
+        let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
+        assert!(
+            text.contains(
+                " EA-MADM collapsed on 2 seeds (seed, then the episode from which it never \
+                 reached again: 3 (ep. 63), 5 (ep. 65)), few enough for the IQM to trim away."
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains("EA-MADM fails to converge on 2 of 8 seeds where the sub-task alone converges (2 of them collapsed)"),
+            "{text}"
+        );
+        assert!(
+            text.contains(
+                "Seeds converged (greedy policy after training reaches the target): EA-MADM 6/8"
+            ),
+            "{text}"
+        );
+        // EA-MADM equals the competitors but for the collapsed seeds: without them C1 is
+        // equivalent, C2 (no margin) cannot be.
+        assert!(
+            text.contains(
+                " Judged again without those seeds (left out of every method, so still paired) \
+                 the verdicts would be C1 equivalent: the collapses are what keep them there."
+            ),
+            "{text}"
+        );
+        assert!(text.contains(" Without those seeds C2"), "{text}");
+        // More than a quarter of the seeds: the IQM no longer trims them all.
+        let text = answer_of(scores(100.0, &[1, 3, 5], 200.0, &[]), Vec::new());
+        assert!(text.contains("3 (ep. 63), 5 (ep. 65))."), "{text}");
+    }
+
+    #[test]
+    fn the_strongest_control_can_overturn_a_verdict() {
+        // The reward-matched control is far better than EA-MADM, which beats the competitors.
+        let text = answer_of(scores(60.0, &[], 10.0, &[]), Vec::new());
+        assert!(
+            text.contains(" The strongest control on C1, C2 and C3 is `softmax-shaped` (reward-matched): IQM `final_steps` 13.5 against EA-MADM's 63.5"),
+            "{text}"
+        );
+        assert!(
+            text.contains("EA-MADM's verdicts are C1 contradicted"),
+            "{text}"
+        );
+        assert!(
+            text.contains("So on C1, C2 and C3 the verdict against the paper's competitors does not hold against a reward-matched control."),
+            "{text}"
+        );
+        assert!(!text.contains("does not come from reaching"), "{text}");
+        // A control that converges on fewer seeds cannot owe its better metric to reaching.
+        let mut rows = scores(60.0, &[], 10.0, &[]);
+        for r in rows
+            .iter_mut()
+            .filter(|r| r.method == "softmax-shaped" && r.seed < 4)
+        {
+            r.outcome = RunOutcome::NeverReached;
+        }
+        let text = answer_of(rows, Vec::new());
+        assert!(
+            text.contains(
+                " It converges on fewer seeds than EA-MADM, so its better `final_steps` does not \
+                 come from reaching the target better."
+            ),
+            "{text}"
+        );
+        // Controls worse than EA-MADM overturn nothing.
+        let mut rows = scores(60.0, &[], 150.0, &[]);
+        for r in rows.iter_mut().filter(|r| r.method == "subtask0-alone") {
+            *r = row(
+                "task1",
+                "subtask0-alone",
+                Role::Control,
+                "subtask_greedy",
+                r.seed,
+                140.0,
+            );
+        }
+        let text = answer_of(rows, Vec::new());
+        assert!(text.contains("The strongest control on C1, C2 and C3 is `subtask0-alone` (sub-task alone): IQM `final_steps` 140 against"), "{text}");
+        assert!(
+            text.contains(
+                "judged against it by the same rule, EA-MADM's verdicts are C1 supported"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("does not hold against"), "{text}");
+    }
+
+    #[test]
+    fn the_readings_are_stated_only_when_run_and_the_table_says_not_run() {
+        let text = answer_of(scores(60.0, &[], 150.0, &[]), Vec::new());
+        assert!(!text.contains("readings"), "{text}");
+        let survives = vec![
+            SurvivesReadings {
+                claim: "C1".to_owned(),
+                task: "task1".to_owned(),
+                holds: true,
+            },
+            SurvivesReadings {
+                claim: "C2".to_owned(),
+                task: "task1".to_owned(),
+                holds: false,
+            },
+        ];
+        let text = answer_of(scores(60.0, &[], 150.0, &[]), survives.clone());
+        assert!(
+            text.ends_with(
+                " Under the other readings of the paper C1 survive every reading and C2 flip \
+                 under some reading."
+            ),
+            "{text}"
+        );
+        let mut verdicts = Verdicts::compute(scores(60.0, &[], 150.0, &[]), &options()).unwrap();
+        let report = render(&context(), &verdicts).unwrap();
+        let c1 = report.lines().find(|l| l.starts_with("| C1 ")).unwrap();
+        assert_eq!(last_cell(c1), "not run", "{c1}");
+        verdicts.survives_readings = survives;
+        let report = render(&context(), &verdicts).unwrap();
+        let c1 = report.lines().find(|l| l.starts_with("| C1 ")).unwrap();
+        let c2 = report.lines().find(|l| l.starts_with("| C2 ")).unwrap();
+        assert_eq!(last_cell(c1), "yes", "{c1}");
+        assert_eq!(last_cell(c2), "no", "{c2}");
     }
 }

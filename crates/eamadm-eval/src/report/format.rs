@@ -185,6 +185,15 @@ pub fn share(s: &Share) -> String {
     )
 }
 
+/// `a`, `a and b`, `a, b and c`.
+pub fn list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
 /// How a method's role reads in a table.
 pub fn role_text(role: Role) -> &'static str {
     match role {

@@ -49,13 +49,17 @@ use crate::scores::{self, FinalScore, ScoresError};
 
 mod answer;
 pub mod format;
+mod glossary;
+mod outcomes;
 mod paper_numbers;
 mod robot;
 mod sensitivity;
+pub mod strongest;
 mod task;
 mod verdicts;
 
-pub use answer::{ClaimsCsvRow, ScoresCsvRow, answer_from_csv, answer_paragraph};
+pub use answer::readme_answer;
+pub use strongest::ControlVerdict;
 pub use verdicts::readme_verdicts;
 
 /// Making the report's text failed.
@@ -143,6 +147,21 @@ pub struct ExperimentFacts {
     /// The robot's sub-task rewards as each reading of them values three ways to play
     /// (`eamadm::diagnosis`), the paper's reading first; empty for a maze.
     pub reward_readings: Vec<RewardReading>,
+    /// The exploring rate ε of each method that explores ε-greedily, over the final window.
+    pub final_epsilon: Vec<FinalEpsilon>,
+}
+
+/// The exploring rate ε of one method over the final window of training (its schedule's
+/// values at the window's first and last episode): how many random actions a final-window
+/// episode takes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FinalEpsilon {
+    /// The method's label.
+    pub method: String,
+    /// ε at the final window's first episode.
+    pub first: f64,
+    /// ε at the final window's last episode.
+    pub last: f64,
 }
 
 /// One reading of the robot's sub-task rewards (the paper's Eq. 6–8, or with repairs): what
@@ -327,6 +346,14 @@ pub struct Verdicts {
     pub overviews: Vec<MethodOverview>,
     /// The paper's EA-MADM against each control.
     pub controls: Vec<ControlComparison>,
+    /// The paper's EA-MADM judged against the strongest control of each claim × task.
+    pub against_strongest: Vec<ControlVerdict>,
+    /// The paper's EA-MADM judged again without the seeds it collapsed on (see
+    /// [`strongest::without_collapses`]).
+    pub without_collapses: Vec<Judgement>,
+    /// Whether each claim × task's verdict survives every reading of the paper the
+    /// sensitivity runs try; empty when none was run (the table then says "not run").
+    pub survives_readings: Vec<SurvivesReadings>,
     /// The settings the comparisons were made with.
     pub options: ClaimOptions,
     /// The paper's EA-MADM judged again under each reading of the paper (filled by the caller
@@ -334,12 +361,51 @@ pub struct Verdicts {
     pub sensitivity: Vec<crate::sensitivity::SensitivityRow>,
 }
 
+/// Whether the paper EA-MADM's verdict on a claim × task holds under every alternative
+/// reading of the paper that was run.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SurvivesReadings {
+    /// `C1` … `C4`.
+    pub claim: String,
+    /// The task.
+    pub task: String,
+    /// True when no reading flips the verdict.
+    pub holds: bool,
+}
+
 impl Verdicts {
+    /// These verdicts with the rows of the readings of the paper (`sensitivity.csv`) and,
+    /// from them, whether each claim × task survives every reading (the verdict table's
+    /// column).
+    #[must_use]
+    pub fn with_sensitivity(mut self, rows: Vec<crate::sensitivity::SensitivityRow>) -> Self {
+        self.survives_readings = crate::sensitivity::survival(&rows)
+            .into_iter()
+            .map(|s| SurvivesReadings {
+                claim: s.claim.to_owned(),
+                task: s.task,
+                holds: s.survives,
+            })
+            .collect();
+        self.sensitivity = rows;
+        self
+    }
+
     /// Judges the claims on `scores`.
     pub fn compute(scores: Vec<FinalScore>, options: &ClaimOptions) -> Result<Self, ClaimsError> {
+        let judgements = claims::judge(&scores, options)?;
+        let estimates = claims::estimates(&scores, options)?;
         Ok(Self {
-            judgements: claims::judge(&scores, options)?,
-            estimates: claims::estimates(&scores, options)?,
+            against_strongest: strongest::against_strongest_controls(
+                &scores,
+                &judgements,
+                &estimates,
+                options,
+            )?,
+            without_collapses: strongest::without_collapses(&scores, &judgements, options)?,
+            survives_readings: Vec::new(),
+            judgements,
+            estimates,
             overviews: claims::overview(&scores)?,
             controls: claims::control_comparisons(&scores, options)?,
             scores,
@@ -381,17 +447,11 @@ impl Verdicts {
     }
 }
 
-/// `REPORT.md`: the answer paragraph ([`answer_paragraph`], from the same `claims.csv` and
-/// `final-scores.csv` text the run writes) when EA-MADM has verdicts, the verdicts, how the
-/// scores are made, a section per experiment of `context` and the paper's numbers.
+/// `REPORT.md`: the answer (a paragraph per task, when EA-MADM has verdicts), the verdicts,
+/// how the scores are made, the glossary, a section per experiment of `context` and the
+/// paper's numbers.
 pub fn render(context: &ReportContext, verdicts: &Verdicts) -> Result<String, ReportError> {
-    let body = render_body(context, verdicts);
-    Ok(answer::with_answer(
-        body,
-        &verdicts.claims_csv()?,
-        &verdicts.scores_csv()?,
-        context,
-    ))
+    Ok(render_body(context, verdicts))
 }
 
 /// `REPORT.md` from the text of a run's `final-scores.csv`: the verdicts are judged again
@@ -406,7 +466,7 @@ pub fn render_from_csv(
     render(context, &Verdicts::compute(scores, options)?)
 }
 
-/// `REPORT.md` without the answer paragraph.
+/// `REPORT.md`.
 fn render_body(context: &ReportContext, verdicts: &Verdicts) -> String {
     let mut text = String::from("# EA-MADM reproduction report\n\n");
     let _ = writeln!(
@@ -420,9 +480,13 @@ fn render_body(context: &ReportContext, verdicts: &Verdicts) -> String {
             ""
         }
     );
+    if let Some(answer) = answer::answer(context, verdicts) {
+        let _ = writeln!(text, "{}\n\n{answer}\n", answer::ANSWER_HEADING);
+    }
     verdicts::write_verdicts(&mut text, context, verdicts);
     sensitivity::write_sensitivity(&mut text, context, &verdicts.sensitivity);
     write_method(&mut text, verdicts);
+    glossary::write_glossary(&mut text, verdicts);
     for experiment in &context.experiments {
         task::write_task(&mut text, context, experiment, verdicts);
     }
@@ -452,8 +516,9 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
          too narrow); **greedy reached**: seeds whose greedy episode after training reached \
          it, with a Wilson interval over seeds.\n\
          - **Environment steps** count every step of a run, sub-task pre-training included.\n\
-         - Bootstrap and permutations are seeded (seed {}), so the report is reproducible bit \
-         for bit.\n",
+         - Bootstrap and permutations are seeded (seed {}): rerunning gives the same report \
+         bit for bit, while another bootstrap seed moves interval endpoints within the \
+         Monte-Carlo tolerance of the glossary.\n",
         scores::FINAL_WINDOW,
         scores::REACHING_EPISODES,
         verdicts.options.bootstrap.seed
@@ -462,7 +527,6 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::answer::{answer_from_csv, with_answer};
     use super::robot::robot_ranking;
     use super::task::training_versus_greedy;
     use super::verdicts::deciding_number;
@@ -609,28 +673,31 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn the_report_opens_with_the_readmes_answer_when_ea_madm_has_verdicts() {
-        let report = "# R\n\nintro\n\n## Verdicts on the paper's claims\n\ntable\n".to_owned();
-        let claims = "claim,task,method,role,metric,versus,n,estimate,ci_low,ci_high,p_holm,outcome,verdict\n\
-                      C4,robot,ea-madm,paper,final_steps,,0,,,,,,untestable\n";
-        let scores = "task,method,role,kind,seed,success_rate,env_steps_total\n\
-                      robot,ea-madm,paper,ea_madm,0,0.0,1\n\
-                      robot,ea-madm,paper,ea_madm,1,0.0,1\n\
-                      robot,softmax,paper,softmax,0,0.25,1\n\
-                      robot,softmax,paper,softmax,1,0.35,1\n";
-        let answer = answer_from_csv(claims, scores, &context()).unwrap();
-        assert_eq!(
-            with_answer(report.clone(), claims, scores, &context()),
-            format!(
-                "# R\n\nintro\n\n## The answer\n\n{answer}\n\n## Verdicts on the paper's claims\n\ntable\n"
-            )
+    fn the_report_opens_with_the_answer_that_the_readme_states() {
+        let verdicts = Verdicts::compute(scores(60.0), &options()).unwrap();
+        let report = render_body(&context(), &verdicts);
+        let answer = readme_answer(&report).unwrap();
+        assert!(
+            answer.starts_with("**Task I.** Against the paper's competitors"),
+            "{answer}"
         );
-        // Without EA-MADM's verdicts (a config of one's own) the report is left as it was.
-        let other = claims.replace("ea-madm", "my-method");
-        assert_eq!(
-            with_answer(report.clone(), &other, scores, &context()),
-            report
-        );
+        // The first screen: title, intro, the answer, then the verdicts.
+        let heading = report.find("## The answer").unwrap();
+        assert!(heading < report.find("## Verdicts on the paper's claims").unwrap());
+        assert!(report[..heading].lines().count() < 5, "{report}");
+        // Without EA-MADM's verdicts (a config of one's own) there is no answer.
+        let other: Vec<FinalScore> = scores(60.0)
+            .into_iter()
+            .map(|mut r| {
+                if r.method == "ea-madm" {
+                    r.kind = "softmax".to_owned();
+                }
+                r
+            })
+            .collect();
+        let report = render_body(&context(), &Verdicts::compute(other, &options()).unwrap());
+        assert!(!report.contains("## The answer"), "{report}");
+        assert!(readme_answer(&report).is_err());
     }
 
     #[test]
@@ -698,6 +765,7 @@ pub(crate) mod tests {
             figures: Figures::default(),
             behaviour: Vec::new(),
             reward_readings: Vec::new(),
+            final_epsilon: Vec::new(),
         });
         let report = render_body(&planned, &verdicts);
         assert!(
@@ -711,7 +779,11 @@ pub(crate) mod tests {
         assert!(report.find("## Verdicts").unwrap() < report.find("## How the scores").unwrap());
     }
 
-    fn overview(training: (u64, u64), greedy: (u64, u64), at_cap: usize) -> MethodOverview {
+    pub(crate) fn overview(
+        training: (u64, u64),
+        greedy: (u64, u64),
+        at_cap: usize,
+    ) -> MethodOverview {
         let share = |(s, t): (u64, u64)| Share {
             successes: s,
             trials: t,
@@ -736,13 +808,41 @@ pub(crate) mod tests {
 
     #[test]
     fn training_and_greedy_success_are_explained_only_when_they_differ() {
-        let loops = training_versus_greedy(&overview((250, 400), (0, 20), 20)).unwrap();
+        let loops = training_versus_greedy(&overview((250, 400), (0, 20), 20), None).unwrap();
         assert!(loops.contains("only in 0/20"), "{loops}");
         assert!(loops.contains("in 20 of the 20 failing seeds"), "{loops}");
-        let flipped = training_versus_greedy(&overview((0, 400), (20, 20), 0)).unwrap();
+        assert!(!loops.contains("exploration"), "{loops}");
+        // ε so small that a final-window episode takes under one random action: online
+        // learning, not exploration, breaks the loops.
+        let tiny = FinalEpsilon {
+            method: "ea-madm".to_owned(),
+            first: 9.0e-5,
+            last: 3.5e-5,
+        };
+        let learning =
+            training_versus_greedy(&overview((250, 400), (0, 20), 20), Some(&tiny)).unwrap();
+        assert!(
+            learning.contains(
+                "ε over the final window is 9.0e-5 to 3.5e-5, under 0.00 random actions per \
+                 episode of 2 steps (median), so online learning, not exploration, breaks"
+            ),
+            "{learning}"
+        );
+        let large = FinalEpsilon {
+            method: "ea-madm".to_owned(),
+            first: 0.9,
+            last: 0.9,
+        };
+        let exploring =
+            training_versus_greedy(&overview((250, 400), (0, 20), 20), Some(&large)).unwrap();
+        assert!(
+            exploring.contains("so exploration and online learning both break"),
+            "{exploring}"
+        );
+        let flipped = training_versus_greedy(&overview((0, 400), (20, 20), 0), None).unwrap();
         assert!(flipped.contains("more often"), "{flipped}");
         assert_eq!(
-            training_versus_greedy(&overview((200, 400), (10, 20), 0)),
+            training_versus_greedy(&overview((200, 400), (10, 20), 0), None),
             None
         );
     }
@@ -814,7 +914,7 @@ pub(crate) mod tests {
     fn the_report_from_final_scores_csv_is_the_reports_bytes() {
         let verdicts = Verdicts::compute(scores(60.0), &options()).unwrap();
         let report = render(&context(), &verdicts).unwrap();
-        assert!(report.contains("## The answer\n\nOver "), "{report}");
+        assert!(report.contains("## The answer\n\n**Task I.** "), "{report}");
         let scores_csv = verdicts.scores_csv().unwrap();
         assert_eq!(
             render_from_csv(&context(), &scores_csv, &options()).unwrap(),

@@ -130,18 +130,6 @@ fn success(method: &MethodBehaviour) -> String {
     }
 }
 
-/// Whether this task's controls ran, and so whether the report can say what an equal budget
-/// or equal reward information gives the competitors (the step-budget sentence of every task).
-pub(crate) fn controls_sentence(overviews: &[&MethodOverview]) -> &'static str {
-    if overviews.iter().any(|o| o.role == Role::Control) {
-        "The controls above ask what an equal budget or equal reward information gives the \
-         competitors."
-    } else {
-        "No control ran on this task, so what an equal budget or equal reward information \
-         would give the competitors is not measured here."
-    }
-}
-
 /// What C4's verdict says of the paper's claim.
 fn reproduced(verdict: Verdict) -> &'static str {
     match verdict {
@@ -787,6 +775,7 @@ mod tests {
             figures: super::super::Figures::default(),
             behaviour,
             reward_readings: readings,
+            final_epsilon: Vec::new(),
         }
     }
 
@@ -907,16 +896,6 @@ mod tests {
             false,
         ),
     ];
-
-    #[test]
-    fn the_controls_sentence_says_whether_controls_ran() {
-        let with = verdicts(&PAPER_SET);
-        let overviews: Vec<&MethodOverview> = with.overviews.iter().collect();
-        assert!(controls_sentence(&overviews).starts_with("The controls above ask"));
-        let without = verdicts(&PAPER_SET[..2]);
-        let overviews: Vec<&MethodOverview> = without.overviews.iter().collect();
-        assert!(controls_sentence(&overviews).starts_with("No control ran"));
-    }
 
     #[test]
     fn c4_is_not_reproduced_with_the_counts_the_test_and_why() {

@@ -4,9 +4,9 @@
 use std::fmt::Write as _;
 
 use super::format::{
-    Align, MarkdownTable, format_fixed, interval, number, p_value, role_text, share,
+    Align, MarkdownTable, format_fixed, interval, list, number, p_value, role_text, share,
 };
-use super::{ExperimentFacts, Figures, ReportContext, Verdicts};
+use super::{ExperimentFacts, Figures, FinalEpsilon, ReportContext, Verdicts};
 use crate::Role;
 use crate::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
 use crate::paper_claims::method_title;
@@ -109,16 +109,17 @@ pub(crate) fn write_task(
 
     write_comparisons(text, task, verdicts);
     write_distributions(text, &overviews);
-    for sentence in explanations(task, &overviews, verdicts) {
-        let _ = writeln!(text, "- {sentence}");
-    }
-    text.push('\n');
-    if context.paper_task(task).is_some_and(|t| t.robot)
+    super::outcomes::write_outcomes(text, task, verdicts);
+    let robot = context.paper_task(task).is_some_and(|t| t.robot)
         || verdicts
             .scores
             .iter()
-            .any(|s| s.task == task && s.reach_time.is_some())
-    {
+            .any(|s| s.task == task && s.reach_time.is_some());
+    for sentence in explanations(experiment, robot, &overviews, verdicts) {
+        let _ = writeln!(text, "- {sentence}");
+    }
+    text.push('\n');
+    if robot {
         super::robot::write_robot(text, experiment, &overviews, verdicts);
     }
     super::robot::write_robot_behaviour(text, experiment, &overviews, &context.action_names);
@@ -186,7 +187,7 @@ fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts)
         ("p", Align::Right),
         ("P(EA-MADM better)", Align::Right),
     ]);
-    for c in rows {
+    for c in &rows {
         let _ = table.push_row([
             format!("`{}`", c.comparison.versus),
             format!("`{}`", c.comparison.metric.column),
@@ -197,6 +198,40 @@ fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts)
     }
     text.push_str(&table.render());
     text.push('\n');
+    let disagreeing: Vec<String> = rows
+        .iter()
+        .filter(|c| {
+            c.comparison.p_value < verdicts.options.alpha && c.comparison.difference.contains(0.0)
+        })
+        .map(|c| {
+            format!(
+                "`{}` on `{}`",
+                c.comparison.versus, c.comparison.metric.column
+            )
+        })
+        .collect();
+    text.push_str(&disagreement_note(
+        &disagreeing,
+        "p",
+        verdicts.options.alpha,
+    ));
+}
+
+/// When a comparison's p is below α while its bootstrap interval holds 0: why, and which of
+/// the two decides. Empty when none does.
+pub(crate) fn disagreement_note(rows: &[String], which_p: &str, alpha: f64) -> String {
+    if rows.is_empty() {
+        return String::new();
+    }
+    format!(
+        "{} {} a {which_p} below {alpha} with an interval that holds 0: the permutation test \
+         asks whether the two samples could be exchanged, the percentile bootstrap how far the \
+         IQM difference can move, and on bimodal samples (seeds at the step cap) they can \
+         disagree. The rule decides by both: a comparison favours a side only when its Holm p \
+         is below {alpha} *and* its interval excludes 0, so such a row settles nothing.\n\n",
+        list(rows),
+        if rows.len() == 1 { "has" } else { "have" }
+    )
 }
 
 fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
@@ -260,6 +295,17 @@ fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
     }
     text.push_str(&table.render());
     text.push('\n');
+    let disagreeing: Vec<String> = judgements
+        .iter()
+        .flat_map(|j| &j.comparisons)
+        .filter(|c| c.p_holm < verdicts.options.alpha && c.difference.contains(0.0))
+        .map(|c| format!("{} on `{}`", method_title(&c.versus), c.metric.column))
+        .collect();
+    text.push_str(&disagreement_note(
+        &disagreeing,
+        "Holm p",
+        verdicts.options.alpha,
+    ));
 }
 
 fn write_distributions(text: &mut String, overviews: &[&MethodOverview]) {
@@ -301,29 +347,78 @@ fn write_distributions(text: &mut String, overviews: &[&MethodOverview]) {
 }
 
 /// Sentences on numbers that need explaining, each chosen by the numbers.
-fn explanations(task: &str, overviews: &[&MethodOverview], verdicts: &Verdicts) -> Vec<String> {
+fn explanations(
+    experiment: &ExperimentFacts,
+    robot: bool,
+    overviews: &[&MethodOverview],
+    verdicts: &Verdicts,
+) -> Vec<String> {
+    let task = experiment.name.as_str();
     let mut sentences = Vec::new();
     for o in overviews.iter().filter(|o| o.role == Role::Paper) {
-        if let Some(sentence) = training_versus_greedy(o) {
+        let epsilon = experiment
+            .final_epsilon
+            .iter()
+            .find(|e| e.method == o.method);
+        if let Some(sentence) = training_versus_greedy(o, epsilon) {
             sentences.push(sentence);
         }
     }
     if let Some(sentence) = step_budget(overviews) {
         sentences.push(sentence);
     }
+    sentences.extend(super::outcomes::pretraining_shares(task, verdicts));
     sentences.extend(identical_methods(task, verdicts));
+    sentences.extend(super::outcomes::equalities_with_subtasks(task, verdicts));
+    if !robot {
+        // A robot state has more features than a maze cell's column and row.
+        sentences.extend(super::outcomes::tau_caveat(task, verdicts));
+    }
     sentences
 }
 
-/// Whether training success and greedy success disagree, and how.
-pub(crate) fn training_versus_greedy(o: &MethodOverview) -> Option<String> {
+/// Whether training success and greedy success disagree, and how. Where the greedy policy
+/// loops, `epsilon` (the method's ε over the final window, if it explores ε-greedily) says
+/// whether exploration can be what breaks the loops in training: below one expected random
+/// action per final-window episode (ε × median final steps) it cannot, and online learning
+/// does.
+pub(crate) fn training_versus_greedy(
+    o: &MethodOverview,
+    epsilon: Option<&FinalEpsilon>,
+) -> Option<String> {
     let training = o.training_success.wilson;
     let greedy = o.greedy_success.wilson;
     if training.low > greedy.high {
         let looping = if o.greedy_at_cap > 0 {
+            let cause = match epsilon {
+                Some(e) => {
+                    let random_actions = e.first.max(e.last) * o.final_steps.median;
+                    if random_actions < 1.0 {
+                        format!(
+                            "; ε over the final window is {} to {}, under {} random actions per \
+                             episode of {} steps (median), so online learning, not exploration, \
+                             breaks the loops of the frozen greedy policy during training",
+                            scientific(e.first),
+                            scientific(e.last),
+                            format_fixed(random_actions, 2),
+                            format_fixed(o.final_steps.median, 0)
+                        )
+                    } else {
+                        format!(
+                            "; ε over the final window is {} to {}, about {} random actions per \
+                             episode of {} steps (median), so exploration and online learning \
+                             both break the loops of the frozen greedy policy during training",
+                            scientific(e.first),
+                            scientific(e.last),
+                            format_fixed(random_actions, 1),
+                            format_fixed(o.final_steps.median, 0)
+                        )
+                    }
+                }
+                None => String::new(),
+            };
             format!(
-                "; in {} of the {} failing seeds the greedy episode runs to the step cap, so the \
-                 frozen greedy policy loops where exploration had broken the loop",
+                "; in {} of the {} failing seeds the greedy episode runs to the step cap{cause}",
                 o.greedy_at_cap,
                 o.greedy_success.trials - o.greedy_success.successes
             )
@@ -347,6 +442,15 @@ pub(crate) fn training_versus_greedy(o: &MethodOverview) -> Option<String> {
         ))
     } else {
         None
+    }
+}
+
+/// `9.0e-5`: two significant figures in scientific notation (a small ε).
+fn scientific(value: f64) -> String {
+    if value == 0.0 || (0.01..1000.0).contains(&value.abs()) {
+        number(value)
+    } else {
+        format!("{value:.1e}")
     }
 }
 
@@ -374,8 +478,44 @@ fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
         format_fixed(ea.pretrain_env_steps, 0),
         format_fixed(most, 0),
         format_fixed(ea.env_steps_total / most, 1),
-        super::robot::controls_sentence(overviews)
+        controls_run(overviews)
     ))
+}
+
+/// Which of the controls that give the competitors EA-MADM's budget or reward information
+/// ran, in words.
+fn controls_run(overviews: &[&MethodOverview]) -> String {
+    let family = |name: &str| -> Vec<String> {
+        overviews
+            .iter()
+            .filter(|o| {
+                o.role == Role::Control && super::strongest::control_family(&o.method) == Some(name)
+            })
+            .map(|o| format!("`{}`", o.method))
+            .collect()
+    };
+    let (budget, reward) = (family("budget-matched"), family("reward-matched"));
+    match (budget.is_empty(), reward.is_empty()) {
+        (true, true) => "No control with an equal budget or equal reward information was run \
+                         here, so whether either closes the gap is not tested."
+            .to_owned(),
+        (false, true) => format!(
+            "The budget-matched controls ({}) give the competitors the same steps; no \
+             reward-matched control was run here.",
+            super::format::list(&budget)
+        ),
+        (true, false) => format!(
+            "The reward-matched controls ({}) give the competitors the same reward \
+             information; no budget-matched control was run here.",
+            super::format::list(&reward)
+        ),
+        (false, false) => format!(
+            "The budget-matched controls ({}) give the competitors the same steps, the \
+             reward-matched ones ({}) the same reward information (the controls table above).",
+            super::format::list(&budget),
+            super::format::list(&reward)
+        ),
+    }
 }
 
 /// Methods whose per-seed scores equal the paper's EA-MADM's exactly.
@@ -423,4 +563,46 @@ fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
             },
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::overview;
+    use super::*;
+
+    #[test]
+    fn the_disagreement_note_appears_only_with_such_rows() {
+        assert_eq!(disagreement_note(&[], "p", 0.05), "");
+        let note = disagreement_note(&["`a` on `final_steps`".to_owned()], "Holm p", 0.05);
+        assert!(
+            note.starts_with(
+                "`a` on `final_steps` has a Holm p below 0.05 with an interval that holds 0"
+            ),
+            "{note}"
+        );
+        assert!(note.contains("so such a row settles nothing"), "{note}");
+    }
+
+    #[test]
+    fn the_controls_sentence_names_the_controls_that_ran() {
+        let control = |label: &str| {
+            let mut o = overview((1, 2), (1, 2), 0);
+            o.method = label.to_owned();
+            o.role = Role::Control;
+            o
+        };
+        let (budget, shaped) = (control("softmax-budget"), control("softmax-shaped"));
+        assert!(controls_run(&[]).starts_with("No control with an equal budget"));
+        assert!(controls_run(&[&budget]).starts_with(
+            "The budget-matched controls (`softmax-budget`) give the competitors the same \
+                 steps; no reward-matched control was run here."
+        ));
+        assert!(controls_run(&[&shaped]).ends_with("no budget-matched control was run here."));
+        assert_eq!(
+            controls_run(&[&budget, &shaped]),
+            "The budget-matched controls (`softmax-budget`) give the competitors the same \
+             steps, the reward-matched ones (`softmax-shaped`) the same reward information (the \
+             controls table above)."
+        );
+    }
 }

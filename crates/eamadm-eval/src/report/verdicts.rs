@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 use super::format::{Align, MarkdownTable, interval, number, p_value, role_text};
+use super::strongest::control_family;
 use super::{ReportContext, Verdicts};
 use crate::claims::{self, Comparison, Judgement};
 use crate::paper_claims::{CLAIMS, method_title};
@@ -36,13 +37,57 @@ fn comparison_in_words(c: &Comparison) -> String {
     )
 }
 
+/// The strongest control of a claim × task with its kind, and EA-MADM's verdict against it
+/// with the number that decides it; "none run" when the task has no control.
+fn strongest_cells(verdicts: &Verdicts, claim: &str, task: &str) -> (String, String) {
+    verdicts
+        .against_strongest
+        .iter()
+        .find(|c| c.judgement.claim.id == claim && c.judgement.task == task)
+        .map_or_else(
+            || ("none run".to_owned(), "—".to_owned()),
+            |c| {
+                (
+                    format!(
+                        "`{}` ({}; IQM `{}` {})",
+                        c.control,
+                        control_family(&c.control).unwrap_or("control"),
+                        c.metric,
+                        number(c.control_iqm)
+                    ),
+                    format!(
+                        "{}: {}",
+                        c.judgement.verdict.name(),
+                        deciding_number(&c.judgement)
+                    ),
+                )
+            },
+        )
+}
+
+/// Whether the claim × task's verdict survives every reading of the paper run by the
+/// sensitivity runs: `yes`, `no`, or `not run` when none was run.
+fn survives_cell(verdicts: &Verdicts, claim: &str, task: &str) -> String {
+    verdicts
+        .survives_readings
+        .iter()
+        .find(|s| s.claim == claim && s.task == task)
+        .map_or_else(
+            || "not run".to_owned(),
+            |s| if s.holds { "yes" } else { "no" }.to_owned(),
+        )
+}
+
 pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdicts: &Verdicts) {
     let _ = writeln!(text, "## Verdicts on the paper's claims\n");
     let mut table = MarkdownTable::new([
         ("claim", Align::Left),
         ("task", Align::Left),
-        ("verdict (EA-MADM)", Align::Left),
+        ("verdict (EA-MADM vs the paper's competitors)", Align::Left),
         ("the number that decides it", Align::Left),
+        ("strongest control", Align::Left),
+        ("verdict vs the strongest control", Align::Left),
+        ("survives the readings", Align::Left),
     ]);
     for claim in &CLAIMS {
         for task in claims::tasks(&verdicts.scores) {
@@ -57,11 +102,15 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
                 || ("not run".to_owned(), "EA-MADM was not run".to_owned()),
                 |j| (format!("**{}**", j.verdict.name()), deciding_number(j)),
             );
+            let (control, control_verdict) = strongest_cells(verdicts, claim.id, task);
             let _ = table.push_row([
                 claim.id.to_owned(),
                 context.task_title(task),
                 verdict,
                 number,
+                control,
+                control_verdict,
+                survives_cell(verdicts, claim.id, task),
             ]);
         }
     }

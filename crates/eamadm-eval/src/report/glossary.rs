@@ -1,0 +1,132 @@
+//! The report's glossary: each term the text uses, defined once.
+
+use std::fmt::Write as _;
+
+use super::Verdicts;
+use crate::scores;
+
+/// The glossary section. Its numbers (final window, margin, resamples) come from the run's
+/// settings, so it cannot drift from the rule it defines.
+pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
+    let margin = crate::claims::equivalence_margin("final_steps")
+        .map_or_else(|| "none".to_owned(), |m| format!("{m}"));
+    let _ = writeln!(text, "## Glossary\n");
+    let terms: [(&str, String); 17] = [
+        (
+            "IQM",
+            "interquartile mean over seeds: the mean of the middle half (a quarter of the seeds \
+             is trimmed from each end), so it hides a failure rate up to 25 %."
+                .to_owned(),
+        ),
+        (
+            "paired difference",
+            "per seed, the method's value minus the other method's on the same seed (runs of \
+             one seed share their random streams); the report gives their mean with a paired \
+             bootstrap interval and a sign-flip p-value."
+                .to_owned(),
+        ),
+        (
+            "Holm",
+            "the Holm step-down adjustment of p-values across the comparisons of one claim × \
+             task × method, so that the chance of any false \"favours\" stays below α."
+                .to_owned(),
+        ),
+        (
+            "margin, TOST",
+            format!(
+                "the region of practical equivalence of a metric ({margin} steps for the step \
+                 metrics: the shortest detour on a grid); TOST tests whether the mean paired \
+                 difference lies inside ± the margin (two one-sided tests)."
+            ),
+        ),
+        (
+            "favours",
+            format!(
+                "a comparison favours a side when its Holm p is below {}, its interval \
+                 excludes 0 and the effect exceeds the margin.",
+                verdicts.options.alpha
+            ),
+        ),
+        (
+            "supported, contradicted, equivalent, inconclusive, untestable",
+            "the verdicts of the rule under the verdict table: every comparison favours EA-MADM; \
+             one favours the other side; every comparison is equivalent (Holm TOST p below α); \
+             none of these; no data to compare."
+                .to_owned(),
+        ),
+        (
+            "converged",
+            "the run's greedy policy after training reaches the target.".to_owned(),
+        ),
+        (
+            "collapsed",
+            "the greedy policy after training does not reach, no episode of the final window \
+             reaches, but an earlier training episode did; the collapse episode is one past the \
+             last reaching one."
+                .to_owned(),
+        ),
+        (
+            "reaches_while_learning",
+            "the greedy policy after training does not reach, but final-window training \
+             episodes still do (online updates break the loops the frozen policy falls into)."
+                .to_owned(),
+        ),
+        (
+            "never_reached",
+            "no training episode and not the greedy episode reached the target.".to_owned(),
+        ),
+        (
+            "ever reached in training",
+            "at least one training episode of the seed reached the target.".to_owned(),
+        ),
+        (
+            "reached in the final window",
+            format!(
+                "at least one of the seed's last {} training episodes reached the target.",
+                scores::FINAL_WINDOW
+            ),
+        ),
+        (
+            "reward-matched control (`*-shaped`)",
+            "a competitor that learns from the same shaped sub-task rewards EA-MADM's source \
+             task learns from."
+                .to_owned(),
+        ),
+        (
+            "budget-matched control (`*-budget`)",
+            "a competitor that first trains on the task for as many environment steps as \
+             EA-MADM's sub-task pre-training takes."
+                .to_owned(),
+        ),
+        (
+            "sub-task alone (`subtaskN-alone`)",
+            "sub-task N pre-trained exactly as in the EA-MADM run of the same seed, then acting \
+             alone (ε-greedy on its own values, EA-MADM's schedule), with no MADM step."
+                .to_owned(),
+        ),
+        (
+            "strongest control",
+            "on a claim × task, the control (not an EA-MADM variant) with the best IQM of the \
+             claim's deciding metric; EA-MADM is judged against it alone by the same rule."
+                .to_owned(),
+        ),
+        (
+            "Monte-Carlo tolerance",
+            format!(
+                "bootstrap intervals and permutation p-values are estimated from {} resamples \
+                 and {} permutations with seed {}: the same seed gives the same bits, another \
+                 seed moves the endpoints. On the Task-I- and Task-II-like samples of \
+                 `crates/eamadm-eval/tests/it/monte_carlo.rs` four other seeds move every \
+                 interval endpoint by less than 1 % of the samples' range (docs/paper-notes.md \
+                 §10.1); read endpoints to that tolerance, not bit for bit across seeds.",
+                verdicts.options.bootstrap.resamples,
+                verdicts.options.permutation.resamples,
+                verdicts.options.bootstrap.seed
+            ),
+        ),
+    ];
+    for (term, definition) in terms {
+        let _ = writeln!(text, "- **{term}**: {definition}");
+    }
+    text.push('\n');
+}

@@ -1,0 +1,189 @@
+//! EA-MADM judged against the strongest control, and against the competitors without its
+//! collapsed seeds: the two readings of the verdicts the answer and the verdict table give
+//! beside the verdict against the paper's competitors.
+//!
+//! The **strongest control** of a claim on a task is the control (role `control`, not an
+//! EA-MADM variant) with the best IQM of the claim's deciding metric there: the metric of the
+//! comparison that decides EA-MADM's verdict against the paper's competitors, else the claim's
+//! first metric. EA-MADM is judged against it alone by the very rule of the verdicts
+//! ([`claims::judge_against_competitors`]).
+
+use crate::Role;
+use crate::claims::{self, ClaimOptions, ClaimsError, Estimate, Judgement};
+use crate::paper_claims::{Claim, Direction};
+use crate::scores::{FinalScore, RunOutcome};
+
+/// EA-MADM's verdict on a claim × task against the strongest control there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ControlVerdict {
+    /// The control's label.
+    pub control: String,
+    /// The metric it is the strongest on.
+    pub metric: &'static str,
+    /// Its IQM of that metric.
+    pub control_iqm: f64,
+    /// EA-MADM judged against it alone.
+    pub judgement: Judgement,
+}
+
+/// What kind of control `label` is, by the facade's naming of the controls
+/// (`eamadm::paper::controls`): `*-shaped*` learn from EA-MADM's shaped sub-task rewards
+/// (standardised, summed or repaired), `*-budget` get EA-MADM's pre-training steps as warm-up,
+/// `subtask*-alone*` are one pre-trained sub-task acting alone (frozen or learning).
+#[must_use]
+pub fn control_family(label: &str) -> Option<&'static str> {
+    if label.contains("-shaped") {
+        Some("reward-matched")
+    } else if label.ends_with("-budget") {
+        Some("budget-matched")
+    } else if label.starts_with("subtask") && label.contains("-alone") {
+        Some("sub-task alone")
+    } else {
+        None
+    }
+}
+
+/// The claim's deciding metric in `judgement`: the deciding comparison's, else the first.
+fn deciding_metric(claim: &Claim, judgement: &Judgement) -> &'static str {
+    judgement
+        .deciding_comparison()
+        .map_or(claim.metrics[0].column, |c| c.metric.column)
+}
+
+/// The control of `task` with the best IQM of `metric` (the earlier one on a tie), with that
+/// IQM.
+#[must_use]
+pub fn strongest_control<'a>(
+    scores: &'a [FinalScore],
+    estimates: &[Estimate],
+    task: &str,
+    metric: &str,
+    direction: Direction,
+) -> Option<(&'a str, f64)> {
+    let mut best: Option<(&str, f64)> = None;
+    for (method, role, kind) in claims::methods(scores, task) {
+        if role != Role::Control || claims::is_under_test(kind) || control_family(method).is_none()
+        {
+            continue;
+        }
+        let Some(value) = estimates
+            .iter()
+            .find(|e| e.task == task && e.method == method && e.metric == metric)
+            .and_then(|e| e.iqm.as_ref())
+            .map(|i| i.estimate)
+        else {
+            continue;
+        };
+        let better = match best {
+            None => true,
+            Some((_, b)) => match direction {
+                Direction::LowerIsBetter => value < b,
+                Direction::HigherIsBetter => value > b,
+            },
+        };
+        if better {
+            best = Some((method, value));
+        }
+    }
+    best
+}
+
+/// EA-MADM's (each paper-role method under test's) verdict against the strongest control of
+/// every claim × task it is judged on.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn against_strongest_controls(
+    scores: &[FinalScore],
+    judgements: &[Judgement],
+    estimates: &[Estimate],
+    options: &ClaimOptions,
+) -> Result<Vec<ControlVerdict>, ClaimsError> {
+    let mut out = Vec::new();
+    for judgement in judgements.iter().filter(|j| j.role == Role::Paper) {
+        let claim = judgement.claim;
+        let metric = deciding_metric(claim, judgement);
+        let direction = claim
+            .metrics
+            .iter()
+            .find(|m| m.column == metric)
+            .map_or(Direction::LowerIsBetter, |m| m.direction);
+        let Some((control, control_iqm)) =
+            strongest_control(scores, estimates, &judgement.task, metric, direction)
+        else {
+            continue;
+        };
+        let against = claims::judge_against_competitors(
+            scores,
+            claim,
+            &judgement.task,
+            &judgement.method,
+            judgement.role,
+            &[control],
+            options,
+        )?;
+        out.push(ControlVerdict {
+            control: control.to_owned(),
+            metric,
+            control_iqm,
+            judgement: against,
+        });
+    }
+    Ok(out)
+}
+
+/// The seeds of `method` on `task` whose run collapsed, with the collapse episode, by seed.
+#[must_use]
+pub fn collapsed_seeds(scores: &[FinalScore], task: &str, method: &str) -> Vec<(u64, Option<u64>)> {
+    let mut seeds: Vec<(u64, Option<u64>)> = scores
+        .iter()
+        .filter(|s| s.task == task && s.method == method && s.outcome == RunOutcome::Collapsed)
+        .map(|s| (s.seed, s.collapse_episode))
+        .collect();
+    seeds.sort_unstable();
+    seeds
+}
+
+/// The paper EA-MADM's verdicts judged again with the seeds it collapsed on left out of every
+/// method (so the comparisons stay paired), for the claims × tasks where it collapsed on some
+/// seed and its verdict is neither supported nor equivalent: whether the collapses alone keep
+/// it from a better verdict.
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn without_collapses(
+    scores: &[FinalScore],
+    judgements: &[Judgement],
+    options: &ClaimOptions,
+) -> Result<Vec<Judgement>, ClaimsError> {
+    let mut out = Vec::new();
+    for judgement in judgements.iter().filter(|j| {
+        j.role == Role::Paper
+            && matches!(
+                j.verdict,
+                claims::Verdict::Inconclusive | claims::Verdict::Contradicted
+            )
+    }) {
+        let collapsed: Vec<u64> = collapsed_seeds(scores, &judgement.task, &judgement.method)
+            .into_iter()
+            .map(|(seed, _)| seed)
+            .collect();
+        if collapsed.is_empty() {
+            continue;
+        }
+        let kept: Vec<FinalScore> = scores
+            .iter()
+            .filter(|s| !(s.task == judgement.task && collapsed.contains(&s.seed)))
+            .cloned()
+            .collect();
+        out.push(claims::judge_one(
+            &kept,
+            judgement.claim,
+            &judgement.task,
+            &judgement.method,
+            judgement.role,
+            options,
+        )?);
+    }
+    Ok(out)
+}
