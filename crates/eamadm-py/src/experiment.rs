@@ -66,9 +66,10 @@ pub(crate) fn toml_to_json(toml_text: &str) -> PyResult<String> {
 /// Runs the experiment `toml_text`: every method in `methods` (labels; default all, in the
 /// config's order) with every seed in `seeds` (default the config's `base_seed + i`), on
 /// `threads` threads (default rayon's), with the GIL released. Returns
-/// `{"curves": columns, "finals": columns}`: one row per (run, episode) with the columns of the
-/// Rust runner's `curves.csv.gz`, and one row per run with its final scores (means over the last
-/// `window` training episodes, as in the report).
+/// `{"curves": columns, "finals": columns, "report_input": (facts, scores)}`: one row per
+/// (run, episode) with the columns of the Rust runner's `curves.csv.gz`, one row per run with
+/// its final scores (means over the last `window` training episodes, as in the report), and
+/// what `report_of_runs` needs of these runs.
 #[pyfunction]
 #[expect(
     clippy::needless_pass_by_value,
@@ -141,6 +142,10 @@ pub(crate) fn run_config<'py>(
     let result = PyDict::new(py);
     result.set_item("curves", curve_columns(py, &records)?)?;
     result.set_item("finals", final_columns(py, &records, window)?)?;
+    result.set_item(
+        "report_input",
+        crate::report::report_input(&experiment, &records, seeds.len())?,
+    )?;
     Ok(result)
 }
 

@@ -24,6 +24,7 @@
 mod error;
 mod experiment;
 mod maze;
+mod report;
 mod robot;
 
 use pyo3::prelude::*;
@@ -42,5 +43,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(experiment::check_config, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::json_to_toml, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::toml_to_json, module)?)?;
+    module.add_function(wrap_pyfunction!(report::report_of_folder, module)?)?;
+    module.add_function(wrap_pyfunction!(report::report_of_runs, module)?)?;
     Ok(())
 }

@@ -21,6 +21,11 @@ pub const REPORT: &str = "REPORT.md";
 pub const FINAL_SCORES: &str = "final-scores.csv";
 /// The verdicts on the paper's claims.
 pub const CLAIMS: &str = "claims.csv";
+/// What `REPORT.md` was rendered from beyond `final-scores.csv` (the run's
+/// `eamadm_eval::report::ReportContext` as TOML, whose floats read back exactly: tasks, experiments, figures with their
+/// captions, the robot's behaviour), so the report can be rendered again from the folder
+/// alone, byte for byte (the Python package's `eamadm.report(dir)` does).
+pub const REPORT_CONTEXT: &str = "report-context.toml";
 /// Every record in one JSON file, written by earlier versions (removed when found).
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
@@ -42,7 +47,14 @@ pub const SET_ASIDE: &str = ".set-aside";
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 5] = [RUNS_FOLDER, LEGACY_RESULTS, REPORT, FINAL_SCORES, CLAIMS];
+pub const TOP_LEVEL: [&str; 6] = [
+    RUNS_FOLDER,
+    LEGACY_RESULTS,
+    REPORT,
+    FINAL_SCORES,
+    CLAIMS,
+    REPORT_CONTEXT,
+];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.
 pub const WINDOWS_DEVICES: [&str; 22] = [

@@ -37,6 +37,7 @@
 
 use std::fmt::Write as _;
 
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::Role;
@@ -71,7 +72,7 @@ pub enum ReportError {
 /// What the report needs to know beyond the scores: the tasks of the paper, the experiments of
 /// this run and what was written for them. Plain data, so this crate needs no other crate of
 /// the workspace; `eamadm::paper::report_context` fills the paper's part.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReportContext {
     /// Whether the run is a `--quick` smoke run (the report says so).
     pub quick: bool,
@@ -92,7 +93,7 @@ pub struct ReportContext {
 }
 
 /// One of the paper's tasks as the report names it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PaperTaskFacts {
     /// The config's `name` and the `task` column: `task1`, `task2`, `robot`, ….
     pub name: String,
@@ -107,7 +108,7 @@ pub struct PaperTaskFacts {
 }
 
 /// One experiment of this run and what was written for it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExperimentFacts {
     /// Folder name and `task` column.
     pub name: String,
@@ -126,7 +127,7 @@ pub struct ExperimentFacts {
 }
 
 /// The figure files written for an experiment and the captions of its key figures.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Figures {
     /// File names under the experiment's folder, in the order written.
     pub files: Vec<String>,

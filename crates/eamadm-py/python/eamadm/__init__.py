@@ -9,7 +9,8 @@ Importing the package registers three Gymnasium ids:
   as a native vector env, :class:`RobotVectorEnv`).
 
 :func:`run` runs an experiment config (the TOML schema of the Rust runner) on the Rust runner
-and :func:`paper_config` returns the paper's presets. Everything is computed by the Rust
+and :func:`paper_config` returns the paper's presets; :func:`report` renders ``REPORT.md`` (and
+its verdicts) of an output folder of the main job, byte for byte, or of :func:`run`'s results. Everything is computed by the Rust
 crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
 """
 
@@ -20,16 +21,19 @@ import gymnasium
 from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
 from eamadm.experiment import Results, paper_config, run
+from eamadm.report import Report, report
 from eamadm.vector import MazeVectorEnv, RobotVectorEnv
 
 __all__ = [
     "MazeEnv",
     "MazeVectorEnv",
+    "Report",
     "Results",
     "RobotEnv",
     "RobotVectorEnv",
     "__version__",
     "paper_config",
+    "report",
     "run",
 ]
 

@@ -31,6 +31,15 @@ class Results(NamedTuple):
     finals: Any
 
 
+class _RunResults(Results):
+    """:class:`Results` that also carry what :func:`eamadm.report` needs of the runs (the
+    experiment's facts and its ``final-scores.csv`` rows, as the Rust runner computed them);
+    still a 2-tuple, so ``curves, finals = run(...)`` unpacks as before."""
+
+    #: Opaque to Python: handed back to the Rust report.
+    report_input: Any = None
+
+
 def paper_config(name: str, *, as_dict: bool = False) -> Union[str, dict]:
     """The paper's preset ``"task1"``, ``"task2"``, ``"robot"`` or ``"robot-paper-state"`` (Tables 1 and 2) as TOML
     text, or as a dict when ``as_dict`` is true."""
@@ -163,5 +172,7 @@ def run(
         except ImportError:
             pass
         else:
-            return Results(pandas.DataFrame(curves), pandas.DataFrame(finals))
-    return Results(curves, finals)
+            curves, finals = pandas.DataFrame(curves), pandas.DataFrame(finals)
+    results = _RunResults(curves, finals)
+    results.report_input = columns["report_input"]
+    return results
