@@ -190,6 +190,9 @@ fn quick_plan_from_the_wheel(
         true,
     )
     .map_err(Failure::failed)?;
+    // The main job runs (and lists) each experiment's methods in the order of
+    // `default_methods`, which need not be the config's.
+    let order = crate::plan::default_methods();
     let mut configs = Vec::with_capacity(planned.len());
     for experiment in &planned {
         let file = scratch.join(format!("{}.toml", experiment.name));
@@ -200,7 +203,14 @@ fn quick_plan_from_the_wheel(
         std::fs::write(&file, text).map_err(|error| {
             Failure::failed(format!("cannot write {}: {error}", file.display()))
         })?;
-        configs.push(file);
+        let labels: Vec<&str> = order
+            .iter()
+            .filter(|label| experiment.config().method(label).is_some())
+            .map(String::as_str)
+            .collect();
+        let mut argument = file.into_os_string();
+        argument.push(format!("={}", labels.join(",")));
+        configs.push(argument);
     }
     announce("the --quick plan from the installed wheel (eamadm.run, eamadm.report)");
     run(
