@@ -23,6 +23,9 @@ pub(crate) enum ClaimsReportError {
     /// Writing a file.
     #[error(transparent)]
     Write(#[from] AtomicWriteError),
+    /// The report's context as TOML.
+    #[error("{file}: {0}", file = eamadm::output_names::REPORT_CONTEXT)]
+    Context(#[from] toml::ser::Error),
 }
 
 impl From<ReportError> for ClaimsReportError {
@@ -34,7 +37,7 @@ impl From<ReportError> for ClaimsReportError {
     }
 }
 
-/// Writes `final-scores.csv`, `claims.csv` and `REPORT.md` into `out`; `context` holds the
+/// Writes `final-scores.csv`, `claims.csv`, `REPORT.md` and `report-context.toml` into `out`; `context` holds the
 /// paper's tasks and, per experiment, the figures written and the robot's behaviour.
 pub(crate) fn write_claim_outputs(
     out: &Path,
@@ -54,5 +57,12 @@ pub(crate) fn write_claim_outputs(
     )?;
     let report = report::render(context, verdicts)?;
     write_atomic(&out.join(names::REPORT), report.as_bytes())?;
+    // What the report was made from beyond final-scores.csv, so that it can be made again from
+    // the folder alone (`eamadm.report(dir)` in Python).
+    let context_text = eamadm::paper::report_context_toml(context)?;
+    write_atomic(
+        &out.join(eamadm::output_names::REPORT_CONTEXT),
+        context_text.as_bytes(),
+    )?;
     Ok(())
 }

@@ -9,7 +9,13 @@
 //! 3. every ```` ```python ```` block of `README.md` runs in that virtualenv, each in a fresh
 //!    interpreter in a scratch folder (so `import eamadm` finds the installed wheel, not the
 //!    sources) that holds only a `--quick` output of the main job at `target/reproduce-paper`
-//!    (made by this binary, for the examples that read one), and must print something.
+//!    (made by this binary, for the examples that read one), and must print something;
+//! 4. the `--quick` plan is run twice: by this binary (`reproduce-paper --quick`, into a scratch
+//!    folder) and from the installed wheel (`eamadm.run` on each of the plan's configs, which
+//!    this binary writes out, then `eamadm.report`). The wheel's `final-scores.csv` and
+//!    `claims.csv` must equal the main job's byte for byte, and `eamadm.report` of the main
+//!    job's folder must equal its `REPORT.md` byte for byte (the figures, and so their captions,
+//!    are drawn only by xtask).
 //!
 //! `cargo xtask test` runs it after the pytest suite.
 
@@ -146,7 +152,89 @@ pub(crate) fn wheel(workspace: &Workspace) -> Result<(), Failure> {
         "the wheel installs without Rust and runs the README's {} Python examples",
         snippets.len()
     );
-    Ok(())
+    quick_plan_from_the_wheel(&python, &no_rust, scratch.path())
+}
+
+/// The Python run of step 4: `argv[1]` holds the main job's folder, `argv[2:]` the plan's
+/// configs in run order, each as `path=label,label,…` with its methods in job order.
+const QUICK_FROM_PYTHON: &str = r#"
+import pathlib, sys
+import eamadm
+
+folder = pathlib.Path(sys.argv[1])
+def run(argument):
+    path, labels = argument.rsplit("=", 1)
+    return eamadm.run(pathlib.Path(path), methods=labels.split(","))
+results = [run(argument) for argument in sys.argv[2:]]
+ours = eamadm.report(results, quick=True)
+from_folder = eamadm.report(folder)
+def same(name, text):
+    if text != (folder / name).read_text(encoding="utf-8"):
+        sys.exit(f"{name}: the wheel's text differs from the main job's")
+same("final-scores.csv", ours.scores_csv)
+same("claims.csv", ours.claims_csv)
+same("REPORT.md", from_folder.markdown)
+same("claims.csv", from_folder.claims_csv)
+print(f"the wheel reproduces the --quick plan: {len(results)} experiments, "
+      f"{len(ours.verdicts)} rows of claims.csv")
+"#;
+
+/// Step 4: the `--quick` plan from this binary and from the installed wheel, compared.
+fn quick_plan_from_the_wheel(
+    python: &Path,
+    path: &OsString,
+    scratch: &Path,
+) -> Result<(), Failure> {
+    let out = scratch.join("quick");
+    announce("xtask reproduce-paper --quick (the main job)");
+    let xtask = std::env::current_exe().map_err(Failure::failed)?;
+    run(
+        Command::new(&xtask)
+            .args(["reproduce-paper", "--quick", "--out"])
+            .arg(&out),
+        "reproduce-paper --quick",
+    )?;
+    let planned = crate::experiments::plan_experiments(
+        &crate::cli::Task::ALL,
+        false,
+        None,
+        crate::plan::QUICK_SEEDS,
+        true,
+    )
+    .map_err(Failure::failed)?;
+    // The main job runs (and lists) each experiment's methods in the order of
+    // `default_methods`, which need not be the config's.
+    let order = crate::plan::default_methods();
+    let mut configs = Vec::with_capacity(planned.len());
+    for experiment in &planned {
+        let file = scratch.join(format!("{}.toml", experiment.name));
+        let text = experiment
+            .config()
+            .to_toml_string()
+            .map_err(Failure::failed)?;
+        std::fs::write(&file, text).map_err(|error| {
+            Failure::failed(format!("cannot write {}: {error}", file.display()))
+        })?;
+        let labels: Vec<&str> = order
+            .iter()
+            .filter(|label| experiment.config().method(label).is_some())
+            .map(String::as_str)
+            .collect();
+        let mut argument = file.into_os_string();
+        argument.push(format!("={}", labels.join(",")));
+        configs.push(argument);
+    }
+    announce("the --quick plan from the installed wheel (eamadm.run, eamadm.report)");
+    run(
+        Command::new(python)
+            .args(["-c", QUICK_FROM_PYTHON])
+            .arg(&out)
+            .args(&configs)
+            .current_dir(scratch)
+            .env("PATH", path)
+            .env_remove("PYTHONPATH"),
+        "the --quick plan from the wheel",
+    )
 }
 
 /// The code of every ```` ```python ```` block of `markdown`, in order.

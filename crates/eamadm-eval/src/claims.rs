@@ -114,6 +114,18 @@ pub enum ClaimsError {
     /// Writing `claims.csv` failed.
     #[error("claims CSV: {0}")]
     Csv(#[from] csv::Error),
+    /// A cell of a table read back (`sensitivity.csv`) holds a value no writer writes.
+    #[error("{file}, row {row}, column {column}: unknown value {value:?}")]
+    BadCell {
+        /// The table's file name.
+        file: &'static str,
+        /// The data row (1 = first row after the header).
+        row: usize,
+        /// The column.
+        column: &'static str,
+        /// What it holds.
+        value: String,
+    },
 }
 
 /// The settings of the statistics behind the verdicts.

@@ -2,7 +2,7 @@
 //! `final-scores.csv` test it and which way is better; and the paper's titles of its methods.
 //! `eamadm::paper` re-exports all of it.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// A method's title for people: the paper's names for its four methods (`EA-MADM`,
 /// `ε-greedy`, `ε-decreasing`, `softmax`), the label itself for every other method.
@@ -182,7 +182,7 @@ pub fn claim(id: &str) -> Option<&'static Claim> {
 
 /// What the paper reports for EA-MADM at the end of training on a maze (read off Fig. 7/8 and
 /// 10/11 and the text). The paper gives no numbers for the robot.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ReportedNumbers {
     /// Steps per episode at the end of training ("about 80", "about 86").
     pub steps: f64,

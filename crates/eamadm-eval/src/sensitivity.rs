@@ -336,6 +336,101 @@ pub fn survival(rows: &[SensitivityRow]) -> Vec<Survival> {
     out
 }
 
+/// The text cells of one `sensitivity.csv` row, as read.
+#[derive(Debug, serde::Deserialize)]
+struct RawRow {
+    claim: String,
+    task: String,
+    reading: String,
+    method: String,
+    base_verdict: String,
+    verdict: String,
+    change: String,
+    versus: String,
+    metric: String,
+    statistic: String,
+    estimate: Option<f64>,
+    ci_low: Option<f64>,
+    ci_high: Option<f64>,
+    p_holm: Option<f64>,
+}
+
+/// Reads `sensitivity.csv` as [`write_csv`] writes it: what re-renders a folder's report
+/// (the Python package's `eamadm.report(dir)`).
+///
+/// # Errors
+/// [`ClaimsError::Csv`] on malformed CSV, [`ClaimsError::BadCell`] on a claim, verdict,
+/// change or statistic no writer writes.
+pub fn read_csv<R: std::io::Read>(reader: R) -> Result<Vec<SensitivityRow>, ClaimsError> {
+    const FILE: &str = "sensitivity.csv";
+    let verdict = |row: usize, column: &'static str, value: &str| {
+        [
+            Verdict::Supported,
+            Verdict::Contradicted,
+            Verdict::Equivalent,
+            Verdict::Inconclusive,
+            Verdict::Untestable,
+        ]
+        .into_iter()
+        .find(|v| v.name() == value)
+        .ok_or_else(|| ClaimsError::BadCell {
+            file: FILE,
+            row,
+            column,
+            value: value.to_owned(),
+        })
+    };
+    let mut rows = Vec::new();
+    for (index, raw) in csv::Reader::from_reader(reader)
+        .deserialize::<RawRow>()
+        .enumerate()
+    {
+        let raw = raw?;
+        let row = index + 1;
+        let bad = |column: &'static str, value: &str| ClaimsError::BadCell {
+            file: FILE,
+            row,
+            column,
+            value: value.to_owned(),
+        };
+        let claim = CLAIMS
+            .iter()
+            .map(|c| c.id)
+            .find(|id| *id == raw.claim)
+            .ok_or_else(|| bad("claim", &raw.claim))?;
+        let change = [Change::Holds, Change::Flips]
+            .into_iter()
+            .find(|c| c.name() == raw.change)
+            .ok_or_else(|| bad("change", &raw.change))?;
+        let statistic = [
+            "",
+            "iqm_difference",
+            "paired_mean_difference",
+            "reached_share_difference",
+        ]
+        .into_iter()
+        .find(|s| *s == raw.statistic)
+        .ok_or_else(|| bad("statistic", &raw.statistic))?;
+        rows.push(SensitivityRow {
+            claim,
+            base_verdict: verdict(row, "base_verdict", &raw.base_verdict)?,
+            verdict: verdict(row, "verdict", &raw.verdict)?,
+            change,
+            statistic,
+            task: raw.task,
+            reading: raw.reading,
+            method: raw.method,
+            versus: raw.versus,
+            metric: raw.metric,
+            estimate: raw.estimate,
+            ci_low: raw.ci_low,
+            ci_high: raw.ci_high,
+            p_holm: raw.p_holm,
+        });
+    }
+    Ok(rows)
+}
+
 /// Writes `sensitivity.csv` (header: [`SENSITIVITY_COLUMNS`]; empty cells for absent values).
 ///
 /// # Errors

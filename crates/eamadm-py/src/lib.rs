@@ -27,6 +27,7 @@ mod error;
 mod experiment;
 mod maze;
 mod outputs;
+mod report;
 mod robot;
 
 use pyo3::prelude::*;
@@ -47,5 +48,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(experiment::toml_to_json, module)?)?;
     module.add_function(wrap_pyfunction!(outputs::load_runs, module)?)?;
     module.add_function(wrap_pyfunction!(outputs::data_package_json, module)?)?;
+    module.add_function(wrap_pyfunction!(report::report_of_folder, module)?)?;
+    module.add_function(wrap_pyfunction!(report::report_of_runs, module)?)?;
     Ok(())
 }

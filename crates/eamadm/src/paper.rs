@@ -162,6 +162,25 @@ pub fn report_context(quick: bool) -> ReportContext {
     }
 }
 
+/// `context` as the text of an output folder's [`output_names::REPORT_CONTEXT`]: TOML, whose
+/// floats (the robot's behaviour shares) read back bit for bit, so that
+/// [`report_context_from_toml`] and the folder's `final-scores.csv` render its `REPORT.md`
+/// again byte for byte.
+///
+/// # Errors
+/// A value TOML cannot hold (an integer past `i64::MAX`).
+pub fn report_context_toml(context: &ReportContext) -> Result<String, toml::ser::Error> {
+    toml::to_string(context)
+}
+
+/// The [`ReportContext`] of an output folder's [`output_names::REPORT_CONTEXT`] text.
+///
+/// # Errors
+/// The text is not what [`report_context_toml`] writes; the message names the field.
+pub fn report_context_from_toml(text: &str) -> Result<ReportContext, toml::de::Error> {
+    toml::from_str(text)
+}
+
 /// The report's facts of one experiment (folder `name`, `title`, and from `config` its
 /// episodes, seeds and γ), with no figures, no behaviour and no reward readings yet (see
 /// [`diagnosis::reward_readings`](crate::diagnosis::reward_readings)).

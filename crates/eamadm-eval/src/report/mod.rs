@@ -37,6 +37,7 @@
 
 use std::fmt::Write as _;
 
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::Role;
@@ -76,7 +77,7 @@ pub enum ReportError {
 /// What the report needs to know beyond the scores: the tasks of the paper, the experiments of
 /// this run and what was written for them. Plain data, so this crate needs no other crate of
 /// the workspace; `eamadm::paper::report_context` fills the paper's part.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReportContext {
     /// Whether the run is a `--quick` smoke run (the report says so).
     pub quick: bool,
@@ -100,7 +101,7 @@ pub struct ReportContext {
 }
 
 /// One reading of the paper as the report describes it (`eamadm::paper::Reading`).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReadingFacts {
     /// Its name, as in `sensitivity.csv`, e.g. `gamma-0.99`.
     pub name: String,
@@ -113,7 +114,7 @@ pub struct ReadingFacts {
 }
 
 /// One of the paper's tasks as the report names it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PaperTaskFacts {
     /// The config's `name` and the `task` column: `task1`, `task2`, `robot`, ….
     pub name: String,
@@ -128,7 +129,7 @@ pub struct PaperTaskFacts {
 }
 
 /// One experiment of this run and what was written for it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExperimentFacts {
     /// Folder name and `task` column.
     pub name: String,
@@ -154,7 +155,7 @@ pub struct ExperimentFacts {
 /// The exploring rate ε of one method over the final window of training (its schedule's
 /// values at the window's first and last episode): how many random actions a final-window
 /// episode takes.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FinalEpsilon {
     /// The method's label.
     pub method: String,
@@ -167,7 +168,7 @@ pub struct FinalEpsilon {
 /// One reading of the robot's sub-task rewards (the paper's Eq. 6–8, or with repairs): what
 /// each sub-task's reward definition makes of reaching, of ending the episode at once and of
 /// idling, discounted at the learners' γ, and the methods that learn from it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RewardReading {
     /// The repairs, as a reader names them (`goal bonus for reach`, `end penalties`); empty
     /// for the paper's rewards.
@@ -186,7 +187,7 @@ pub struct RewardReading {
 
 /// One sub-task's reward definition under a [`RewardReading`]: `Σ γᵗ rₜ` of three ways to
 /// play an episode (`wmr_model::ReferenceValues`), and the controls that run it alone.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SubtaskReference {
     /// The sub-task's name.
     pub name: String,
@@ -253,7 +254,7 @@ impl SubtaskReference {
 }
 
 /// A way to play a robot episode that [`SubtaskReference`] values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Play {
     /// Drive straight to the target.
     Reach,
@@ -276,7 +277,7 @@ impl Play {
 }
 
 /// The figure files written for an experiment and the captions of its key figures.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Figures {
     /// File names under the experiment's folder, in the order written.
     pub files: Vec<String>,
@@ -289,7 +290,7 @@ pub struct Figures {
 
 /// A figure that is not written because it would be empty axes (no method it draws has a
 /// value to plot).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct NotDrawn {
     /// The file it would have been.
     pub file: String,

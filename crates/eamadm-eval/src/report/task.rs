@@ -130,6 +130,14 @@ pub(crate) fn write_task(
             "Tables: [curves]({task}/{}) (gzip), [trajectories]({task}/{}).\n",
             context.curves_file, context.trajectories_file
         );
+    } else {
+        // A report of runs rendered outside an output folder (`eamadm.report` of
+        // `eamadm.run`'s results in Python) has no files to link.
+        let _ = writeln!(
+            text,
+            "No figures or tables were written for `{task}`: only `cargo xtask reproduce-paper` \
+             writes them, into its output folder.\n"
+        );
     }
 }
 

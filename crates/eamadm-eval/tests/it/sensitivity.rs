@@ -7,7 +7,8 @@ use eamadm_eval::Role;
 use eamadm_eval::claims::{ClaimOptions, Verdict};
 use eamadm_eval::scores::{FinalScore, RunOutcome};
 use eamadm_eval::sensitivity::{
-    Change, ReadingRuns, SENSITIVITY_COLUMNS, sensitivity, substitute, survival, write_csv,
+    Change, ReadingRuns, SENSITIVITY_COLUMNS, read_csv, sensitivity, substitute, survival,
+    write_csv,
 };
 use eamadm_eval::stats::{Bootstrap, PermutationTest, SignFlipTest};
 
@@ -212,6 +213,15 @@ fn sensitivity_csv_has_its_columns_and_rounded_rows() {
     write_csv(&rows, &mut csv).unwrap();
     let text = String::from_utf8(csv).unwrap();
     assert!(text.starts_with(&SENSITIVITY_COLUMNS.join(",")));
+    // The table reads back to the same rows (what re-renders a folder's report), and a cell
+    // no writer writes is refused by name.
+    assert_eq!(read_csv(text.as_bytes()).unwrap(), rows);
+    assert!(read_csv(&[][..]).unwrap().is_empty());
+    let bad = text
+        .replacen("flips", "flipped", 1)
+        .replacen("holds", "held", 1);
+    let error = read_csv(bad.as_bytes()).unwrap_err().to_string();
+    assert!(error.contains("column change"), "{error}");
     // Rounded for the snapshot (the CSV keeps full precision).
     let rounded: Vec<String> = rows
         .iter()

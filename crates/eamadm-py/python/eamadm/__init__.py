@@ -11,7 +11,9 @@ Importing the package registers three Gymnasium ids:
 :func:`run` runs an experiment config (the TOML schema of the Rust runner) on the Rust runner
 and :func:`paper_config` returns the paper's presets. :func:`load_runs` reads the run store of
 an output folder of ``cargo xtask reproduce-paper`` and :func:`read_scores` its
-``final-scores.csv`` and ``claims.csv``, typed by its ``datapackage.json``. Everything is
+``final-scores.csv`` and ``claims.csv``, typed by its ``datapackage.json``; :func:`report`
+renders ``REPORT.md`` (and its verdicts) of such a folder, byte for byte, or of :func:`run`'s
+results. Everything is
 computed by the Rust crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
 """
 
@@ -23,11 +25,13 @@ from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
 from eamadm.experiment import Results, paper_config, run
 from eamadm.outputs import Scores, data_package, load_runs, read_scores
+from eamadm.report import Report, report
 from eamadm.vector import MazeVectorEnv, RobotVectorEnv
 
 __all__ = [
     "MazeEnv",
     "MazeVectorEnv",
+    "Report",
     "Results",
     "RobotEnv",
     "RobotVectorEnv",
@@ -37,6 +41,7 @@ __all__ = [
     "load_runs",
     "paper_config",
     "read_scores",
+    "report",
     "run",
 ]
 

@@ -34,6 +34,15 @@ class Results(NamedTuple):
     final_scores: Any
 
 
+class _RunResults(Results):
+    """:class:`Results` that also carry what :func:`eamadm.report` needs of the runs (the
+    experiment's facts and its ``final-scores.csv`` rows, as the Rust runner computed them);
+    still a 2-tuple, so ``curves, final_scores = run(...)`` unpacks as before."""
+
+    #: Opaque to Python: handed back to the Rust report.
+    report_input: Any = None
+
+
 def paper_config(name: str, *, as_dict: bool = False) -> Union[str, dict]:
     """The paper's preset ``"task1"``, ``"task2"``, ``"robot"`` or ``"robot-paper-state"`` (Tables 1 and 2) as TOML
     text, or as a dict when ``as_dict`` is true."""
@@ -164,5 +173,9 @@ def run(
         except ImportError:
             pass
         else:
-            return Results(pandas.DataFrame(curves), outputs.as_frame(scores, fields))
-    return Results(curves, outputs.as_arrays(scores, fields))
+            results = _RunResults(pandas.DataFrame(curves), outputs.as_frame(scores, fields))
+            results.report_input = columns["report_input"]
+            return results
+    results = _RunResults(curves, outputs.as_arrays(scores, fields))
+    results.report_input = columns["report_input"]
+    return results

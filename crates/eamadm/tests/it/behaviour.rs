@@ -52,3 +52,39 @@ fn behaviour_of_a_short_robot_run_is_well_formed() {
     assert!(methods[1].subtasks.is_empty());
     assert_eq!(methods[1].dominant_subtask, None);
 }
+
+/// `report-context.toml` reads back to the very context it was written from, the robot's
+/// behaviour floats bit for bit, so a folder's report can be rendered again byte for byte.
+#[test]
+fn the_report_context_round_trips_through_its_toml() {
+    let mut config = eamadm::paper::robot();
+    config.episodes = 6;
+    config.seeds = 2;
+    config
+        .methods
+        .retain(|spec| ["ea-madm", "softmax"].contains(&spec.label.as_str()));
+    for spec in &mut config.methods {
+        if let Method::EaMadm(ea) = &mut spec.method {
+            ea.pretrain.episodes = 6;
+        }
+    }
+    let records = Experiment::new(config.clone()).unwrap().run_all().unwrap();
+    let mut context = eamadm::paper::report_context(true);
+    let mut facts = eamadm::paper::experiment_facts("robot", "Robot", &config);
+    facts.behaviour = behaviour(&records);
+    facts.figures.files = vec!["steps.svg".to_owned()];
+    facts.figures.captions = vec![("steps.svg".to_owned(), "a \"quoted\" ε caption".to_owned())];
+    context.experiments.push(facts);
+    let text = eamadm::paper::report_context_toml(&context).unwrap();
+    let back = eamadm::paper::report_context_from_toml(&text).unwrap();
+    assert_eq!(back, context);
+    let bits = |c: &eamadm::report::ReportContext| -> Vec<u64> {
+        c.experiments[0]
+            .behaviour
+            .iter()
+            .flat_map(|m| m.action_shares.iter().map(|x| x.to_bits()))
+            .collect()
+    };
+    assert_eq!(bits(&back), bits(&context));
+    assert!(eamadm::paper::report_context_from_toml("quick = 1").is_err());
+}

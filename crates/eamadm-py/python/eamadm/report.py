@@ -1,0 +1,98 @@
+"""``REPORT.md`` from Python, as the main job writes it.
+
+:func:`report` renders the report with the Rust text the main job uses (``eamadm::report``);
+nothing of it is re-derived in Python. Given an output folder of ``cargo xtask reproduce-paper``
+it judges the claims again from the folder's ``final-scores.csv`` and renders them with the
+folder's ``report-context.toml`` (tasks, experiments, figures with captions, the robot's
+behaviour), so the text equals the folder's ``REPORT.md`` byte for byte. Given results of
+:func:`eamadm.run`, it renders the report of those runs, without figures (the report says so).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from typing import Any, Iterable, NamedTuple, Union
+
+from eamadm import _native
+from eamadm.experiment import Results
+
+
+class Report(NamedTuple):
+    """What :func:`report` returns."""
+
+    #: The text of ``REPORT.md``.
+    markdown: str
+    #: The rows of ``claims.csv`` (every estimate, comparison and verdict; its ``verdict``
+    #: column holds the verdicts): a pandas ``DataFrame``, or a list of dicts of strings when
+    #: pandas is missing or ``dataframe=False``.
+    verdicts: Any
+    #: The text of ``claims.csv``.
+    claims_csv: str
+    #: The text of ``final-scores.csv`` (one row per task, method and seed).
+    scores_csv: str
+
+
+def _report_inputs(results: Any) -> list:
+    """The Rust report inputs of one :class:`Results` or an iterable of them."""
+    items = [results] if isinstance(results, Results) else results
+    if isinstance(items, (str, bytes)) or not hasattr(items, "__iter__"):
+        raise ValueError(
+            "results: expected an output folder, a Results of eamadm.run or a list of them, "
+            f"got {type(results).__name__}"
+        )
+    inputs = []
+    for item in items:
+        report_input = getattr(item, "report_input", None)
+        if not isinstance(item, Results) or report_input is None:
+            raise ValueError(
+                "results: expected what eamadm.run returns (a Results), got "
+                f"{type(item).__name__}"
+            )
+        inputs.append(report_input)
+    return inputs
+
+
+def report(
+    source: Union[str, "os.PathLike[str]", Results, Iterable[Results]],
+    *,
+    quick: bool = False,
+    dataframe: bool = True,
+) -> Report:
+    """The report of an output folder or of runs.
+
+    Args:
+        source: the output folder of ``cargo xtask reproduce-paper`` (its ``--out``; the text
+            is the folder's ``REPORT.md``), or what :func:`eamadm.run` returned, for one
+            experiment or a list of them (one per experiment, in report order).
+        quick: for results, mark the report as a ``--quick`` smoke run (a folder's report
+            knows whether it was one).
+        dataframe: the verdicts as a pandas ``DataFrame`` when pandas is installed (``False``:
+            a list of dicts).
+
+    Returns:
+        a :class:`Report`: the Markdown text, the verdicts, and the ``claims.csv`` and
+        ``final-scores.csv`` texts.
+
+    Raises:
+        ValueError: naming the argument, when the folder lacks the files or the results are
+            not of :func:`eamadm.run`.
+    """
+    if isinstance(source, (str, os.PathLike)):
+        if quick:
+            raise ValueError("quick: a folder's report knows whether it was a --quick run")
+        markdown, claims, scores = _native.report_of_folder(os.fspath(source))
+    else:
+        markdown, claims, scores = _native.report_of_runs(_report_inputs(source), bool(quick))
+    verdicts: Any = None
+    if dataframe:
+        try:
+            import pandas
+        except ImportError:
+            pass
+        else:
+            verdicts = pandas.read_csv(io.StringIO(claims))
+    if verdicts is None:
+        verdicts = list(csv.DictReader(io.StringIO(claims)))
+    return Report(markdown, verdicts, claims, scores)

@@ -1,0 +1,187 @@
+//! `REPORT.md` from Python, made by the text the main job writes (`eamadm::report`), never
+//! re-derived here: for an output folder, from its `final-scores.csv` and `report-context.toml`
+//! (the report's context, figures and robot behaviour included, as the main job wrote it); for
+//! runs of [`run_config`](crate::experiment::run_config), from the scores and facts computed
+//! beside them ([`report_input`]), without figures.
+
+use std::path::{Path, PathBuf};
+
+use eamadm::claims::ClaimOptions;
+use eamadm::output_names::{FINAL_SCORES, REPORT, REPORT_CONTEXT, SENSITIVITY};
+use eamadm::paper::PaperTask;
+use eamadm::report::{ExperimentFacts, Verdicts};
+use eamadm::scores::FinalScore;
+use eamadm::{BehaviourAccumulator, Experiment, RunRecord, TaskConfig};
+use pyo3::prelude::*;
+
+use crate::error::value_error;
+
+/// What a report needs of one experiment's runs, as text Python carries opaquely: the
+/// experiment's facts (TOML) and its runs' `final-scores.csv` rows.
+pub(crate) fn report_input(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    seeds: usize,
+) -> PyResult<(String, String)> {
+    let config = experiment.config();
+    let title = PaperTask::from_name(&config.name)
+        .map_or_else(|| config.name.clone(), |task| task.title().to_owned());
+    let mut facts = eamadm::paper::experiment_facts(&config.name, &title, config);
+    // The seeds actually run (`seeds=` may differ from the config's count).
+    facts.seeds = u32::try_from(seeds).map_err(|error| value_error("seeds", error))?;
+    if matches!(config.task, TaskConfig::Robot { .. }) {
+        let mut behaviour = BehaviourAccumulator::default();
+        for record in records {
+            behaviour.push(record);
+        }
+        facts.behaviour = behaviour.finish();
+    }
+    let scores = records
+        .iter()
+        .map(|record| eamadm::scores::final_score_of(record, experiment))
+        .collect::<Result<Vec<FinalScore>, _>>()
+        .map_err(|error| value_error("config", error))?;
+    let mut scores_csv = Vec::new();
+    eamadm::scores::write_csv(&scores, &mut scores_csv)
+        .map_err(|error| value_error("config", error))?;
+    let facts = toml::to_string(&facts).map_err(|error| value_error("config", error))?;
+    let scores_csv = String::from_utf8(scores_csv).map_err(|error| value_error("config", error))?;
+    Ok((facts, scores_csv))
+}
+
+/// The text of `folder/name`; a `ValueError` naming `dir` and the file when it cannot be read.
+fn read(folder: &Path, name: &str, hint: &str) -> PyResult<String> {
+    let path = folder.join(name);
+    std::fs::read_to_string(&path).map_err(|error| {
+        value_error(
+            "dir",
+            format!("cannot read {}: {error}{hint}", path.display()),
+        )
+    })
+}
+
+/// `(REPORT.md, claims.csv, final-scores.csv)` of the output folder `folder`: the verdicts
+/// judged again from its `final-scores.csv` and rendered with its `report-context.toml`, so
+/// the text is the folder's own `REPORT.md` byte for byte when both were written by the same
+/// version.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "pyo3 hands extracted arguments over by value"
+)]
+pub(crate) fn report_of_folder(folder: PathBuf) -> PyResult<(String, String, String)> {
+    if !folder.join(REPORT).is_file() && !folder.join(FINAL_SCORES).is_file() {
+        return Err(value_error(
+            "dir",
+            format!(
+                "{} holds no {REPORT} or {FINAL_SCORES}: give the output folder of \
+                 `cargo xtask reproduce-paper` (its --out)",
+                folder.display()
+            ),
+        ));
+    }
+    let scores_csv = read(&folder, FINAL_SCORES, "")?;
+    let context_text = read(
+        &folder,
+        REPORT_CONTEXT,
+        "; an older version wrote this folder: rerun `cargo xtask reproduce-paper` \
+         (finished runs are reused)",
+    )?;
+    let context = eamadm::paper::report_context_from_toml(&context_text).map_err(|error| {
+        value_error(
+            "dir",
+            format!("{REPORT_CONTEXT} of {}: {error}", folder.display()),
+        )
+    })?;
+    let scores = eamadm::scores::read_csv(scores_csv.as_bytes()).map_err(|error| {
+        value_error(
+            "dir",
+            format!("{FINAL_SCORES} of {}: {error}", folder.display()),
+        )
+    })?;
+    // The readings' rows are not in final-scores.csv: read them back from their own table
+    // (a folder of a plan without readings has only its header, or none before it existed).
+    let sensitivity = match std::fs::read_to_string(folder.join(SENSITIVITY)) {
+        Ok(text) => eamadm::sensitivity::read_csv(text.as_bytes()).map_err(|error| {
+            value_error(
+                "dir",
+                format!("{SENSITIVITY} of {}: {error}", folder.display()),
+            )
+        })?,
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => Vec::new(),
+        Err(error) => {
+            return Err(value_error(
+                "dir",
+                format!(
+                    "cannot read {}: {error}",
+                    folder.join(SENSITIVITY).display()
+                ),
+            ));
+        }
+    };
+    render(
+        &context,
+        scores,
+        sensitivity,
+        &format!("dir {}", folder.display()),
+    )
+}
+
+/// `(REPORT.md, claims.csv, final-scores.csv)` of runs: `inputs` holds one
+/// [`report_input`] per experiment (in report order); `quick` marks the report as a smoke run.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "pyo3 hands extracted arguments over by value"
+)]
+pub(crate) fn report_of_runs(
+    inputs: Vec<(String, String)>,
+    quick: bool,
+) -> PyResult<(String, String, String)> {
+    if inputs.is_empty() {
+        return Err(value_error(
+            "results",
+            "expected the results of at least one run",
+        ));
+    }
+    let mut context = eamadm::paper::report_context(quick);
+    let mut scores = Vec::new();
+    for (facts, scores_csv) in &inputs {
+        let facts: ExperimentFacts =
+            toml::from_str(facts).map_err(|error| value_error("results", error))?;
+        if context.experiments.iter().any(|e| e.name == facts.name) {
+            return Err(value_error(
+                "results",
+                format!(
+                    "two results of the experiment {:?}: run its methods and seeds in one \
+                     `eamadm.run` call",
+                    facts.name
+                ),
+            ));
+        }
+        context.experiments.push(facts);
+        scores.extend(
+            eamadm::scores::read_csv(scores_csv.as_bytes())
+                .map_err(|error| value_error("results", error))?,
+        );
+    }
+    render(&context, scores, Vec::new(), "results")
+}
+
+/// The report, `claims.csv` and `final-scores.csv` of `scores` in `context`, as the main job
+/// writes them (the verdicts judged with the default options, as the main job's).
+fn render(
+    context: &eamadm::report::ReportContext,
+    scores: Vec<FinalScore>,
+    sensitivity: Vec<eamadm::sensitivity::SensitivityRow>,
+    argument: &str,
+) -> PyResult<(String, String, String)> {
+    let error = |error: &dyn std::fmt::Display| value_error(argument, error);
+    let verdicts = Verdicts::compute(scores, &ClaimOptions::default())
+        .map_err(|e| error(&e))?
+        .with_sensitivity(sensitivity);
+    let report = eamadm::report::render(context, &verdicts).map_err(|e| error(&e))?;
+    let claims = verdicts.claims_csv().map_err(|e| error(&e))?;
+    let scores = verdicts.scores_csv().map_err(|e| error(&e))?;
+    Ok((report, claims, scores))
+}

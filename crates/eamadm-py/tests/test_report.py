@@ -1,0 +1,72 @@
+"""`eamadm.report`: the main job's REPORT.md from its folder, byte for byte, and reports of runs."""
+
+import pytest
+
+import eamadm
+from conftest import run_xtask
+
+
+@pytest.fixture(scope="module")
+def quick_folder(tmp_path_factory, xtask):
+    """An output folder of `reproduce-paper --quick --task task1 --seeds 2`, made by the Rust tooling."""
+    out = tmp_path_factory.mktemp("quick") / "out"
+    run_xtask(xtask, "reproduce-paper", "--quick", "--task", "task1", "--seeds", "2", "--out", str(out))
+    return out
+
+
+def test_report_of_a_folder_is_its_report_md(quick_folder):
+    report = eamadm.report(quick_folder)
+    assert report.markdown == (quick_folder / "REPORT.md").read_text(encoding="utf-8")
+    assert report.claims_csv == (quick_folder / "claims.csv").read_text(encoding="utf-8")
+    assert report.scores_csv == (quick_folder / "final-scores.csv").read_text(encoding="utf-8")
+    # The gallery links figures that exist.
+    assert "task1/steps.svg" in report.markdown and (quick_folder / "task1" / "steps.svg").is_file()
+    verdicts = eamadm.report(str(quick_folder), dataframe=False).verdicts
+    assert verdicts and set(verdicts[0]) >= {"claim", "task", "method", "verdict"}
+    assert {row["task"] for row in verdicts} == {"task1"}
+
+
+def test_a_changed_score_changes_the_report(quick_folder, tmp_path):
+    # The report is judged from final-scores.csv, not copied from REPORT.md.
+    import shutil
+
+    copy = tmp_path / "copy"
+    shutil.copytree(quick_folder, copy)
+    (copy / "REPORT.md").write_text("stale", encoding="utf-8")
+    lines = (copy / "final-scores.csv").read_text(encoding="utf-8").splitlines(keepends=True)
+    header = lines[0].rstrip("\n").split(",")
+    column = header.index("final_steps")
+    cells = lines[1].rstrip("\n").split(",")
+    cells[column] = repr(float(cells[column]) + 1000.0)
+    lines[1] = ",".join(cells) + "\n"
+    (copy / "final-scores.csv").write_text("".join(lines), encoding="utf-8")
+    report = eamadm.report(copy)
+    assert report.markdown != (quick_folder / "REPORT.md").read_text(encoding="utf-8")
+    assert report.markdown.startswith("# EA-MADM reproduction report")
+
+
+def test_report_of_runs_has_no_figure_links():
+    config = eamadm.paper_config("task1", as_dict=True)
+    config["task"]["step_cap"] = 300
+    results = eamadm.run(config, episodes=6, seeds=2, methods=["ea-madm", "epsilon-greedy"])
+    curves, finals = results  # still a pair
+    report = eamadm.report(results, quick=True)
+    assert "--quick" in report.markdown
+    assert ".svg" not in report.markdown and "curves.csv.gz" not in report.markdown
+    assert "No figures or tables were written for `task1`" in report.markdown
+    assert set(report.verdicts["method"]) <= {"ea-madm", "epsilon-greedy"}
+    assert report.scores_csv.count("\ntask1,") == 4
+
+
+def test_report_errors_name_the_argument(tmp_path):
+    with pytest.raises(ValueError, match="^dir: .*no REPORT.md or final-scores.csv"):
+        eamadm.report(tmp_path)
+    (tmp_path / "final-scores.csv").write_text("task\n", encoding="utf-8")
+    with pytest.raises(ValueError, match="^dir: .*report-context.toml.*rerun"):
+        eamadm.report(tmp_path)
+    with pytest.raises(ValueError, match="^results: "):
+        eamadm.report([{"curves": []}])
+    with pytest.raises(ValueError, match="^results: "):
+        eamadm.report([])
+    with pytest.raises(ValueError, match="^quick: "):
+        eamadm.report(tmp_path, quick=True)
