@@ -1089,7 +1089,7 @@ epsilon = {{ constant = 0.1 }}
         assert!(
             not_drawn
                 .iter()
-                .all(|n| !files.iter().any(|f| *f == n.file)),
+                .all(|n| !files.contains(&n.file)),
             "{files:?}"
         );
         let out = std::env::temp_dir().join(format!("eamadm-not-drawn-{}", std::process::id()));
