@@ -1087,9 +1087,7 @@ epsilon = {{ constant = 0.1 }}
             .collect();
         assert!(files.contains(&"success.svg".to_owned()), "{files:?}");
         assert!(
-            not_drawn
-                .iter()
-                .all(|n| !files.contains(&n.file)),
+            not_drawn.iter().all(|n| !files.contains(&n.file)),
             "{files:?}"
         );
         let out = std::env::temp_dir().join(format!("eamadm-not-drawn-{}", std::process::id()));

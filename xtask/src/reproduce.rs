@@ -114,10 +114,16 @@ pub(crate) fn reproduce_paper(
         }
         return Ok(());
     }
+    let planned_runs = jobs.len();
     if let Some(shard) = shard {
         jobs.retain(|job| shard.holds(&job.key));
     }
     print!("{}", plan.describe());
+    // The bound above counts every method for every task; this is what will run.
+    println!(
+        "  runs:     {planned_runs} planned (each task's own methods × seeds, the readings' \
+         reruns included)"
+    );
     print!(
         "{}",
         crate::sensitivity_report::describe_readings(&experiments, &jobs)

@@ -203,7 +203,9 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
             text,
             "### The same claims for EA-MADM's ablations and variants\n\n\
              Each is judged against the paper's competitors by the same rule (controls are \
-             marked: they are not in the paper).\n"
+             marked: they are not in the paper); a repaired robot reading is judged a second \
+             time against the competitors trained on its own sub-task rewards, and its reason \
+             then opens with those rewards (claims.csv: `versus_set`).\n"
         );
         let mut table = MarkdownTable::new([
             ("claim", Align::Left),
