@@ -1014,7 +1014,10 @@ pub fn judge_against_competitors(
 }
 
 /// [`judge_versus`] against the given competitors.
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the claim × task × method × set being judged, the competitors and the options: a struct would only rename them"
+)]
 fn judge_labels(
     scores: &[FinalScore],
     claim: &'static Claim,
@@ -1038,7 +1041,10 @@ fn judge_labels(
 }
 
 /// [`judge_labels`] without the words on the set.
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the claim × task × method × set being judged, the competitors and the options: a struct would only rename them"
+)]
 fn judge_versus(
     scores: &[FinalScore],
     claim: &'static Claim,
