@@ -191,6 +191,10 @@ def load_runs(dir: PathLike, *, dataframe: bool = True) -> Any:
     Rust crate ``eamadm-runs``), one row per run in storage order (experiment by experiment,
     then the plan's job order: method by method, seed by seed).
 
+    The readings of the paper (``sensitivity.csv``) rerun some methods under their own
+    experiment name, ``<task>-reading-<reading>``, so their runs appear here with that
+    ``task``; ``final-scores.csv`` holds only the presets' runs.
+
     Columns: ``task``, ``method``, ``role``, ``kind``, ``seed``, ``episodes``, ``key`` (the
     run's key in the store), ``pretrain_env_steps``, ``total_env_steps``, ``optimum_steps``
     (None when unknown), ``greedy_reached`` and ``greedy_steps`` (the greedy evaluation after
