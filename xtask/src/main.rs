@@ -20,8 +20,9 @@
 //! configs; [`reproduce`] drives a run: [`jobs`] lists and shards the runs, [`execute`] runs
 //! them (resuming by [`eamadm_runs::key`]'s keys from the [`eamadm_runs::store`], showing [`progress`]), [`finish`]
 //! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
-//! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv` and `REPORT.md` (with
-//! [`report`]'s tables and [`robot_report`]'s robot behaviour), all staged and swapped into the
+//! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
+//! and `REPORT.md` (whose text [`eamadm::report`] makes), [`sensitivity_report`] the readings'
+//! `sensitivity.csv`, all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
 //! [`text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
