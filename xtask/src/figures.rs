@@ -245,6 +245,14 @@ impl Series {
         self.curves.iter().map(Vec::len).max().unwrap_or(0)
     }
 
+    /// Seeds behind the series' last point: the curves as long as the longest. Fewer than
+    /// [`Self::seeds`] where curves end early (over reaching episodes, a seed that reached
+    /// fewer times drops out), so with it a caption can state the range along x.
+    pub(crate) fn seeds_at_end(&self) -> usize {
+        let longest = self.curves_len();
+        self.curves.iter().filter(|c| c.len() == longest).count()
+    }
+
     /// Numbers held (for the memory law: one per seed and episode).
     #[cfg(test)]
     pub(crate) fn held_numbers(&self) -> usize {
@@ -831,10 +839,13 @@ impl LineChart {
 
     /// The caption's sentences: estimator, band, smoothing, what the thin lines are.
     fn notes(&self, stride: usize) -> Vec<String> {
-        let seeds: Vec<usize> = self.series.iter().map(Series::seeds).collect();
         let (fewest, most) = (
-            seeds.iter().copied().min().unwrap_or(0),
-            seeds.iter().copied().max().unwrap_or(0),
+            self.series
+                .iter()
+                .map(Series::seeds_at_end)
+                .min()
+                .unwrap_or(0),
+            self.series.iter().map(Series::seeds).max().unwrap_or(0),
         );
         let over = if fewest == most {
             format!("{most} seeds")
