@@ -6,6 +6,7 @@
 )]
 
 mod band;
+mod chains;
 mod claims;
 mod monte_carlo;
 mod paired;

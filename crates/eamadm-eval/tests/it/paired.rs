@@ -70,17 +70,37 @@ fn tost_equals_the_two_one_sided_scipy_tests() {
 
 #[test]
 fn sign_test_equals_scipy_binomtest_and_statsmodels_mcnemar() {
+    // Small counts: the p-value is a dyadic rational, which scipy and the integer count both
+    // give exactly (summing the pmf from logarithms gave 0.25000000000000006 for 3 against 0).
     for (wins, losses, expected) in [
         (2, 0, 0.5),
         (0, 5, 0.0625),
+        (3, 0, 0.25),
+        (5, 0, 0.0625),
+        (1, 1, 1.0),
+        (2, 1, 1.0),
+        (1, 7, 0.0703125),
+        (0, 9, 0.00390625),
         (3, 14, 0.012725830078125),
         (10, 10, 1.0),
         (1, 19, 4.00543212890625e-05),
         (0, 0, 1.0),
     ] {
         let p = sign_test(wins, losses);
+        assert_eq!(p.to_bits(), f64::to_bits(expected), "{wins} {losses}: {p}");
+    }
+    // Large counts: the last integer-counted size (126) and beyond it, summed from logarithms.
+    for (wins, losses, expected) in [
+        (63, 63, 1.0),
+        (10, 116, 4.948110035757513e-24),
+        (5, 121, 5.984800900580216e-30),
+        (80, 120, 0.005685155996750306),
+        (60, 70, 0.4300208839753418),
+        (0, 130, 1.4693679385278594e-39),
+    ] {
+        let p = sign_test(wins, losses);
         assert!(
-            (p - expected).abs() <= 1e-12 * expected.max(1e-300),
+            (p - expected).abs() <= 1e-12 * expected,
             "{wins} {losses}: {p}"
         );
     }

@@ -60,8 +60,10 @@ for name, d, margin in [("d10", d10, 2.0), ("D12", D12, 2.0), ("D12", D12, 1.0)]
         lower = flip(np.add(d, margin), s, "greater")
         upper = flip(np.subtract(d, margin), s, "less")
         print(f"TOST {name} {sname} margin {margin}: {max(lower, upper)!r}")
-for wins, losses in [(2, 0), (0, 5), (3, 14), (10, 10), (1, 19), (0, 0)]:
+for wins, losses in [(2, 0), (0, 5), (3, 0), (5, 0), (1, 1), (2, 1), (1, 7), (0, 9), (3, 14),
+                     (10, 10), (1, 19), (0, 0), (63, 63), (10, 116), (5, 121), (80, 120),
+                     (60, 70), (0, 130)]:
     n = wins + losses
     p = stats.binomtest(wins, n, 0.5).pvalue if n else 1.0
     m = mcnemar([[5, wins], [losses, 5]], exact=True).pvalue if n else 1.0
-    print(f"sign {wins} {losses}: {p!r} (mcnemar {m!r})")
+    print(f"sign {wins} {losses}: {float(p)!r} (mcnemar {float(m)!r})")

@@ -1,0 +1,660 @@
+//! Whole claim chains through the public claims API (`claims::judge`, `claims::rows`,
+//! `claims::estimates`, `claims::outcome_rows`) against independent implementations: every
+//! number of a C3 judgement on Task II (EA-MADM against three competitors: the
+//! `stable_reaching` sign tests with Holm over the competitors, the deciding greedy-SD
+//! comparisons and the secondary training-curve comparisons, each family with its own Holm), the
+//! outcome rows (Wilson, sign test) and a C4 judgement on the robot decided by per-seed
+//! reaching (sign tests, Holm).
+//!
+//! The expected values were printed by `chains_reference.py` next to this file (Python 3.11.7,
+//! scipy 1.17.1, statsmodels 0.15.0, numpy 2.4.6): `scipy.stats.trim_mean(x, 0.25)`,
+//! `permutation_test` (exact, every split or sign vector), `mannwhitneyu`, `binomtest`,
+//! statsmodels' `multipletests(method="holm")` and `proportion_confint(method="wilson")`. The
+//! inputs have ties (greedy SDs of 0, equal values across methods), a competitor with two values
+//! (n = 2), a per-seed test with no discordant seed, one with as many wins as losses and
+//! one-sided splits. Exact tests' p-values (a count over an enumeration, then Holm) are compared
+//! bit for bit; other values to 1e-12.
+
+use eamadm_eval::Role;
+use eamadm_eval::claims::{self, ClaimOptions, Comparison, Judgement, ReachingComparison};
+use eamadm_eval::scores::{FinalScore, RunOutcome};
+use eamadm_eval::stats::{Bootstrap, PermutationTest, SignFlipTest};
+
+/// One seed of C3: (stable_reaching, fluctuation_greedy_steps, fluctuation_greedy_return,
+/// fluctuation_steps, fluctuation_return); a seed that is not stable-reaching has no greedy SD.
+type C3Seed = (bool, Option<f64>, Option<f64>, f64, f64);
+
+const fn stable(greedy_steps: f64, greedy_return: f64, steps: f64, ret: f64) -> C3Seed {
+    (true, Some(greedy_steps), Some(greedy_return), steps, ret)
+}
+
+const fn stuck(steps: f64, ret: f64) -> C3Seed {
+    (false, None, None, steps, ret)
+}
+
+/// The C3 scores of `chains_reference.py` (`C3`), method by method: (label, kind, seeds 0–7).
+const C3: [(&str, &str, [C3Seed; 8]); 4] = [
+    (
+        "ea-madm",
+        "ea_madm",
+        [
+            stable(0.0, 0.0, 12.0, 11.0),
+            stable(0.0, 0.5, 9.5, 9.0),
+            stable(1.5, 1.5, 14.0, 13.5),
+            stable(0.0, 0.0, 9.5, 9.0),
+            stable(2.5, 3.0, 30.0, 29.0),
+            stuck(250.0, 240.0),
+            stable(0.0, 0.0, 11.0, 11.0),
+            stable(4.0, 4.5, 13.0, 12.5),
+        ],
+    ),
+    (
+        "epsilon-greedy",
+        "epsilon_greedy",
+        [
+            stable(2.0, 2.5, 40.0, 39.0),
+            stuck(300.0, 290.0),
+            stuck(310.0, 300.0),
+            stable(3.0, 3.0, 42.5, 41.0),
+            stuck(305.0, 295.0),
+            stuck(299.0, 290.0),
+            stuck(320.0, 310.0),
+            stuck(301.0, 292.5),
+        ],
+    ),
+    (
+        "epsilon-decreasing",
+        "epsilon_decreasing",
+        [
+            stable(0.0, 0.5, 20.0, 19.0),
+            stable(1.0, 1.0, 18.0, 18.0),
+            stable(1.5, 1.5, 14.0, 13.5),
+            stable(0.0, 0.5, 25.0, 24.0),
+            stuck(30.0, 29.0),
+            stuck(22.0, 21.0),
+            stuck(200.0, 190.0),
+            stuck(210.0, 205.0),
+        ],
+    ),
+    (
+        "softmax",
+        "softmax",
+        [
+            stable(5.0, 5.0, 35.0, 34.0),
+            stable(4.0, 4.5, 33.0, 33.0),
+            stuck(280.0, 270.0),
+            stable(6.0, 6.0, 36.0, 35.5),
+            stable(7.5, 7.0, 40.0, 39.0),
+            stable(3.0, 3.0, 31.0, 30.0),
+            stable(5.0, 5.0, 35.0, 34.0),
+            stable(8.0, 8.5, 38.0, 37.0),
+        ],
+    ),
+];
+
+/// A run with the given label, kind and seed; every column the chains do not read is fixed.
+fn run(task: &str, method: &str, kind: &str, seed: u64) -> FinalScore {
+    FinalScore {
+        task: task.to_owned(),
+        method: method.to_owned(),
+        role: Role::Paper,
+        kind: kind.to_owned(),
+        seed,
+        episodes: 200,
+        final_window: 20,
+        final_steps: 100.0,
+        final_return: -100.0,
+        success_rate: 1.0,
+        greedy_reached: true,
+        greedy_steps: 73,
+        outcome: RunOutcome::Converged,
+        collapse_episode: None,
+        fluctuation_steps: 0.0,
+        fluctuation_return: 0.0,
+        greedy_evaluations: 10,
+        stable_reaching: Some(true),
+        fluctuation_greedy_steps: Some(0.0),
+        fluctuation_greedy_return: Some(0.0),
+        env_steps_total: 20_000,
+        pretrain_env_steps: 0,
+        step_cap: 2000,
+        optimum_steps: Some(73),
+        reaching_episodes: 100,
+        reach_average_reward: None,
+        reach_time: None,
+        reach_retention_time: None,
+        retention_decay: None,
+    }
+}
+
+/// The C3 scores as `final-scores.csv` rows of Task II; a run is `converged` exactly when it
+/// is stable-reaching (for the outcome rows).
+fn c3_scores() -> Vec<FinalScore> {
+    let mut rows = Vec::new();
+    for (method, kind, seeds) in C3 {
+        for (seed, (is_stable, greedy_steps, greedy_return, steps, ret)) in (0_u64..).zip(seeds) {
+            rows.push(FinalScore {
+                stable_reaching: Some(is_stable),
+                fluctuation_greedy_steps: greedy_steps,
+                fluctuation_greedy_return: greedy_return,
+                fluctuation_steps: steps,
+                fluctuation_return: ret,
+                outcome: if is_stable {
+                    RunOutcome::Converged
+                } else {
+                    RunOutcome::Collapsed
+                },
+                collapse_episode: (!is_stable).then_some(150),
+                ..run("task2", method, kind, seed)
+            });
+        }
+    }
+    rows
+}
+
+/// Exact enumeration everywhere: C(16, 8) = 12 870 splits ≤ 20 000, 2⁸ sign vectors ≤ 2 000.
+fn options() -> ClaimOptions {
+    ClaimOptions {
+        bootstrap: Bootstrap::new(2_000, 0.95, 7).unwrap(),
+        permutation: PermutationTest::new(20_000, 7).unwrap(),
+        sign_flip: SignFlipTest::new(2_000, 7).unwrap(),
+        alpha: 0.05,
+    }
+}
+
+/// `|actual − expected| ≤ 1e-12 · max(1, |expected|)`.
+fn close(actual: f64, expected: f64, what: &str) {
+    assert!(
+        (actual - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+        "{what}: {actual} vs {expected}"
+    );
+}
+
+/// Bit-for-bit equality (a p-value of an exact test: a count over the enumeration).
+fn exact(actual: f64, expected: f64, what: &str) {
+    assert_eq!(
+        actual.to_bits(),
+        expected.to_bits(),
+        "{what}: {actual} vs {expected}"
+    );
+}
+
+/// What `chains_reference.py` prints for one comparison.
+struct Expected {
+    metric: &'static str,
+    versus: &'static str,
+    n: (usize, usize),
+    /// trim_mean(x, 0.25) − trim_mean(y, 0.25).
+    estimate: f64,
+    /// Exact `permutation_test(permutation_type="independent")` of |IQM difference|.
+    p_value: f64,
+    /// `multipletests(method="holm")` over the family's `p_value`s.
+    p_holm: f64,
+    /// `mannwhitneyu(y, x).statistic / (n m)` (lower is better).
+    p_improvement: f64,
+    paired_n: usize,
+    paired_estimate: f64,
+    /// Exact sign-flip `permutation_test(permutation_type="samples")` of the mean.
+    paired_p_value: f64,
+    margin: Option<f64>,
+    /// TOST: max of the two one-sided exact sign-flip tests.
+    p_equivalence: Option<f64>,
+    /// Holm over the family's TOST p-values, 1 for a comparison without a margin.
+    p_equivalence_holm: Option<f64>,
+}
+
+fn check_comparison(actual: &Comparison, expected: &Expected) {
+    let what = format!("{} vs {}", expected.metric, expected.versus);
+    assert_eq!(
+        (actual.metric.column, actual.versus.as_str(), actual.n),
+        (expected.metric, expected.versus, expected.n),
+        "{what}"
+    );
+    close(actual.difference.estimate, expected.estimate, &what);
+    exact(actual.p_value, expected.p_value, &what);
+    exact(actual.p_holm, expected.p_holm, &what);
+    close(actual.p_improvement, expected.p_improvement, &what);
+    let paired = actual.paired.as_ref().unwrap();
+    assert_eq!(paired.n, expected.paired_n, "{what}");
+    close(paired.difference.estimate, expected.paired_estimate, &what);
+    exact(paired.p_value, expected.paired_p_value, &what);
+    assert_eq!(paired.margin, expected.margin, "{what}");
+    assert_eq!(
+        paired.p_equivalence.map(f64::to_bits),
+        expected.p_equivalence.map(f64::to_bits),
+        "{what}"
+    );
+    assert_eq!(
+        paired.p_equivalence_holm.map(f64::to_bits),
+        expected.p_equivalence_holm.map(f64::to_bits),
+        "{what}"
+    );
+}
+
+/// (versus, n, reached, discordant, `binomtest` p, Holm p) of a per-seed test.
+type ExpectedTest = (&'static str, usize, (usize, usize), (u64, u64), f64, f64);
+
+fn check_tests(actual: &[ReachingComparison], metric: &str, expected: &[ExpectedTest]) {
+    assert_eq!(actual.len(), expected.len());
+    for (test, &(versus, n, reached, discordant, p, p_holm)) in actual.iter().zip(expected) {
+        assert_eq!(
+            (
+                test.metric,
+                test.versus.as_str(),
+                test.n,
+                test.reached,
+                test.discordant
+            ),
+            (metric, versus, n, reached, discordant)
+        );
+        exact(test.p_value, p, versus);
+        exact(test.p_holm, p_holm, versus);
+    }
+}
+
+fn c3_judgement(scores: &[FinalScore]) -> Judgement {
+    claims::judge(scores, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C3" && j.method == "ea-madm")
+        .unwrap()
+}
+
+#[test]
+fn c3_stable_reaching_sign_tests_and_holm_match_scipy_and_statsmodels() {
+    let judgement = c3_judgement(&c3_scores());
+    // binomtest(5, 5), binomtest(3, 3), binomtest(1, 2): a one-sided split, another, and as
+    // many wins as losses; multipletests([0.0625, 0.25, 1.0], method="holm").
+    check_tests(
+        &judgement.reaching,
+        claims::STABLE_REACHING,
+        &[
+            ("epsilon-greedy", 8, (7, 2), (5, 0), 0.0625, 0.1875),
+            ("epsilon-decreasing", 8, (7, 4), (3, 0), 0.25, 0.5),
+            ("softmax", 8, (7, 7), (1, 1), 1.0, 1.0),
+        ],
+    );
+    // claims.csv carries each as a `stable_reaching` row: the share of seeds EA-MADM is
+    // stable-reaching on minus the competitor's, the raw and the Holm p.
+    let rows = claims::rows(std::slice::from_ref(&judgement), &[]);
+    let stable_rows: Vec<_> = rows
+        .iter()
+        .filter(|r| r.metric == claims::STABLE_REACHING)
+        .collect();
+    let expected = [(0.625, 0.0625, 0.1875), (0.375, 0.25, 0.5), (0.0, 1.0, 1.0)];
+    assert_eq!(stable_rows.len(), expected.len());
+    for (row, (estimate, p, p_holm)) in stable_rows.iter().zip(expected) {
+        close(row.estimate.unwrap(), estimate, &row.versus);
+        exact(row.p_value.unwrap(), p, &row.versus);
+        exact(row.p_holm.unwrap(), p_holm, &row.versus);
+        assert_eq!(row.n, 8);
+    }
+}
+
+#[test]
+fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
+    let options = options();
+    assert!(options.permutation.is_exact(8, 8) && options.sign_flip.is_exact(8));
+    let judgement = c3_judgement(&c3_scores());
+    let expected = [
+        Expected {
+            metric: "fluctuation_greedy_steps",
+            versus: "epsilon-greedy",
+            n: (7, 2),
+            estimate: -1.7,
+            p_value: 0.3333333333333333,
+            p_holm: 1.0,
+            p_improvement: 0.7857142857142857,
+            paired_n: 2,
+            paired_estimate: -2.5,
+            paired_p_value: 0.5,
+            margin: Some(2.0),
+            p_equivalence: Some(1.0),
+            p_equivalence_holm: Some(1.0),
+        },
+        Expected {
+            metric: "fluctuation_greedy_steps",
+            versus: "epsilon-decreasing",
+            n: (7, 4),
+            estimate: 0.30000000000000004,
+            p_value: 0.6818181818181818,
+            p_holm: 1.0,
+            p_improvement: 0.44642857142857145,
+            paired_n: 4,
+            paired_estimate: -0.25,
+            paired_p_value: 1.0,
+            margin: Some(2.0),
+            p_equivalence: Some(0.0625),
+            p_equivalence_holm: Some(0.375),
+        },
+        Expected {
+            metric: "fluctuation_greedy_steps",
+            versus: "softmax",
+            n: (7, 7),
+            estimate: -4.7,
+            p_value: 0.0017482517482517483,
+            p_holm: 0.01048951048951049,
+            p_improvement: 0.9693877551020408,
+            paired_n: 6,
+            paired_estimate: -4.833333333333333,
+            paired_p_value: 0.03125,
+            margin: Some(2.0),
+            p_equivalence: Some(1.0),
+            p_equivalence_holm: Some(1.0),
+        },
+        Expected {
+            metric: "fluctuation_greedy_return",
+            versus: "epsilon-greedy",
+            n: (7, 2),
+            estimate: -1.75,
+            p_value: 0.3611111111111111,
+            p_holm: 1.0,
+            p_improvement: 0.75,
+            paired_n: 2,
+            paired_estimate: -2.75,
+            paired_p_value: 0.5,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        },
+        Expected {
+            metric: "fluctuation_greedy_return",
+            versus: "epsilon-decreasing",
+            n: (7, 4),
+            estimate: 0.25,
+            p_value: 0.8545454545454545,
+            p_holm: 1.0,
+            p_improvement: 0.5535714285714286,
+            paired_n: 4,
+            paired_estimate: -0.375,
+            paired_p_value: 0.25,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        },
+        Expected {
+            metric: "fluctuation_greedy_return",
+            versus: "softmax",
+            n: (7, 7),
+            estimate: -4.5,
+            p_value: 0.002913752913752914,
+            p_holm: 0.01456876456876457,
+            p_improvement: 0.9591836734693877,
+            paired_n: 6,
+            paired_estimate: -4.666666666666667,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        },
+    ];
+    assert_eq!(judgement.comparisons.len(), expected.len());
+    for (actual, expected) in judgement.comparisons.iter().zip(&expected) {
+        check_comparison(actual, expected);
+    }
+    // claims.csv's comparison rows carry the same numbers.
+    let rows = claims::rows(std::slice::from_ref(&judgement), &[]);
+    for expected in &expected {
+        let row = rows
+            .iter()
+            .find(|r| r.metric == expected.metric && r.versus == expected.versus)
+            .unwrap();
+        close(row.estimate.unwrap(), expected.estimate, expected.metric);
+        exact(row.p_value.unwrap(), expected.p_value, expected.metric);
+        exact(row.p_holm.unwrap(), expected.p_holm, expected.metric);
+        close(
+            row.p_improvement.unwrap(),
+            expected.p_improvement,
+            expected.metric,
+        );
+        assert_eq!(row.paired_n, Some(expected.paired_n));
+        exact(
+            row.paired_p_value.unwrap(),
+            expected.paired_p_value,
+            expected.metric,
+        );
+        assert_eq!(
+            row.p_equivalence_holm.map(f64::to_bits),
+            expected.p_equivalence_holm.map(f64::to_bits)
+        );
+    }
+}
+
+#[test]
+fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
+    let judgement = c3_judgement(&c3_scores());
+    let expected = [
+        Expected {
+            metric: "fluctuation_steps",
+            versus: "epsilon-greedy",
+            n: (8, 8),
+            estimate: -288.75,
+            p_value: 0.0009324009324009324,
+            p_holm: 0.005594405594405594,
+            p_improvement: 0.96875,
+            paired_n: 8,
+            paired_estimate: -196.0625,
+            paired_p_value: 0.0078125,
+            margin: Some(2.0),
+            p_equivalence: Some(1.0),
+            p_equivalence_holm: Some(1.0),
+        },
+        Expected {
+            metric: "fluctuation_steps",
+            versus: "epsilon-decreasing",
+            n: (8, 8),
+            estimate: -11.75,
+            p_value: 0.23496503496503496,
+            p_holm: 0.4699300699300699,
+            p_improvement: 0.78125,
+            paired_n: 8,
+            paired_estimate: -23.75,
+            paired_p_value: 0.75,
+            margin: Some(2.0),
+            p_equivalence: Some(0.61328125),
+            p_equivalence_holm: Some(1.0),
+        },
+        Expected {
+            metric: "fluctuation_steps",
+            versus: "softmax",
+            n: (8, 8),
+            estimate: -23.5,
+            p_value: 0.004506604506604507,
+            p_holm: 0.018026418026418026,
+            p_improvement: 0.890625,
+            paired_n: 8,
+            paired_estimate: -22.375,
+            paired_p_value: 0.5078125,
+            margin: Some(2.0),
+            p_equivalence: Some(0.75),
+            p_equivalence_holm: Some(1.0),
+        },
+        Expected {
+            metric: "fluctuation_return",
+            versus: "epsilon-greedy",
+            n: (8, 8),
+            estimate: -279.875,
+            p_value: 0.0009324009324009324,
+            p_holm: 0.005594405594405594,
+            p_improvement: 0.96875,
+            paired_n: 8,
+            paired_estimate: -190.3125,
+            paired_p_value: 0.0078125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        },
+        Expected {
+            metric: "fluctuation_return",
+            versus: "epsilon-decreasing",
+            n: (8, 8),
+            estimate: -11.25,
+            p_value: 0.23496503496503496,
+            p_holm: 0.4699300699300699,
+            p_improvement: 0.78125,
+            paired_n: 8,
+            paired_estimate: -23.0625,
+            paired_p_value: 0.75,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        },
+        Expected {
+            metric: "fluctuation_return",
+            versus: "softmax",
+            n: (8, 8),
+            estimate: -23.125,
+            p_value: 0.004506604506604507,
+            p_holm: 0.018026418026418026,
+            p_improvement: 0.890625,
+            paired_n: 8,
+            paired_estimate: -22.1875,
+            paired_p_value: 0.5078125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+        },
+    ];
+    assert_eq!(judgement.secondary.len(), expected.len());
+    for (actual, expected) in judgement.secondary.iter().zip(&expected) {
+        check_comparison(actual, expected);
+    }
+}
+
+#[test]
+fn c3_single_method_iqms_match_scipy_trim_mean() {
+    let scores = c3_scores();
+    let estimates = claims::estimates(&scores, &options()).unwrap();
+    // (method, metric, trim_mean(x, 0.25), seeds with a value).
+    let expected = [
+        ("ea-madm", "fluctuation_greedy_steps", 0.8, 7),
+        ("ea-madm", "fluctuation_greedy_return", 1.0, 7),
+        ("ea-madm", "fluctuation_steps", 12.5, 8),
+        ("ea-madm", "fluctuation_return", 12.0, 8),
+        ("epsilon-greedy", "fluctuation_greedy_steps", 2.5, 2),
+        ("epsilon-greedy", "fluctuation_greedy_return", 2.75, 2),
+        ("epsilon-greedy", "fluctuation_steps", 301.25, 8),
+        ("epsilon-greedy", "fluctuation_return", 291.875, 8),
+        ("epsilon-decreasing", "fluctuation_greedy_steps", 0.5, 4),
+        ("epsilon-decreasing", "fluctuation_greedy_return", 0.75, 4),
+        ("epsilon-decreasing", "fluctuation_steps", 24.25, 8),
+        ("epsilon-decreasing", "fluctuation_return", 23.25, 8),
+        ("softmax", "fluctuation_greedy_steps", 5.5, 7),
+        ("softmax", "fluctuation_greedy_return", 5.5, 7),
+        ("softmax", "fluctuation_steps", 36.0, 8),
+        ("softmax", "fluctuation_return", 35.125, 8),
+    ];
+    for (method, metric, iqm, n) in expected {
+        let estimate = estimates
+            .iter()
+            .find(|e| e.method == method && e.metric == metric)
+            .unwrap();
+        assert_eq!((estimate.n, estimate.seeds), (n, 8), "{method} {metric}");
+        close(estimate.iqm.unwrap().estimate, iqm, metric);
+    }
+}
+
+#[test]
+fn outcome_rows_match_statsmodels_wilson_and_scipy_binomtest() {
+    let rows = claims::outcome_rows(&c3_scores()).unwrap();
+    // proportion_confint(k, 8, alpha=0.05, method="wilson").
+    let shares = [
+        ("ea-madm", 0.875, 0.5291118177871466, 0.9775825085499434),
+        (
+            "epsilon-greedy",
+            0.25,
+            0.071479212752109,
+            0.5907245696898311,
+        ),
+        (
+            "epsilon-decreasing",
+            0.5,
+            0.2152160622138775,
+            0.7847839377861225,
+        ),
+        ("softmax", 0.875, 0.5291118177871466, 0.9775825085499434),
+    ];
+    for (method, share, low, high) in shares {
+        let row = rows
+            .iter()
+            .find(|r| r.method == method && r.versus.is_empty())
+            .unwrap();
+        assert_eq!((row.n, row.estimate), (8, Some(share)));
+        close(row.ci_low.unwrap(), low, method);
+        close(row.ci_high.unwrap(), high, method);
+    }
+    // Paired by seed, not adjusted: binomtest on the discordant seeds.
+    for (versus, estimate, p) in [
+        ("epsilon-greedy", 0.625, 0.0625),
+        ("epsilon-decreasing", 0.375, 0.25),
+        ("softmax", 0.0, 1.0),
+    ] {
+        let row = rows
+            .iter()
+            .find(|r| r.method == "ea-madm" && r.versus == versus)
+            .unwrap();
+        close(row.estimate.unwrap(), estimate, versus);
+        exact(row.p_value.unwrap(), p, versus);
+        assert_eq!((row.n, row.p_holm), (8, None));
+    }
+}
+
+/// The seeds (of 0–9) each method reaches the target on: `C4_REACHES` of the script.
+const C4: [(&str, &str, &[u64]); 4] = [
+    ("ea-madm", "ea_madm", &[9]),
+    ("epsilon-greedy", "epsilon_greedy", &[0, 1, 2, 3, 4, 5, 6]),
+    ("epsilon-decreasing", "epsilon_decreasing", &[9]),
+    ("softmax", "softmax", &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9]),
+];
+
+#[test]
+fn c4_reached_sign_tests_and_holm_match_scipy_and_statsmodels() {
+    let mut scores = Vec::new();
+    for (method, kind, reaching) in C4 {
+        for seed in 0..10 {
+            let reaches = reaching.contains(&seed);
+            let value = reaches.then_some(1.0 + seed as f64);
+            scores.push(FinalScore {
+                greedy_reached: reaches,
+                reaching_episodes: if reaches { 10 } else { 0 },
+                reach_average_reward: value,
+                reach_time: value,
+                reach_retention_time: value,
+                retention_decay: value.map(|v| -v),
+                ..run("robot", method, kind, seed)
+            });
+        }
+    }
+    let judgement = claims::judge(&scores, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
+        .unwrap();
+    // EA-MADM has one seed with a C4 value: judged on per-seed reaching. binomtest(1, 8),
+    // no discordant seed (p = 1), binomtest(0, 9); multipletests([0.0703125, 1, 0.00390625],
+    // method="holm") = [0.140625, 1, 0.01171875].
+    assert!(judgement.comparisons.is_empty());
+    check_tests(
+        &judgement.reaching,
+        claims::REACHED,
+        &[
+            ("epsilon-greedy", 10, (1, 7), (1, 7), 0.0703125, 0.140625),
+            ("epsilon-decreasing", 10, (1, 1), (0, 0), 1.0, 1.0),
+            ("softmax", 10, (1, 10), (0, 9), 0.00390625, 0.01171875),
+        ],
+    );
+    let rows = claims::rows(std::slice::from_ref(&judgement), &[]);
+    let reached: Vec<_> = rows
+        .iter()
+        .filter(|r| r.metric == claims::REACHED)
+        .collect();
+    for (row, (estimate, p_holm)) in
+        reached
+            .iter()
+            .zip([(-0.6, 0.140625), (0.0, 1.0), (-0.9, 0.01171875)])
+    {
+        close(row.estimate.unwrap(), estimate, &row.versus);
+        exact(row.p_holm.unwrap(), p_holm, &row.versus);
+    }
+    assert_eq!(reached.len(), 3);
+}

@@ -1,0 +1,264 @@
+"""Reference values for whole claim chains of `eamadm_eval::claims`, computed by independent
+implementations from the same per-seed scores that `chains.rs` (next to this file) feeds through
+the public claims API (`claims::judge`, `claims::rows`, `claims::estimates`,
+`claims::outcome_rows`).
+
+Not run by CI. The values it prints are pinned in `chains.rs`; rerun it to check them after a
+change of inputs:
+
+    python3 -m venv /tmp/statsref
+    /tmp/statsref/bin/pip install scipy numpy statsmodels
+    /tmp/statsref/bin/python crates/eamadm-eval/tests/it/chains_reference.py
+
+Pinned with scipy 1.17.1, statsmodels 0.15.0, numpy 2.4.6 (Python 3.11); the script prints the
+versions it ran with.
+
+Sources of truth, one per number of a chain:
+  * IQM: scipy.stats.trim_mean(x, 0.25)
+  * unpaired p of the IQM difference: scipy.stats.permutation_test((x, y), |IQM(x) - IQM(y)|,
+    permutation_type="independent", n_resamples=inf, alternative="greater") (every split)
+  * probability of improvement (lower is better): scipy.stats.mannwhitneyu(y, x).statistic / (n m)
+  * paired mean and its sign-flip p: numpy.mean(d) and scipy.stats.permutation_test((d,), mean,
+    permutation_type="samples", n_resamples=inf) (all 2^n sign vectors)
+  * TOST: max of the "greater" sign-flip test on d + margin and the "less" one on d - margin
+  * sign test on discordant seeds: scipy.stats.binomtest(wins, wins + losses, 0.5).pvalue
+    (1 when there is no discordant seed), cross-checked with statsmodels' exact mcnemar
+  * Holm: statsmodels.stats.multitest.multipletests(p, method="holm")[1]
+  * Wilson: statsmodels.stats.proportion.proportion_confint(k, n, alpha=0.05, method="wilson")
+"""
+
+import sys
+
+import numpy as np
+import scipy
+import statsmodels
+from scipy import stats
+from statsmodels.stats.contingency_tables import mcnemar
+from statsmodels.stats.multitest import multipletests
+from statsmodels.stats.proportion import proportion_confint
+
+N = None  # an empty cell: the seed is not stable-reaching, so it has no greedy SD
+
+# C3 on task2, 8 seeds: (stable_reaching, fluctuation_greedy_steps, fluctuation_greedy_return,
+# fluctuation_steps, fluctuation_return) per seed. The values are made up, shaped like a run:
+# a stable-reaching seed has small greedy SDs (ties at 0), a stuck seed a large curve SD.
+C3 = {
+    "ea-madm": [
+        (True, 0.0, 0.0, 12.0, 11.0),
+        (True, 0.0, 0.5, 9.5, 9.0),
+        (True, 1.5, 1.5, 14.0, 13.5),
+        (True, 0.0, 0.0, 9.5, 9.0),
+        (True, 2.5, 3.0, 30.0, 29.0),
+        (False, N, N, 250.0, 240.0),
+        (True, 0.0, 0.0, 11.0, 11.0),
+        (True, 4.0, 4.5, 13.0, 12.5),
+    ],
+    # Stable-reaching on two seeds only: the n = 2 edge of every comparison.
+    "epsilon-greedy": [
+        (True, 2.0, 2.5, 40.0, 39.0),
+        (False, N, N, 300.0, 290.0),
+        (False, N, N, 310.0, 300.0),
+        (True, 3.0, 3.0, 42.5, 41.0),
+        (False, N, N, 305.0, 295.0),
+        (False, N, N, 299.0, 290.0),
+        (False, N, N, 320.0, 310.0),
+        (False, N, N, 301.0, 292.5),
+    ],
+    "epsilon-decreasing": [
+        (True, 0.0, 0.5, 20.0, 19.0),
+        (True, 1.0, 1.0, 18.0, 18.0),
+        (True, 1.5, 1.5, 14.0, 13.5),
+        (True, 0.0, 0.5, 25.0, 24.0),
+        (False, N, N, 30.0, 29.0),
+        (False, N, N, 22.0, 21.0),
+        (False, N, N, 200.0, 190.0),
+        (False, N, N, 210.0, 205.0),
+    ],
+    "softmax": [
+        (True, 5.0, 5.0, 35.0, 34.0),
+        (True, 4.0, 4.5, 33.0, 33.0),
+        (False, N, N, 280.0, 270.0),
+        (True, 6.0, 6.0, 36.0, 35.5),
+        (True, 7.5, 7.0, 40.0, 39.0),
+        (True, 3.0, 3.0, 31.0, 30.0),
+        (True, 5.0, 5.0, 35.0, 34.0),
+        (True, 8.0, 8.5, 38.0, 37.0),
+    ],
+}
+C3_METRICS = ["fluctuation_greedy_steps", "fluctuation_greedy_return"]
+C3_SECONDARY = ["fluctuation_steps", "fluctuation_return"]
+COLUMN = {name: i + 1 for i, name in enumerate(C3_METRICS + C3_SECONDARY)}
+MARGIN = {"fluctuation_greedy_steps": 2.0, "fluctuation_steps": 2.0}
+
+# C4 on the robot, 10 seeds: the seeds each method reaches the target on. EA-MADM reaches on one
+# seed only, so C4 is judged on per-seed reaching: a one-sided split (softmax), a tie with no
+# discordant seed (epsilon-decreasing) and a mixed one (epsilon-greedy).
+C4_SEEDS = 10
+C4_REACHES = {
+    "ea-madm": {9},
+    "epsilon-greedy": set(range(7)),
+    "epsilon-decreasing": {9},
+    "softmax": set(range(10)),
+}
+COMPETITORS = ["epsilon-greedy", "epsilon-decreasing", "softmax"]
+
+
+def iqm(x, axis=-1):
+    return stats.trim_mean(x, 0.25, axis=axis)
+
+
+def mean(x, axis=-1):
+    return np.mean(x, axis=axis)
+
+
+def permutation_p(x, y):
+    return float(
+        stats.permutation_test(
+            (np.asarray(x, float), np.asarray(y, float)),
+            lambda a, b, axis: np.abs(iqm(a, axis=axis) - iqm(b, axis=axis)),
+            permutation_type="independent",
+            vectorized=True,
+            n_resamples=np.inf,
+            alternative="greater",
+        ).pvalue
+    )
+
+
+def flip(d, alternative):
+    return float(
+        stats.permutation_test(
+            (np.asarray(d, float),),
+            mean,
+            permutation_type="samples",
+            vectorized=True,
+            n_resamples=np.inf,
+            alternative=alternative,
+        ).pvalue
+    )
+
+
+def sign_test(wins, losses):
+    n = wins + losses
+    if n == 0:
+        return 1.0
+    p = float(stats.binomtest(wins, n, 0.5).pvalue)
+    m = float(mcnemar([[1, wins], [losses, 1]], exact=True).pvalue)
+    assert abs(p - m) <= 1e-15 * max(p, 1e-300), (p, m)
+    return p
+
+
+def holm(p):
+    return [float(v) for v in multipletests(p, method="holm")[1]]
+
+
+def values(method, column):
+    return [row[COLUMN[column]] for row in C3[method] if row[COLUMN[column]] is not None]
+
+
+def paired(method, versus, column):
+    pairs = [
+        (a[COLUMN[column]], b[COLUMN[column]])
+        for a, b in zip(C3[method], C3[versus])
+        if a[COLUMN[column]] is not None and b[COLUMN[column]] is not None
+    ]
+    return [a for a, _ in pairs], [b for _, b in pairs]
+
+
+def comparisons(metrics):
+    """Per metric × competitor (metric-major): the numbers of one `Comparison`, Holm over all."""
+    out = []
+    x_method = "ea-madm"
+    for column in metrics:
+        x = values(x_method, column)
+        for versus in COMPETITORS:
+            y = values(versus, column)
+            if len(x) < 2 or len(y) < 2:
+                continue
+            px, py = paired(x_method, versus, column)
+            d = np.subtract(px, py)
+            row = {
+                "metric": column,
+                "versus": versus,
+                "n": (len(x), len(y)),
+                "estimate": float(iqm(np.asarray(x, float)) - iqm(np.asarray(y, float))),
+                "p_value": permutation_p(x, y),
+                # Lower is better: P(a seed of the method has the smaller SD), ties 1/2.
+                "p_improvement": float(stats.mannwhitneyu(y, x).statistic) / (len(x) * len(y)),
+                "paired_n": len(d),
+                "paired_estimate": float(np.mean(d)),
+                "paired_p_value": flip(d, "two-sided"),
+                "margin": MARGIN.get(column),
+            }
+            margin = MARGIN.get(column)
+            if margin is not None:
+                row["p_equivalence"] = max(flip(d + margin, "greater"), flip(d - margin, "less"))
+            else:
+                row["p_equivalence"] = None
+            out.append(row)
+    for row, p in zip(out, holm([r["p_value"] for r in out])):
+        row["p_holm"] = p
+    # The equivalence family: every comparison, 1 where there is no margin.
+    equivalence = [1.0 if r["p_equivalence"] is None else r["p_equivalence"] for r in out]
+    for row, p in zip(out, holm(equivalence)):
+        row["p_equivalence_holm"] = None if row["p_equivalence"] is None else p
+    return out
+
+
+def per_seed_tests(flags, seeds):
+    """Paired per-seed sign tests of EA-MADM against each competitor, Holm over them."""
+    out = []
+    for versus in COMPETITORS:
+        mine, theirs = flags("ea-madm"), flags(versus)
+        wins = sum(1 for s in range(seeds) if mine[s] and not theirs[s])
+        losses = sum(1 for s in range(seeds) if theirs[s] and not mine[s])
+        out.append({
+            "versus": versus,
+            "n": seeds,
+            "reached": (sum(mine), sum(theirs)),
+            "discordant": (wins, losses),
+            "p_value": sign_test(wins, losses),
+            "estimate": (sum(mine) - sum(theirs)) / seeds,
+        })
+    for row, p in zip(out, holm([r["p_value"] for r in out])):
+        row["p_holm"] = p
+    return out
+
+
+def show(title, rows):
+    print(f"# {title}")
+    for row in rows:
+        print("  " + ", ".join(f"{k}={v!r}" for k, v in row.items()))
+
+
+def main():
+    print(f"# python {sys.version.split()[0]}, scipy {scipy.__version__}, "
+          f"statsmodels {statsmodels.__version__}, numpy {np.__version__}")
+    c3_stable = lambda m: [row[0] for row in C3[m]]  # noqa: E731
+    show("C3 task2: stable_reaching sign tests (Holm over the competitors)",
+         per_seed_tests(c3_stable, 8))
+    show("C3 task2: deciding comparisons (Holm over all six)", comparisons(C3_METRICS))
+    show("C3 task2: secondary comparisons (Holm over all six)", comparisons(C3_SECONDARY))
+
+    print("# C3 task2: single-method IQMs (trim_mean(x, 0.25)), n")
+    for method in C3:
+        for column in C3_METRICS + C3_SECONDARY:
+            x = values(method, column)
+            print(f"  {method} {column}: {float(iqm(np.asarray(x, float)))!r}, n={len(x)}")
+
+    print("# outcome rows (converged = stable_reaching): Wilson 95 % of the share")
+    for method in C3:
+        k = sum(c3_stable(method))
+        low, high = proportion_confint(k, 8, alpha=0.05, method="wilson")
+        print(f"  {method}: {k}/8 -> ({float(low)!r}, {float(high)!r})")
+    outcome = per_seed_tests(c3_stable, 8)
+    for row in outcome:
+        del row["p_holm"]  # outcome comparisons are not adjusted
+    show("outcome comparisons (sign test, not adjusted)", outcome)
+
+    c4_reached = lambda m: [s in C4_REACHES[m] for s in range(C4_SEEDS)]  # noqa: E731
+    show("C4 robot: reached sign tests (Holm over the competitors)",
+         per_seed_tests(c4_reached, C4_SEEDS))
+
+
+if __name__ == "__main__":
+    main()
