@@ -13,7 +13,9 @@
 //! inputs have ties (greedy SDs of 0, equal values across methods), a competitor with two values
 //! (n = 2), a per-seed test with no discordant seed, one with as many wins as losses and
 //! one-sided splits. Exact tests' p-values (a count over an enumeration, then Holm) are compared
-//! bit for bit; other values to 1e-12.
+//! bit for bit; other values to 1e-12. The bootstrap intervals are pinned too: the script draws
+//! the replicates again (ChaCha8, Lemire, as `eamadm_eval::stats` documents) and takes
+//! `numpy.quantile(…, method="linear")` of them.
 
 use eamadm_eval::Role;
 use eamadm_eval::claims::{self, ClaimOptions, Comparison, Judgement, ReachingComparison};
@@ -201,6 +203,11 @@ struct Expected {
     p_equivalence: Option<f64>,
     /// Holm over the family's TOST p-values, 1 for a comparison without a margin.
     p_equivalence_holm: Option<f64>,
+    /// The IQM difference's percentile interval: the replicates drawn again in Python by the
+    /// documented draw order, `numpy.quantile(…, method="linear")` of them.
+    ci: (f64, f64),
+    /// The same for the mean of the paired differences.
+    paired_ci: (f64, f64),
 }
 
 fn check_comparison(actual: &Comparison, expected: &Expected) {
@@ -211,12 +218,16 @@ fn check_comparison(actual: &Comparison, expected: &Expected) {
         "{what}"
     );
     close(actual.difference.estimate, expected.estimate, &what);
+    close(actual.difference.low, expected.ci.0, &what);
+    close(actual.difference.high, expected.ci.1, &what);
     exact(actual.p_value, expected.p_value, &what);
     exact(actual.p_holm, expected.p_holm, &what);
     close(actual.p_improvement, expected.p_improvement, &what);
     let paired = actual.paired.as_ref().unwrap();
     assert_eq!(paired.n, expected.paired_n, "{what}");
     close(paired.difference.estimate, expected.paired_estimate, &what);
+    close(paired.difference.low, expected.paired_ci.0, &what);
+    close(paired.difference.high, expected.paired_ci.1, &what);
     exact(paired.p_value, expected.paired_p_value, &what);
     assert_eq!(paired.margin, expected.margin, "{what}");
     assert_eq!(
@@ -311,6 +322,8 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             margin: Some(2.0),
             p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
+            ci: (-3.0, -0.10000000000000009),
+            paired_ci: (-3.0, -2.0),
         },
         Expected {
             metric: "fluctuation_greedy_steps",
@@ -326,6 +339,8 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             margin: Some(2.0),
             p_equivalence: Some(0.0625),
             p_equivalence_holm: Some(0.375),
+            ci: (-1.0, 2.1),
+            paired_ci: (-0.75, 0.0),
         },
         Expected {
             metric: "fluctuation_greedy_steps",
@@ -341,6 +356,8 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             margin: Some(2.0),
             p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
+            ci: (-6.4, -2.5000000000000004),
+            paired_ci: (-5.333333333333333, -4.333333333333333),
         },
         Expected {
             metric: "fluctuation_greedy_return",
@@ -356,6 +373,8 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            ci: (-2.8, 0.0),
+            paired_ci: (-3.0, -2.5),
         },
         Expected {
             metric: "fluctuation_greedy_return",
@@ -371,6 +390,8 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            ci: (-0.95, 2.0),
+            paired_ci: (-0.5, -0.125),
         },
         Expected {
             metric: "fluctuation_greedy_return",
@@ -386,6 +407,8 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            ci: (-6.3, -2.4),
+            paired_ci: (-5.333333333333333, -4.166666666666667),
         },
     ];
     assert_eq!(judgement.comparisons.len(), expected.len());
@@ -438,6 +461,8 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             margin: Some(2.0),
             p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
+            ci: (-295.753125, -94.87187500000002),
+            paired_ci: (-267.328125, -106.74062500000005),
         },
         Expected {
             metric: "fluctuation_steps",
@@ -453,6 +478,8 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             margin: Some(2.0),
             p_equivalence: Some(0.61328125),
             p_equivalence_holm: Some(1.0),
+            ci: (-104.878125, 52.256249999999966),
+            paired_ci: (-100.56406249999999, 57.9562499999999),
         },
         Expected {
             metric: "fluctuation_steps",
@@ -468,6 +495,8 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             margin: Some(2.0),
             p_equivalence: Some(0.75),
             p_equivalence_holm: Some(1.0),
+            ci: (-85.628125, 40.75),
+            paired_ci: (-113.1875, 66.75156249999999),
         },
         Expected {
             metric: "fluctuation_return",
@@ -483,6 +512,8 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            ci: (-286.503125, -92.12187500000002),
+            paired_ci: (-259.1328125, -104.97343750000014),
         },
         Expected {
             metric: "fluctuation_return",
@@ -498,6 +529,8 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            ci: (-100.64687499999997, 50.13437499999995),
+            paired_ci: (-97.625, 55.81406249999999),
         },
         Expected {
             metric: "fluctuation_return",
@@ -513,6 +546,8 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            ci: (-83.0, 38.25),
+            paired_ci: (-109.50156249999999, 63.5625),
         },
     ];
     assert_eq!(judgement.secondary.len(), expected.len());
@@ -522,35 +557,105 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
 }
 
 #[test]
-fn c3_single_method_iqms_match_scipy_trim_mean() {
+fn c3_single_method_iqms_and_intervals_match_scipy_trim_mean_and_numpy_quantile() {
     let scores = c3_scores();
     let estimates = claims::estimates(&scores, &options()).unwrap();
-    // (method, metric, trim_mean(x, 0.25), seeds with a value).
+    // (method, metric, trim_mean(x, 0.25), seeds with a value, the percentile interval of
+    // the replicates drawn again in Python).
     let expected = [
-        ("ea-madm", "fluctuation_greedy_steps", 0.8, 7),
-        ("ea-madm", "fluctuation_greedy_return", 1.0, 7),
-        ("ea-madm", "fluctuation_steps", 12.5, 8),
-        ("ea-madm", "fluctuation_return", 12.0, 8),
-        ("epsilon-greedy", "fluctuation_greedy_steps", 2.5, 2),
-        ("epsilon-greedy", "fluctuation_greedy_return", 2.75, 2),
-        ("epsilon-greedy", "fluctuation_steps", 301.25, 8),
-        ("epsilon-greedy", "fluctuation_return", 291.875, 8),
-        ("epsilon-decreasing", "fluctuation_greedy_steps", 0.5, 4),
-        ("epsilon-decreasing", "fluctuation_greedy_return", 0.75, 4),
-        ("epsilon-decreasing", "fluctuation_steps", 24.25, 8),
-        ("epsilon-decreasing", "fluctuation_return", 23.25, 8),
-        ("softmax", "fluctuation_greedy_steps", 5.5, 7),
-        ("softmax", "fluctuation_greedy_return", 5.5, 7),
-        ("softmax", "fluctuation_steps", 36.0, 8),
-        ("softmax", "fluctuation_return", 35.125, 8),
+        ("ea-madm", "fluctuation_greedy_steps", 0.8, 7, (0.0, 2.4)),
+        (
+            "ea-madm",
+            "fluctuation_greedy_return",
+            1.0,
+            7,
+            (0.09750000000000442, 2.8),
+        ),
+        (
+            "ea-madm",
+            "fluctuation_steps",
+            12.5,
+            8,
+            (10.25, 76.25624999999997),
+        ),
+        ("ea-madm", "fluctuation_return", 12.0, 8, (10.0, 73.375)),
+        (
+            "epsilon-greedy",
+            "fluctuation_greedy_steps",
+            2.5,
+            2,
+            (2.0, 3.0),
+        ),
+        (
+            "epsilon-greedy",
+            "fluctuation_greedy_return",
+            2.75,
+            2,
+            (2.5, 3.0),
+        ),
+        (
+            "epsilon-greedy",
+            "fluctuation_steps",
+            301.25,
+            8,
+            (170.0, 308.75),
+        ),
+        (
+            "epsilon-greedy",
+            "fluctuation_return",
+            291.875,
+            8,
+            (164.9875, 298.75),
+        ),
+        (
+            "epsilon-decreasing",
+            "fluctuation_greedy_steps",
+            0.5,
+            4,
+            (0.0, 1.5),
+        ),
+        (
+            "epsilon-decreasing",
+            "fluctuation_greedy_return",
+            0.75,
+            4,
+            (0.5, 1.5),
+        ),
+        (
+            "epsilon-decreasing",
+            "fluctuation_steps",
+            24.25,
+            8,
+            (18.75, 117.51249999999993),
+        ),
+        (
+            "epsilon-decreasing",
+            "fluctuation_return",
+            23.25,
+            8,
+            (18.25, 114.51249999999993),
+        ),
+        ("softmax", "fluctuation_greedy_steps", 5.5, 7, (4.2, 7.0)),
+        (
+            "softmax",
+            "fluctuation_greedy_return",
+            5.5,
+            7,
+            (4.297500000000004, 7.0),
+        ),
+        ("softmax", "fluctuation_steps", 36.0, 8, (33.5, 98.25)),
+        ("softmax", "fluctuation_return", 35.125, 8, (32.875, 95.0)),
     ];
-    for (method, metric, iqm, n) in expected {
+    for (method, metric, iqm, n, (low, high)) in expected {
         let estimate = estimates
             .iter()
             .find(|e| e.method == method && e.metric == metric)
             .unwrap();
         assert_eq!((estimate.n, estimate.seeds), (n, 8), "{method} {metric}");
-        close(estimate.iqm.unwrap().estimate, iqm, metric);
+        let interval = estimate.iqm.unwrap();
+        close(interval.estimate, iqm, metric);
+        close(interval.low, low, metric);
+        close(interval.high, high, metric);
     }
 }
 

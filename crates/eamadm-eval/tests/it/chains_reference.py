@@ -25,6 +25,14 @@ Sources of truth, one per number of a chain:
     (1 when there is no discordant seed), cross-checked with statsmodels' exact mcnemar
   * Holm: statsmodels.stats.multitest.multipletests(p, method="holm")[1]
   * Wilson: statsmodels.stats.proportion.proportion_confint(k, n, alpha=0.05, method="wilson")
+  * bootstrap intervals: the replicates are drawn here again, following the draw order that
+    `eamadm_eval::stats` documents (ChaCha8 written out below from RFC 8439's block function
+    with 8 rounds, keyed as rand_core's `seed_from_u64` does; indices by Lemire's
+    multiply-and-reject; each resample's statistic by numpy.mean / trim_mean), and the interval
+    is numpy.quantile(replicates, [alpha/2, 1 - alpha/2], method="linear") with
+    alpha = 1 - confidence. So the percentile rule and the statistic of each resample are
+    checked independently; the generator only has to produce the same words (its first 80 for
+    seed 7 are asserted against rand_chacha's below).
 """
 
 import sys
@@ -101,6 +109,119 @@ C4_REACHES = {
     "softmax": set(range(10)),
 }
 COMPETITORS = ["epsilon-greedy", "epsilon-decreasing", "softmax"]
+
+
+# --- the bootstrap's random draws, written out ------------------------------------------------
+M32 = 0xFFFFFFFF
+
+
+def seed_from_u64(state):
+    """rand_core's SeedableRng::seed_from_u64: PCG32 output words fill the 32-byte key."""
+    mul, inc = 6364136223846793005, 11634580027462260723
+    key = []
+    for _ in range(8):
+        state = (state * mul + inc) & 0xFFFFFFFFFFFFFFFF
+        xorshifted = (((state >> 18) ^ state) >> 27) & M32
+        rot = state >> 59
+        key.append(((xorshifted >> rot) | (xorshifted << ((32 - rot) & 31))) & M32)
+    return key
+
+
+def chacha_block(key, counter, rounds=8):
+    """RFC 8439 block function with `rounds` rounds, 64-bit counter, stream (nonce) 0."""
+    def rotl(v, c):
+        return ((v << c) & M32) | (v >> (32 - c))
+
+    state = [0x61707865, 0x3320646E, 0x79622D32, 0x6B206574] + key + [
+        counter & M32, counter >> 32, 0, 0]
+    x = state[:]
+
+    def quarter(a, b, c, d):
+        x[a] = (x[a] + x[b]) & M32
+        x[d] = rotl(x[d] ^ x[a], 16)
+        x[c] = (x[c] + x[d]) & M32
+        x[b] = rotl(x[b] ^ x[c], 12)
+        x[a] = (x[a] + x[b]) & M32
+        x[d] = rotl(x[d] ^ x[a], 8)
+        x[c] = (x[c] + x[d]) & M32
+        x[b] = rotl(x[b] ^ x[c], 7)
+
+    for _ in range(rounds // 2):
+        quarter(0, 4, 8, 12)
+        quarter(1, 5, 9, 13)
+        quarter(2, 6, 10, 14)
+        quarter(3, 7, 11, 15)
+        quarter(0, 5, 10, 15)
+        quarter(1, 6, 11, 12)
+        quarter(2, 7, 8, 13)
+        quarter(3, 4, 9, 14)
+    return [(x[i] + state[i]) & M32 for i in range(16)]
+
+
+class ChaCha8:
+    def __init__(self, seed):
+        self.key = seed_from_u64(seed)
+        self.counter = 0
+        self.words = []
+
+    def next_u32(self):
+        if not self.words:
+            self.words = chacha_block(self.key, self.counter)[::-1]
+            self.counter += 1
+        return self.words.pop()
+
+
+# rand_chacha 0.x's ChaCha8Rng::seed_from_u64(7): its first 20 words (printed by Rust).
+FIRST_WORDS_SEED_7 = [
+    601310139, 677729076, 781920570, 721508819, 1160025393, 3024842937, 155073251, 3121330102,
+    305650568, 2582387807, 3482975782, 1543458211, 1039513755, 356737951, 1097796222,
+    3647672163, 1544530125, 1565361482, 2118657399, 4251899356,
+]
+
+
+def uniform_below(rng, k):
+    """Lemire's multiply-and-reject index in 0..k, as `stats::bootstrap::uniform_below`."""
+    product = rng.next_u32() * k
+    if (product & M32) < k:
+        threshold = ((1 << 32) - k) % k
+        while (product & M32) < threshold:
+            product = rng.next_u32() * k
+    return product >> 32
+
+
+def percentile_interval(replicates, confidence):
+    alpha = 1.0 - confidence
+    low, high = np.quantile(np.asarray(replicates), [alpha / 2.0, 1.0 - alpha / 2.0],
+                            method="linear")
+    return float(low), float(high)
+
+
+def bootstrap_interval(x, statistic, resamples, confidence, seed):
+    """`Bootstrap::interval`: per round n indices below n into the sorted sample."""
+    data = np.sort(np.asarray(x, float))
+    rng = ChaCha8(seed)
+    n = len(data)
+    replicates = [
+        statistic(data[[uniform_below(rng, n) for _ in range(n)]]) for _ in range(resamples)
+    ]
+    return percentile_interval(replicates, confidence)
+
+
+def bootstrap_difference(x, y, statistic, resamples, confidence, seed):
+    """`Bootstrap::difference`: per round n indices for x, then m for y."""
+    a = np.sort(np.asarray(x, float))
+    b = np.sort(np.asarray(y, float))
+    rng = ChaCha8(seed)
+    replicates = []
+    for _ in range(resamples):
+        ra = a[[uniform_below(rng, len(a)) for _ in range(len(a))]]
+        rb = b[[uniform_below(rng, len(b)) for _ in range(len(b))]]
+        replicates.append(statistic(ra) - statistic(rb))
+    return percentile_interval(replicates, confidence)
+
+
+# The chains' bootstrap: `Bootstrap::new(2_000, 0.95, 7)`, a fresh generator per call.
+RESAMPLES, CONFIDENCE, SEED = 2000, 0.95, 7
 
 
 def iqm(x, axis=-1):
@@ -188,6 +309,8 @@ def comparisons(metrics):
                 "paired_estimate": float(np.mean(d)),
                 "paired_p_value": flip(d, "two-sided"),
                 "margin": MARGIN.get(column),
+                "ci": bootstrap_difference(x, y, iqm, RESAMPLES, CONFIDENCE, SEED),
+                "paired_ci": bootstrap_interval(d, mean, RESAMPLES, CONFIDENCE, SEED),
             }
             margin = MARGIN.get(column)
             if margin is not None:
@@ -233,17 +356,21 @@ def show(title, rows):
 def main():
     print(f"# python {sys.version.split()[0]}, scipy {scipy.__version__}, "
           f"statsmodels {statsmodels.__version__}, numpy {np.__version__}")
+    check = ChaCha8(7)
+    assert [check.next_u32() for _ in range(20)] == FIRST_WORDS_SEED_7
     c3_stable = lambda m: [row[0] for row in C3[m]]  # noqa: E731
     show("C3 task2: stable_reaching sign tests (Holm over the competitors)",
          per_seed_tests(c3_stable, 8))
     show("C3 task2: deciding comparisons (Holm over all six)", comparisons(C3_METRICS))
     show("C3 task2: secondary comparisons (Holm over all six)", comparisons(C3_SECONDARY))
 
-    print("# C3 task2: single-method IQMs (trim_mean(x, 0.25)), n")
+    print("# C3 task2: single-method IQMs (trim_mean(x, 0.25)), n, bootstrap interval")
     for method in C3:
         for column in C3_METRICS + C3_SECONDARY:
             x = values(method, column)
-            print(f"  {method} {column}: {float(iqm(np.asarray(x, float)))!r}, n={len(x)}")
+            ci = bootstrap_interval(x, iqm, RESAMPLES, CONFIDENCE, SEED)
+            print(f"  {method} {column}: {float(iqm(np.asarray(x, float)))!r}, n={len(x)}, "
+                  f"ci={ci!r}")
 
     print("# outcome rows (converged = stable_reaching): Wilson 95 % of the share")
     for method in C3:
