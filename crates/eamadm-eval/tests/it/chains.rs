@@ -14,7 +14,7 @@
 //! (n = 2), a per-seed test with no discordant seed, one with as many wins as losses and
 //! one-sided splits. Exact tests' p-values (a count over an enumeration, then Holm) are compared
 //! bit for bit; other values to 1e-12. The bootstrap intervals are pinned too: the script draws
-//! the replicates again (ChaCha8, Lemire, as `eamadm_eval::stats` documents) and takes
+//! the replicates again (`ChaCha8`, Lemire, as `eamadm_eval::stats` documents) and takes
 //! `numpy.quantile(…, method="linear")` of them.
 
 use eamadm_eval::Role;
@@ -22,8 +22,8 @@ use eamadm_eval::claims::{self, ClaimOptions, Comparison, Judgement, ReachingCom
 use eamadm_eval::scores::{FinalScore, RunOutcome};
 use eamadm_eval::stats::{Bootstrap, PermutationTest, SignFlipTest};
 
-/// One seed of C3: (stable_reaching, fluctuation_greedy_steps, fluctuation_greedy_return,
-/// fluctuation_steps, fluctuation_return); a seed that is not stable-reaching has no greedy SD.
+/// One seed of C3: (`stable_reaching`, `fluctuation_greedy_steps`, `fluctuation_greedy_return`,
+/// `fluctuation_steps`, `fluctuation_return`); a seed that is not stable-reaching has no greedy SD.
 type C3Seed = (bool, Option<f64>, Option<f64>, f64, f64);
 
 const fn stable(greedy_steps: f64, greedy_return: f64, steps: f64, ret: f64) -> C3Seed {
@@ -186,7 +186,7 @@ struct Expected {
     metric: &'static str,
     versus: &'static str,
     n: (usize, usize),
-    /// trim_mean(x, 0.25) − trim_mean(y, 0.25).
+    /// `trim_mean(x, 0.25) − trim_mean(y, 0.25)`.
     estimate: f64,
     /// Exact `permutation_test(permutation_type="independent")` of |IQM difference|.
     p_value: f64,
