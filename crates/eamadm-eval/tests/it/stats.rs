@@ -1,12 +1,15 @@
 //! `eamadm_eval::stats` against independent implementations (scipy 1.17.1, statsmodels 0.15.0,
-//! numpy 2.4.6; the values were printed by `stats_reference.py` next to this file), the laws
+//! numpy 2.4.6; the values were printed by `stats_reference.py` next to this file), with the
+//! retention slope of `scores` and the seed summary's t factor beside them, the laws
 //! the statistics obey (proptest), seeded reproducibility, typed errors on bad input, and the
 //! worked case of issue 11 (Task II's bimodal final steps).
 
+use eamadm_eval::scores::slope;
 use eamadm_eval::stats::{
     Bootstrap, Interval, PermutationTest, Statistic, StatsError, distribution, holm, iqm, mean,
     median, normal_quantile, probability_of_improvement, sample_sd, wilson,
 };
+use eamadm_eval::summary::{student_t_975, summarise_seeds};
 use proptest::prelude::*;
 
 /// EA-MADM's final steps per seed on Task II (issue 11): five seeds at the optimum 73, one at
@@ -84,6 +87,20 @@ fn location_and_spread_match_numpy_and_scipy() -> Result<(), StatsError> {
 }
 
 #[test]
+fn iqm_drops_whole_values_as_scipy_trim_mean_does() -> Result<(), StatsError> {
+    // n = 10: ⌊10/4⌋ = 2 whole values dropped at each end, the middle 6 averaged, as
+    // scipy.stats.trim_mean(x, 0.25) does; the mean of the empirical quantile function over
+    // [0.25, 0.75] (values 3 and 8 weighted ½) would be 651.5 (stats_reference.py prints both).
+    assert!(close(iqm(&EA_MADM_TASK2)?, 4294.0 / 6.0, 1e-12));
+    assert!((iqm(&EA_MADM_TASK2)? - 651.5).abs() > 60.0);
+    // n = 5: one value dropped each end (the fractional IQM would be 1.9375).
+    assert!(close(iqm(&FIVE)?, 1.875, 1e-12));
+    // n a multiple of 4: the two conventions agree.
+    assert!(close(iqm(&TWELVE)?, 3.75, 1e-12));
+    Ok(())
+}
+
+#[test]
 fn quartiles_match_numpy_percentile() -> Result<(), StatsError> {
     // (sample, numpy.percentile(x, 25), numpy.percentile(x, 75)), linear interpolation.
     let cases: [(&[f64], f64, f64); 9] = [
@@ -110,8 +127,12 @@ fn quartiles_match_numpy_percentile() -> Result<(), StatsError> {
 #[test]
 fn holm_matches_statsmodels() -> Result<(), StatsError> {
     // multipletests(p, method="holm")[1].
-    let cases: [(&[f64], &[f64]); 5] = [
+    let cases: [(&[f64], &[f64]); 8] = [
         (&[0.01, 0.04, 0.03, 0.005], &[0.03, 0.06, 0.06, 0.02]),
+        // Tied p-values, two of them, and the sign tests of the C3 chain (`chains.rs`).
+        (&[0.02, 0.02, 0.02, 0.5], &[0.08, 0.08, 0.08, 0.5]),
+        (&[0.04, 0.03], &[0.06, 0.06]),
+        (&[0.0625, 0.25, 1.0], &[0.1875, 0.5, 1.0]),
         (
             &[0.2, 0.2, 0.01, 0.6, 0.04],
             &[
@@ -248,6 +269,58 @@ fn normal_quantile_matches_scipy_norm_ppf() -> Result<(), StatsError> {
             "Φ⁻¹({p}) = {z}, scipy {expected}"
         );
     }
+    Ok(())
+}
+
+#[test]
+fn retention_slope_matches_scipy_linregress() {
+    // scipy.stats.linregress(range(n), y).slope: `retention_decay` of final-scores.csv.
+    let cases: [(&[f64], f64); 4] = [
+        (&[5.0, 3.0, 1.0], -2.0),
+        (&[1.0, 1.6, 1.9, 2.5], 0.48),
+        (&[2.0, 2.0], 0.0),
+        (
+            &[
+                0.8, 0.75, 0.9, 0.6, 0.55, 0.7, 0.4, 0.45, 0.5, 0.3, 0.35, 0.2,
+            ],
+            -0.0541958041958042,
+        ),
+    ];
+    for (y, expected) in cases {
+        let slope = slope(y).unwrap();
+        assert!(close(slope, expected, 1e-12), "{y:?}: {slope}");
+    }
+}
+
+#[test]
+fn student_t_matches_scipy_and_the_seed_summary_numpy() -> Result<(), StatsError> {
+    // scipy.stats.t.ppf(0.975, df): a 6-decimal table up to df = 30, Cornish–Fisher beyond
+    // (documented error below 1e-6).
+    for (df, expected) in [
+        (1, 12.706204736174694),
+        (2, 4.302652729749462),
+        (5, 2.5705818356363146),
+        (19, 2.0930240544083087),
+        (30, 2.0422724563012378),
+        (31, 2.039513446396408),
+        (50, 2.008559112100761),
+        (100, 1.9839715185235518),
+        (1000, 1.9623390808264083),
+    ] {
+        let t = student_t_975(df).unwrap();
+        assert!((t - expected).abs() < 1e-6, "df {df}: {t} vs {expected}");
+    }
+    assert_eq!(student_t_975(0), None);
+    // numpy.mean, numpy.std(ddof=1) and t.ppf(0.975, 9) · sd / √10.
+    let x = [3.0, 9.5, 4.25, 7.0, 1.0, 12.0, 6.5, 8.0, 2.0, 5.0];
+    let summary = summarise_seeds(&x)?;
+    assert!(close(summary.mean, 5.825, 1e-12));
+    assert!(close(summary.sd.unwrap(), 3.452153112350481, 1e-12));
+    assert!(close(
+        summary.ci95_half_width.unwrap(),
+        2.4695215693880406,
+        1e-6
+    ));
     Ok(())
 }
 

@@ -5,7 +5,7 @@ them after a change of inputs:
 
     python3 -m venv /tmp/statsref
     /tmp/statsref/bin/pip install scipy numpy statsmodels
-    /tmp/statsref/bin/python crates/eamadm/tests/it/stats_reference.py
+    /tmp/statsref/bin/python crates/eamadm-eval/tests/it/stats_reference.py
 
 Pinned with scipy 1.17.1, statsmodels 0.15.0, numpy 2.4.6 (Python 3.11).
 
@@ -18,6 +18,9 @@ Sources of truth, one per statistic:
   * exact permutation p-value: scipy.stats.permutation_test(permutation_type="independent",
     n_resamples=inf, alternative="greater") of |T(x) - T(y)| (all splits enumerated)
   * normal quantile: scipy.stats.norm.ppf
+  * retention slope (`scores::slope`): scipy.stats.linregress(range(n), y).slope
+  * Student t factor and seed summary (`summary`): scipy.stats.t.ppf(0.975, df), numpy.mean,
+    numpy.std(ddof=1)
   * bootstrap: the exact bootstrap distribution of the mean by enumerating all n^n resamples,
     and scipy.stats.bootstrap(method="percentile") for Monte-Carlo comparisons
 """
@@ -69,6 +72,9 @@ def main():
         [0.5],
         [0.3, 0.4, 0.9],
         [0.0, 1.0, 0.011, 0.012],
+        [0.02, 0.02, 0.02, 0.5],
+        [0.04, 0.03],
+        [0.0625, 0.25, 1.0],
     ]:
         adjusted = multipletests(p, method="holm")[1]
         print(f"({rust_array(p)}, {rust_array(adjusted)}),")
@@ -138,6 +144,32 @@ def main():
             method="percentile", n_resamples=200_000, random_state=rng,
         ).confidence_interval
         print(f"(\"difference EA_MADM_TASK2 - COMPETITOR_TASK2\", {label}, {float(two.low)!r}, {float(two.high)!r}),")
+
+    print("# IQM conventions (docs/paper-notes.md §10.1a): (name, trim_mean 0.25, mean of the "
+          "empirical quantile function over [0.25, 0.75])")
+    for name, x in SAMPLES.items():
+        x = np.sort(np.asarray(x, dtype=float))
+        n = len(x)
+        low, high = 0.25 * n, 0.75 * n
+        weights = [max(0.0, min(i + 1, high) - max(i, low)) for i in range(n)]
+        fractional = float(np.dot(weights, x) / (high - low))
+        print(f"({name}, {float(iqm(x))!r}, {fractional!r}),")
+
+    print("# least-squares slope against the index: (y, linregress slope)")
+    for y in [[5.0, 3.0, 1.0], [1.0, 1.6, 1.9, 2.5], [2.0, 2.0],
+              [0.8, 0.75, 0.9, 0.6, 0.55, 0.7, 0.4, 0.45, 0.5, 0.3, 0.35, 0.2]]:
+        slope = stats.linregress(np.arange(len(y)), y).slope
+        print(f"({rust_array(y)}, {float(slope)!r}),")
+
+    print("# Student t 0.975 quantile: (df, t.ppf(0.975, df))")
+    for df in [1, 2, 5, 19, 30, 31, 50, 100, 1000]:
+        print(f"({df}, {float(stats.t.ppf(0.975, df))!r}),")
+
+    print("# seed summary: (x, mean, sd ddof=1, t.ppf(0.975, n - 1) sd / sqrt(n))")
+    x = np.asarray([3.0, 9.5, 4.25, 7.0, 1.0, 12.0, 6.5, 8.0, 2.0, 5.0])
+    sd = np.std(x, ddof=1)
+    half = stats.t.ppf(0.975, len(x) - 1) * sd / np.sqrt(len(x))
+    print(f"({rust_array(x)}, {float(np.mean(x))!r}, {float(sd)!r}, {float(half)!r}),")
 
 
 if __name__ == "__main__":
