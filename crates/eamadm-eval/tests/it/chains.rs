@@ -3,8 +3,9 @@
 //! number of a C3 judgement on Task II (EA-MADM against three competitors: the
 //! `stable_reaching` sign tests with Holm over the competitors, the deciding greedy-SD
 //! comparisons and the secondary training-curve comparisons, each family with its own Holm), the
-//! outcome rows (Wilson, sign test) and a C4 judgement on the robot decided by per-seed
-//! reaching (sign tests, Holm).
+//! outcome rows (Wilson, sign test), a C4 judgement on the robot decided by per-seed reaching
+//! (sign tests, Holm) and one where every seed reaches (nine metric comparisons, average reward
+//! the one oriented higher-is-better, one Holm family).
 //!
 //! The expected values were printed by `chains_reference.py` next to this file (Python 3.11.7,
 //! scipy 1.17.1, statsmodels 0.15.0, numpy 2.4.6): `scipy.stats.trim_mean(x, 0.25)`,
@@ -762,4 +763,242 @@ fn c4_reached_sign_tests_and_holm_match_scipy_and_statsmodels() {
         exact(row.p_holm.unwrap(), p_holm, &row.versus);
     }
     assert_eq!(reached.len(), 3);
+}
+
+/// C4 per seed when every method reaches on every seed: (`reach_average_reward`,
+/// `reach_time`, `retention_decay`), `C4_ALL_REACH` of the script.
+type C4Seed = (f64, f64, f64);
+
+const C4_ALL_REACH: [(&str, &str, [C4Seed; 6]); 4] = [
+    (
+        "ea-madm",
+        "ea_madm",
+        [
+            (0.52, 41.0, -0.012),
+            (0.61, 35.5, -0.020),
+            (0.48, 44.0, -0.008),
+            (0.61, 36.0, -0.015),
+            (0.55, 39.5, -0.020),
+            (0.70, 31.0, -0.025),
+        ],
+    ),
+    (
+        "epsilon-greedy",
+        "epsilon_greedy",
+        [
+            (0.40, 52.0, -0.004),
+            (0.45, 47.5, 0.001),
+            (0.38, 55.0, -0.006),
+            (0.52, 41.0, -0.010),
+            (0.41, 50.0, 0.002),
+            (0.44, 49.0, -0.003),
+        ],
+    ),
+    (
+        "epsilon-decreasing",
+        "epsilon_decreasing",
+        [
+            (0.50, 42.0, -0.010),
+            (0.58, 37.0, -0.018),
+            (0.47, 45.5, -0.009),
+            (0.60, 36.0, -0.012),
+            (0.55, 39.5, -0.021),
+            (0.66, 33.0, -0.019),
+        ],
+    ),
+    (
+        "softmax",
+        "softmax",
+        [
+            (0.45, 47.0, -0.007),
+            (0.49, 45.0, -0.011),
+            (0.43, 49.5, -0.002),
+            (0.51, 42.5, -0.009),
+            (0.47, 46.0, -0.005),
+            (0.53, 40.0, -0.013),
+        ],
+    ),
+];
+
+#[test]
+fn c4_metric_comparisons_when_every_seed_reaches_match_scipy_and_statsmodels() {
+    let mut scores = Vec::new();
+    for (method, kind, seeds) in C4_ALL_REACH {
+        for (seed, (reward, time, decay)) in (0_u64..).zip(seeds) {
+            scores.push(FinalScore {
+                reach_average_reward: Some(reward),
+                reach_time: Some(time),
+                reach_retention_time: Some(time / 10.0),
+                retention_decay: Some(decay),
+                ..run("robot", method, kind, seed)
+            });
+        }
+    }
+    let judgement = claims::judge(&scores, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
+        .unwrap();
+    // Every method reaches on every seed: no per-seed test, nine metric comparisons (average
+    // reward oriented higher-is-better, the other two lower), one Holm family, no margins.
+    assert!(judgement.reaching.is_empty());
+    let expected = [
+        Expected {
+            metric: "reach_average_reward",
+            versus: "epsilon-greedy",
+            n: (6, 6),
+            estimate: 0.14750000000000002,
+            p_value: 0.006493506493506494,
+            p_holm: 0.05194805194805195,
+            p_improvement: 0.9583333333333334,
+            paired_n: 6,
+            paired_estimate: 0.145,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (0.0675, 0.23000000000000004),
+            paired_ci: (0.10666666666666667, 0.19333333333333333),
+        },
+        Expected {
+            metric: "reach_average_reward",
+            versus: "epsilon-decreasing",
+            n: (6, 6),
+            estimate: 0.015000000000000013,
+            p_value: 0.7857142857142857,
+            p_holm: 1.0,
+            p_improvement: 0.5972222222222222,
+            paired_n: 6,
+            paired_estimate: 0.01833333333333333,
+            paired_p_value: 0.0625,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-0.07000000000000006, 0.1100624999999997),
+            paired_ci: (0.00833333333333334, 0.02833333333333334),
+        },
+        Expected {
+            metric: "reach_average_reward",
+            versus: "softmax",
+            n: (6, 6),
+            estimate: 0.09250000000000003,
+            p_value: 0.01948051948051948,
+            p_holm: 0.09740259740259741,
+            p_improvement: 0.8888888888888888,
+            paired_n: 6,
+            paired_estimate: 0.09833333333333333,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (0.025000000000000022, 0.1750624999999997),
+            paired_ci: (0.07, 0.12999999999999998),
+        },
+        Expected {
+            metric: "reach_time",
+            versus: "epsilon-greedy",
+            n: (6, 6),
+            estimate: -11.625,
+            p_value: 0.006493506493506494,
+            p_holm: 0.05194805194805195,
+            p_improvement: 0.9583333333333334,
+            paired_n: 6,
+            paired_estimate: -11.25,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-16.628124999999994, -5.5),
+            paired_ci: (-14.5, -8.166666666666666),
+        },
+        Expected {
+            metric: "reach_time",
+            versus: "epsilon-decreasing",
+            n: (6, 6),
+            estimate: -0.625,
+            p_value: 0.8571428571428571,
+            p_holm: 1.0,
+            p_improvement: 0.5833333333333334,
+            paired_n: 6,
+            paired_estimate: -1.0,
+            paired_p_value: 0.125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-6.375, 4.875),
+            paired_ci: (-1.5833333333333333, -0.4166666666666667),
+        },
+        Expected {
+            metric: "reach_time",
+            versus: "softmax",
+            n: (6, 6),
+            estimate: -7.125,
+            p_value: 0.015151515151515152,
+            p_holm: 0.09090909090909091,
+            p_improvement: 0.9166666666666666,
+            paired_n: 6,
+            paired_estimate: -7.166666666666667,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-12.003124999999994, -2.0),
+            paired_ci: (-8.335416666666664, -6.083333333333333),
+        },
+        Expected {
+            metric: "retention_decay",
+            versus: "epsilon-greedy",
+            n: (6, 6),
+            estimate: -0.013750000000000002,
+            p_value: 0.004329004329004329,
+            p_holm: 0.03896103896103896,
+            p_improvement: 0.9722222222222222,
+            paired_n: 6,
+            paired_estimate: -0.013333333333333334,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-0.02, -0.0065),
+            paired_ci: (-0.0195, -0.006833333333333333),
+        },
+        Expected {
+            metric: "retention_decay",
+            versus: "epsilon-decreasing",
+            n: (6, 6),
+            estimate: -0.002,
+            p_value: 0.6320346320346321,
+            p_holm: 1.0,
+            p_improvement: 0.5972222222222222,
+            paired_n: 6,
+            paired_estimate: -0.0018333333333333337,
+            paired_p_value: 0.1875,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-0.009000000000000001, 0.0055),
+            paired_ci: (-0.0036666666666666675, -5.782411586589357e-19),
+        },
+        Expected {
+            metric: "retention_decay",
+            versus: "softmax",
+            n: (6, 6),
+            estimate: -0.008750000000000003,
+            p_value: 0.01948051948051948,
+            p_holm: 0.09740259740259741,
+            p_improvement: 0.8888888888888888,
+            paired_n: 6,
+            paired_estimate: -0.008833333333333334,
+            paired_p_value: 0.03125,
+            margin: None,
+            p_equivalence: None,
+            p_equivalence_holm: None,
+            ci: (-0.015000000000000003, -0.002),
+            paired_ci: (-0.012000000000000002, -0.006166666666666667),
+        },
+    ];
+    assert_eq!(judgement.comparisons.len(), expected.len());
+    for (actual, expected) in judgement.comparisons.iter().zip(&expected) {
+        check_comparison(actual, expected);
+    }
 }

@@ -17,7 +17,8 @@ Sources of truth, one per number of a chain:
   * IQM: scipy.stats.trim_mean(x, 0.25)
   * unpaired p of the IQM difference: scipy.stats.permutation_test((x, y), |IQM(x) - IQM(y)|,
     permutation_type="independent", n_resamples=inf, alternative="greater") (every split)
-  * probability of improvement (lower is better): scipy.stats.mannwhitneyu(y, x).statistic / (n m)
+  * probability of improvement: scipy.stats.mannwhitneyu(y, x).statistic / (n m) where lower is
+    better, mannwhitneyu(x, y) where higher is (C4's average reward)
   * paired mean and its sign-flip p: numpy.mean(d) and scipy.stats.permutation_test((d,), mean,
     permutation_type="samples", n_resamples=inf) (all 2^n sign vectors)
   * TOST: max of the "greater" sign-flip test on d + margin and the "less" one on d - margin
@@ -109,6 +110,30 @@ C4_REACHES = {
     "softmax": set(range(10)),
 }
 COMPETITORS = ["epsilon-greedy", "epsilon-decreasing", "softmax"]
+
+# C4 on the robot when every method reaches the target on every seed (6 seeds, so every split
+# is enumerated): (reach_average_reward, reach_time, retention_decay) per seed. Ties across
+# methods and within one; average reward is the one metric where higher is better.
+C4_METRICS = ["reach_average_reward", "reach_time", "retention_decay"]
+C4_INDEX = {name: i for i, name in enumerate(C4_METRICS)}
+C4_ALL_REACH = {
+    "ea-madm": [
+        (0.52, 41.0, -0.012), (0.61, 35.5, -0.020), (0.48, 44.0, -0.008),
+        (0.61, 36.0, -0.015), (0.55, 39.5, -0.020), (0.70, 31.0, -0.025),
+    ],
+    "epsilon-greedy": [
+        (0.40, 52.0, -0.004), (0.45, 47.5, 0.001), (0.38, 55.0, -0.006),
+        (0.52, 41.0, -0.010), (0.41, 50.0, 0.002), (0.44, 49.0, -0.003),
+    ],
+    "epsilon-decreasing": [
+        (0.50, 42.0, -0.010), (0.58, 37.0, -0.018), (0.47, 45.5, -0.009),
+        (0.60, 36.0, -0.012), (0.55, 39.5, -0.021), (0.66, 33.0, -0.019),
+    ],
+    "softmax": [
+        (0.45, 47.0, -0.007), (0.49, 45.0, -0.011), (0.43, 49.5, -0.002),
+        (0.51, 42.5, -0.009), (0.47, 46.0, -0.005), (0.53, 40.0, -0.013),
+    ],
+}
 
 
 # --- the bootstrap's random draws, written out ------------------------------------------------
@@ -272,30 +297,33 @@ def holm(p):
     return [float(v) for v in multipletests(p, method="holm")[1]]
 
 
-def values(method, column):
-    return [row[COLUMN[column]] for row in C3[method] if row[COLUMN[column]] is not None]
+def values(method, column, table=None, index=None):
+    table, index = table or C3, index or COLUMN
+    return [row[index[column]] for row in table[method] if row[index[column]] is not None]
 
 
-def paired(method, versus, column):
+def paired(method, versus, column, table=None, index=None):
+    table, index = table or C3, index or COLUMN
     pairs = [
-        (a[COLUMN[column]], b[COLUMN[column]])
-        for a, b in zip(C3[method], C3[versus])
-        if a[COLUMN[column]] is not None and b[COLUMN[column]] is not None
+        (a[index[column]], b[index[column]])
+        for a, b in zip(table[method], table[versus])
+        if a[index[column]] is not None and b[index[column]] is not None
     ]
     return [a for a, _ in pairs], [b for _, b in pairs]
 
 
-def comparisons(metrics):
-    """Per metric × competitor (metric-major): the numbers of one `Comparison`, Holm over all."""
+def comparisons(metrics, table=None, index=None, higher_is_better=()):
+    """Per metric × competitor (metric-major): the numbers of one `Comparison`, Holm over all.
+    Lower is better unless the metric is in `higher_is_better`."""
     out = []
     x_method = "ea-madm"
     for column in metrics:
-        x = values(x_method, column)
+        x = values(x_method, column, table, index)
         for versus in COMPETITORS:
-            y = values(versus, column)
+            y = values(versus, column, table, index)
             if len(x) < 2 or len(y) < 2:
                 continue
-            px, py = paired(x_method, versus, column)
+            px, py = paired(x_method, versus, column, table, index)
             d = np.subtract(px, py)
             row = {
                 "metric": column,
@@ -303,8 +331,11 @@ def comparisons(metrics):
                 "n": (len(x), len(y)),
                 "estimate": float(iqm(np.asarray(x, float)) - iqm(np.asarray(y, float))),
                 "p_value": permutation_p(x, y),
-                # Lower is better: P(a seed of the method has the smaller SD), ties 1/2.
-                "p_improvement": float(stats.mannwhitneyu(y, x).statistic) / (len(x) * len(y)),
+                # P(a seed of the method is better), ties 1/2: U of the better side.
+                "p_improvement": float(
+                    stats.mannwhitneyu(x, y).statistic if column in higher_is_better
+                    else stats.mannwhitneyu(y, x).statistic
+                ) / (len(x) * len(y)),
                 "paired_n": len(d),
                 "paired_estimate": float(np.mean(d)),
                 "paired_p_value": flip(d, "two-sided"),
@@ -381,6 +412,9 @@ def main():
     for row in outcome:
         del row["p_holm"]  # outcome comparisons are not adjusted
     show("outcome comparisons (sign test, not adjusted)", outcome)
+
+    show("C4 robot, every seed reaching: comparisons (Holm over all nine)",
+         comparisons(C4_METRICS, C4_ALL_REACH, C4_INDEX, {"reach_average_reward"}))
 
     c4_reached = lambda m: [s in C4_REACHES[m] for s in range(C4_SEEDS)]  # noqa: E731
     show("C4 robot: reached sign tests (Holm over the competitors)",
