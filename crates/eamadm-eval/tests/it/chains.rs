@@ -16,12 +16,14 @@
 //! one-sided splits. Exact tests' p-values (a count over an enumeration, then Holm) are compared
 //! bit for bit; other values to 1e-12. The bootstrap intervals are pinned too: the script draws
 //! the replicates again (`ChaCha8`, Lemire, as `eamadm_eval::stats` documents) and takes
-//! `numpy.quantile(…, method="linear")` of them.
+//! `numpy.quantile(…, method="linear")` of them. The last test does the same for the default
+//! run's Monte-Carlo paths (20 seeds, 10 000 random splits, sign vectors and resamples).
 
 use eamadm_eval::Role;
 use eamadm_eval::claims::{self, ClaimOptions, Comparison, Judgement, ReachingComparison};
 use eamadm_eval::scores::{FinalScore, RunOutcome};
-use eamadm_eval::stats::{Bootstrap, PermutationTest, SignFlipTest};
+use eamadm_eval::stats::paired::{differences, paired_difference};
+use eamadm_eval::stats::{Alternative, Bootstrap, PermutationTest, SignFlipTest, Statistic};
 
 /// One seed of C3: (`stable_reaching`, `fluctuation_greedy_steps`, `fluctuation_greedy_return`,
 /// `fluctuation_steps`, `fluctuation_return`); a seed that is not stable-reaching has no greedy SD.
@@ -1001,4 +1003,67 @@ fn c4_metric_comparisons_when_every_seed_reaches_match_scipy_and_statsmodels() {
     for (actual, expected) in judgement.comparisons.iter().zip(&expected) {
         check_comparison(actual, expected);
     }
+}
+
+/// The default run's case (`DEFAULT_X`, `DEFAULT_Y` of the script): 20 seeds per method.
+const DEFAULT_X: [f64; 20] = [
+    73.0, 73.0, 75.0, 73.0, 2000.0, 73.0, 77.0, 73.0, 73.0, 2000.0, 75.0, 73.0, 73.0, 2000.0, 73.0,
+    79.0, 73.0, 73.0, 75.0, 73.0,
+];
+const DEFAULT_Y: [f64; 20] = [
+    73.0, 2000.0, 75.0, 73.0, 954.0, 2000.0, 73.0, 2000.0, 77.0, 73.0, 73.0, 75.0, 2000.0, 1233.0,
+    73.0, 990.0, 73.0, 1502.0, 2000.0, 88.0,
+];
+
+#[test]
+fn the_default_runs_monte_carlo_paths_match_the_redrawn_python() {
+    // At 20 seeds C(40, 20) splits and 2²⁰ sign vectors are too many: the claims' defaults
+    // (10 000 resamples, seed 0) draw at random. The script draws the same splits, sign
+    // vectors and resamples again (ChaCha8, Lemire, partial Fisher–Yates, one word per 32
+    // signs, as the stats module documents), evaluates them with scipy/numpy and counts with
+    // the same tie rule: the p-values, (b + 1)/(B + 1), agree to the bit.
+    let permutation = PermutationTest::default();
+    let sign_flip = SignFlipTest::default();
+    assert!(!permutation.is_exact(20, 20) && !sign_flip.is_exact(20));
+    let (x, y) = (DEFAULT_X, DEFAULT_Y);
+    exact(
+        permutation.p_value(&x, &y, Statistic::Iqm).unwrap(),
+        0.10028997100289971,
+        "permutation, IQM",
+    );
+    exact(
+        permutation.p_value(&x, &y, Statistic::Mean).unwrap(),
+        0.10028997100289971,
+        "permutation, mean",
+    );
+    let d = differences(&x, &y).unwrap();
+    for (alternative, expected) in [
+        (Alternative::TwoSided, 0.09619038096190381),
+        (Alternative::Greater, 0.952904709529047),
+        (Alternative::Less, 0.048095190480951906),
+    ] {
+        exact(
+            sign_flip.p_value(&d, Statistic::Mean, alternative).unwrap(),
+            expected,
+            "sign flip",
+        );
+    }
+    exact(
+        sign_flip
+            .equivalence_p_value(&d, Statistic::Mean, 2.0)
+            .unwrap(),
+        0.9494050594940506,
+        "TOST",
+    );
+    // numpy.quantile of the redrawn replicates (10 000 of them, 95 %).
+    let bootstrap = Bootstrap::default();
+    let one = bootstrap.interval(&x, Statistic::Iqm).unwrap();
+    close(one.low, 73.0, "IQM interval");
+    close(one.high, 268.1, "IQM interval");
+    let two = bootstrap.difference(&x, &y, Statistic::Iqm).unwrap();
+    close(two.low, -1170.8025, "IQM difference interval");
+    close(two.high, -0.20000000000000284, "IQM difference interval");
+    let paired = paired_difference(&bootstrap, &x, &y, Statistic::Mean).unwrap();
+    close(paired.low, -886.0074999999999, "paired interval");
+    close(paired.high, 70.01999999999971, "paired interval");
 }
