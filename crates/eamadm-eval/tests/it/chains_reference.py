@@ -32,7 +32,7 @@ Sources of truth, one per number of a chain:
     multiply-and-reject; each resample's statistic by numpy.mean / trim_mean), and the interval
     is numpy.quantile(replicates, [alpha/2, 1 - alpha/2], method="linear") with
     alpha = 1 - confidence. So the percentile rule and the statistic of each resample are
-    checked independently; the generator only has to produce the same words (its first 80 for
+    checked independently; the generator only has to produce the same words (its first 20 for
     seed 7 are asserted against rand_chacha's below).
 """
 
@@ -196,7 +196,7 @@ class ChaCha8:
         return self.words.pop()
 
 
-# rand_chacha 0.x's ChaCha8Rng::seed_from_u64(7): its first 20 words (printed by Rust).
+# rand_chacha 0.10's ChaCha8Rng::seed_from_u64(7): its first 20 words (printed by Rust).
 FIRST_WORDS_SEED_7 = [
     601310139, 677729076, 781920570, 721508819, 1160025393, 3024842937, 155073251, 3121330102,
     305650568, 2582387807, 3482975782, 1543458211, 1039513755, 356737951, 1097796222,
