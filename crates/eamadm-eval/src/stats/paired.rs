@@ -21,7 +21,7 @@
 //! * **Sign test** ([`sign_test`]): with `w` pairs favouring one side and `l` the other (ties
 //!   dropped), `p = min(1, 2 P(X ≤ min(w, l)))` for `X ~ Binomial(w + l, ½)` — the exact
 //!   two-sided `scipy.stats.binomtest(w, w + l, 0.5)`; on binary outcomes it is McNemar's
-//!   exact test. Up to `w + l = 126` the tail is counted in integers, so `p` is the correctly
+//!   exact test. Up to `w + l = 125` the tail is counted in integers, so `p` is the correctly
 //!   rounded value of the rational `2 Σ_{i ≤ min(w, l)} C(w + l, i) / 2^(w + l)`; beyond, the
 //!   binomial probabilities are summed from logarithms (relative error about `10⁻¹³`).
 //!
@@ -285,10 +285,10 @@ pub fn sign_test(wins: u64, losses: u64) -> f64 {
 /// `min(1, 2 Σ_{i ≤ k} C(n, i) / 2ⁿ)` counted in integers, so the p-value of the exact test is
 /// the correctly rounded `f64` of its rational value (as `scipy.stats.binomtest` gives it:
 /// `binomtest(3, 3).pvalue` is exactly `0.25`, where summing the pmf from logarithms gave
-/// `0.25000000000000006`). `None` when a count would overflow `u128` (`n` above about 125):
-/// the caller then sums from logarithms.
+/// `0.25000000000000006`). `None` above `n = 125`, where a count can overflow `u128`: the
+/// caller then sums from logarithms.
 fn sign_test_by_counting(n: u64, k: u64) -> Option<f64> {
-    let n_bits = u32::try_from(n).ok().filter(|&bits| bits < 127)?;
+    let n_bits = u32::try_from(n).ok().filter(|&bits| bits <= 125)?;
     let mut choose: u128 = 1;
     let mut tail: u128 = 1;
     for i in 1..=u128::from(k) {

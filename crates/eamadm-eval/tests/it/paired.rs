@@ -95,8 +95,16 @@ fn sign_test_equals_scipy_binomtest_and_statsmodels_mcnemar() {
         let p = sign_test(wins, losses);
         assert_eq!(p.to_bits(), f64::to_bits(expected), "{wins} {losses}: {p}");
     }
-    // Large counts: the last integer-counted size (126) and beyond it, summed from logarithms.
+    // The largest size counted in integers (125): the exact rational's nearest f64, which
+    // Python's fractions.Fraction gives (scipy's 0.7206725161126956 is 3 ulps off there).
+    assert_eq!(
+        sign_test(60, 65).to_bits(),
+        0.7206725161126959_f64.to_bits()
+    );
+    // Large counts, at 125 and beyond it (summed from logarithms): scipy to 1e-12.
     for (wins, losses, expected) in [
+        (10, 115, 9.11799030781427e-24),
+        (60, 65, 0.7206725161126956),
         (63, 63, 1.0),
         (10, 116, 4.948110035757513e-24),
         (5, 121, 5.984800900580216e-30),
