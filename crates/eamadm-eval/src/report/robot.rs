@@ -352,6 +352,35 @@ pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<St
     })
 }
 
+/// [`why_never`] in one sentence for the answer: why `method` (which never reaches) does not,
+/// without the per-sub-task detail; `None` when it learns from no sub-task rewards.
+pub(crate) fn why_never_short(experiment: &ExperimentFacts, method: &str) -> Option<String> {
+    let reading = experiment
+        .reward_readings
+        .iter()
+        .find(|r| r.methods.iter().any(|m| m == method))?;
+    let paying = reading
+        .subtasks
+        .iter()
+        .filter(|s| s.reaching_pays())
+        .count();
+    Some(if paying == 0 {
+        format!(
+            "It never reaches the target: under {} no sub-task's reward values reaching above \
+             both ending the episode at once and idling, so no aggregation of their values \
+             leads there.",
+            reading_name(reading)
+        )
+    } else {
+        format!(
+            "It never reaches the target: under {} {paying} of {} sub-tasks value reaching \
+             most, yet the aggregation of their values does not lead there.",
+            reading_name(reading),
+            reading.subtasks.len()
+        )
+    })
+}
+
 /// How most of a method's final-window episodes ended, in a few words with the number that
 /// shows it.
 fn endings_groups(methods: &[MethodBehaviour], action_names: &[String]) -> Option<String> {
