@@ -1006,6 +1006,24 @@ mod tests {
     }
 
     #[test]
+    fn the_answers_why_names_the_reading_and_whether_any_sub_task_values_reaching() {
+        let facts = experiment(behaviour(), readings());
+        assert_eq!(
+            why_never_short(&facts, "ea-madm").unwrap(),
+            "It never reaches the target: under the paper's sub-task rewards (Eq. 6–8) no \
+             sub-task's reward values reaching above both ending the episode at once and \
+             idling, so no aggregation of their values leads there."
+        );
+        assert_eq!(
+            why_never_short(&facts, "ea-madm-goal-bonus").unwrap(),
+            "It never reaches the target: under the sub-task rewards with goal bonus for reach \
+             1 of 3 sub-tasks value reaching most, yet the aggregation of their values does \
+             not lead there."
+        );
+        assert_eq!(why_never_short(&facts, "softmax"), None);
+    }
+
+    #[test]
     fn c4_of_a_method_that_reaches_is_decided_by_its_metrics() {
         let v = verdicts(&[
             ("ea-madm", Role::Paper, "ea_madm", true),
