@@ -1006,6 +1006,24 @@ mod tests {
     }
 
     #[test]
+    fn the_verdict_table_states_a_reaching_verdict_by_its_test_alone() {
+        let v = verdicts(&PAPER_SET);
+        let report = super::super::render(&super::super::tests::context(), &v).unwrap();
+        let row = report.lines().find(|l| l.starts_with("| C4 ")).unwrap();
+        assert!(
+            row.contains(
+                "| EA-MADM reaches on 0/8 seeds, softmax on 8/8; exact paired sign test, Holm p \
+                 0.008 "
+            ),
+            "{row}"
+        );
+        // The full reason, with why the metrics could not be compared, stays in the
+        // ablations' table and the robot section.
+        assert!(!row.contains("value in 0 of"), "{row}");
+        assert!(report.contains("value in 0 of 8 seeds"), "{report}");
+    }
+
+    #[test]
     fn the_answers_why_names_the_reading_and_whether_any_sub_task_values_reaching() {
         let facts = experiment(behaviour(), readings());
         assert_eq!(

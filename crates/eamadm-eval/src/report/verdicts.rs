@@ -14,6 +14,16 @@ pub(crate) fn deciding_number(judgement: &Judgement) -> String {
     deciding_words(judgement, true)
 }
 
+/// [`deciding_number`] for the verdict table: a verdict decided on per-seed reaching states the
+/// test alone (why the claim's metrics could not be compared is in the rule below the table
+/// and in the task's section).
+fn table_deciding_number(judgement: &Judgement) -> String {
+    match (judgement.deciding, reason_test(judgement)) {
+        (None, Some(test)) => claims::per_seed_reason(&judgement.method, test),
+        _ => deciding_number(judgement),
+    }
+}
+
 /// The per-seed test (C3: stable-reaching) against the deciding comparison's competitor, when
 /// it came nearer to settling than that comparison (a smaller Holm p): an inconclusive C3
 /// whose greedy SDs are all 0 is decided by who reaches stably, not by the 0 [0, 0].
@@ -167,7 +177,12 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
             });
             let (verdict, number) = judgement.map_or_else(
                 || ("not run".to_owned(), "EA-MADM was not run".to_owned()),
-                |j| (format!("**{}**", j.verdict.name()), deciding_number(j)),
+                |j| {
+                    (
+                        format!("**{}**", j.verdict.name()),
+                        table_deciding_number(j),
+                    )
+                },
             );
             let (control, control_verdict) = strongest_cells(verdicts, claim.id, task);
             let _ = table.push_row([
