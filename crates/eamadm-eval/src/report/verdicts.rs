@@ -127,9 +127,10 @@ fn strongest_cells(verdicts: &Verdicts, claim: &str, task: &str) -> (String, Str
             |c| {
                 (
                     format!(
-                        "`{}` ({}; IQM {})",
+                        "`{}` ({}; IQM `{}` {})",
                         c.control,
                         control_family(&c.control).unwrap_or("control"),
+                        c.metric,
                         number(c.control_iqm)
                     ),
                     format!(
