@@ -262,13 +262,18 @@ pub(crate) fn strongest_sentences(verdicts: &Verdicts, task: &str) -> Vec<String
         let mut text = format!(
             "The strongest control on {} is `{control}` ({}): IQM `{}` {} against EA-MADM's \
              {own_iqm}, converged on {} seeds against {}{steps}; judged against it by the same \
-             rule, EA-MADM's verdicts are {}.",
+             rule, EA-MADM's {} {}.",
             list(&claims_of),
             control_family(control).unwrap_or("control"),
             first.metric,
             number(first.control_iqm),
             converged(verdicts, task, control),
             converged(verdicts, task, ea),
+            if against.len() == 1 {
+                "verdict is"
+            } else {
+                "verdicts are"
+            },
             list(&against)
         );
         if converged_count(verdicts, task, control).0 < converged_count(verdicts, task, ea).0 {
