@@ -679,9 +679,13 @@ pub(crate) mod tests {
         let report = render_body(&context(), &verdicts);
         let answer = readme_answer(&report).unwrap();
         assert!(
-            answer.starts_with("**Task I.** Against the paper's competitors"),
+            answer.starts_with("**Task I.** EA-MADM beats the paper's competitors"),
             "{answer}"
         );
+        // The first screen: the answer to a task is a few lines of a 100-column terminal.
+        for paragraph in answer.split("\n\n") {
+            assert!(paragraph.len() < 700, "{paragraph}");
+        }
         // The first screen: title, intro, the answer, then the verdicts.
         let heading = report.find("## The answer").unwrap();
         assert!(heading < report.find("## Verdicts on the paper's claims").unwrap());

@@ -173,6 +173,81 @@ pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts)
     }
     text.push_str(&table.render());
     text.push('\n');
+    for sentence in subtask_pairing(scores, task, ea)
+        .into_iter()
+        .chain(collapses_rejudged(verdicts, task, ea))
+    {
+        let _ = writeln!(text, "{sentence}\n");
+    }
+}
+
+/// EA-MADM paired by seed with [`SUBTASK_ALONE`] on converging, in words: where one converges
+/// and the other does not, or that they converge on the same seeds (none: neither converges);
+/// `None` when the sub-task alone was not run.
+pub(crate) fn subtask_pairing(scores: &[FinalScore], task: &str, ea: &str) -> Option<String> {
+    let d = discordant(scores, task, ea, SUBTASK_ALONE);
+    if d.paired == 0 {
+        return None;
+    }
+    if d.only_method == 0 && d.only_versus == 0 {
+        let both = outcomes(scores, task, ea)
+            .iter()
+            .filter(|(_, o)| *o == RunOutcome::Converged)
+            .count();
+        return Some(if both == 0 {
+            format!(
+                "Neither EA-MADM nor `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone) \
+                 converges on any of the {} paired seeds.",
+                d.paired
+            )
+        } else {
+            format!(
+                "EA-MADM and `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone) converge \
+                 on the same {both} of {} paired seeds.",
+                d.paired
+            )
+        });
+    }
+    let reverse = if d.only_method == 0 {
+        "never the reverse".to_owned()
+    } else {
+        format!("the reverse on {}", d.only_method)
+    };
+    Some(format!(
+        "Paired by seed with `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone), EA-MADM \
+         fails to converge on {} of {} seeds where the sub-task alone converges ({} of them \
+         collapsed), {reverse}.",
+        d.only_versus, d.paired, d.method_collapsed
+    ))
+}
+
+/// The paper EA-MADM's verdicts judged again without its collapsed seeds (left out of every
+/// method), in words: which would be better, which not; `None` when none was judged again.
+pub(crate) fn collapses_rejudged(verdicts: &Verdicts, task: &str, ea: &str) -> Option<String> {
+    let again: Vec<&claims::Judgement> = verdicts
+        .without_collapses
+        .iter()
+        .filter(|j| j.task == task && j.method == ea)
+        .collect();
+    if again.is_empty() {
+        return None;
+    }
+    let words: Vec<String> = again
+        .iter()
+        .map(|j| {
+            let before = verdicts
+                .judgements
+                .iter()
+                .find(|b| b.task == task && b.method == ea && b.claim.id == j.claim.id)
+                .map_or("—", |b| b.verdict.name());
+            format!("{} {} (was {before})", j.claim.id, j.verdict.name())
+        })
+        .collect();
+    Some(format!(
+        "Judged again without EA-MADM's collapsed seeds (left out of every method, so still \
+         paired; a diagnosis, never a verdict): {}.",
+        super::format::list(&words)
+    ))
 }
 
 /// `subtaskN-alone`: one pre-trained sub-task acting alone with frozen values, the same
@@ -204,13 +279,53 @@ fn same_scores(a: &FinalScore, b: &FinalScore) -> bool {
         && a.outcome == b.outcome
 }
 
-/// Seeds on which `method` and `other` have the same scores, and the seeds both ran.
-pub(crate) fn equal_seeds(
-    scores: &[FinalScore],
-    task: &str,
-    method: &str,
-    other: &str,
-) -> (usize, usize) {
+/// The parts of two runs of one seed that end the same ([`same_scores`]) which still differ,
+/// named as a sentence names them; empty when the runs are the same all through (every score
+/// but the environment steps, which count each method's own pre-training).
+fn differing_parts(a: &FinalScore, b: &FinalScore) -> Vec<&'static str> {
+    let mut parts = Vec::new();
+    if a.fluctuation_steps != b.fluctuation_steps || a.fluctuation_return != b.fluctuation_return {
+        parts.push("the training curve's SD");
+    }
+    if a.collapse_episode != b.collapse_episode || a.reaching_episodes != b.reaching_episodes {
+        parts.push("the collapse episode or the count of reaching episodes");
+    }
+    if a.greedy_evaluations != b.greedy_evaluations
+        || a.stable_reaching != b.stable_reaching
+        || a.fluctuation_greedy_steps != b.fluctuation_greedy_steps
+        || a.fluctuation_greedy_return != b.fluctuation_greedy_return
+    {
+        parts.push("the greedy evaluations");
+    }
+    if a.success_rate != b.success_rate {
+        parts.push("the final-window success");
+    }
+    if a.reach_average_reward != b.reach_average_reward
+        || a.reach_time != b.reach_time
+        || a.reach_retention_time != b.reach_retention_time
+        || a.retention_decay != b.retention_decay
+    {
+        parts.push("the robot's reaching scores");
+    }
+    parts
+}
+
+/// How far two methods' runs agree seed for seed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Equality {
+    /// Seeds both ran.
+    pub(crate) both: usize,
+    /// Seeds on which the two end the same ([`same_scores`]).
+    pub(crate) end_same: usize,
+    /// Of those, seeds on which they are the same all through ([`differing_parts`] empty).
+    pub(crate) all_through: usize,
+    /// Of those that end the same, on how many seeds each part still differs, in the order of
+    /// [`differing_parts`].
+    pub(crate) differing: Vec<(&'static str, usize)>,
+}
+
+/// How far `method` and `other` agree seed for seed on `task`.
+pub(crate) fn equality(scores: &[FinalScore], task: &str, method: &str, other: &str) -> Equality {
     let rows = |m: &str| -> Vec<&FinalScore> {
         scores
             .iter()
@@ -218,19 +333,47 @@ pub(crate) fn equal_seeds(
             .collect()
     };
     let theirs = rows(other);
-    let mut both = 0;
-    let mut equal = 0;
+    let mut eq = Equality {
+        both: 0,
+        end_same: 0,
+        all_through: 0,
+        differing: Vec::new(),
+    };
     for a in rows(method) {
-        if let Some(b) = theirs.iter().find(|b| b.seed == a.seed) {
-            both += 1;
-            equal += usize::from(same_scores(a, b));
+        let Some(b) = theirs.iter().find(|b| b.seed == a.seed) else {
+            continue;
+        };
+        eq.both += 1;
+        if !same_scores(a, b) {
+            continue;
+        }
+        eq.end_same += 1;
+        let parts = differing_parts(a, b);
+        eq.all_through += usize::from(parts.is_empty());
+        for part in parts {
+            match eq.differing.iter_mut().find(|(p, _)| *p == part) {
+                Some((_, n)) => *n += 1,
+                None => eq.differing.push((part, 1)),
+            }
         }
     }
-    (equal, both)
+    eq
 }
 
-/// Which EA-MADM variants give the same per-seed scores as a sub-task alone, on how many
-/// seeds: pairs equal on at least half the seeds, in one sentence.
+/// Seeds on which `method` and `other` end the same, and the seeds both ran.
+pub(crate) fn equal_seeds(
+    scores: &[FinalScore],
+    task: &str,
+    method: &str,
+    other: &str,
+) -> (usize, usize) {
+    let eq = equality(scores, task, method, other);
+    (eq.end_same, eq.both)
+}
+
+/// Which EA-MADM variants end as a sub-task alone seed for seed, on how many seeds, and on how
+/// many of those they are the same all through (with what still differs): pairs that end the
+/// same on at least half the seeds, in one sentence.
 pub(crate) fn equalities_with_subtasks(task: &str, verdicts: &Verdicts) -> Option<String> {
     let scores = &verdicts.scores;
     let methods = claims::methods(scores, task);
@@ -243,18 +386,37 @@ pub(crate) fn equalities_with_subtasks(task: &str, verdicts: &Verdicts) -> Optio
             if role != Role::Control || !is_frozen_subtask_alone(other) {
                 continue;
             }
-            let (equal, both) = equal_seeds(scores, task, method, other);
-            if both > 0 && 2 * equal >= both {
-                pairs.push(format!("{} = `{other}` on {equal}/{both}", label(method)));
+            let eq = equality(scores, task, method, other);
+            if eq.both > 0 && 2 * eq.end_same >= eq.both {
+                let differing: Vec<String> = eq
+                    .differing
+                    .iter()
+                    .map(|(part, n)| format!("{part} on {n}"))
+                    .collect();
+                pairs.push(format!(
+                    "{} = `{other}` on {}/{}, all through on {}{}",
+                    label(method),
+                    eq.end_same,
+                    eq.both,
+                    eq.all_through,
+                    if differing.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" (still differing: {})", differing.join(", "))
+                    }
+                ));
             }
         }
     }
     (!pairs.is_empty()).then(|| {
         format!(
             "Seed for seed, these EA-MADM variants end exactly as a sub-task alone (the same \
-             final steps, final return, greedy episode and outcome): {}. On those seeds the \
-             sub-task's own experience, without the MADM step, ends where EA-MADM does (pairs \
-             equal on fewer than half the seeds are not listed).",
+             final-window steps and return, greedy episode and outcome), and on some of those \
+             seeds run the same all through (every score but the environment steps, which \
+             count each method's own pre-training): {}. On the seeds they end alike the \
+             sub-task's own experience, without the MADM step, ends where EA-MADM does; the \
+             way there (the training curve, a collapse episode) may differ (pairs that end \
+             alike on fewer than half the seeds are not listed).",
             pairs.join("; ")
         )
     })
@@ -445,6 +607,11 @@ mod tests {
             if seed == 3 {
                 u.final_steps = 61.0;
             }
+            // Ends the same, but the way there differs.
+            if seed == 0 {
+                u.fluctuation_steps += 1.0;
+                u.collapse_episode = Some(7);
+            }
             rows.push(u);
             rows.push(row(
                 "task1",
@@ -458,7 +625,9 @@ mod tests {
         let text = equalities_with_subtasks("task1", &verdicts(rows)).unwrap();
         assert!(
             text.contains(
-                ": EA-MADM = `subtask0-alone` on 4/4; `ea-madm-uniform` = `subtask0-alone` on 3/4."
+                ": EA-MADM = `subtask0-alone` on 4/4, all through on 4; `ea-madm-uniform` = \
+                 `subtask0-alone` on 3/4, all through on 2 (still differing: the training \
+                 curve's SD on 1, the collapse episode or the count of reaching episodes on 1)."
             ),
             "{text}"
         );

@@ -352,6 +352,35 @@ pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<St
     })
 }
 
+/// [`why_never`] in one sentence for the answer: why `method` (which never reaches) does not,
+/// without the per-sub-task detail; `None` when it learns from no sub-task rewards.
+pub(crate) fn why_never_short(experiment: &ExperimentFacts, method: &str) -> Option<String> {
+    let reading = experiment
+        .reward_readings
+        .iter()
+        .find(|r| r.methods.iter().any(|m| m == method))?;
+    let paying = reading
+        .subtasks
+        .iter()
+        .filter(|s| s.reaching_pays())
+        .count();
+    Some(if paying == 0 {
+        format!(
+            "It never reaches the target: under {} no sub-task's reward values reaching above \
+             both ending the episode at once and idling, so no aggregation of their values \
+             leads there.",
+            reading_name(reading)
+        )
+    } else {
+        format!(
+            "It never reaches the target: under {} {paying} of {} sub-tasks value reaching \
+             most, yet the aggregation of their values does not lead there.",
+            reading_name(reading),
+            reading.subtasks.len()
+        )
+    })
+}
+
 /// How most of a method's final-window episodes ended, in a few words with the number that
 /// shows it.
 fn endings_groups(methods: &[MethodBehaviour], action_names: &[String]) -> Option<String> {
@@ -974,6 +1003,42 @@ mod tests {
             "{sentence}"
         );
         assert!(sentence.contains(&j.reason), "{sentence}");
+    }
+
+    #[test]
+    fn the_verdict_table_states_a_reaching_verdict_by_its_test_alone() {
+        let v = verdicts(&PAPER_SET);
+        let report = super::super::render(&super::super::tests::context(), &v).unwrap();
+        let row = report.lines().find(|l| l.starts_with("| C4 ")).unwrap();
+        assert!(
+            row.contains(
+                "| EA-MADM reaches on 0/8 seeds, softmax on 8/8; exact paired sign test, Holm p \
+                 0.008 "
+            ),
+            "{row}"
+        );
+        // The full reason, with why the metrics could not be compared, stays in the
+        // ablations' table and the robot section.
+        assert!(!row.contains("value in 0 of"), "{row}");
+        assert!(report.contains("value in 0 of 8 seeds"), "{report}");
+    }
+
+    #[test]
+    fn the_answers_why_names_the_reading_and_whether_any_sub_task_values_reaching() {
+        let facts = experiment(behaviour(), readings());
+        assert_eq!(
+            why_never_short(&facts, "ea-madm").unwrap(),
+            "It never reaches the target: under the paper's sub-task rewards (Eq. 6–8) no \
+             sub-task's reward values reaching above both ending the episode at once and \
+             idling, so no aggregation of their values leads there."
+        );
+        assert_eq!(
+            why_never_short(&facts, "ea-madm-goal-bonus").unwrap(),
+            "It never reaches the target: under the sub-task rewards with goal bonus for reach \
+             1 of 3 sub-tasks value reaching most, yet the aggregation of their values does \
+             not lead there."
+        );
+        assert_eq!(why_never_short(&facts, "softmax"), None);
     }
 
     #[test]

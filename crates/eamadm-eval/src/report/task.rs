@@ -105,6 +105,9 @@ pub(crate) fn write_task(
         text.push_str(&table.render());
         text.push('\n');
         write_control_comparisons(text, task, verdicts);
+        for sentence in super::strongest::strongest_sentences(verdicts, task) {
+            let _ = writeln!(text, "{sentence}\n");
+        }
     }
 
     write_comparisons(text, task, verdicts);

@@ -6,10 +6,85 @@ use std::fmt::Write as _;
 use super::format::{Align, MarkdownTable, interval, number, p_value, role_text};
 use super::strongest::control_family;
 use super::{ReportContext, Verdicts};
-use crate::claims::{self, Comparison, Judgement};
+use crate::claims::{self, Comparison, Judgement, ReachingComparison};
 use crate::paper_claims::{CLAIMS, method_title};
 
+/// The number that decides `judgement`'s verdict, in words with the competitor it is against.
 pub(crate) fn deciding_number(judgement: &Judgement) -> String {
+    deciding_words(judgement, true)
+}
+
+/// [`deciding_number`] for the verdict table: a verdict decided on per-seed reaching states the
+/// test alone (why the claim's metrics could not be compared is in the rule below the table
+/// and in the task's section).
+fn table_deciding_number(judgement: &Judgement) -> String {
+    match (judgement.deciding, reason_test(judgement)) {
+        (None, Some(test)) => claims::per_seed_reason(&judgement.method, test),
+        _ => deciding_number(judgement),
+    }
+}
+
+/// The per-seed test (C3: stable-reaching) against the deciding comparison's competitor, when
+/// it came nearer to settling than that comparison (a smaller Holm p): an inconclusive C3
+/// whose greedy SDs are all 0 is decided by who reaches stably, not by the 0 [0, 0].
+fn deciding_per_seed_test(judgement: &Judgement) -> Option<&ReachingComparison> {
+    let c = judgement.deciding_comparison()?;
+    (judgement.verdict == claims::Verdict::Inconclusive)
+        .then(|| {
+            judgement
+                .reaching
+                .iter()
+                .find(|t| t.versus == c.versus && t.p_holm < c.p_holm)
+        })
+        .flatten()
+}
+
+/// The per-seed test a verdict without a deciding comparison is decided by: the one its
+/// reason states.
+fn reason_test(judgement: &Judgement) -> Option<&ReachingComparison> {
+    judgement.reaching.iter().find(|t| {
+        judgement
+            .reason
+            .starts_with(&claims::per_seed_reason(&judgement.method, t))
+    })
+}
+
+/// A per-seed test without the names (a column that names both sides already): "reaches on
+/// 0/20 seeds against 20/20; exact paired sign test, Holm p < 0.001".
+fn per_seed_short(test: &ReachingComparison) -> String {
+    format!(
+        "{} on {}/{n} seeds against {}/{n}; exact paired sign test, Holm p {}",
+        claims::per_seed_words(test.metric),
+        test.reached.0,
+        test.reached.1,
+        p_value(test.p_holm),
+        n = test.n
+    )
+}
+
+/// [`deciding_number`]; without `versus` (a column that names the one competitor already),
+/// a metric comparison leaves out "vs <competitor>: ".
+pub(crate) fn deciding_words(judgement: &Judgement, versus: bool) -> String {
+    if let Some(test) = deciding_per_seed_test(judgement) {
+        return if versus {
+            claims::per_seed_reason(&judgement.method, test)
+        } else {
+            per_seed_short(test)
+        };
+    }
+    if !versus
+        && judgement.deciding.is_none()
+        && let Some(test) = reason_test(judgement)
+    {
+        return per_seed_short(test);
+    }
+    let comparison_in_words = |c: &Comparison| {
+        if versus {
+            comparison_in_words(c)
+        } else {
+            difference_in_words(c)
+        }
+    };
     match judgement.deciding_comparison() {
         Some(c) if judgement.verdict == claims::Verdict::Equivalent => match &c.paired {
             Some(p) => format!(
@@ -28,9 +103,12 @@ pub(crate) fn deciding_number(judgement: &Judgement) -> String {
 }
 
 fn comparison_in_words(c: &Comparison) -> String {
+    format!("vs {}: {}", method_title(&c.versus), difference_in_words(c))
+}
+
+fn difference_in_words(c: &Comparison) -> String {
     format!(
-        "vs {}: Δ IQM `{}` = {}, Holm p {}",
-        method_title(&c.versus),
+        "Δ IQM `{}` = {}, Holm p {}",
         c.metric.column,
         interval(&c.difference),
         p_value(c.p_holm)
@@ -58,7 +136,7 @@ fn strongest_cells(verdicts: &Verdicts, claim: &str, task: &str) -> (String, Str
                     format!(
                         "{}: {}",
                         c.judgement.verdict.name(),
-                        deciding_number(&c.judgement)
+                        deciding_words(&c.judgement, false)
                     ),
                 )
             },
@@ -100,7 +178,12 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
             });
             let (verdict, number) = judgement.map_or_else(
                 || ("not run".to_owned(), "EA-MADM was not run".to_owned()),
-                |j| (format!("**{}**", j.verdict.name()), deciding_number(j)),
+                |j| {
+                    (
+                        format!("**{}**", j.verdict.name()),
+                        table_deciding_number(j),
+                    )
+                },
             );
             let (control, control_verdict) = strongest_cells(verdicts, claim.id, task);
             let _ = table.push_row([
