@@ -211,7 +211,9 @@ impl Camera {
         let target_in_view = self.in_view_local(&target_local);
         let target_ratio = self.horizontal_ratio(&target_local);
 
-        let mut best: Option<(usize, f64, Vector2<f64>)> = None;
+        // The nearest so far: index, distance, camera-frame line of sight and its length (the
+        // unit direction is divided out once, for the winner).
+        let mut best: Option<(usize, f64, Vector2<f64>, f64)> = None;
         for (index, obstacle) in world.obstacles().iter().enumerate() {
             let to_centre = obstacle.centre() - camera;
             let local = to_local * to_centre;
@@ -219,18 +221,18 @@ impl Camera {
                 continue;
             }
             let norm = to_centre.norm();
-            let direction = to_centre / norm;
             let distance = match obstacle {
                 Obstacle::Circle(c) => (norm - c.radius).max(0.0),
-                Obstacle::Rect(r) => r.ray_distance(&camera, &direction).unwrap_or(0.0),
+                Obstacle::Rect(r) => r.ray_distance(&camera, &(to_centre / norm)).unwrap_or(0.0),
             };
             if distance <= self.params.obstacle_range
-                && best.is_none_or(|(_, nearest, _)| distance < nearest)
+                && best.is_none_or(|(_, nearest, _, _)| distance < nearest)
             {
-                best = Some((index, distance, local / norm));
+                best = Some((index, distance, local, norm));
             }
         }
-        let obstacle = best.map(|(index, distance, local_direction)| {
+        let obstacle = best.map(|(index, distance, local, norm)| {
+            let local_direction = local / norm;
             // The feature point in the robot's frame: camera offset plus the line of sight.
             let in_robot = Vector2::new(self.params.offset, 0.0) + local_direction * distance;
             ObstacleSighting {
