@@ -32,7 +32,7 @@
 use nalgebra::{Isometry2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::world::{Obstacle, World};
+use crate::world::{BROAD_PHASE_MARGIN, Obstacle, World};
 
 /// Which image axis δ of Eq. 5 measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -214,8 +214,16 @@ impl Camera {
         // The nearest so far: index, distance, camera-frame line of sight and its length (the
         // unit direction is divided out once, for the winner).
         let mut best: Option<(usize, f64, Vector2<f64>, f64)> = None;
-        for (index, obstacle) in world.obstacles().iter().enumerate() {
-            let to_centre = obstacle.centre() - camera;
+        for (index, (obstacle, bound)) in world.obstacles().iter().zip(world.bounds()).enumerate() {
+            let to_centre = bound.centre - camera;
+            // Broad phase: the feature point lies in the bounding disc, so an obstacle whose
+            // disc is beyond the range, or beyond the nearest obstacle so far, is neither
+            // reported nor nearer.
+            let nearest = best.map_or(self.params.obstacle_range, |(_, nearest, _, _)| nearest);
+            let limit = nearest + bound.radius + BROAD_PHASE_MARGIN;
+            if to_centre.norm_squared() > limit * limit {
+                continue;
+            }
             let local = to_local * to_centre;
             if !self.in_view_local(&local) {
                 continue;

@@ -60,9 +60,11 @@ impl Obstacle {
 
 /// A bounding disc, kept beside each obstacle to reject short rays cheaply.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Bound {
-    centre: Point2<f64>,
-    radius: f64,
+pub(crate) struct Bound {
+    /// [`Obstacle::centre`].
+    pub(crate) centre: Point2<f64>,
+    /// [`Obstacle::bounding_radius`].
+    pub(crate) radius: f64,
 }
 
 /// Where a body ended up after trying to move, and whether it hit something on the way.
@@ -88,7 +90,7 @@ const CONTACT_BISECTIONS: u32 = 40;
 /// Slack (m) of the broad phases: a wall or an obstacle is left out of a query only when it
 /// is farther than the query can matter by this much, which is far above rounding (about
 /// 10⁻¹⁶ m at arena sizes) and far below anything that matters physically.
-const BROAD_PHASE_MARGIN: f64 = 1e-6;
+pub(crate) const BROAD_PHASE_MARGIN: f64 = 1e-6;
 
 /// The walls and obstacles (built from a [`Scenario`](crate::Scenario), which is the
 /// serialisable form).
@@ -130,6 +132,11 @@ impl World {
     #[must_use]
     pub fn obstacles(&self) -> &[Obstacle] {
         &self.obstacles
+    }
+
+    /// The obstacles' bounding discs, in scenario order.
+    pub(crate) fn bounds(&self) -> &[Bound] {
+        &self.bounds
     }
 
     /// Clearance of a disc of `radius` at `centre`: the distance to the nearest wall or
