@@ -213,11 +213,12 @@ impl World {
         // Each wall on its own: a ray's exit distance through a wall beyond reach is beyond
         // `max_range`, so it cannot be the capped minimum. Written as "not beyond" so that a
         // NaN keeps everything in (and as `ray_cast` does).
+        let beyond = |gap: f64| gap > reach;
         let walls_near = [
-            !(centre.x - arena.min.x > reach),
-            !(arena.max.x - centre.x > reach),
-            !(centre.y - arena.min.y > reach),
-            !(arena.max.y - centre.y > reach),
+            !beyond(centre.x - arena.min.x),
+            !beyond(arena.max.x - centre.x),
+            !beyond(centre.y - arena.min.y),
+            !beyond(arena.max.y - centre.y),
         ];
         // Obstacles the fan may reach, as a bit set over the first 64 (more are always
         // checked, in order, as `ray_cast` checks them).
