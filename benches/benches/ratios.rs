@@ -1,10 +1,12 @@
 //! The ratios of issue 24, printed in one run so that every later change is judged by the same
-//! numbers (`cargo bench -p eamadm-benches --bench ratios`; `-- --tiny` for a quick smoke run):
+//! numbers (`cargo bench -p eamadm-benches --bench ratios`; `-- --tiny` for a quick smoke run,
+//! `-- --only robot_over_maze` for one of them):
 //!
 //! 1. the maze EA-MADM family (every method that pre-trains: EA-MADM, its ablations, the
 //!    sub-tasks alone) on Task I, with the pre-training shared per seed
 //!    ([`eamadm::Experiment::share_pretraining`]) against each run pre-training for itself;
-//! 2. a robot step ÷ a maze step (random actions, resetting at episode ends);
+//! 2. a robot step ÷ a maze step (random actions, resetting at episode ends; medians of
+//!    alternating rounds);
 //! 3. ns per environment step of the Task I ε-greedy runs (learning only, in process; and end
 //!    to end, `reproduce-paper --task task1 --method epsilon-greedy`, store and report
 //!    included, when the release `xtask` binary is built) ÷ the hand-written
@@ -33,14 +35,23 @@ use rand_chacha::ChaCha8Rng;
 
 fn main() {
     let tiny = std::env::args().any(|arg| arg == "--tiny");
+    // `-- --only robot_over_maze` (or `shared_pretraining`, `end_to_end`) runs one ratio.
+    let only = std::env::args().skip_while(|arg| arg != "--only").nth(1);
+    let runs = |name: &str| only.as_deref().is_none_or(|only| only == name);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .unwrap();
     pool.install(|| {
-        shared_pretraining(tiny);
-        robot_over_maze(tiny);
-        end_to_end(tiny);
+        if runs("shared_pretraining") {
+            shared_pretraining(tiny);
+        }
+        if runs("robot_over_maze") {
+            robot_over_maze(tiny);
+        }
+        if runs("end_to_end") {
+            end_to_end(tiny);
+        }
     });
 }
 
@@ -64,10 +75,17 @@ impl Clock {
         }
     }
 
+    /// The CPU time since `start`, or the wall time when the interval is too short for the
+    /// CPU clock: the kernel brings that figure up to date at scheduler ticks (every 1–10 ms),
+    /// so it is exact only to a tick.
     fn elapsed(&self) -> Duration {
+        const SHORTEST_CPU_INTERVAL: Duration = Duration::from_millis(50);
+        let wall = self.wall.elapsed();
         match (self.cpu, thread_cpu_ns()) {
-            (Some(start), Some(now)) => Duration::from_nanos(now.saturating_sub(start)),
-            _ => self.wall.elapsed(),
+            (Some(start), Some(now)) if wall >= SHORTEST_CPU_INTERVAL => {
+                Duration::from_nanos(now.saturating_sub(start))
+            }
+            _ => wall,
         }
     }
 }
@@ -123,42 +141,71 @@ fn shared_pretraining(tiny: bool) {
     );
 }
 
-/// Ratio 2: a robot step against a maze step.
+/// Ratio 2: a robot step against a maze step, each a step of the environment as the runner
+/// uses it: a given action (drawn at random beforehand, so the draw is timed in neither), the
+/// sub-task rewards read, a reset at each episode's end.
+///
+/// A maze step takes a few nanoseconds, so one burst of load on a shared machine would move
+/// the ratio a lot. The two are therefore timed in alternating rounds of many steps each
+/// (thread CPU time, every round about 0.1 s, far above the CPU clock's tick), the
+/// environments carrying on from round to round; the per-step times are the medians over the
+/// rounds, and the ratio is the median of the rounds' ratios (each round's two measurements
+/// are back to back).
 fn robot_over_maze(tiny: bool) {
-    let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let (robot_steps, maze_steps) = if tiny {
-        (2_000, 20_000)
+    let (rounds, robot_steps, maze_steps) = if tiny {
+        (3, 2_000, 20_000)
     } else {
-        (200_000, 20_000_000)
+        (15, 250_000, 25_000_000)
     };
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let robot_actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..5)).collect();
+    let maze_actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..4)).collect();
     let mut robot = WmrEnv::default();
-    let start = Clock::start();
-    let mut total = 0.0;
-    for _ in 0..robot_steps {
-        let step = robot.step(black_box(rng.random_range(0..5)));
-        total += step.reward;
-        if step.done() {
-            robot.reset(None);
-        }
-    }
-    let robot_ns = per(start.elapsed(), robot_steps);
     let mut maze = Preset::Task1.env();
     maze.reset(None);
-    let actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..4)).collect();
-    let start = Clock::start();
-    for i in 0..maze_steps {
-        let step = maze.step(black_box(actions[i as usize % actions.len()]));
-        total += step.reward + maze.subtask_rewards()[1];
-        if step.done() {
-            maze.reset(None);
+    let mut total = 0.0;
+    let (mut robot_ns, mut maze_ns, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let start = Clock::start();
+        for i in 0..robot_steps {
+            let step = robot.step(black_box(robot_actions[i as usize % robot_actions.len()]));
+            total += step.reward + robot.subtask_rewards()[1];
+            if step.done() {
+                robot.reset(None);
+            }
         }
+        let robot_round = per(start.elapsed(), robot_steps);
+        let start = Clock::start();
+        for i in 0..maze_steps {
+            let step = maze.step(black_box(maze_actions[i as usize % maze_actions.len()]));
+            total += step.reward + maze.subtask_rewards()[1];
+            if step.done() {
+                maze.reset(None);
+            }
+        }
+        let maze_round = per(start.elapsed(), maze_steps);
+        robot_ns.push(robot_round);
+        maze_ns.push(maze_round);
+        ratios.push(robot_round / maze_round);
     }
-    let maze_ns = per(start.elapsed(), maze_steps);
     black_box(total);
-    eprintln!(
-        "robot step {robot_ns:.1} ns, maze step {maze_ns:.2} ns: robot ÷ maze = {:.1}",
-        robot_ns / maze_ns
+    let (low, high) = (
+        ratios.iter().copied().fold(f64::INFINITY, f64::min),
+        ratios.iter().copied().fold(0.0, f64::max),
     );
+    eprintln!(
+        "robot step {:.1} ns, maze step {:.2} ns (medians of {rounds} rounds of {robot_steps} \
+         and {maze_steps} steps): robot ÷ maze = {:.1} (rounds {low:.1} to {high:.1})",
+        median(&mut robot_ns),
+        median(&mut maze_ns),
+        median(&mut ratios),
+    );
+}
+
+/// The middle value (the upper middle of an even count).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
 }
 
 /// Ratio 3: the ε-greedy runs per step against the hand-written loop.

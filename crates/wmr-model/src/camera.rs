@@ -32,7 +32,7 @@
 use nalgebra::{Isometry2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::world::{Obstacle, World};
+use crate::world::{BROAD_PHASE_MARGIN, Obstacle, World};
 
 /// Which image axis δ of Eq. 5 measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -211,26 +211,36 @@ impl Camera {
         let target_in_view = self.in_view_local(&target_local);
         let target_ratio = self.horizontal_ratio(&target_local);
 
-        let mut best: Option<(usize, f64, Vector2<f64>)> = None;
-        for (index, obstacle) in world.obstacles().iter().enumerate() {
-            let to_centre = obstacle.centre() - camera;
+        // The nearest so far: index, distance, camera-frame line of sight and its length (the
+        // unit direction is divided out once, for the winner).
+        let mut best: Option<(usize, f64, Vector2<f64>, f64)> = None;
+        for (index, (obstacle, bound)) in world.obstacles().iter().zip(world.bounds()).enumerate() {
+            let to_centre = bound.centre - camera;
+            // Broad phase: the feature point lies in the bounding disc, so an obstacle whose
+            // disc is beyond the range, or beyond the nearest obstacle so far, is neither
+            // reported nor nearer.
+            let nearest = best.map_or(self.params.obstacle_range, |(_, nearest, _, _)| nearest);
+            let limit = nearest + bound.radius + BROAD_PHASE_MARGIN;
+            if to_centre.norm_squared() > limit * limit {
+                continue;
+            }
             let local = to_local * to_centre;
             if !self.in_view_local(&local) {
                 continue;
             }
             let norm = to_centre.norm();
-            let direction = to_centre / norm;
             let distance = match obstacle {
                 Obstacle::Circle(c) => (norm - c.radius).max(0.0),
-                Obstacle::Rect(r) => r.ray_distance(&camera, &direction).unwrap_or(0.0),
+                Obstacle::Rect(r) => r.ray_distance(&camera, &(to_centre / norm)).unwrap_or(0.0),
             };
             if distance <= self.params.obstacle_range
-                && best.is_none_or(|(_, nearest, _)| distance < nearest)
+                && best.is_none_or(|(_, nearest, _, _)| distance < nearest)
             {
-                best = Some((index, distance, local / norm));
+                best = Some((index, distance, local, norm));
             }
         }
-        let obstacle = best.map(|(index, distance, local_direction)| {
+        let obstacle = best.map(|(index, distance, local, norm)| {
+            let local_direction = local / norm;
             // The feature point in the robot's frame: camera offset plus the line of sight.
             let in_robot = Vector2::new(self.params.offset, 0.0) + local_direction * distance;
             ObstacleSighting {

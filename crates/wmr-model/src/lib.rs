@@ -160,7 +160,9 @@ pub use action::{Action, ActionSet, WheelFractions};
 pub use camera::{Camera, CameraParams, CameraView, DeltaAxis, ObstacleSighting, image_ratio};
 pub use env::{DEFAULT_SEED, Observation, WmrEnv};
 pub use geometry::{Circle, Rect};
-pub use kinematics::{FixedArc, RobotParams, Twist, WheelSpeeds, integrate_arc};
+pub use kinematics::{
+    FixedArc, RobotParams, Twist, WheelSpeeds, integrate_arc, integrate_arc_centre,
+};
 pub use metrics::{EpisodeMetrics, MetricsParams, Outcome};
 pub use planner::{
     Plan, PlanError, PlannerParams, TabularPolicy, search, shortest_plan, tabular_policy,

@@ -77,7 +77,12 @@ impl DistanceSensors {
         body_radius: f64,
     ) -> [f64; SENSOR_COUNT] {
         let centre = Point2::from(pose.translation.vector);
-        let directions = self.directions.map(|local| pose.rotation * local);
+        // Loops rather than `array::map` here and below: its machinery costs more than the
+        // arithmetic on the hot path.
+        let mut directions = self.directions;
+        for direction in &mut directions {
+            *direction = pose.rotation * *direction;
+        }
         world.ray_cast_fan(&centre, body_radius, &directions, self.params.range)
     }
 
@@ -90,8 +95,11 @@ impl DistanceSensors {
         body_radius: f64,
     ) -> [f64; SENSOR_COUNT] {
         let range = self.params.range;
-        self.distances(world, pose, body_radius)
-            .map(|d| (1.0 - d / range).clamp(0.0, 1.0))
+        let mut proximities = self.distances(world, pose, body_radius);
+        for proximity in &mut proximities {
+            *proximity = (1.0 - *proximity / range).clamp(0.0, 1.0);
+        }
+        proximities
     }
 
     /// Adds `C_noise · ξ` to each reading and clamps to `[0, 1]`.
@@ -110,15 +118,16 @@ impl DistanceSensors {
 /// cheap (no logarithm or trigonometry), which is all a sensor noise model needs.
 pub fn standard_normalish<R: Rng + ?Sized>(rng: &mut R) -> f64 {
     let bits = rng.next_u64();
-    let mut sum = 0.0;
-    for k in 0..4 {
-        let chunk = (bits >> (16 * k)) & 0xFFFF;
-        // Each uniform is (chunk + ½) / 2¹⁶ ∈ (0, 1), mean ½, variance ≈ 1/12.
-        // chunk < 2¹⁶ is exact in f64
-        let chunk = chunk as f64;
-        sum += (chunk + 0.5) / 65_536.0;
-    }
-    (sum - 2.0) * 3.0_f64.sqrt()
+    // Each uniform is (chunk + ½) / 2¹⁶ ∈ (0, 1), mean ½, variance ≈ 1/12. Their sum,
+    // centred, is (Σ chunk + 4 · ½ − 2 · 2¹⁶) / 2¹⁶; every term and partial sum of it is a
+    // multiple of 2⁻¹⁷ below 4, exact in f64, so it is computed in integers: the four
+    // 16-bit chunks added pairwise in two 32-bit lanes, then the lanes.
+    const LOW_CHUNKS: u64 = 0x0000_FFFF_0000_FFFF;
+    let pairs = (bits & LOW_CHUNKS) + ((bits >> 16) & LOW_CHUNKS);
+    let chunks = (pairs & 0xFFFF_FFFF) + (pairs >> 32);
+    // chunks < 2¹⁸: exact in f64
+    let centred = (chunks as f64 - 131_070.0) / 65_536.0;
+    centred * 3.0_f64.sqrt()
 }
 
 #[cfg(test)]

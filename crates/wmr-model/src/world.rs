@@ -9,7 +9,7 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::{Circle, Rect};
-use crate::kinematics::{FixedArc, Twist, integrate_arc};
+use crate::kinematics::{FixedArc, Twist, integrate_arc, integrate_arc_centre};
 
 /// One obstacle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -60,9 +60,11 @@ impl Obstacle {
 
 /// A bounding disc, kept beside each obstacle to reject short rays cheaply.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Bound {
-    centre: Point2<f64>,
-    radius: f64,
+pub(crate) struct Bound {
+    /// [`Obstacle::centre`].
+    pub(crate) centre: Point2<f64>,
+    /// [`Obstacle::bounding_radius`].
+    pub(crate) radius: f64,
 }
 
 /// Where a body ended up after trying to move, and whether it hit something on the way.
@@ -84,6 +86,11 @@ pub const MAX_SUBSTEP: f64 = 0.002;
 /// Bisection rounds that locate the contact on a hit: the contact is found to within
 /// `MAX_SUBSTEP / 2⁴⁰` of arc length.
 const CONTACT_BISECTIONS: u32 = 40;
+
+/// Slack (m) of the broad phases: a wall or an obstacle is left out of a query only when it
+/// is farther than the query can matter by this much, which is far above rounding (about
+/// 10⁻¹⁶ m at arena sizes) and far below anything that matters physically.
+pub(crate) const BROAD_PHASE_MARGIN: f64 = 1e-6;
 
 /// The walls and obstacles (built from a [`Scenario`](crate::Scenario), which is the
 /// serialisable form).
@@ -127,15 +134,47 @@ impl World {
         &self.obstacles
     }
 
+    /// The obstacles' bounding discs, in scenario order.
+    pub(crate) fn bounds(&self) -> &[Bound] {
+        &self.bounds
+    }
+
     /// Clearance of a disc of `radius` at `centre`: the distance to the nearest wall or
     /// obstacle minus `radius`. Negative exactly when the disc overlaps something.
     #[must_use]
     pub fn clearance(&self, centre: &Point2<f64>, radius: f64) -> f64 {
         let mut nearest = self.arena.inner_clearance(centre);
-        for obstacle in &self.obstacles {
+        for (obstacle, bound) in self.obstacles.iter().zip(&self.bounds) {
+            // An obstacle whose bounding disc is farther than the nearest surface so far cannot
+            // be nearer (its distance is at least the distance to that disc): leave out its
+            // square root. The minimum is the same value whichever order, and whichever of
+            // the farther ones, it is taken over.
+            let limit = nearest + bound.radius + BROAD_PHASE_MARGIN;
+            if (bound.centre - centre).norm_squared() > limit * limit {
+                continue;
+            }
             nearest = nearest.min(obstacle.distance_to(centre));
         }
         nearest - radius
+    }
+
+    /// Whether a disc of `radius` at `centre` overlaps a wall or an obstacle:
+    /// `clearance(centre, radius) < 0`, exactly (a difference `a − b` of floats is negative
+    /// exactly when `a < b`), answered by the first surface closer than `radius` and without
+    /// the obstacles whose bounding disc is farther.
+    #[must_use]
+    pub fn overlaps(&self, centre: &Point2<f64>, radius: f64) -> bool {
+        if self.arena.inner_clearance(centre) < radius {
+            return true;
+        }
+        self.obstacles
+            .iter()
+            .zip(&self.bounds)
+            .any(|(obstacle, bound)| {
+                let limit = radius + bound.radius + BROAD_PHASE_MARGIN;
+                (bound.centre - centre).norm_squared() <= limit * limit
+                    && obstacle.distance_to(centre) < radius
+            })
     }
 
     /// Distance along the ray from `origin` in the unit `direction` to the first wall or
@@ -146,15 +185,8 @@ impl World {
             .arena
             .ray_exit_distance(origin, direction)
             .min(max_range);
-        for (obstacle, bound) in self.obstacles.iter().zip(&self.bounds) {
-            // Obstacles wholly beyond the current nearest hit cannot be hit first.
-            let reach = nearest + bound.radius;
-            if (bound.centre - origin).norm_squared() > reach * reach {
-                continue;
-            }
-            if let Some(t) = obstacle.ray_distance(origin, direction) {
-                nearest = nearest.min(t);
-            }
+        for index in 0..self.obstacles.len() {
+            nearest = self.ray_nearer(index, origin, direction, nearest);
         }
         nearest
     }
@@ -175,11 +207,19 @@ impl World {
         directions: &[Vector2<f64>; N],
         max_range: f64,
     ) -> [f64; N] {
-        const MARGIN: f64 = 1e-6;
-        let reach = rim + max_range + MARGIN;
-        // Written as "not beyond" so that a NaN keeps everything in (and as `ray_cast` does).
-        let walls_beyond = self.arena.inner_clearance(centre) > reach;
-        let walls_near = !walls_beyond;
+        let reach = rim + max_range + BROAD_PHASE_MARGIN;
+        let arena = &self.arena;
+        let walls_beyond = arena.inner_clearance(centre) > reach;
+        // Each wall on its own: a ray's exit distance through a wall beyond reach is beyond
+        // `max_range`, so it cannot be the capped minimum. Written as "not beyond" so that a
+        // NaN keeps everything in (and as `ray_cast` does).
+        let beyond = |gap: f64| gap > reach;
+        let walls_near = [
+            !beyond(centre.x - arena.min.x),
+            !beyond(arena.max.x - centre.x),
+            !beyond(centre.y - arena.min.y),
+            !beyond(arena.max.y - centre.y),
+        ];
         // Obstacles the fan may reach, as a bit set over the first 64 (more are always
         // checked, in order, as `ray_cast` checks them).
         let mut near: u64 = 0;
@@ -195,29 +235,52 @@ impl World {
             // below would start at `max_range` and skip every obstacle.
             return [max_range; N];
         }
-        directions.map(|direction| {
+        // A loop rather than `directions.map`: the array adaptor's machinery cost more than
+        // the rays themselves.
+        let mut distances = [max_range; N];
+        for (distance, direction) in distances.iter_mut().zip(directions) {
             let origin = centre + direction * rim;
-            let mut nearest = if walls_near {
-                self.arena
-                    .ray_exit_distance(&origin, &direction)
-                    .min(max_range)
-            } else {
+            let mut nearest = if walls_beyond {
                 max_range
+            } else {
+                ray_exit_distance_near(arena, &origin, direction, walls_near).min(max_range)
             };
-            for (index, (obstacle, bound)) in self.obstacles.iter().zip(&self.bounds).enumerate() {
-                if index < 64 && near & (1 << index) == 0 {
-                    continue;
-                }
-                let reach = nearest + bound.radius;
-                if (bound.centre - origin).norm_squared() > reach * reach {
-                    continue;
-                }
-                if let Some(t) = obstacle.ray_distance(&origin, &direction) {
-                    nearest = nearest.min(t);
-                }
+            // The near obstacles in index order (the order `ray_cast` takes them in), then
+            // any past the 64th.
+            let mut left = near;
+            while left != 0 {
+                let index = left.trailing_zeros() as usize;
+                left &= left - 1;
+                nearest = self.ray_nearer(index, &origin, direction, nearest);
             }
-            nearest
-        })
+            for index in 64..self.obstacles.len() {
+                nearest = self.ray_nearer(index, &origin, direction, nearest);
+            }
+            *distance = nearest;
+        }
+        distances
+    }
+
+    /// One obstacle's turn in [`ray_cast`](Self::ray_cast): the distance to obstacle `index`
+    /// along the ray when it is nearer than `nearest`, else `nearest`.
+    #[inline]
+    fn ray_nearer(
+        &self,
+        index: usize,
+        origin: &Point2<f64>,
+        direction: &Vector2<f64>,
+        nearest: f64,
+    ) -> f64 {
+        let bound = &self.bounds[index];
+        // Obstacles wholly beyond the current nearest hit cannot be hit first.
+        let reach = nearest + bound.radius;
+        if (bound.centre - origin).norm_squared() > reach * reach {
+            return nearest;
+        }
+        match self.obstacles[index].ray_distance(origin, direction) {
+            Some(t) => nearest.min(t),
+            None => nearest,
+        }
     }
 
     /// Moves a disc of `radius` from `pose` along the exact arc of `twist` for `duration`.
@@ -274,24 +337,26 @@ impl World {
             }
         }
         let pose_at = |s: f64| integrate_arc(pose, twist, duration * (s / length));
+        // Where the centre is after `s` of arc: `pose_at(s)`'s translation, bit for bit.
+        let centre_at = |s: f64| integrate_arc_centre(pose, twist, duration * (s / length));
         let mut travelled = 0.0;
         let mut clearance = start_clearance;
         loop {
             let remaining = length - travelled;
             let advance = clearance.max(MAX_SUBSTEP).min(remaining);
             let next = travelled + advance;
-            let next_pose = if advance >= remaining {
-                end
+            let next_centre = if advance >= remaining {
+                centre_of(&end)
             } else {
-                pose_at(next)
+                centre_at(next)
             };
-            let next_clearance = self.clearance(&centre_of(&next_pose), radius);
+            let next_clearance = self.clearance(&next_centre, radius);
             if next_clearance < 0.0 {
                 // Contact lies in (travelled, next]: bisect, keeping the free end.
                 let (mut free, mut blocked) = (travelled, next);
                 for _ in 0..CONTACT_BISECTIONS {
                     let mid = 0.5 * (free + blocked);
-                    if self.clearance(&centre_of(&pose_at(mid)), radius) < 0.0 {
+                    if self.overlaps(&centre_at(mid), radius) {
                         blocked = mid;
                     } else {
                         free = mid;
@@ -315,6 +380,28 @@ impl World {
             clearance = next_clearance;
         }
     }
+}
+
+/// [`Rect::ray_exit_distance`] through the walls marked near (left, right, bottom, top) only:
+/// the same expression term for term, with the terms of the other walls left out.
+fn ray_exit_distance_near(
+    arena: &Rect,
+    origin: &Point2<f64>,
+    direction: &Vector2<f64>,
+    [left, right, bottom, top]: [bool; 4],
+) -> f64 {
+    let mut t = f64::INFINITY;
+    for (axis, low, high) in [(0, left, right), (1, bottom, top)] {
+        let d = direction[axis];
+        if d > 0.0 {
+            if high {
+                t = t.min((arena.max[axis] - origin[axis]) / d);
+            }
+        } else if d < 0.0 && low {
+            t = t.min((arena.min[axis] - origin[axis]) / d);
+        }
+    }
+    t.max(0.0)
 }
 
 #[cfg(test)]

@@ -3,10 +3,15 @@
 use dql::Environment;
 use nalgebra::{Isometry2, Point2, Vector2};
 use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use wmr_model::sensors::standard_normalish;
+use wmr_model::state::uniform_bin;
 use wmr_model::world::MAX_SUBSTEP;
 use wmr_model::{
     Camera, CameraParams, Circle, DeltaAxis, Discretiser, FixedArc, Obstacle, ObstacleSighting,
     ObstacleSpec, Rect, Scenario, StateParams, Twist, WmrEnv, World, integrate_arc,
+    integrate_arc_centre,
 };
 
 fn obstacle() -> impl Strategy<Value = Obstacle> {
@@ -220,6 +225,258 @@ proptest! {
             prop_assert!(seen.distance >= 0.0 && seen.distance <= camera.params().obstacle_range);
         }
     }
+}
+
+proptest! {
+    /// `World::clearance` (with its broad phase) is the nearest wall or obstacle minus the
+    /// radius, every obstacle taken, bit for bit; `overlaps` is its sign.
+    #[test]
+    fn clearance_is_the_nearest_surface_of_all(
+        world in world(),
+        (x, y) in (-0.1..1.1, -0.1..1.1),
+        radius in 0.0..0.1,
+    ) {
+        let point = Point2::new(x, y);
+        let clearance = world.clearance(&point, radius);
+        let every = every_surface_clearance(&world, &point, radius);
+        prop_assert_eq!(clearance.to_bits(), every.to_bits());
+        prop_assert_eq!(world.overlaps(&point, radius), every < 0.0);
+    }
+
+    /// The same laws where the broad phase decides: points within a hair of an obstacle's
+    /// bounding disc grown by the radius (for a disc obstacle, the contact the contact
+    /// search closes in on).
+    #[test]
+    fn overlaps_is_negative_clearance_at_contact(
+        world in world(),
+        index in any::<prop::sample::Index>(),
+        angle in -4.0..4.0,
+        radius in 0.01..0.05,
+        gap in prop_oneof![-1e-9..1e-9, Just(0.0), -1e-3..1e-3],
+    ) {
+        let Some(obstacle) = world.obstacles().get(index.index(world.obstacles().len().max(1)))
+        else {
+            return Ok(());
+        };
+        let centre = obstacle.centre();
+        let reach = match obstacle {
+            Obstacle::Circle(c) => c.radius,
+            Obstacle::Rect(r) => (r.max - r.min).norm() / 2.0,
+        };
+        let angle: f64 = angle;
+        let point = centre + Vector2::new(angle.cos(), angle.sin()) * (reach + radius + gap);
+        let every = every_surface_clearance(&world, &point, radius);
+        prop_assert_eq!(world.clearance(&point, radius).to_bits(), every.to_bits());
+        prop_assert_eq!(world.overlaps(&point, radius), every < 0.0);
+    }
+
+    /// `integrate_arc_centre` is the translation of `integrate_arc`, bit for bit.
+    #[test]
+    fn arc_centres_are_the_arcs_translations(
+        (x, y, heading) in (-2.0..2.0, -2.0..2.0, -4.0..4.0),
+        (linear, angular) in (-0.5..0.5, prop_oneof![Just(0.0), -8.0..8.0]),
+        duration in 0.0..0.5,
+    ) {
+        let pose = Isometry2::new(Vector2::new(x, y), heading);
+        let twist = Twist { linear, angular };
+        let full = integrate_arc(&pose, twist, duration);
+        let centre_only = integrate_arc_centre(&pose, twist, duration);
+        prop_assert_eq!(centre_only.x.to_bits(), full.translation.vector.x.to_bits());
+        prop_assert_eq!(centre_only.y.to_bits(), full.translation.vector.y.to_bits());
+    }
+
+    /// `move_disc` is conservative advancement written plainly (full poses, the clearance of
+    /// every surface, contact bisection on the clearance's sign), bit for bit.
+    #[test]
+    fn moves_are_plain_conservative_advancement(
+        world in world(),
+        (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
+        radius in 0.01..0.05,
+        (linear, angular, duration) in (-1.0..1.0, prop_oneof![Just(0.0), -10.0..10.0], 0.0..0.4),
+    ) {
+        let pose = Isometry2::new(Vector2::new(x, y), heading);
+        let twist = Twist { linear, angular };
+        let motion = world.move_disc(&pose, twist, duration, radius);
+        let (plain_pose, plain_hit) = plain_move(&world, &pose, twist, duration, radius);
+        prop_assert_eq!(motion.pose, plain_pose);
+        prop_assert_eq!(motion.hit, plain_hit);
+    }
+
+    /// The camera with its broad phase sees what it sees taking every obstacle in turn,
+    /// written plainly, bit for bit.
+    #[test]
+    fn the_camera_sees_what_every_obstacle_in_turn_shows(
+        world in world(),
+        (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
+        horizontal_fov in 0.1..3.0,
+        obstacle_range in prop_oneof![0.01..0.3, Just(0.5), 0.5..2.0],
+        vertical in any::<bool>(),
+    ) {
+        let params = CameraParams {
+            horizontal_fov,
+            obstacle_range,
+            delta_axis: if vertical { DeltaAxis::Vertical } else { DeltaAxis::Horizontal },
+            ..CameraParams::default()
+        };
+        let camera = Camera::new(params);
+        let pose = Isometry2::new(Vector2::new(x, y), heading);
+        let view = camera.observe(&world, &pose, &Point2::new(0.5, 0.5));
+        let plain = plain_sighting(&world, &params, &pose);
+        // `{:?}` prints every float's shortest round trip: equal text is equal bits.
+        prop_assert_eq!(format!("{:?}", view.obstacle), format!("{plain:?}"));
+    }
+
+    /// The sensor noise's integer sum is the sum of its four uniforms, bit for bit.
+    #[test]
+    fn noise_is_the_sum_of_four_uniforms(seed in any::<u64>()) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut same = rng.clone();
+        for _ in 0..8 {
+            let draw = standard_normalish(&mut rng);
+            let bits = same.next_u64();
+            let mut sum = 0.0;
+            for k in 0..4 {
+                let chunk = ((bits >> (16 * k)) & 0xFFFF) as f64;
+                sum += (chunk + 0.5) / 65_536.0;
+            }
+            prop_assert_eq!(draw.to_bits(), ((sum - 2.0) * 3.0_f64.sqrt()).to_bits());
+        }
+    }
+
+    /// `uniform_bin` is the floor of the scaled value, clamped to the end bins.
+    #[test]
+    fn uniform_bins_are_floors(
+        x in prop_oneof![-1.0..2.0, Just(f64::NAN), Just(f64::INFINITY)],
+        (lo, width) in (-1.0..1.0, 0.001..2.0),
+        bins in 1u32..40,
+    ) {
+        let (x, lo, width): (f64, f64, f64) = (x, lo, width);
+        let fraction = (x - lo) / width;
+        let floor = if fraction.is_nan() || fraction <= 0.0 {
+            0
+        } else {
+            (fraction * f64::from(bins)).floor().min(f64::from(bins - 1)) as u32
+        };
+        prop_assert_eq!(uniform_bin(x, lo, lo + width, bins), floor);
+    }
+}
+
+/// The nearest wall or obstacle minus `radius`, every surface taken in turn.
+fn every_surface_clearance(world: &World, point: &Point2<f64>, radius: f64) -> f64 {
+    let mut nearest = world.arena().inner_clearance(point);
+    for obstacle in world.obstacles() {
+        nearest = nearest.min(obstacle.distance_to(point));
+    }
+    nearest - radius
+}
+
+/// `World::move_disc` without its shortcuts: full poses everywhere, every surface's
+/// clearance, bisection on the clearance's sign.
+fn plain_move(
+    world: &World,
+    pose: &Isometry2<f64>,
+    twist: Twist,
+    duration: f64,
+    radius: f64,
+) -> (Isometry2<f64>, bool) {
+    let clearance_at = |p: &Isometry2<f64>| every_surface_clearance(world, &centre(p), radius);
+    let start_clearance = clearance_at(pose);
+    if start_clearance < 0.0 {
+        return (*pose, true);
+    }
+    let length = (twist.linear * duration).abs();
+    let end = integrate_arc(pose, twist, duration);
+    if length <= start_clearance && clearance_at(&end) >= 0.0 {
+        return (end, false);
+    }
+    let pose_at = |s: f64| integrate_arc(pose, twist, duration * (s / length));
+    let (mut travelled, mut clearance) = (0.0, start_clearance);
+    loop {
+        let remaining = length - travelled;
+        let advance = clearance.max(MAX_SUBSTEP).min(remaining);
+        let next = travelled + advance;
+        let next_pose = if advance >= remaining {
+            end
+        } else {
+            pose_at(next)
+        };
+        let next_clearance = clearance_at(&next_pose);
+        if next_clearance < 0.0 {
+            let (mut free, mut blocked) = (travelled, next);
+            for _ in 0..40 {
+                let mid = 0.5 * (free + blocked);
+                if clearance_at(&pose_at(mid)) < 0.0 {
+                    blocked = mid;
+                } else {
+                    free = mid;
+                }
+            }
+            return (if free > 0.0 { pose_at(free) } else { *pose }, true);
+        }
+        if advance >= remaining {
+            return (end, false);
+        }
+        travelled = next;
+        clearance = next_clearance;
+    }
+}
+
+/// `Camera::observe`'s obstacle, every obstacle taken in turn, each unit direction divided
+/// out as it is met.
+fn plain_sighting(
+    world: &World,
+    params: &CameraParams,
+    pose: &Isometry2<f64>,
+) -> Option<ObstacleSighting> {
+    let tan_half_horizontal = (params.horizontal_fov / 2.0).tan();
+    let tan_half_vertical = (params.vertical_fov / 2.0).tan();
+    let in_view =
+        |local: &Vector2<f64>| local.x > 0.0 && local.y.abs() <= local.x * tan_half_horizontal;
+    let camera = pose * Point2::new(params.offset, 0.0);
+    let to_local = pose.rotation.inverse();
+    let mut best: Option<(usize, f64, Vector2<f64>)> = None;
+    for (index, obstacle) in world.obstacles().iter().enumerate() {
+        let to_centre = obstacle.centre() - camera;
+        let local = to_local * to_centre;
+        if !in_view(&local) {
+            continue;
+        }
+        let norm = to_centre.norm();
+        let direction = to_centre / norm;
+        let distance = match obstacle {
+            Obstacle::Circle(c) => (norm - c.radius).max(0.0),
+            Obstacle::Rect(r) => r.ray_distance(&camera, &direction).unwrap_or(0.0),
+        };
+        if distance <= params.obstacle_range
+            && best.is_none_or(|(_, nearest, _)| distance < nearest)
+        {
+            best = Some((index, distance, local / norm));
+        }
+    }
+    best.map(|(index, distance, local_direction)| {
+        let in_robot = Vector2::new(params.offset, 0.0) + local_direction * distance;
+        let delta = match params.delta_axis {
+            DeltaAxis::Vertical => {
+                let scaled = distance * tan_half_vertical;
+                if params.height >= scaled {
+                    1.0
+                } else {
+                    0.5 * (params.height / scaled + 1.0)
+                }
+            }
+            DeltaAxis::Horizontal => {
+                let tan_beta = -local_direction.y / local_direction.x;
+                (0.5 * (tan_beta / tan_half_horizontal + 1.0)).clamp(0.0, 1.0)
+            }
+        };
+        ObstacleSighting {
+            index,
+            feature: pose * Point2::from(in_robot),
+            distance,
+            delta,
+            angle: in_robot.y.atan2(in_robot.x),
+        }
+    })
 }
 
 /// A random scenario built round the default one: random arena, start, target and obstacles,
