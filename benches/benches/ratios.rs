@@ -8,9 +8,10 @@
 //! 2. a robot step ÷ a maze step (random actions, resetting at episode ends; medians of
 //!    alternating rounds);
 //! 3. ns per environment step of the Task I ε-greedy runs (learning only, in process; and end
-//!    to end, `reproduce-paper --task task1 --method epsilon-greedy`, store and report
-//!    included, when the release `xtask` binary is built) ÷ the hand-written
-//!    [`eamadm_benches::reference_double_q`] loop.
+//!    to end, `reproduce-paper --task task1 --method epsilon-greedy` with `--readings none`
+//!    and with its default `--readings all`, store and report included, each divided by the
+//!    steps of every run it executed, when the release `xtask` binary is built) ÷ the
+//!    hand-written [`eamadm_benches::reference_double_q`] loop.
 //!
 //! Everything runs on one thread (a one-thread rayon pool, `RAYON_NUM_THREADS=1` for the
 //! subprocess), so the ratios compare work, not scheduling. Times are CPU times where Linux
@@ -209,6 +210,11 @@ fn median(values: &mut [f64]) -> f64 {
 }
 
 /// Ratio 3: the ε-greedy runs per step against the hand-written loop.
+///
+/// `reproduce-paper --task task1 --method epsilon-greedy` runs the preset's ε-greedy runs and
+/// then the readings' reruns of ε-greedy (ε = 0.95 and γ = 0.99, [`eamadm::paper::readings`]),
+/// so its time is divided by the steps of all of them; `--readings none` runs the preset's
+/// only. Both are measured, each against the steps of the runs it executed.
 fn end_to_end(tiny: bool) {
     let seeds: u32 = if tiny { 5 } else { 1000 };
     let mut config = eamadm::paper::task1();
@@ -222,12 +228,35 @@ fn end_to_end(tiny: bool) {
         _ => 0.1,
     };
     let episodes = config.episodes;
-    let experiment = Experiment::new(config).unwrap();
-    let start = Clock::start();
-    let records = experiment.run_all().unwrap();
-    let learning = start.elapsed();
-    let steps: u64 = records.iter().map(|r| r.total_env_steps).sum();
+    // The readings that rerun ε-greedy on Task I, as `reproduce-paper` plans them.
+    let readings: Vec<eamadm::ExperimentConfig> = eamadm::paper::readings()
+        .iter()
+        .filter_map(|reading| reading.apply(&config))
+        .collect();
+    let learn = |config: eamadm::ExperimentConfig| {
+        let experiment = Experiment::new(config).unwrap();
+        let start = Clock::start();
+        let records = experiment.run_all().unwrap();
+        let time = start.elapsed();
+        let steps: u64 = records.iter().map(|r| r.total_env_steps).sum();
+        // The greedy episodes played without learning (every `evaluation.every` training
+        // episodes, and the final one): work the runner does that the reference does not.
+        let greedy: u64 = records
+            .iter()
+            .map(|r| r.evaluation.steps + r.greedy_evaluations.iter().map(|e| e.steps).sum::<u64>())
+            .sum();
+        (steps, greedy, time)
+    };
+    let (steps, greedy_steps, learning) = learn(config);
     let learning_ns = per(learning, steps);
+    let (mut reading_steps, mut reading_learning) = (0, Duration::ZERO);
+    for reading in readings {
+        let (steps, _, time) = learn(reading);
+        reading_steps += steps;
+        reading_learning += time;
+    }
+    let all_steps = steps + reading_steps;
+    let all_learning_ns = per(learning + reading_learning, all_steps);
 
     let env = Preset::Task1.env();
     let start = Clock::start();
@@ -236,10 +265,19 @@ fn end_to_end(tiny: bool) {
         reference_steps += eamadm_benches::reference_double_q(&env, episodes, epsilon, seed);
     }
     let reference_ns = per(start.elapsed(), reference_steps);
+    let executed_ns = per(learning, steps + greedy_steps);
     eprintln!(
         "hand-written double Q: {reference_ns:.1} ns/step; runner (learning only, {seeds} \
-         seeds): {learning_ns:.1} ns/step = {:.2}×",
-        learning_ns / reference_ns
+         seeds): {learning_ns:.1} ns/step = {:.2}× (its greedy evaluations add {:.1} % to the \
+         training steps: {executed_ns:.1} ns per step played = {:.2}×); with the readings' \
+         reruns ({} training steps in all, {:.1} % of them the readings'): \
+         {all_learning_ns:.1} ns/step = {:.2}×",
+        learning_ns / reference_ns,
+        100.0 * greedy_steps as f64 / steps.max(1) as f64,
+        executed_ns / reference_ns,
+        all_steps,
+        100.0 * reading_steps as f64 / all_steps.max(1) as f64,
+        all_learning_ns / reference_ns,
     );
 
     let xtask = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/release/xtask");
@@ -250,15 +288,34 @@ fn end_to_end(tiny: bool) {
         );
         return;
     }
+    for (readings, steps, learning_ns) in [
+        ("none", steps, learning_ns),
+        ("all", all_steps, all_learning_ns),
+    ] {
+        let whole = reproduce_paper(&xtask, seeds, readings);
+        let whole_ns = per(whole, steps);
+        eprintln!(
+            "end to end (reproduce-paper --readings {readings}, {seeds} seeds, {steps} steps): \
+             {whole_ns:.1} ns/step = {:.2}× the hand-written loop, {:.2}× its learning alone",
+            whole_ns / reference_ns,
+            whole_ns / learning_ns,
+        );
+    }
+}
+
+/// The CPU time (user + system; wall time without `/usr/bin/time`) of
+/// `reproduce-paper --task task1 --method epsilon-greedy --seeds SEEDS --readings READINGS` on
+/// one thread, into a temporary folder it removes.
+fn reproduce_paper(xtask: &std::path::Path, seeds: u32, readings: &str) -> Duration {
     let out = std::env::temp_dir().join(format!("eamadm-bench-{}", std::process::id()));
     // `/usr/bin/time -f "%U %S"` reports the subprocess's CPU seconds; without it, wall time.
     let timer = PathBuf::from("/usr/bin/time");
     let mut command = if timer.exists() {
         let mut command = Command::new(&timer);
-        command.args(["-f", "cpu %U %S"]).arg(&xtask);
+        command.args(["-f", "cpu %U %S"]).arg(xtask);
         command
     } else {
-        Command::new(&xtask)
+        Command::new(xtask)
     };
     let wall = Instant::now();
     let output = command
@@ -268,6 +325,8 @@ fn end_to_end(tiny: bool) {
             "task1",
             "--method",
             "epsilon-greedy",
+            "--readings",
+            readings,
         ])
         .arg("--seeds")
         .arg(seeds.to_string())
@@ -279,7 +338,11 @@ fn end_to_end(tiny: bool) {
         .unwrap();
     let wall = wall.elapsed();
     let _ = std::fs::remove_dir_all(&out);
-    assert!(output.status.success(), "reproduce-paper failed");
+    assert!(
+        output.status.success(),
+        "reproduce-paper failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
     let stderr = String::from_utf8_lossy(&output.stderr);
     let cpu = stderr.lines().rev().find_map(|line| {
         let mut fields = line.strip_prefix("cpu ")?.split_whitespace();
@@ -287,11 +350,5 @@ fn end_to_end(tiny: bool) {
         let system: f64 = fields.next()?.parse().ok()?;
         Some(Duration::from_secs_f64(user + system))
     });
-    let whole = cpu.unwrap_or(wall);
-    let whole_ns = per(whole, steps);
-    eprintln!(
-        "end to end (reproduce-paper, {seeds} seeds): {whole_ns:.1} ns/step = {:.2}× the \
-         hand-written loop",
-        whole_ns / reference_ns
-    );
+    cpu.unwrap_or(wall)
 }

@@ -137,6 +137,32 @@ pub(crate) struct ReproduceArgs {
     /// Which training trajectories to keep in the run store and trajectories.csv.
     #[arg(long, value_name = "WHICH", value_parser = keep_trajectories_values(), default_value_t)]
     pub(crate) keep_trajectories: KeepTrajectories,
+    /// Whether to rerun the selected methods under the other readings of the paper (ε-greedy
+    /// 0.95, γ 0.99, …) for sensitivity.csv and the report's sensitivity section: `all`, or
+    /// `none` to run only the presets' experiments (what one method's run usually wants; the
+    /// report then has no sensitivity section and its verdict table says "not run" there).
+    #[arg(long, value_name = "WHICH", value_enum, default_value_t)]
+    pub(crate) readings: Readings,
+}
+
+/// `--readings`: which readings of the paper a plan reruns besides the presets.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Readings {
+    /// Every reading of [`eamadm::paper::readings`] on each task it changes.
+    #[default]
+    All,
+    /// None: the presets' experiments only.
+    None,
+}
+
+impl Readings {
+    /// The command-line name.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Readings::All => "all",
+            Readings::None => "none",
+        }
+    }
 }
 
 /// Options of `regen-fixtures`.
@@ -233,6 +259,7 @@ mod tests {
                 quick: false,
                 wait: false,
                 keep_trajectories: KeepTrajectories::Figures,
+                readings: Readings::All,
             }
         );
     }
@@ -260,6 +287,8 @@ mod tests {
                 "--wait",
                 "--keep-trajectories",
                 "all",
+                "--readings",
+                "none",
             ]),
             ReproduceArgs {
                 seeds: Some(4),
@@ -270,6 +299,7 @@ mod tests {
                 quick: true,
                 wait: true,
                 keep_trajectories: KeepTrajectories::All,
+                readings: Readings::None,
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command
@@ -290,6 +320,7 @@ mod tests {
             &["reproduce-paper", "--shard", "1/3", "--runs-only"],
             &["reproduce-paper", "--list-jobs", "--runs-only"],
             &["reproduce-paper", "--keep-trajectories", "some"],
+            &["reproduce-paper", "--readings", "some"],
             &["merge", "--out", "x"],
             &["run-job", "--quick"],
         ] {

@@ -123,15 +123,16 @@ pub(crate) fn run_jobs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::Task;
+    use crate::cli::{Readings, Task};
     use crate::experiments::{plan_experiments, shorten};
     use crate::jobs::plan_jobs;
 
     #[test]
     fn resumed_runs_are_skipped_and_equal_fresh_ones() {
-        let mut planned = plan_experiments(&[Task::Task1], false, None, 2, true).unwrap();
         // Task I only, without its readings' experiments.
-        planned.truncate(1);
+        let mut planned =
+            plan_experiments(&[Task::Task1], false, None, 2, true, Readings::None).unwrap();
+        assert_eq!(planned.len(), 1);
         let mut config = planned[0].config().clone();
         shorten(&mut config, 4, Some(60), None);
         planned[0].experiment = eamadm::Experiment::new(config).unwrap();

@@ -9,7 +9,7 @@ use eamadm::paper::Reading;
 use eamadm::{ConfigError, Experiment, ExperimentConfig, Method, Role};
 use thiserror::Error;
 
-use crate::cli::Task;
+use crate::cli::{Readings, Task};
 
 /// Episodes of a `--quick` run (source task and each sub-task's pre-training).
 pub(crate) const QUICK_EPISODES: u64 = 30;
@@ -149,14 +149,16 @@ pub(crate) fn shorten(
 /// The experiments to run: one per selected task (its preset), or the `--config` file's one
 /// (read once by [`load_config_file`]: its path and config); `seeds` per method, shortened when
 /// `quick`. Each experiment (and so its task: a maze's BFS, the robot's planner) is built once.
-/// After the presets come their readings' experiments ([`reading_experiments`]); a config file
-/// has none (the readings are readings of the paper's presets).
+/// After the presets come their readings' experiments ([`reading_experiments`]) when `readings`
+/// is [`Readings::All`]; a config file has none (the readings are readings of the paper's
+/// presets).
 pub(crate) fn plan_experiments(
     tasks: &[Task],
     tasks_given: bool,
     config_file: Option<(&Path, &ExperimentConfig)>,
     seeds: u32,
     quick_run: bool,
+    readings: Readings,
 ) -> Result<Vec<PlannedExperiment>, ExperimentError> {
     let mut configs: Vec<(String, ExperimentConfig)> = Vec::new();
     match config_file {
@@ -194,7 +196,7 @@ pub(crate) fn plan_experiments(
             })
         })
         .collect::<Result<_, ExperimentError>>()?;
-    if config_file.is_some() {
+    if config_file.is_some() || readings == Readings::None {
         return Ok(planned);
     }
     let readings = reading_experiments(&planned)?;
@@ -302,7 +304,7 @@ mod tests {
 
     #[test]
     fn presets_are_planned_with_the_given_seeds() {
-        let planned = plan_experiments(&Task::ALL, false, None, 2, true).unwrap();
+        let planned = plan_experiments(&Task::ALL, false, None, 2, true, Readings::All).unwrap();
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names[..4], ["task1", "task2", "robot", "robot-paper-state"]);
         assert_eq!(base_count(&planned), 4);
@@ -344,8 +346,15 @@ mod tests {
         assert!(error.to_string().contains("`episodes` = 0"), "{error}");
         std::fs::write(&path, eamadm::PAPER_TASK1_TOML).unwrap();
         let config = load_config_file(&path).unwrap();
-        let error =
-            plan_experiments(&[Task::Task1], true, Some((&path, &config)), 3, false).unwrap_err();
+        let error = plan_experiments(
+            &[Task::Task1],
+            true,
+            Some((&path, &config)),
+            3,
+            false,
+            Readings::All,
+        )
+        .unwrap_err();
         assert!(matches!(error, ExperimentError::TaskWithConfig));
     }
 }

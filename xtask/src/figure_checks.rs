@@ -321,6 +321,7 @@ mod tests {
                 quick: true,
                 wait: false,
                 keep_trajectories: KeepTrajectories::Figures,
+                readings: crate::cli::Readings::All,
             },
             mode: RunModeArgs::default(),
         };

@@ -156,6 +156,9 @@ pub(crate) fn plan_arguments(
     if args.keep_trajectories == crate::cli::KeepTrajectories::All {
         arguments.extend(["--keep-trajectories".to_owned(), "all".to_owned()]);
     }
+    if args.readings != crate::cli::Readings::All {
+        arguments.extend(["--readings".to_owned(), args.readings.name().to_owned()]);
+    }
     arguments
 }
 
@@ -177,7 +180,8 @@ mod tests {
 
     #[test]
     fn the_shards_split_the_jobs_exactly_and_stably() {
-        let planned = plan_experiments(&Task::ALL, false, None, 3, true).unwrap();
+        let planned =
+            plan_experiments(&Task::ALL, false, None, 3, true, crate::cli::Readings::All).unwrap();
         let methods = crate::plan::default_methods();
         let jobs = plan_jobs(&planned, &methods).unwrap();
         // Each task runs the default methods its config defines (the robots have no controls).

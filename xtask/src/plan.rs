@@ -8,7 +8,7 @@ use std::path::{Component, Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::cli::{ReproduceArgs, Task};
+use crate::cli::{Readings, ReproduceArgs, Task};
 
 /// Seeds per task and method of the default run: the presets' ([`eamadm::paper::SEEDS`]).
 pub(crate) const DEFAULT_SEEDS: u32 = eamadm::paper::SEEDS;
@@ -124,6 +124,8 @@ pub(crate) struct ReproducePlan {
     pub(crate) config: Option<PathBuf>,
     /// Absolute output folder.
     pub(crate) out: PathBuf,
+    /// Which readings of the paper are rerun besides the presets.
+    pub(crate) readings: Readings,
 }
 
 impl ReproducePlan {
@@ -201,6 +203,7 @@ impl ReproducePlan {
             quick: args.quick,
             config,
             out,
+            readings: args.readings,
         })
     }
 
@@ -254,6 +257,14 @@ impl ReproducePlan {
             |path| path.display().to_string(),
         );
         let _ = writeln!(text, "  config:   {config}");
+        if self.readings == Readings::None {
+            let _ = writeln!(
+                text,
+                "  readings: off (--readings none): only the presets' experiments run; \
+                 sensitivity.csv has only its header, the report no sensitivity section, and its \
+                 verdict table says \"not run\" under the readings"
+            );
+        }
         let _ = writeln!(
             text,
             "  output:   {} (runs/ store, CSV curves, final-scores.csv, claims.csv, SVG figures, REPORT.md)",
@@ -338,6 +349,7 @@ mod tests {
             quick: false,
             wait: false,
             keep_trajectories: crate::cli::KeepTrajectories::Figures,
+            readings: crate::cli::Readings::All,
         }
     }
 
@@ -497,6 +509,14 @@ mod tests {
         };
         let plan = ReproducePlan::from_args(&quick, &default_methods(), &ws).unwrap();
         insta::assert_snapshot!("reproduce_quick", plan.describe());
+        let no_readings = ReproduceArgs {
+            readings: crate::cli::Readings::None,
+            tasks: vec![Task::Task1],
+            methods: vec!["epsilon-greedy".into()],
+            ..args()
+        };
+        let plan = ReproducePlan::from_args(&no_readings, &default_methods(), &ws).unwrap();
+        insta::assert_snapshot!("reproduce_no_readings", plan.describe());
         insta::assert_snapshot!("regen_check", describe_regen_fixtures(true, &ws));
     }
 

@@ -70,6 +70,7 @@ fn prepare(
         config_file,
         plan.seeds,
         plan.quick,
+        plan.readings,
     )
     .map_err(Failure::invalid)?;
     Ok((plan, experiments))
@@ -327,6 +328,7 @@ mod tests {
             quick: true,
             wait: false,
             keep_trajectories: KeepTrajectories::Figures,
+            readings: crate::cli::Readings::All,
         }
     }
 
@@ -394,6 +396,7 @@ mod tests {
             quick: true,
             wait: false,
             keep_trajectories: KeepTrajectories::Figures,
+            readings: crate::cli::Readings::All,
         }
     }
 
@@ -574,6 +577,7 @@ mod tests {
             quick: true,
             wait: false,
             keep_trajectories: KeepTrajectories::Figures,
+            readings: crate::cli::Readings::All,
         };
         reproduce_paper(&command(args, RunModeArgs::default()), &ws).unwrap();
         let out = ws.root.join("out");
@@ -1035,6 +1039,36 @@ mod tests {
             )
             .unwrap();
             assert_same_tree(&ws.root.join("whole"), &ws.root.join(&merged));
+        }
+    }
+
+    #[test]
+    fn readings_none_runs_only_the_presets_and_its_jobs_say_so() {
+        let (_dir, ws) = workspace();
+        let none = ReproduceArgs {
+            readings: crate::cli::Readings::None,
+            ..small("out")
+        };
+        reproduce_paper(&command(none.clone(), RunModeArgs::default()), &ws).unwrap();
+        // 2 tasks × 2 methods × 2 seeds, and none of the readings' reruns that `small` plans
+        // by default (`SMALL_READING_RUNS_PER_SEED` per seed).
+        let runs = stored_runs(&ws.root.join("out"));
+        assert_eq!(runs.len(), 8, "{runs:?}");
+        let sensitivity =
+            std::fs::read_to_string(ws.root.join("out").join(eamadm::output_names::SENSITIVITY))
+                .unwrap();
+        assert_eq!(
+            sensitivity.lines().count(),
+            1,
+            "only the header: {sensitivity}"
+        );
+        // Every listed job carries the option, so `run-job` plans the same runs.
+        let (plan, experiments) = prepare(&none, &ws).unwrap();
+        let jobs = plan_jobs(&experiments, &plan.methods).unwrap();
+        assert_eq!(jobs.len(), 8);
+        let lines = job_lines(&none, &plan, &experiments, &jobs, &ws).unwrap();
+        for line in &lines {
+            assert!(line.contains(r#""--readings","none""#), "{line}");
         }
     }
 

@@ -57,7 +57,15 @@ mod tests {
 
     #[test]
     fn each_reading_plans_only_the_runs_of_the_methods_it_changes() {
-        let planned = plan_experiments(&[Task::Task1, Task::Task2], false, None, 2, true).unwrap();
+        let planned = plan_experiments(
+            &[Task::Task1, Task::Task2],
+            false,
+            None,
+            2,
+            true,
+            crate::cli::Readings::All,
+        )
+        .unwrap();
         let jobs = plan_jobs(&planned, &default_methods()).unwrap();
         let bases = base_count(&planned);
         assert_eq!(bases, 2);
@@ -93,7 +101,15 @@ mod tests {
 
     #[test]
     fn a_reading_that_changes_nothing_reruns_the_base_runs_bit_for_bit_and_holds() {
-        let mut planned = plan_experiments(&[Task::Task1], false, None, 2, true).unwrap();
+        let mut planned = plan_experiments(
+            &[Task::Task1],
+            false,
+            None,
+            2,
+            true,
+            crate::cli::Readings::All,
+        )
+        .unwrap();
         let mut config = planned[0].config().clone();
         shorten(&mut config, 6, Some(80), None);
         planned[0].experiment = eamadm::Experiment::new(config.clone()).unwrap();
@@ -172,6 +188,7 @@ mod tests {
                     quick: true,
                     wait: false,
                     keep_trajectories: KeepTrajectories::Figures,
+                    readings: crate::cli::Readings::All,
                 },
                 mode: RunModeArgs::default(),
             };

@@ -200,6 +200,7 @@ fn quick_plan_from_the_wheel(
         None,
         crate::plan::QUICK_SEEDS,
         true,
+        crate::cli::Readings::All,
     )
     .map_err(Failure::failed)?;
     // The main job runs (and lists) each experiment's methods in the order of

@@ -35,7 +35,7 @@ impl Coin {
     }
 
     /// Flips the coin: `true` with the coin's probability. Draws one `u32`.
-    #[inline]
+    #[inline(always)]
     pub fn flip<R: Rng + ?Sized>(&self, rng: &mut R) -> bool {
         u64::from(rng.next_u32()) < self.threshold
     }

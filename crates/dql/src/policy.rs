@@ -150,7 +150,7 @@ impl EpsilonGreedy {
     /// in `0..n_actions`, otherwise `None` (exploit). Policies that exploit by another
     /// rule than the greedy argmax (EA-MADM's decision) reuse it, so their draws match
     /// this policy's: one coin flip, then one action index when exploring.
-    #[inline]
+    #[inline(always)]
     pub fn explore_action<R: Rng + ?Sized>(&self, n_actions: usize, rng: &mut R) -> Option<usize> {
         self.explore
             .flip(rng)
@@ -167,7 +167,7 @@ impl ExplorationPolicy for EpsilonGreedy {
         self.explore = Coin::new(self.epsilon);
     }
 
-    #[inline]
+    #[inline(always)]
     fn select<R: Rng + ?Sized>(
         &mut self,
         _state: usize,

@@ -368,8 +368,19 @@ pub fn max_value(values: &[f64]) -> f64 {
 /// # Panics
 /// If `values` is empty.
 #[must_use]
-#[inline]
+#[inline(always)]
 pub fn argmax_random_tie<R: Rng + ?Sized>(values: &[f64], rng: &mut R) -> usize {
+    // The mazes' four actions: the same code on a slice whose length the compiler knows, so
+    // both passes are unrolled and unchecked (the robot's five take the general path).
+    if let Ok(four) = <&[f64; 4]>::try_from(values) {
+        return argmax_random_tie_of(four.as_slice(), rng);
+    }
+    argmax_random_tie_of(values, rng)
+}
+
+/// [`argmax_random_tie`]'s body, inlined into each call so that a known length unrolls it.
+#[inline(always)]
+fn argmax_random_tie_of<R: Rng + ?Sized>(values: &[f64], rng: &mut R) -> usize {
     assert!(!values.is_empty(), "argmax of an empty slice");
     let mut best = f64::NEG_INFINITY;
     let mut best_index = 0;

@@ -381,6 +381,28 @@ proptest! {
         }
     }
 
+    /// Law: whatever the length (four values take their own unrolled path), the argmax is the
+    /// documented draw — no draw for a unique maximum, else the `random_range(0..ties)`-th
+    /// maximiser in index order — and leaves the generator where that rule leaves it.
+    #[test]
+    fn argmax_ties_are_the_documented_draw_at_every_length(
+        values in prop::collection::vec(-1_i32..2, 1..9),
+        seed in any::<u64>(),
+    ) {
+        let values: Vec<f64> = values.into_iter().map(f64::from).collect();
+        let best = max_value(&values);
+        let maximisers: Vec<usize> = (0..values.len()).filter(|&i| values[i] == best).collect();
+        let mut expected_rng = ChaCha8Rng::seed_from_u64(seed);
+        let expected = if maximisers.len() == 1 {
+            maximisers[0]
+        } else {
+            maximisers[expected_rng.random_range(0..maximisers.len())]
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        prop_assert_eq!(argmax_random_tie(&values, &mut rng), expected);
+        prop_assert_eq!(rng.random::<u64>(), expected_rng.random::<u64>());
+    }
+
     #[test]
     fn epsilon_zero_is_greedy(
         values in prop::collection::vec(prop_oneof![-3_i32..3, -1000_i32..1000], 1..12),
