@@ -140,8 +140,15 @@ pub(crate) fn reproduce_paper(
     let started = Instant::now();
     let keep = args.keep_trajectories;
     let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
-    let counts = run_jobs(&experiments, &jobs, &store, keep, &Progress::for_stdout())
-        .map_err(Failure::failed)?;
+    let counts = run_jobs(
+        &experiments,
+        &jobs,
+        &store,
+        keep,
+        &Progress::for_stdout(),
+        &warn_on_stderr,
+    )
+    .map_err(Failure::failed)?;
     drop(store);
     // Reopened, with the runs stored above (its damaged entries were reported by the first
     // open), and packed: every run stored in the folder, this plan's in job order.
@@ -179,10 +186,11 @@ pub(crate) fn reproduce_paper(
         .map_err(Failure::failed)?;
     }
     println!(
-        "done in {:.1} s: {} runs ({} resumed from an earlier invocation)",
+        "done in {:.1} s: {} runs ({} resumed from an earlier invocation); {}",
         started.elapsed().as_secs_f64(),
         jobs.len(),
         counts.resumed,
+        describe_pretraining(&counts),
     );
     if reporting {
         println!("report: {}", plan.out.join("REPORT.md").display());
@@ -240,10 +248,11 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         &store,
         keep,
         &Progress::hidden(),
+        &warn_on_stderr,
     )
     .map_err(Failure::failed)?;
     println!(
-        "{} {} seed {}: {} ({})",
+        "{} {} seed {}: {} ({}); {}",
         experiments[job.experiment].name,
         job.method.label,
         job.seed,
@@ -252,9 +261,22 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         } else {
             "already stored"
         },
-        store.folder().display()
+        store.folder().display(),
+        describe_pretraining(&counts),
     );
     Ok(())
+}
+
+/// What a command did about pre-training, for its last line: how many sub-tasks it trained
+/// and how many it loaded from the store's artefacts (`runs/pretrained/`), which another
+/// process, shard or earlier invocation trained.
+fn describe_pretraining(counts: &crate::execute::RunCounts) -> String {
+    format!(
+        "sub-tasks pre-trained: {}, loaded from runs/{}/: {}",
+        counts.pretrained,
+        eamadm_runs::names::PRETRAINED,
+        counts.pretrained_loaded
+    )
 }
 
 /// Runs `merge`: checks the given stores, then writes the plan's outputs from them.

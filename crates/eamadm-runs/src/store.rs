@@ -157,6 +157,17 @@ pub enum StoreError {
         #[source]
         source: serde_json::Error,
     },
+    /// A pre-trained artefact failed its checks ([`crate::pretrained`]): it is trained again.
+    #[error("{}: {problem}", path.display())]
+    Damaged {
+        /// The artefact.
+        path: PathBuf,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A key could not be computed (its description did not serialise).
+    #[error("could not compute a key: {0}")]
+    Key(String),
     /// A line that was valid when the store was opened no longer is (the file changed since).
     #[error(
         "{} at byte {offset}: {problem}; the file changed while this command ran — rerun it",
@@ -964,7 +975,11 @@ impl RunStore {
             }
         }
         self.set_aside(warn)?;
-        for dir in [folder.clone(), folder.join(LOOSE_FOLDER)] {
+        for dir in [
+            folder.clone(),
+            folder.join(LOOSE_FOLDER),
+            folder.join(crate::names::PRETRAINED),
+        ] {
             crate::atomic::remove_stale_temporary_files(&dir).map_err(write(&dir))?;
         }
         drop(chosen);
