@@ -7,6 +7,7 @@
 //! runs/<experiment>.jsonl.gz          packed bundle: the experiment's runs, one gzip member each
 //! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member (not yet packed)
 //! runs/.set-aside/…                   entries that failed their checks, kept for inspection
+//! runs/pretrained/<key>.subtask.gz    a pre-trained sub-task learner (crate::pretrained), not a run
 //! ```
 //!
 //! A run is one *entry*: one gzip member (see [`crate::gzip`]) holding one line, so a bundle is a
