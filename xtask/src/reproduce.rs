@@ -14,7 +14,7 @@ use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
 use eamadm_runs::output_folder::OutputFolder;
-use eamadm_runs::{RunKey, RunStore};
+use eamadm_runs::{PretrainedStore, RunKey, RunStore};
 
 /// Prints a warning (a damaged run that will be recomputed, a line a merge ignores).
 #[expect(
@@ -312,6 +312,14 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
     let own = own
         .pack(&folder, &stores, &keys, &mut warn_on_stderr)
         .map_err(Failure::failed)?;
+    // The shards' pre-trained artefacts too, so the merged folder holds what an unsharded run
+    // leaves and a later plan on it loads rather than pre-trains.
+    let artefacts = PretrainedStore::new(folder.root());
+    for store in &stores {
+        artefacts
+            .adopt(&PretrainedStore::of(store), &mut warn_on_stderr)
+            .map_err(Failure::failed)?;
+    }
     let staging = folder.staging().map_err(Failure::failed)?;
     let runs = write_outputs(
         folder.root(),
@@ -389,6 +397,37 @@ mod tests {
 
     fn assert_same_tree(a: &Path, b: &Path) {
         let (a, b) = (tree(a), tree(b));
+        assert_eq!(
+            a.keys().collect::<Vec<_>>(),
+            b.keys().collect::<Vec<_>>(),
+            "the same files"
+        );
+        for (name, bytes) in &a {
+            assert!(b[name] == *bytes, "{name} differs");
+        }
+    }
+
+    /// [`assert_same_tree`] for a folder `resumed` that recomputed only some runs of `whole`:
+    /// its pre-trained artefacts (a cache of what this folder trained, `runs/pretrained/`)
+    /// are those its recomputed runs needed, each byte-identical to `whole`'s; every other
+    /// file is the same.
+    fn assert_same_tree_but_fewer_artefacts(whole: &Path, resumed: &Path) {
+        let cache = format!("runs/{}/", eamadm_runs::names::PRETRAINED);
+        let (mut a, mut b) = (tree(whole), tree(resumed));
+        let artefacts: Vec<String> = b
+            .keys()
+            .filter(|k| k.starts_with(&cache))
+            .cloned()
+            .collect();
+        assert!(!artefacts.is_empty(), "the recomputed runs pre-trained");
+        for name in artefacts {
+            assert!(
+                a.get(&name) == b.get(&name),
+                "{name} differs or is not in {whole:?}"
+            );
+            b.remove(&name);
+        }
+        a.retain(|name, _| !name.starts_with(&cache));
         assert_eq!(
             a.keys().collect::<Vec<_>>(),
             b.keys().collect::<Vec<_>>(),
@@ -995,7 +1034,7 @@ mod tests {
         let aside = copy.join("runs/.set-aside");
         assert_eq!(std::fs::read_dir(&aside).unwrap().count(), 2);
         std::fs::remove_dir_all(&aside).unwrap();
-        assert_same_tree(&ws.root.join("whole"), &copy);
+        assert_same_tree_but_fewer_artefacts(&ws.root.join("whole"), &copy);
     }
 
     fn shard(k: u64, n: u64) -> RunModeArgs {

@@ -116,7 +116,10 @@ pub const ARTEFACT_EXTENSION: &str = crate::names::PRETRAINED_EXTENSION;
 /// The pre-trained artefacts of one output folder, `<out>/runs/pretrained/`.
 #[derive(Debug, Clone)]
 pub struct PretrainedStore {
-    out: PathBuf,
+    /// The folder holding the run store's folder (the output folder).
+    root: PathBuf,
+    /// The artefacts' folder relative to `root` (`runs/pretrained`).
+    relative: PathBuf,
     folder: PathBuf,
 }
 
@@ -125,18 +128,27 @@ impl PretrainedStore {
     /// until asked).
     #[must_use]
     pub fn new(out: &Path) -> Self {
+        let relative = Path::new(crate::names::RUNS_FOLDER).join(crate::names::PRETRAINED);
         Self {
-            out: out.to_path_buf(),
-            folder: out
-                .join(crate::names::RUNS_FOLDER)
-                .join(crate::names::PRETRAINED),
+            root: out.to_path_buf(),
+            folder: out.join(&relative),
+            relative,
         }
     }
 
-    /// The artefacts of the output folder whose run store is `store`.
+    /// The artefacts beside the run store `store` (its folder's `pretrained/`, whatever the
+    /// store's folder is named, as `merge` may be given a `runs/` folder itself).
     #[must_use]
     pub fn of(store: &crate::RunStore) -> Self {
-        Self::new(store.folder().parent().unwrap_or(Path::new(".")))
+        let runs = store.folder();
+        let root = runs.parent().unwrap_or(Path::new(".")).to_path_buf();
+        let relative =
+            Path::new(runs.file_name().unwrap_or_default()).join(crate::names::PRETRAINED);
+        Self {
+            folder: runs.join(crate::names::PRETRAINED),
+            root,
+            relative,
+        }
     }
 
     /// The folder of the artefacts.
@@ -170,31 +182,51 @@ impl PretrainedStore {
     ) -> Result<Option<PretrainedSubtask>, StoreError> {
         let key = Self::key(description)?;
         let path = self.path(&key);
-        let relative = Path::new(crate::names::RUNS_FOLDER)
-            .join(crate::names::PRETRAINED)
-            .join(path.file_name().unwrap_or_default());
+        let Some((artefact, _)) = self.read_checked(&path)? else {
+            return Ok(None);
+        };
+        let expected = canonical_json(description).map_err(|e| StoreError::Key(e.to_string()))?;
+        if artefact.description != expected {
+            return Err(StoreError::Damaged {
+                path,
+                problem: "its description is not the one its name was asked for".to_owned(),
+            });
+        }
+        Ok(Some(artefact.subtask))
+    }
+
+    /// The artefact at `path` (in this store's folder) and its file's bytes, checked (see
+    /// the module docs) but for the description, which the caller compares; `None` if absent.
+    fn read_checked(&self, path: &Path) -> Result<Option<(Artefact, Vec<u8>)>, StoreError> {
         let read = |source| StoreError::Read {
-            path: path.clone(),
+            path: path.to_path_buf(),
             source,
         };
-        crate::no_follow::check_under(&self.out, &relative, true).map_err(read)?;
-        let file = match crate::no_follow::open_regular(&path) {
+        let relative = self.relative.join(path.file_name().unwrap_or_default());
+        crate::no_follow::check_under(&self.root, &relative, true).map_err(read)?;
+        let mut file = match crate::no_follow::open_regular(path) {
             Ok(file) => file,
             Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(None),
             Err(source) => return Err(read(source)),
         };
         let damaged = |problem: String| StoreError::Damaged {
-            path: path.clone(),
+            path: path.to_path_buf(),
             problem,
         };
+        // Compressed, an artefact is far smaller than the cap on what it decompresses to.
+        let mut bytes = Vec::new();
+        (&mut file)
+            .take(MAX_ENTRY_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(read)?;
         let mut content = Vec::new();
-        flate2::read::GzDecoder::new(io::BufReader::new(file))
+        flate2::read::GzDecoder::new(bytes.as_slice())
             .take(MAX_ENTRY_BYTES + 1)
             .read_to_end(&mut content)
             .map_err(|e| damaged(format!("does not decompress ({e})")))?;
-        if content.len() as u64 > MAX_ENTRY_BYTES {
+        if content.len() as u64 > MAX_ENTRY_BYTES || bytes.len() as u64 > MAX_ENTRY_BYTES {
             return Err(damaged(format!(
-                "decompresses past the cap of {MAX_ENTRY_BYTES} bytes"
+                "larger than the cap of {MAX_ENTRY_BYTES} bytes"
             )));
         }
         let Some((digest, payload)) = content.split_first_chunk::<32>() else {
@@ -213,13 +245,82 @@ impl PretrainedStore {
                 artefact.format
             )));
         }
-        let expected = canonical_json(description).map_err(|e| StoreError::Key(e.to_string()))?;
-        if artefact.description != expected {
-            return Err(damaged(
-                "its description is not the one its name was asked for".to_owned(),
-            ));
+        Ok(Some((artefact, bytes)))
+    }
+
+    /// Copies into this store every artefact of `other` it lacks (as `merge` gathers the
+    /// shards' runs), each checked first: its description must hash to its file name. A bad
+    /// one is passed to `warn` and left out. Returns how many were copied.
+    ///
+    /// # Errors
+    /// [`StoreError::Read`] if `other`'s folder cannot be listed, [`StoreError::Write`] if
+    /// an artefact cannot be written here.
+    pub fn adopt(
+        &self,
+        other: &PretrainedStore,
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<usize, StoreError> {
+        let listing = match std::fs::read_dir(&other.folder) {
+            Ok(listing) => listing,
+            Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(0),
+            Err(source) => {
+                return Err(StoreError::Read {
+                    path: other.folder.clone(),
+                    source,
+                });
+            }
+        };
+        let mut names: Vec<String> = listing
+            .flatten()
+            .map(|entry| entry.file_name().to_string_lossy().into_owned())
+            .filter(|name| {
+                name.strip_suffix(&format!(".{ARTEFACT_EXTENSION}"))
+                    .is_some_and(|key| {
+                        key.len() == 64 && key.bytes().all(|b| b.is_ascii_hexdigit())
+                    })
+            })
+            .collect();
+        names.sort();
+        let mut copied = 0;
+        for name in names {
+            let target = self.folder.join(&name);
+            if target.exists() {
+                continue;
+            }
+            let source = other.folder.join(&name);
+            let checked = other.read_checked(&source).and_then(|found| {
+                let key = name.trim_end_matches(&format!(".{ARTEFACT_EXTENSION}"));
+                match found {
+                    Some((artefact, bytes))
+                        if blake3::hash(artefact.description.as_bytes())
+                            .to_hex()
+                            .as_str()
+                            == key =>
+                    {
+                        Ok(Some(bytes))
+                    }
+                    Some(_) => Err(StoreError::Damaged {
+                        path: source.clone(),
+                        problem: "its description does not hash to its name".to_owned(),
+                    }),
+                    None => Ok(None),
+                }
+            });
+            match checked {
+                Ok(Some(bytes)) => {
+                    let write = |source| StoreError::Write {
+                        path: target.clone(),
+                        source,
+                    };
+                    crate::no_follow::ensure_folders(&self.root, &self.relative).map_err(write)?;
+                    crate::atomic::write_atomic(&target, &bytes).map_err(|e| write(e.source))?;
+                    copied += 1;
+                }
+                Ok(None) => {}
+                Err(error) => warn(&format!("{error}; not copied")),
+            }
         }
-        Ok(Some(artefact.subtask))
+        Ok(copied)
     }
 
     /// Stores `subtask`, trained as `description` describes, atomically (see the module
@@ -239,11 +340,7 @@ impl PretrainedStore {
             source,
         };
         let bytes = artefact_bytes(description, subtask).map_err(write)?;
-        crate::no_follow::ensure_folders(
-            &self.out,
-            &Path::new(crate::names::RUNS_FOLDER).join(crate::names::PRETRAINED),
-        )
-        .map_err(write)?;
+        crate::no_follow::ensure_folders(&self.root, &self.relative).map_err(write)?;
         crate::atomic::write_atomic(&path, &bytes).map_err(|e| write(e.source))
     }
 }
@@ -455,5 +552,43 @@ mod tests {
         let read_only =
             crate::RunStore::open_read_only(dir.path(), &mut |w| panic!("{w}")).unwrap();
         assert!(read_only.keys().is_empty());
+    }
+
+    #[test]
+    fn adopting_copies_the_checked_artefacts_another_store_lacks() {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let (from, into) = (
+            PretrainedStore::new(a.path()),
+            PretrainedStore::new(b.path()),
+        );
+        let config = config();
+        for k in 0..2 {
+            from.save(&described(&config, k, 3), &trained(&config, k, 3))
+                .unwrap();
+        }
+        // One of them damaged, and one stray file that is no artefact.
+        let damaged = from.path(&PretrainedStore::key(&described(&config, 1, 3)).unwrap());
+        let whole = std::fs::read(&damaged).unwrap();
+        std::fs::write(&damaged, &whole[..whole.len() / 2]).unwrap();
+        std::fs::write(from.folder().join("notes.txt"), "x").unwrap();
+        let mut warnings = Vec::new();
+        let copied = into
+            .adopt(&from, &mut |w| warnings.push(w.to_owned()))
+            .unwrap();
+        assert_eq!(copied, 1);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert_eq!(
+            into.load(&described(&config, 0, 3)).unwrap(),
+            Some(trained(&config, 0, 3))
+        );
+        assert_eq!(into.load(&described(&config, 1, 3)).unwrap(), None);
+        // Nothing to do the second time; an absent folder is no error.
+        assert_eq!(
+            into.adopt(&from, &mut |w| warnings.push(w.to_owned()))
+                .unwrap(),
+            0
+        );
+        let empty = PretrainedStore::new(&a.path().join("nowhere"));
+        assert_eq!(into.adopt(&empty, &mut |w| panic!("{w}")).unwrap(), 0);
     }
 }
