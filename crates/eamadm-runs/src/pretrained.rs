@@ -591,4 +591,25 @@ mod tests {
         let empty = PretrainedStore::new(&a.path().join("nowhere"));
         assert_eq!(into.adopt(&empty, &mut |w| panic!("{w}")).unwrap(), 0);
     }
+
+    #[test]
+    fn writers_of_one_artefact_at_once_all_succeed_and_leave_one_valid_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = PretrainedStore::new(dir.path());
+        let config = config();
+        let description = described(&config, 0, 4);
+        let subtask = trained(&config, 0, 4);
+        std::thread::scope(|scope| {
+            for _ in 0..4 {
+                scope.spawn(|| {
+                    for _ in 0..5 {
+                        store.save(&description, &subtask).unwrap();
+                    }
+                });
+            }
+        });
+        let files: Vec<_> = std::fs::read_dir(store.folder()).unwrap().collect();
+        assert_eq!(files.len(), 1, "one file, no temporary file left");
+        assert_eq!(store.load(&description).unwrap(), Some(subtask));
+    }
 }
