@@ -6,8 +6,14 @@
 //! records are returned in job order, so the results do not depend on the number of threads,
 //! on completion order, or on which runs were resumed.
 
-use eamadm::{MethodSpec, RunError};
-use eamadm_runs::{KeepTrajectories, RunDescription, RunStore, StoreError};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use eamadm::{
+    ExperimentConfig, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
+};
+use eamadm_runs::{
+    KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription, RunStore, StoreError,
+};
 use rayon::prelude::*;
 use thiserror::Error;
 
@@ -39,6 +45,63 @@ pub(crate) struct RunCounts {
     pub(crate) ran: usize,
     /// Runs found in the store from an earlier invocation.
     pub(crate) resumed: usize,
+    /// Sub-tasks pre-trained now (and stored as artefacts for other processes).
+    pub(crate) pretrained: usize,
+    /// Pre-trained sub-tasks loaded from the store's artefacts instead.
+    pub(crate) pretrained_loaded: usize,
+}
+
+/// The run store's pre-trained artefacts ([`eamadm_runs::pretrained`]) as the cache of
+/// [`eamadm::Experiment::share_pretraining_with`], counting what it loads and what is trained.
+/// A damaged artefact, or one that cannot be written, is a warning: the sub-task is trained
+/// (again), which costs time, never a wrong bit.
+struct ArtefactCache<'a> {
+    artefacts: PretrainedStore,
+    warn: &'a (dyn Fn(&str) + Sync),
+    trained: AtomicUsize,
+    loaded: AtomicUsize,
+}
+
+impl PretrainingCache for ArtefactCache<'_> {
+    fn load(
+        &self,
+        config: &ExperimentConfig,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+    ) -> Option<PretrainedSubtask> {
+        let description = PretrainingDescription::new(config, pretrain, k, seed);
+        match self.artefacts.load(&description) {
+            Ok(Some(subtask)) => {
+                self.loaded.fetch_add(1, Ordering::Relaxed);
+                Some(subtask)
+            }
+            Ok(None) => None,
+            Err(error) => {
+                (self.warn)(&format!(
+                    "{error}; ignored, sub-task {k} of seed {seed} is pre-trained again"
+                ));
+                None
+            }
+        }
+    }
+
+    fn save(
+        &self,
+        config: &ExperimentConfig,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+        subtask: &PretrainedSubtask,
+    ) {
+        self.trained.fetch_add(1, Ordering::Relaxed);
+        let description = PretrainingDescription::new(config, pretrain, k, seed);
+        if let Err(error) = self.artefacts.save(&description, subtask) {
+            (self.warn)(&format!(
+                "{error}; other processes will pre-train this sub-task themselves"
+            ));
+        }
+    }
 }
 
 /// Runs every job of `jobs` the store does not hold yet, in parallel, appending each finished
@@ -50,6 +113,7 @@ pub(crate) fn run_jobs(
     store: &RunStore,
     keep: KeepTrajectories,
     progress: &Progress,
+    warn: &(dyn Fn(&str) + Sync),
 ) -> Result<RunCounts, ExecuteError> {
     let bars: Vec<TaskProgress> = experiments
         .iter()
@@ -71,8 +135,16 @@ pub(crate) fn run_jobs(
         .collect();
     // The runs of one (experiment, seed) share their pre-training: it is computed once per
     // group and dropped when the group's last run is stored, so memory holds the sub-task
-    // tables of the seeds in flight only. Each record is still the pure function of
+    // tables of the seeds in flight only. Each sub-task is first looked for among the store's
+    // pre-trained artefacts (another process, shard or experiment may have trained it) and
+    // stored there once trained. Each record is still the pure function of
     // (config, method, seed) that `Experiment::run` computes.
+    let cache = ArtefactCache {
+        artefacts: PretrainedStore::of(store),
+        warn,
+        trained: AtomicUsize::new(0),
+        loaded: AtomicUsize::new(0),
+    };
     let mut groups: Vec<Vec<&Job<'_>>> = Vec::new();
     for job in &todo {
         match groups
@@ -90,7 +162,7 @@ pub(crate) fn run_jobs(
             let methods: Vec<&MethodSpec> = group.iter().map(|job| job.method).collect();
             let shared = planned
                 .experiment
-                .share_pretraining(&methods, group[0].seed);
+                .share_pretraining_with(&methods, group[0].seed, &cache);
             group
                 .par_iter()
                 .try_for_each(|job| -> Result<(), ExecuteError> {
@@ -117,6 +189,8 @@ pub(crate) fn run_jobs(
     Ok(RunCounts {
         ran: todo.len(),
         resumed: jobs.len() - todo.len(),
+        pretrained: cache.trained.into_inner(),
+        pretrained_loaded: cache.loaded.into_inner(),
     })
 }
 
@@ -143,15 +217,153 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
-        let counts = run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden()).unwrap();
-        assert_eq!(counts, RunCounts { ran: 4, resumed: 0 });
+        let quiet = |w: &str| panic!("{w}");
+        let counts = run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+        let subtasks = planned[0].experiment.task().subtask_names().len();
+        assert_eq!(
+            counts,
+            RunCounts {
+                ran: 4,
+                resumed: 0,
+                pretrained: 2 * subtasks,
+                pretrained_loaded: 0
+            }
+        );
         let store = open();
-        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden()).unwrap();
-        assert_eq!(again, RunCounts { ran: 0, resumed: 4 });
+        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden(), &quiet).unwrap();
+        assert_eq!(
+            again,
+            RunCounts {
+                ran: 0,
+                resumed: 4,
+                ..RunCounts::default()
+            }
+        );
         for job in &jobs {
             let stored = store.load(&job.key, keep).unwrap().unwrap();
             let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
             assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
         }
+    }
+
+    /// Task I, shortened, with two EA-MADM methods (which pre-train the same sub-tasks) over
+    /// `seeds` seeds: its planned experiment and jobs are made by the caller.
+    fn two_ea_madm_methods(seeds: u32) -> (Vec<PlannedExperiment>, Vec<String>) {
+        let mut planned = plan_experiments(&[Task::Task1], false, None, seeds, true).unwrap();
+        planned.truncate(1);
+        let mut config = planned[0].config().clone();
+        shorten(&mut config, 3, Some(60), None);
+        let methods: Vec<String> = config
+            .methods
+            .iter()
+            .filter(|m| matches!(m.method, eamadm::Method::EaMadm(_)))
+            .map(|m| m.label.clone())
+            .take(2)
+            .collect();
+        assert_eq!(methods.len(), 2);
+        planned[0].experiment = eamadm::Experiment::new(config).unwrap();
+        (planned, methods)
+    }
+
+    fn artefact_files(out: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let folder = out.join("runs").join(eamadm_runs::names::PRETRAINED);
+        let mut files: Vec<_> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        files.sort();
+        files
+    }
+
+    #[test]
+    fn processes_sharing_a_folder_pretrain_each_subtask_once_and_equal_a_lone_run() {
+        let (planned, methods) = two_ea_madm_methods(2);
+        let jobs = plan_jobs(&planned, &methods).unwrap();
+        assert_eq!(jobs.len(), 4);
+        let subtasks = planned[0].experiment.task().subtask_names().len();
+        let dir = tempfile::tempdir().unwrap();
+        let keep = KeepTrajectories::Figures;
+        let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
+        let quiet = |w: &str| panic!("{w}");
+        // One `run-job` (or shard) per job, one after the other, each its own store and cache,
+        // as separate processes have.
+        let mut trained = 0;
+        let mut loaded = 0;
+        for job in &jobs {
+            let counts = run_jobs(
+                &planned,
+                std::slice::from_ref(job),
+                &open(),
+                keep,
+                &Progress::hidden(),
+                &quiet,
+            )
+            .unwrap();
+            assert_eq!(counts.ran, 1);
+            trained += counts.pretrained;
+            loaded += counts.pretrained_loaded;
+        }
+        // Each (seed, sub-task) trained once, by the first job of its seed; the other loads.
+        assert_eq!(trained, 2 * subtasks);
+        assert_eq!(loaded, 2 * subtasks);
+        assert_eq!(artefact_files(dir.path()).len(), 2 * subtasks);
+        // Artefacts are not runs, and the records equal lone runs bit for bit.
+        let store = open();
+        assert_eq!(store.len(), 4);
+        for job in &jobs {
+            let stored = store.load(&job.key, keep).unwrap().unwrap();
+            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+        }
+    }
+
+    #[test]
+    fn a_damaged_artefact_is_trained_again_with_a_warning() {
+        let (planned, methods) = two_ea_madm_methods(1);
+        let jobs = plan_jobs(&planned, &methods).unwrap();
+        let subtasks = planned[0].experiment.task().subtask_names().len();
+        let dir = tempfile::tempdir().unwrap();
+        let keep = KeepTrajectories::Figures;
+        let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
+        let quiet = |w: &str| panic!("{w}");
+        let first = run_jobs(
+            &planned,
+            &jobs[..1],
+            &open(),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap();
+        assert_eq!(first.pretrained, subtasks);
+        let files = artefact_files(dir.path());
+        let whole = std::fs::read(&files[0]).unwrap();
+        std::fs::write(&files[0], &whole[..whole.len() - 9]).unwrap();
+        let warnings = std::sync::Mutex::new(Vec::new());
+        let collect = |w: &str| warnings.lock().unwrap().push(w.to_owned());
+        let second = run_jobs(
+            &planned,
+            &jobs[1..],
+            &open(),
+            keep,
+            &Progress::hidden(),
+            &collect,
+        )
+        .unwrap();
+        assert_eq!(
+            (second.pretrained, second.pretrained_loaded),
+            (1, subtasks - 1)
+        );
+        let warnings = warnings.into_inner().unwrap();
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("pre-trained again"), "{}", warnings[0]);
+        // Trained again and stored again: the artefact is whole once more.
+        assert_eq!(std::fs::read(&files[0]).unwrap(), whole);
+        let stored = open().load(&jobs[1].key, keep).unwrap().unwrap();
+        let fresh = planned[0]
+            .experiment
+            .run(jobs[1].method, jobs[1].seed)
+            .unwrap();
+        assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
     }
 }

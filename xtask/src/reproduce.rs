@@ -14,7 +14,7 @@ use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
 use eamadm_runs::output_folder::OutputFolder;
-use eamadm_runs::{RunKey, RunStore};
+use eamadm_runs::{PretrainedStore, RunKey, RunStore};
 
 /// Prints a warning (a damaged run that will be recomputed, a line a merge ignores).
 #[expect(
@@ -141,8 +141,15 @@ pub(crate) fn reproduce_paper(
     let started = Instant::now();
     let keep = args.keep_trajectories;
     let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
-    let counts = run_jobs(&experiments, &jobs, &store, keep, &Progress::for_stdout())
-        .map_err(Failure::failed)?;
+    let counts = run_jobs(
+        &experiments,
+        &jobs,
+        &store,
+        keep,
+        &Progress::for_stdout(),
+        &warn_on_stderr,
+    )
+    .map_err(Failure::failed)?;
     drop(store);
     // Reopened, with the runs stored above (its damaged entries were reported by the first
     // open), and packed: every run stored in the folder, this plan's in job order.
@@ -180,10 +187,11 @@ pub(crate) fn reproduce_paper(
         .map_err(Failure::failed)?;
     }
     println!(
-        "done in {:.1} s: {} runs ({} resumed from an earlier invocation)",
+        "done in {:.1} s: {} runs ({} resumed from an earlier invocation); {}",
         started.elapsed().as_secs_f64(),
         jobs.len(),
         counts.resumed,
+        describe_pretraining(&counts),
     );
     if reporting {
         println!("report: {}", plan.out.join("REPORT.md").display());
@@ -241,10 +249,11 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         &store,
         keep,
         &Progress::hidden(),
+        &warn_on_stderr,
     )
     .map_err(Failure::failed)?;
     println!(
-        "{} {} seed {}: {} ({})",
+        "{} {} seed {}: {} ({}); {}",
         experiments[job.experiment].name,
         job.method.label,
         job.seed,
@@ -253,9 +262,22 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         } else {
             "already stored"
         },
-        store.folder().display()
+        store.folder().display(),
+        describe_pretraining(&counts),
     );
     Ok(())
+}
+
+/// What a command did about pre-training, for its last line: how many sub-tasks it trained
+/// and how many it loaded from the store's artefacts (`runs/pretrained/`), which another
+/// process, shard or earlier invocation trained.
+fn describe_pretraining(counts: &crate::execute::RunCounts) -> String {
+    format!(
+        "sub-tasks pre-trained: {}, loaded from runs/{}/: {}",
+        counts.pretrained,
+        eamadm_runs::names::PRETRAINED,
+        counts.pretrained_loaded
+    )
 }
 
 /// Runs `merge`: checks the given stores, then writes the plan's outputs from them.
@@ -291,6 +313,14 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
     let own = own
         .pack(&folder, &stores, &keys, &mut warn_on_stderr)
         .map_err(Failure::failed)?;
+    // The shards' pre-trained artefacts too, so the merged folder holds what an unsharded run
+    // leaves and a later plan on it loads rather than pre-trains.
+    let artefacts = PretrainedStore::new(folder.root());
+    for store in &stores {
+        artefacts
+            .adopt(&PretrainedStore::of(store), &mut warn_on_stderr)
+            .map_err(Failure::failed)?;
+    }
     let staging = folder.staging().map_err(Failure::failed)?;
     let runs = write_outputs(
         folder.root(),
@@ -369,6 +399,37 @@ mod tests {
 
     fn assert_same_tree(a: &Path, b: &Path) {
         let (a, b) = (tree(a), tree(b));
+        assert_eq!(
+            a.keys().collect::<Vec<_>>(),
+            b.keys().collect::<Vec<_>>(),
+            "the same files"
+        );
+        for (name, bytes) in &a {
+            assert!(b[name] == *bytes, "{name} differs");
+        }
+    }
+
+    /// [`assert_same_tree`] for a folder `resumed` that recomputed only some runs of `whole`:
+    /// its pre-trained artefacts (a cache of what this folder trained, `runs/pretrained/`)
+    /// are those its recomputed runs needed, each byte-identical to `whole`'s; every other
+    /// file is the same.
+    fn assert_same_tree_but_fewer_artefacts(whole: &Path, resumed: &Path) {
+        let cache = format!("runs/{}/", eamadm_runs::names::PRETRAINED);
+        let (mut a, mut b) = (tree(whole), tree(resumed));
+        let artefacts: Vec<String> = b
+            .keys()
+            .filter(|k| k.starts_with(&cache))
+            .cloned()
+            .collect();
+        assert!(!artefacts.is_empty(), "the recomputed runs pre-trained");
+        for name in artefacts {
+            assert!(
+                a.get(&name) == b.get(&name),
+                "{name} differs or is not in {whole:?}"
+            );
+            b.remove(&name);
+        }
+        a.retain(|name, _| !name.starts_with(&cache));
         assert_eq!(
             a.keys().collect::<Vec<_>>(),
             b.keys().collect::<Vec<_>>(),
@@ -977,7 +1038,7 @@ mod tests {
         let aside = copy.join("runs/.set-aside");
         assert_eq!(std::fs::read_dir(&aside).unwrap().count(), 2);
         std::fs::remove_dir_all(&aside).unwrap();
-        assert_same_tree(&ws.root.join("whole"), &copy);
+        assert_same_tree_but_fewer_artefacts(&ws.root.join("whole"), &copy);
     }
 
     fn shard(k: u64, n: u64) -> RunModeArgs {

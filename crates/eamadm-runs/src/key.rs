@@ -64,7 +64,7 @@ impl RunDescription {
 /// The hash of the file `task` reads, if it names one (relative paths resolve as `eamadm`
 /// resolves them: against the current folder). An unreadable file hashes as absent; loading
 /// the task has already failed on it then.
-fn task_file_digest(task: &TaskConfig) -> Option<String> {
+pub(crate) fn task_file_digest(task: &TaskConfig) -> Option<String> {
     let path = match task {
         TaskConfig::MazeFile { path, .. } => path.clone(),
         TaskConfig::Robot { scenario, .. } if scenario != DEFAULT_SCENARIO => scenario.into(),

@@ -7,6 +7,8 @@
 //!   [`RunKey`], the BLAKE3 hash of the description in canonical JSON;
 //! - [`store`]: the [`RunStore`] of `<out>/runs/`, every run checked (key, checksum, record)
 //!   before it is trusted;
+//! - [`pretrained`]: the pre-trained sub-task learners as content-addressed artefacts
+//!   (`<out>/runs/pretrained/`), shared by every process of a sweep;
 //! - [`gzip`]: compression whose bytes depend only on the content;
 //! - [`atomic`]: files written aside and renamed into place;
 //! - [`no_follow`]: paths opened without following links, never hanging on a FIFO;
@@ -46,8 +48,10 @@ pub mod gzip;
 pub mod key;
 pub mod no_follow;
 pub mod output_folder;
+pub mod pretrained;
 pub mod store;
 
 pub use eamadm::output_names as names;
 pub use key::{RESULTS_FORMAT, RunDescription, RunKey, canonical_json};
+pub use pretrained::{PRETRAINED_FORMAT, PretrainedStore, PretrainingDescription};
 pub use store::{KeepTrajectories, RunStore, StoreError, StoredRun, compact};

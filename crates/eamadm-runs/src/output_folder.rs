@@ -178,6 +178,7 @@ impl OutputFolder {
             self.root.clone(),
             runs.clone(),
             runs.join(crate::names::LOOSE_RUNS),
+            runs.join(crate::names::PRETRAINED),
         ] {
             if crate::no_follow::check_under(
                 &self.root,

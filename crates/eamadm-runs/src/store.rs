@@ -7,6 +7,7 @@
 //! runs/<experiment>.jsonl.gz          packed bundle: the experiment's runs, one gzip member each
 //! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member (not yet packed)
 //! runs/.set-aside/…                   entries that failed their checks, kept for inspection
+//! runs/pretrained/<key>.subtask.gz    a pre-trained sub-task learner (crate::pretrained), not a run
 //! ```
 //!
 //! A run is one *entry*: one gzip member (see [`crate::gzip`]) holding one line, so a bundle is a
@@ -157,6 +158,17 @@ pub enum StoreError {
         #[source]
         source: serde_json::Error,
     },
+    /// A pre-trained artefact failed its checks ([`crate::pretrained`]): it is trained again.
+    #[error("{}: {problem}", path.display())]
+    Damaged {
+        /// The artefact.
+        path: PathBuf,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A key could not be computed (its description did not serialise).
+    #[error("could not compute a key: {0}")]
+    Key(String),
     /// A line that was valid when the store was opened no longer is (the file changed since).
     #[error(
         "{} at byte {offset}: {problem}; the file changed while this command ran — rerun it",
@@ -964,7 +976,11 @@ impl RunStore {
             }
         }
         self.set_aside(warn)?;
-        for dir in [folder.clone(), folder.join(LOOSE_FOLDER)] {
+        for dir in [
+            folder.clone(),
+            folder.join(LOOSE_FOLDER),
+            folder.join(crate::names::PRETRAINED),
+        ] {
             crate::atomic::remove_stale_temporary_files(&dir).map_err(write(&dir))?;
         }
         drop(chosen);

@@ -216,7 +216,9 @@ pub use record::{
     AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,
     TrajectoryRecord,
 };
-pub use runner::{Experiment, SharedPretraining, run, run_all};
+pub use runner::{
+    Experiment, NoPretrainingCache, PretrainingCache, SharedPretraining, run, run_all,
+};
 pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};
 pub use task::Task;

@@ -15,6 +15,11 @@ pub const BUNDLE_EXTENSION: &str = "jsonl.gz";
 pub const LOOSE_RUNS: &str = "loose";
 /// The ending of a single run file, `runs/loose/<key>.<trajectories>.run.gz`.
 pub const RUN_FILE_EXTENSION: &str = "run.gz";
+/// Inside [`RUNS_FOLDER`], the folder of pre-trained sub-task learners shared by every run and
+/// process that needs them (content-addressed artefacts, a cache: removing it costs only time).
+pub const PRETRAINED: &str = "pretrained";
+/// The ending of a pre-trained artefact, `runs/pretrained/<key>.subtask.gz`.
+pub const PRETRAINED_EXTENSION: &str = "subtask.gz";
 /// The report.
 pub const REPORT: &str = "REPORT.md";
 /// One row per task, method and seed.

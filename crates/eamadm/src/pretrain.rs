@@ -7,12 +7,14 @@ use dql::{
 };
 use rand::RngExt;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::config::PretrainConfig;
 use crate::rng::{Stream, stream_rng};
 
-/// One trained sub-task.
-#[derive(Debug, Clone, PartialEq)]
+/// One trained sub-task. It serialises (the learner through [`DoubleQ`]'s checked form), so a
+/// run store can keep it for other processes (`eamadm-runs`' pre-trained artefacts).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PretrainedSubtask {
     /// The sub-task's name.
     pub name: String,

@@ -154,13 +154,43 @@ impl Experiment {
     /// [`run`](Self::run).
     #[must_use]
     pub fn share_pretraining(&self, methods: &[&MethodSpec], seed: u64) -> SharedPretraining {
+        self.share_pretraining_with(methods, seed, &NoPretrainingCache)
+    }
+
+    /// [`share_pretraining`](Self::share_pretraining), asking `cache` for each trained
+    /// sub-task before training it and handing it each sub-task it trained: how trained
+    /// sub-tasks outlive the process (a run store's pre-trained artefacts, computed by
+    /// whichever job needs them first and loaded by the others).
+    ///
+    /// A sub-task `cache` returns is used only if it has the shape, learner parameters, name
+    /// and episode count this experiment would train it with; otherwise it is trained again
+    /// (and handed to `cache`). The cache's keys must hold everything training depends on
+    /// ([`PretrainingCache`]); then the records are bit-identical to
+    /// [`run`](Self::run)'s.
+    #[must_use]
+    pub fn share_pretraining_with(
+        &self,
+        methods: &[&MethodSpec],
+        seed: u64,
+        cache: &dyn PretrainingCache,
+    ) -> SharedPretraining {
         match self.task.kind() {
-            TaskKind::Maze(env) => {
-                SharedPretraining::compute(env.as_ref(), &self.config, &self.task, methods, seed)
-            }
-            TaskKind::Robot(env) => {
-                SharedPretraining::compute(env.as_ref(), &self.config, &self.task, methods, seed)
-            }
+            TaskKind::Maze(env) => SharedPretraining::compute(
+                env.as_ref(),
+                &self.config,
+                &self.task,
+                methods,
+                seed,
+                cache,
+            ),
+            TaskKind::Robot(env) => SharedPretraining::compute(
+                env.as_ref(),
+                &self.config,
+                &self.task,
+                methods,
+                seed,
+                cache,
+            ),
         }
     }
 
@@ -216,6 +246,62 @@ impl Experiment {
             }
         }
         Ok(records)
+    }
+}
+
+/// Where [`Experiment::share_pretraining_with`] looks for trained sub-tasks before training
+/// them, and where it puts those it trained: a store that outlives the process.
+///
+/// A trained sub-task is a pure function of the experiment's task (`config.task`, with the
+/// content of any file it names), its learner parameters (`config.learner`), the pre-training
+/// config, the sub-task `k` (whose raw reward it learns: pre-training does not standardise
+/// rewards) and the seed, and of the code; an implementation must key what it keeps by all of
+/// them, or it hands back a learner another run trained.
+pub trait PretrainingCache: Sync {
+    /// Sub-task `k` of `config`'s task trained with `pretrain` and `seed`, if kept.
+    fn load(
+        &self,
+        config: &ExperimentConfig,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+    ) -> Option<PretrainedSubtask>;
+
+    /// Keeps `subtask`, just trained as sub-task `k` of `config`'s task with `pretrain` and
+    /// `seed`.
+    fn save(
+        &self,
+        config: &ExperimentConfig,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+        subtask: &PretrainedSubtask,
+    );
+}
+
+/// The cache that keeps nothing: [`Experiment::share_pretraining`]'s.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoPretrainingCache;
+
+impl PretrainingCache for NoPretrainingCache {
+    fn load(
+        &self,
+        _: &ExperimentConfig,
+        _: &PretrainConfig,
+        _: usize,
+        _: u64,
+    ) -> Option<PretrainedSubtask> {
+        None
+    }
+
+    fn save(
+        &self,
+        _: &ExperimentConfig,
+        _: &PretrainConfig,
+        _: usize,
+        _: u64,
+        _: &PretrainedSubtask,
+    ) {
     }
 }
 
@@ -311,6 +397,7 @@ impl SharedPretraining {
         task: &Task,
         methods: &[&MethodSpec],
         seed: u64,
+        cache: &dyn PretrainingCache,
     ) -> Self {
         // What the valid methods pre-train: (config, sub-task) pairs, and (config, storage)
         // priors, each once, in the order first met.
@@ -348,8 +435,19 @@ impl SharedPretraining {
         let subtasks: Vec<SharedSubtask> = trainings
             .into_par_iter()
             .filter_map(|(pretrain, k)| {
-                let subtask =
-                    pretrain_subtask(prototype, k, config.learner, &pretrain, seed).ok()?;
+                let names = prototype.subtask_names();
+                let kept = cache
+                    .load(config, &pretrain, k, seed)
+                    .filter(|kept| fits_training(prototype, config, &pretrain, k, &names, kept));
+                let subtask = match kept {
+                    Some(kept) => kept,
+                    None => {
+                        let trained =
+                            pretrain_subtask(prototype, k, config.learner, &pretrain, seed).ok()?;
+                        cache.save(config, &pretrain, k, seed, &trained);
+                        trained
+                    }
+                };
                 Some(SharedSubtask {
                     pretrain,
                     subtask,
@@ -380,6 +478,28 @@ impl SharedPretraining {
         shared.priors = built;
         shared
     }
+}
+
+/// Whether `kept`, a sub-task a [`PretrainingCache`] returned for sub-task `k` of
+/// `prototype` trained with `pretrain`, is what training it would give in shape and
+/// provenance: a stale or misfiled one is trained again rather than trusted.
+fn fits_training<E: TaskEnv>(
+    prototype: &E,
+    config: &ExperimentConfig,
+    pretrain: &PretrainConfig,
+    k: usize,
+    names: &[String],
+    kept: &PretrainedSubtask,
+) -> bool {
+    let name = names
+        .get(k)
+        .cloned()
+        .unwrap_or_else(|| format!("sub-task {k}"));
+    kept.learner.n_states() == prototype.n_states()
+        && kept.learner.n_actions() == prototype.n_actions()
+        && *kept.learner.params() == config.learner
+        && kept.name == name
+        && kept.episodes == pretrain.episodes
 }
 
 /// One run of `method` with `seed` in the experiment `config` (see [`Experiment::run`]).

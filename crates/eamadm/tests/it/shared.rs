@@ -2,7 +2,65 @@
 //! bit: every record of `run_all` (shared per seed) and of `run_shared` equals the record of
 //! `run` (each run pre-training for itself), at one and at two threads.
 
-use eamadm::{Experiment, ExperimentConfig, Method, SharedPretraining};
+use std::sync::Mutex;
+
+use eamadm::{
+    Experiment, ExperimentConfig, Method, PretrainConfig, PretrainedSubtask, PretrainingCache,
+    SharedPretraining,
+};
+
+/// A cache in memory that counts what it is handed; `misfile` answers sub-task `k` with the
+/// next sub-task's learner (a wrong artefact the facade must refuse).
+#[derive(Default)]
+struct MemoryCache {
+    kept: Mutex<Vec<(PretrainConfig, usize, u64, PretrainedSubtask)>>,
+    saves: Mutex<usize>,
+    misfile: bool,
+}
+
+impl PretrainingCache for MemoryCache {
+    fn load(
+        &self,
+        _: &ExperimentConfig,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+    ) -> Option<PretrainedSubtask> {
+        let kept = self.kept.lock().unwrap();
+        let n = kept.iter().map(|(_, j, _, _)| j + 1).max().unwrap_or(1);
+        let wanted = if self.misfile { (k + 1) % n } else { k };
+        kept.iter()
+            .find(|(p, j, s, _)| p == pretrain && *j == wanted && *s == seed)
+            .map(|(_, _, _, subtask)| subtask.clone())
+    }
+
+    fn save(
+        &self,
+        _: &ExperimentConfig,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+        subtask: &PretrainedSubtask,
+    ) {
+        *self.saves.lock().unwrap() += 1;
+        let mut kept = self.kept.lock().unwrap();
+        kept.retain(|(p, j, s, _)| !(p == pretrain && *j == k && *s == seed));
+        kept.push((*pretrain, k, seed, subtask.clone()));
+    }
+}
+
+/// Runs every job sharing through `cache`; returns the records in job order.
+fn run_through(experiment: &Experiment, cache: &MemoryCache) -> Vec<eamadm::RunRecord> {
+    let methods: Vec<_> = experiment.config().methods.iter().collect();
+    experiment
+        .jobs()
+        .into_iter()
+        .map(|(method, seed)| {
+            let shared = experiment.share_pretraining_with(&methods, seed, cache);
+            experiment.run_shared(method, seed, &shared).unwrap()
+        })
+        .collect()
+}
 
 /// `config` cut short: few episodes and pre-training episodes, two seeds, every method.
 fn short(mut config: ExperimentConfig) -> ExperimentConfig {
@@ -48,6 +106,27 @@ fn check(config: ExperimentConfig) {
             .unwrap(),
         unshared[0]
     );
+    // Through a cache that outlives the sharing (another process's artefacts): trained once
+    // and handed over, then loaded, and the records do not change.
+    let cache = MemoryCache::default();
+    assert_eq!(run_through(&experiment, &cache), unshared);
+    let trained = *cache.saves.lock().unwrap();
+    let distinct = cache.kept.lock().unwrap().len();
+    assert!(distinct > 0);
+    *cache.saves.lock().unwrap() = 0;
+    assert_eq!(run_through(&experiment, &cache), unshared);
+    assert_eq!(*cache.saves.lock().unwrap(), 0, "everything loaded");
+    // A cache handing back another sub-task's learner is refused: every sub-task is trained
+    // again (at least once each; refused again for each job), and the records do not change.
+    let misfiled = MemoryCache {
+        kept: Mutex::new(cache.kept.into_inner().unwrap()),
+        saves: Mutex::new(0),
+        misfile: true,
+    };
+    if experiment.task().subtask_names().len() > 1 {
+        assert_eq!(run_through(&experiment, &misfiled), unshared);
+        assert!(*misfiled.saves.lock().unwrap() >= trained.min(distinct));
+    }
 }
 
 #[test]
