@@ -249,7 +249,8 @@ mod tests {
     /// Task I, shortened, with two EA-MADM methods (which pre-train the same sub-tasks) over
     /// `seeds` seeds: its planned experiment and jobs are made by the caller.
     fn two_ea_madm_methods(seeds: u32) -> (Vec<PlannedExperiment>, Vec<String>) {
-        let mut planned = plan_experiments(&[Task::Task1], false, None, seeds, true).unwrap();
+        let mut planned =
+            plan_experiments(&[Task::Task1], false, None, seeds, true, Readings::None).unwrap();
         planned.truncate(1);
         let mut config = planned[0].config().clone();
         shorten(&mut config, 3, Some(60), None);
