@@ -7,6 +7,7 @@
 
 mod band;
 mod claims;
+mod margins;
 mod monte_carlo;
 mod paired;
 mod sensitivity;
