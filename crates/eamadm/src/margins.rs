@@ -30,6 +30,7 @@
 //! ```
 
 use crate::claims::Margin;
+use crate::report::format::{decimals_for, format_fixed};
 use crate::scores::REACHING_EPISODES;
 use crate::task::{Task, TaskKind};
 use crate::wmr_model::TaskReward;
@@ -76,8 +77,7 @@ fn signed(value: f64) -> String {
 
 fn maze_margins(reward: crate::mazes::RewardScheme) -> Vec<Margin> {
     let steps_reason = || {
-        "2 steps, the shortest detour on a 4-connected grid (one step off a shortest route and \
-         one back)"
+        "the shortest detour on a 4-connected grid (one step off a shortest route and one back)"
             .to_owned()
     };
     let detour = (reward.closer + reward.farther).abs();
@@ -107,14 +107,15 @@ fn maze_margins(reward: crate::mazes::RewardScheme) -> Vec<Margin> {
             ),
         )
     };
-    let steps = |column: &str, prefix: &str| {
-        margin(column, DETOUR_STEPS, format!("{prefix}{}", steps_reason()))
-    };
-    let mut margins = vec![
-        steps("final_steps", ""),
-        steps("fluctuation_greedy_steps", "as `final_steps`: "),
-        steps("fluctuation_steps", "as `final_steps`: "),
-    ];
+    // An SD shares its level metric's margin and reason (same unit, same detour).
+    let mut margins: Vec<Margin> = [
+        "final_steps",
+        "fluctuation_greedy_steps",
+        "fluctuation_steps",
+    ]
+    .into_iter()
+    .map(|column| margin(column, DETOUR_STEPS, steps_reason()))
+    .collect();
     // A scheme whose ordinary steps pay nothing (closer = farther = 0) has no return
     // difference to give: a margin of 0 could never be met, so it gets none.
     if value.is_finite() && value > 0.0 {
@@ -134,11 +135,14 @@ fn maze_margins(reward: crate::mazes::RewardScheme) -> Vec<Margin> {
     margins
 }
 
-/// A number as the reasons print it: at most four significant digits, no trailing zeros.
+/// A number as the reasons print it: four significant digits, no trailing zeros.
 fn number(value: f64) -> String {
-    let text = format!("{value:.4}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    text.to_owned()
+    let text = format_fixed(value, decimals_for(value, 4));
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
 }
 
 fn robot_margins(
@@ -154,9 +158,8 @@ fn robot_margins(
             "reach_time",
             detour_time,
             format!(
-                "{} s, two control periods ({} × {} s): the 2-step detour of the grids, in time",
-                number(detour_time),
-                DETOUR_STEPS,
+                "two control periods ({DETOUR_STEPS} × {} s): the 2-step detour of the grids, in \
+                 time",
                 number(period)
             ),
         ),
@@ -216,7 +219,6 @@ mod tests {
 
     use super::*;
     use crate::paper::{self, PaperTask};
-    use crate::report::format::{decimals_for, format_fixed};
 
     fn margins_of(task: PaperTask) -> Vec<Margin> {
         Task::load(&task.config().task)
@@ -317,8 +319,7 @@ mod tests {
                     assert!(margin.value > 0.0 && !margin.reason.is_empty());
                     // The column's documentation states the value as the report's margins
                     // list prints it (4 significant digits, no trailing zeros).
-                    let shown = format_fixed(margin.value, decimals_for(margin.value, 4));
-                    let shown = shown.trim_end_matches('0').trim_end_matches('.');
+                    let shown = number(margin.value);
                     assert!(
                         doc.contains(&format!("±{shown} ")),
                         "the `margin` column doc does not state {} of `{}` on {name}: {doc}",

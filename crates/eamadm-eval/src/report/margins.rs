@@ -6,32 +6,56 @@ use std::fmt::Write as _;
 use super::format::{decimals_for, format_fixed};
 use super::{ReportContext, Verdicts};
 use crate::claims;
+use crate::paper_claims::CLAIMS;
 use crate::scores;
 
-/// The margins list under the rule: per task of the run (in run order) each metric's margin,
-/// its unit and why; or a sentence that there is none.
+/// The margins list under the rule: per task of the run a claim is judged on (in run
+/// order), one line per margin and reason with the metrics sharing it; or a sentence that
+/// there is none.
 pub(crate) fn write_margins(text: &mut String, context: &ReportContext, verdicts: &Verdicts) {
-    let tasks = claims::tasks(&verdicts.scores);
-    let lines: Vec<String> = verdicts
-        .options
-        .margins
-        .iter()
-        .filter(|(task, _)| tasks.contains(task))
-        .map(|(task, margin)| {
+    let judged = |task: &str, column: &str| {
+        CLAIMS.iter().any(|claim| {
+            claim.tasks.contains(&task)
+                && claim
+                    .metrics
+                    .iter()
+                    .chain(claim.secondary)
+                    .any(|m| m.column == column)
+        })
+    };
+    let mut lines: Vec<String> = Vec::new();
+    for task in claims::tasks(&verdicts.scores) {
+        // (value, reason) → the metrics sharing it, in the task's order.
+        let mut groups: Vec<(f64, &str, Vec<&str>)> = Vec::new();
+        for (_, margin) in verdicts
+            .options
+            .margins
+            .iter()
+            .filter(|(t, m)| *t == task && judged(task, &m.column))
+        {
+            match groups
+                .iter_mut()
+                .find(|(v, r, _)| *v == margin.value && *r == margin.reason)
+            {
+                Some((_, _, columns)) => columns.push(&margin.column),
+                None => groups.push((margin.value, &margin.reason, vec![&margin.column])),
+            }
+        }
+        for (value, reason, columns) in groups {
             let unit = scores::COLUMNS
                 .iter()
-                .find(|c| c.name == margin.column)
+                .find(|c| c.name == columns[0])
                 .and_then(|c| c.unit)
                 .map_or_else(String::new, |u| format!(" {u}"));
-            format!(
-                "- {}, `{}`: ±{}{unit}: {}.",
+            let columns: Vec<String> = columns.iter().map(|c| format!("`{c}`")).collect();
+            lines.push(format!(
+                "- {}, {}: ±{}{unit}, {reason}.",
                 context.task_title(task),
-                margin.column,
-                short_number(margin.value),
-                margin.reason
-            )
-        })
-        .collect();
+                columns.join(", "),
+                short_number(value)
+            ));
+        }
+    }
     if lines.is_empty() {
         let _ = writeln!(
             text,
@@ -54,7 +78,7 @@ pub(crate) fn write_margins(text: &mut String, context: &ReportContext, verdicts
 
 /// A margin as the list prints it: four significant digits without trailing zeros (`2`,
 /// `0.8`, `1.796`, `0.008081`), so that it reads as the reason states it.
-fn short_number(value: f64) -> String {
+pub(crate) fn short_number(value: f64) -> String {
     let text = format_fixed(value, decimals_for(value, 4));
     if text.contains('.') {
         text.trim_end_matches('0').trim_end_matches('.').to_owned()

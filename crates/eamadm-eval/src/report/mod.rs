@@ -785,7 +785,9 @@ pub(crate) mod tests {
             "{report}"
         );
         assert!(
-            report.contains("- Task I, `final_return`: ±2 reward: the shortest detour"),
+            report.contains(
+                "- Task I, `final_return`: ±2 reward, the shortest detour, for `final_return`."
+            ),
             "{report}"
         );
         let no_margins = ClaimOptions {

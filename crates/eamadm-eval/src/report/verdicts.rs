@@ -17,7 +17,8 @@ pub(crate) fn deciding_number(judgement: &Judgement) -> String {
                 method_title(&c.versus),
                 c.metric.column,
                 interval(&p.difference),
-                c.margin.map_or_else(|| "—".to_owned(), number),
+                c.margin
+                    .map_or_else(|| "—".to_owned(), super::margins::short_number),
                 p_value(p.p_equivalence_holm.unwrap_or(1.0))
             ),
             None => comparison_in_words(c),
