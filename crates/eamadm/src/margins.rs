@@ -212,11 +212,6 @@ fn robot_margins(
 
 #[cfg(test)]
 mod tests {
-    #![expect(
-        clippy::unwrap_used,
-        reason = "tests may unwrap: a failure is the test failing"
-    )]
-
     use super::*;
     use crate::paper::{self, PaperTask};
 
