@@ -2,7 +2,7 @@
 //! metric a claim tests on the task, the difference that is no difference in practice,
 //! derived from the task's own reward scheme and control period (docs/paper-notes.md
 //! §10.1a). [`Task::equivalence_margins`] computes them; the main job stores them in the
-//! experiment's facts and judges with them ([`claims::ClaimOptions::margins`]).
+//! experiment's facts and judges with them ([`ClaimOptions::margins`](crate::claims::ClaimOptions::margins)).
 //!
 //! - **Mazes.** Step metrics (`final_steps`, `fluctuation_steps`,
 //!   `fluctuation_greedy_steps`): [`DETOUR_STEPS`] = 2 steps, the shortest detour on a
