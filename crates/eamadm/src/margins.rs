@@ -119,18 +119,15 @@ fn maze_margins(reward: crate::mazes::RewardScheme) -> Vec<Margin> {
     // A scheme whose ordinary steps pay nothing (closer = farther = 0) has no return
     // difference to give: a margin of 0 could never be met, so it gets none.
     if value.is_finite() && value > 0.0 {
-        let returns = |column: &str, prefix: &str| {
-            margin(
-                column,
-                value,
-                format!("{prefix}{} reward: {why}", number(value)),
-            )
-        };
-        margins.extend([
-            returns("final_return", ""),
-            returns("fluctuation_greedy_return", "as `final_return`: "),
-            returns("fluctuation_return", "as `final_return`: "),
-        ]);
+        margins.extend(
+            [
+                "final_return",
+                "fluctuation_greedy_return",
+                "fluctuation_return",
+            ]
+            .into_iter()
+            .map(|column| margin(column, value, why.clone())),
+        );
     }
     margins
 }
