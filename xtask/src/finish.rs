@@ -14,7 +14,6 @@
 use std::path::Path;
 
 use eamadm::BehaviourAccumulator;
-use eamadm::claims::ClaimOptions;
 use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
 use eamadm::scores::{FinalScore, ScoresError};
 use eamadm::sensitivity::ReadingRuns;
@@ -305,6 +304,7 @@ pub(crate) fn write_outputs(
         let mut experiment =
             eamadm::paper::experiment_facts(&planned.name, &planned.title, planned.config());
         experiment.reward_readings = eamadm::diagnosis::reward_readings(&planned.experiment);
+        experiment.margins = planned.experiment.task().equivalence_margins();
         if let Some((experiment_figures, robot_behaviour)) = collected {
             experiment.figures = experiment_figures.write(out)?;
             if let Some(robot_behaviour) = robot_behaviour {
@@ -316,13 +316,13 @@ pub(crate) fn write_outputs(
     remove_legacy_files(store_out, experiments)?;
     if let Outputs::Everything { quick } = outputs {
         let scores = scores?;
-        let mut verdicts =
-            Verdicts::compute(scores, &ClaimOptions::default()).map_err(ClaimsReportError::from)?;
+        let mut context = eamadm::paper::report_context(quick);
+        context.experiments = facts;
+        let options = context.claim_options().map_err(ClaimsReportError::from)?;
+        let mut verdicts = Verdicts::compute(scores, &options).map_err(ClaimsReportError::from)?;
         let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);
-        let mut context = eamadm::paper::report_context(quick);
-        context.experiments = facts;
         write_claim_outputs(out, &context, &verdicts)?;
     }
     Ok(jobs.len())

@@ -43,7 +43,10 @@
 //! - `untestable` when no competitor has two seeds with a value (the reason is given);
 //! - `contradicted` when any comparison favours a competitor;
 //! - `supported` when every testable comparison favours X;
-//! - `equivalent` when every comparison is equivalent (Holm-adjusted TOST p below α);
+//! - `equivalent` when every comparison is equivalent (Holm-adjusted TOST p below α that the
+//!   mean paired difference lies within the metric's margin on the task, [`Margins`]: the
+//!   task supplies them, `eamadm::Task::equivalence_margins`; a metric without one is never
+//!   equivalent, and "favours" on a metric with one needs an IQM difference beyond it);
 //! - `inconclusive` otherwise.
 //!
 //! # C3: fluctuation that cannot be won by being stuck
@@ -57,12 +60,13 @@
 //!   one side is stable-reaching on (McNemar), Holm over the competitors ([`per_seed_tests`],
 //!   claims.csv metric [`STABLE_REACHING`]);
 //! - **(b)** the greedy fluctuation over the seeds where each side has a value, by the same
-//!   statistics, margin (2 steps) and Holm as C1/C2.
+//!   statistics, margins ([`Margins`]) and Holm as C1/C2.
 //!
 //! A comparison of a metric with Y favours a side when (a) or (b) does and the other does not
 //! favour the other side ([`combine`]); a competitor with no (b) comparison (fewer than two
 //! stable-reaching seeds) enters by (a) alone. The verdict rule above then applies to these
-//! combined outcomes; `equivalent` also needs every (a) unsettled. When X itself has fewer than
+//! combined outcomes; `equivalent` also needs every (a) without a discordant seed (a
+//! per-seed test has no margin, so equivalence there is the same seeds stable-reaching). When X itself has fewer than
 //! two stable-reaching seeds, (a) alone decides as [`judge_by_reaching`] does. A seed stuck at
 //! the step cap is thus a failure, never the most stable seed. The training curves' SDs
 //! (`fluctuation_steps`, `fluctuation_return`) are C3's **secondary** metrics: estimated and
@@ -74,7 +78,7 @@
 use std::io::Write;
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::Role;
@@ -111,6 +115,18 @@ pub enum ClaimsError {
         #[source]
         source: Box<StatsError>,
     },
+    /// A task's equivalence margin is not a finite positive number.
+    #[error(
+        "task {task}, metric {column}: equivalence margin {value} is not a finite positive number"
+    )]
+    BadMargin {
+        /// The task.
+        task: String,
+        /// The metric's column.
+        column: String,
+        /// The margin given.
+        value: f64,
+    },
     /// Writing `claims.csv` failed.
     #[error("claims CSV: {0}")]
     Csv(#[from] csv::Error),
@@ -128,8 +144,88 @@ pub enum ClaimsError {
     },
 }
 
+/// A metric's region of practical equivalence on one task: a difference within `±value` (in
+/// the metric's unit) is no difference in practice. The task's definition supplies it
+/// (`eamadm::Task::equivalence_margins` derives each from the task's rewards and control
+/// period), so this crate holds no reward scheme.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Margin {
+    /// The column of `final-scores.csv` it applies to.
+    pub column: String,
+    /// The margin, positive and finite, in the column's unit.
+    pub value: f64,
+    /// Why this value, in one line (the report's rule paragraph and docs/paper-notes.md
+    /// state it).
+    pub reason: String,
+}
+
+/// The equivalence margins of every task × metric that has one ([`Margin`]). A metric
+/// without a margin on a task is never judged equivalent there, and "favours" on it needs no
+/// effect size.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Margins {
+    /// (task, margin), in insertion order.
+    entries: Vec<(String, Margin)>,
+}
+
+impl Margins {
+    /// No margin at all.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the margins of `task` (a later margin of the same task and column replaces the
+    /// earlier one).
+    ///
+    /// # Errors
+    /// [`ClaimsError::BadMargin`] naming the task and column when a value is not positive and
+    /// finite.
+    pub fn insert(&mut self, task: &str, margins: &[Margin]) -> Result<(), ClaimsError> {
+        for margin in margins {
+            if !(margin.value.is_finite() && margin.value > 0.0) {
+                return Err(ClaimsError::BadMargin {
+                    task: task.to_owned(),
+                    column: margin.column.clone(),
+                    value: margin.value,
+                });
+            }
+            self.entries
+                .retain(|(t, m)| !(t == task && m.column == margin.column));
+            self.entries.push((task.to_owned(), margin.clone()));
+        }
+        Ok(())
+    }
+
+    /// The margin of `column` on `task`, if it has one.
+    #[must_use]
+    pub fn get(&self, task: &str, column: &str) -> Option<&Margin> {
+        self.entries
+            .iter()
+            .find(|(t, m)| t == task && m.column == column)
+            .map(|(_, m)| m)
+    }
+
+    /// The margin's value of `column` on `task`, if it has one.
+    #[must_use]
+    pub fn value(&self, task: &str, column: &str) -> Option<f64> {
+        self.get(task, column).map(|m| m.value)
+    }
+
+    /// Every (task, margin), in insertion order.
+    pub fn iter(&self) -> impl Iterator<Item = (&str, &Margin)> {
+        self.entries.iter().map(|(t, m)| (t.as_str(), m))
+    }
+
+    /// Whether there is no margin.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
+
 /// The settings of the statistics behind the verdicts.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ClaimOptions {
     /// Bootstrap of IQM intervals and of differences (the same seed for every call, so each
     /// number is a function of its two samples only).
@@ -140,16 +236,20 @@ pub struct ClaimOptions {
     pub sign_flip: SignFlipTest,
     /// Significance level of the verdict rule.
     pub alpha: f64,
+    /// The equivalence margin of each task × metric (none: nothing is judged equivalent).
+    pub margins: Margins,
 }
 
 impl Default for ClaimOptions {
-    /// 10 000 bootstrap resamples at 95 %, 10 000 permutations, seed 0, α = [`ALPHA`].
+    /// 10 000 bootstrap resamples at 95 %, 10 000 permutations, seed 0, α = [`ALPHA`], no
+    /// margins (the run's come with its tasks: `ReportContext::margins`).
     fn default() -> Self {
         Self {
             bootstrap: Bootstrap::default(),
             permutation: PermutationTest::default(),
             sign_flip: SignFlipTest::default(),
             alpha: ALPHA,
+            margins: Margins::new(),
         }
     }
 }
@@ -163,7 +263,7 @@ pub enum Verdict {
     /// A competitor is significantly better on one of the claim's metrics.
     Contradicted,
     /// Every comparison shows equivalence: the mean paired difference lies within the metric's
-    /// margin ([`equivalence_margin`]) by a Holm-adjusted TOST p below α.
+    /// margin on the task ([`Margins`]) by a Holm-adjusted TOST p below α.
     Equivalent,
     /// Neither.
     Inconclusive,
@@ -216,6 +316,8 @@ pub struct Comparison {
     /// Probability that a random seed of the method beats one of the competitor (the metric's
     /// direction; ties count ½).
     pub p_improvement: f64,
+    /// The metric's equivalence margin on the task ([`Margins`]); `None` when it has none.
+    pub margin: Option<f64>,
     /// What it settles.
     pub outcome: Outcome,
     /// The same comparison paired by seed (runs of one seed share their random streams);
@@ -239,25 +341,11 @@ pub struct PairedComparison {
     pub difference: Interval,
     /// Two-sided sign-flip p-value of the mean of the paired differences.
     pub p_value: f64,
-    /// The metric's equivalence margin ([`equivalence_margin`]); `None` when it has none.
-    pub margin: Option<f64>,
-    /// TOST p-value that the mean paired difference lies within `±margin` (sign-flip tests).
+    /// TOST p-value that the mean paired difference lies within `±margin` (sign-flip tests;
+    /// the comparison's [`Comparison::margin`]); `None` when there is no margin.
     pub p_equivalence: Option<f64>,
     /// `p_equivalence` Holm-adjusted across the claim × task × method's comparisons.
     pub p_equivalence_holm: Option<f64>,
-}
-
-/// The region of practical equivalence of a metric (a difference within `±margin` is no
-/// difference in practice; docs/paper-notes.md justifies each): 2 steps for `final_steps`,
-/// `fluctuation_greedy_steps` and `fluctuation_steps` (on a grid the shortest detour from a
-/// shortest route costs 2 steps: one step off and one back); none for the others, which are
-/// then never judged equivalent.
-#[must_use]
-pub fn equivalence_margin(column: &str) -> Option<f64> {
-    match column {
-        "final_steps" | "fluctuation_greedy_steps" | "fluctuation_steps" => Some(2.0),
-        _ => None,
-    }
 }
 
 /// The values of `column` of `method` and `versus` on `task` on the seeds where both have
@@ -288,15 +376,15 @@ pub fn paired_values(
     pairs.into_iter().map(|(_, x, y)| (x, y)).unzip()
 }
 
-/// The paired comparison of `x` and `y` (seed-aligned) on `column`, or `None` with fewer than
-/// 2 pairs.
+/// The paired comparison of `x` and `y` (seed-aligned) with the metric's equivalence
+/// `margin` (TOST only when there is one), or `None` with fewer than 2 pairs.
 ///
 /// # Errors
 /// A [`StatsError`] for non-finite values.
 pub fn compare_paired(
     x: &[f64],
     y: &[f64],
-    column: &str,
+    margin: Option<f64>,
     options: &ClaimOptions,
 ) -> Result<Option<PairedComparison>, StatsError> {
     if x.len() < 2 {
@@ -307,7 +395,6 @@ pub fn compare_paired(
     let p_value = options
         .sign_flip
         .p_value(&d, PAIRED_STATISTIC, Alternative::TwoSided)?;
-    let margin = equivalence_margin(column);
     let p_equivalence = margin
         .map(|m| {
             options
@@ -319,7 +406,6 @@ pub fn compare_paired(
         n: d.len(),
         difference,
         p_value,
-        margin,
         p_equivalence,
         p_equivalence_holm: p_equivalence,
     }))
@@ -1127,11 +1213,12 @@ fn judge_versus(
                 });
                 continue;
             }
-            let mut comparison =
-                compare(&x, &y, *metric, versus, options).map_err(|e| error(metric.column, e))?;
-            let (px, py) = paired_values(scores, task, method, versus, metric.column);
-            comparison.paired = compare_paired(&px, &py, metric.column, options)
+            let margin = options.margins.value(task, metric.column);
+            let mut comparison = compare(&x, &y, *metric, versus, margin, options)
                 .map_err(|e| error(metric.column, e))?;
+            let (px, py) = paired_values(scores, task, method, versus, metric.column);
+            comparison.paired =
+                compare_paired(&px, &py, margin, options).map_err(|e| error(metric.column, e))?;
             raw_p.push(comparison.p_value);
             judgement.comparisons.push(comparison);
         }
@@ -1247,7 +1334,9 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
             ),
         }
     } else if alone.is_empty()
-        && tests.iter().all(|t| t.outcome == Outcome::Unsettled)
+        // A per-seed test has no margin: only the same seeds on both sides is equivalence
+        // there ("unsettled" with discordant seeds is absence of evidence, not equivalence).
+        && tests.iter().all(|t| t.discordant == (0, 0))
         && !comparisons.is_empty()
         && comparisons.iter().all(|c| {
             c.paired
@@ -1297,9 +1386,10 @@ fn secondary_comparisons(
                 continue;
             }
             let fail = |e| (metric.column, e);
-            let mut comparison = compare(&x, &y, *metric, versus, options).map_err(fail)?;
+            let margin = options.margins.value(task, metric.column);
+            let mut comparison = compare(&x, &y, *metric, versus, margin, options).map_err(fail)?;
             let (px, py) = paired_values(scores, task, method, versus, metric.column);
-            comparison.paired = compare_paired(&px, &py, metric.column, options).map_err(fail)?;
+            comparison.paired = compare_paired(&px, &py, margin, options).map_err(fail)?;
             comparisons.push(comparison);
         }
     }
@@ -1328,8 +1418,9 @@ fn secondary_comparisons(
 }
 
 /// One comparison of the per-seed values `x` of a method with the values `y` of `versus` on
-/// `metric`: bootstrap interval of the IQM difference, permutation p, probability of
-/// improvement. `p_holm` is the raw p and the outcome is judged on it (the caller adjusts).
+/// `metric` with its equivalence `margin` on the task: bootstrap interval of the IQM
+/// difference, permutation p, probability of improvement. `p_holm` is the raw p and the
+/// outcome is judged on it (the caller adjusts).
 ///
 /// # Errors
 /// A [`StatsError`] for empty or non-finite samples.
@@ -1338,6 +1429,7 @@ pub fn compare(
     y: &[f64],
     metric: ClaimMetric,
     versus: &str,
+    margin: Option<f64>,
     options: &ClaimOptions,
 ) -> Result<Comparison, StatsError> {
     let difference = options.bootstrap.difference(x, y, Statistic::Iqm)?;
@@ -1354,6 +1446,7 @@ pub fn compare(
         p_value,
         p_holm: p_value,
         p_improvement,
+        margin,
         outcome: Outcome::Unsettled,
         paired: None,
     };
@@ -1365,8 +1458,7 @@ pub fn compare(
 fn outcome(comparison: &Comparison, alpha: f64) -> Outcome {
     let d = &comparison.difference;
     // "Favours" needs an effect beyond the metric's equivalence margin as well.
-    let beyond_margin =
-        equivalence_margin(comparison.metric.column).is_none_or(|m| d.estimate.abs() > m);
+    let beyond_margin = comparison.margin.is_none_or(|m| d.estimate.abs() > m);
     let significant = comparison.p_holm < alpha && d.excludes(0.0) && beyond_margin;
     if !significant {
         Outcome::Unsettled
@@ -1553,7 +1645,7 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 paired_ci_low: c.paired.as_ref().map(|p| p.difference.low),
                 paired_ci_high: c.paired.as_ref().map(|p| p.difference.high),
                 paired_p_value: c.paired.as_ref().map(|p| p.p_value),
-                margin: c.paired.as_ref().and_then(|p| p.margin),
+                margin: c.margin,
                 p_equivalence: c.paired.as_ref().and_then(|p| p.p_equivalence),
                 p_equivalence_holm: c.paired.as_ref().and_then(|p| p.p_equivalence_holm),
             });
@@ -1726,9 +1818,9 @@ pub const CLAIM_COLUMNS: &[Column] = &[
     Column::new("paired_ci_low", FieldType::Number, "Lower end of the paired bootstrap 95 % interval of `paired_estimate`.").blank_when(PAIRED_BLANK),
     Column::new("paired_ci_high", FieldType::Number, "Upper end of that interval.").blank_when(PAIRED_BLANK),
     Column::new("paired_p_value", FieldType::Number, "Two-sided sign-flip (paired permutation) p-value of `paired_estimate`.").blank_when(PAIRED_BLANK),
-    Column::new("margin", FieldType::Number, "The metric's equivalence margin (region of practical equivalence): ±2 steps for `final_steps`, `fluctuation_greedy_steps` and `fluctuation_steps`, the shortest detour on a grid; in the metric's unit.").blank_when("the metric has no margin, the row is not a comparison, or it has fewer than 2 paired seeds"),
-    Column::new("p_equivalence", FieldType::Number, "TOST p-value that the mean paired difference lies within ±`margin`.").blank_when("`margin` is blank"),
-    Column::new("p_equivalence_holm", FieldType::Number, "`p_equivalence` Holm-adjusted across the claim × task × method's comparisons.").blank_when("`margin` is blank"),
+    Column::new("margin", FieldType::Number, "The metric's equivalence margin on the task (region of practical equivalence), in the metric's unit, derived from the task's rewards and control period (`eamadm::Task::equivalence_margins`; each with its reason in REPORT.md). The paper's mazes: ±2 steps on the step metrics, the shortest detour on a grid; ±2 reward on the return metrics, what that detour costs on Task II (−1 per step) and, where a detour costs nothing (Task I), the smallest difference one step's reward makes (−1 instead of +1). The robot: ±0.8 s on `reach_time` (two 0.4 s control periods); ±1.796 reward/s on `reach_average_reward` (what a 2-step detour takes off the average reward of the planner's 17-step route, 116 over 6.8 s); ±0.008081 s/episode on `retention_decay` (0.8 s over the 99-episode span of 100 reaching episodes).").blank_when("the metric has no margin on the task, or the row is not a comparison"),
+    Column::new("p_equivalence", FieldType::Number, "TOST p-value that the mean paired difference lies within ±`margin`.").blank_when("`margin` is blank, or fewer than 2 seeds have a value for both methods"),
+    Column::new("p_equivalence_holm", FieldType::Number, "`p_equivalence` Holm-adjusted across the claim × task × method's comparisons.").blank_when("`p_equivalence` is blank"),
 ];
 
 /// Writes `claims.csv` (header: the fields of [`ClaimRow`]; empty cells for absent values).
@@ -1803,13 +1895,16 @@ pub fn control_comparisons(
             if x.len() < 2 || y.len() < 2 {
                 return Ok(None);
             }
+            let margin = options.margins.value(task, metric.column);
             let comparison =
-                compare(&x, &y, metric, control, options).map_err(|source| ClaimsError::Stats {
-                    claim: String::new(),
-                    task: task.to_owned(),
-                    method: method.to_owned(),
-                    metric: metric.column.to_owned(),
-                    source: Box::new(source),
+                compare(&x, &y, metric, control, margin, options).map_err(|source| {
+                    ClaimsError::Stats {
+                        claim: String::new(),
+                        task: task.to_owned(),
+                        method: method.to_owned(),
+                        metric: metric.column.to_owned(),
+                        source: Box::new(source),
+                    }
                 })?;
             Ok(Some(ControlComparison {
                 task: task.to_owned(),

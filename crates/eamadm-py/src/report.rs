@@ -6,7 +6,6 @@
 
 use std::path::{Path, PathBuf};
 
-use eamadm::claims::ClaimOptions;
 use eamadm::output_names::{FINAL_SCORES, REPORT, REPORT_CONTEXT, SENSITIVITY};
 use eamadm::paper::PaperTask;
 use eamadm::report::{ExperimentFacts, Verdicts};
@@ -27,6 +26,7 @@ pub(crate) fn report_input(
     let title = PaperTask::from_name(&config.name)
         .map_or_else(|| config.name.clone(), |task| task.title().to_owned());
     let mut facts = eamadm::paper::experiment_facts(&config.name, &title, config);
+    facts.margins = experiment.task().equivalence_margins();
     // The seeds actually run (`seeds=` may differ from the config's count).
     facts.seeds = u32::try_from(seeds).map_err(|error| value_error("seeds", error))?;
     if matches!(config.task, TaskConfig::Robot { .. }) {
@@ -169,7 +169,7 @@ pub(crate) fn report_of_runs(
 }
 
 /// The report, `claims.csv` and `final-scores.csv` of `scores` in `context`, as the main job
-/// writes them (the verdicts judged with the default options, as the main job's).
+/// writes them (the verdicts judged with the context's margins, as the main job's).
 fn render(
     context: &eamadm::report::ReportContext,
     scores: Vec<FinalScore>,
@@ -177,7 +177,8 @@ fn render(
     argument: &str,
 ) -> PyResult<(String, String, String)> {
     let error = |error: &dyn std::fmt::Display| value_error(argument, error);
-    let verdicts = Verdicts::compute(scores, &ClaimOptions::default())
+    let options = context.claim_options().map_err(|e| error(&e))?;
+    let verdicts = Verdicts::compute(scores, &options)
         .map_err(|e| error(&e))?
         .with_sensitivity(sensitivity);
     let report = eamadm::report::render(context, &verdicts).map_err(|e| error(&e))?;

@@ -30,6 +30,7 @@
 //! | [`output_names`] | the name of every file the tooling writes into an output folder |
 //! | [`data_package`], [`columns`] | `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its type, unit and meaning |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
+//! | [`margins`] | each task's equivalence margins, derived from its rewards and control period |
 //!
 //! # A first experiment
 //!
@@ -188,6 +189,7 @@ pub mod config;
 pub mod data_package;
 pub mod diagnosis;
 pub mod error;
+pub mod margins;
 pub mod output_names;
 pub mod paper;
 pub mod pretrain;

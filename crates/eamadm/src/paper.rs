@@ -196,6 +196,7 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         behaviour: Vec::new(),
         reward_readings: Vec::new(),
         final_epsilon: final_epsilon(config),
+        margins: Vec::new(),
     }
 }
 

@@ -550,13 +550,13 @@ mod tests {
     #[test]
     fn collapsed_seeds_are_named_and_said_whether_they_decide() {
         let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
-        // EA-MADM equals the competitors but for the collapsed seeds: without them C1 is
-        // equivalent, C2 (no margin) cannot be.
+        // EA-MADM equals the competitors but for the collapsed seeds: without them C1 and C2
+        // are equivalent (within the 2-step and 2-reward margins).
         assert!(
             text.contains(
                 " It collapsed on 2 of 8 seeds (3, 5; never reaching again after episodes \
-                 63–65); without those seeds C1 is equivalent, so the collapses decide it, \
-                 while the collapses alone do not decide C2"
+                 63–65); without those seeds C1 and C2 are equivalent, so the collapses decide \
+                 them."
             ),
             "{text}"
         );

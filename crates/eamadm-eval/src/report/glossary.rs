@@ -5,11 +5,9 @@ use std::fmt::Write as _;
 use super::Verdicts;
 use crate::scores;
 
-/// The glossary section. Its numbers (final window, margin, resamples) come from the run's
+/// The glossary section. Its numbers (final window, resamples) come from the run's
 /// settings, so it cannot drift from the rule it defines.
 pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
-    let margin = crate::claims::equivalence_margin("final_steps")
-        .map_or_else(|| "none".to_owned(), |m| format!("{m}"));
     let _ = writeln!(text, "## Glossary\n");
     let terms: [(&str, String); 17] = [
         (
@@ -33,11 +31,11 @@ pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
         ),
         (
             "margin, TOST",
-            format!(
-                "the region of practical equivalence of a metric ({margin} steps for the step \
-                 metrics: the shortest detour on a grid); TOST tests whether the mean paired \
-                 difference lies inside ± the margin (two one-sided tests)."
-            ),
+            "the region of practical equivalence of a metric on a task, derived from the \
+             task's rewards and control period (each with its reason in the margins list under \
+             the rule); TOST tests whether the mean paired difference lies inside ± the margin \
+             (two one-sided tests)."
+                .to_owned(),
         ),
         (
             "favours",

@@ -51,6 +51,7 @@ use crate::scores::{self, FinalScore, ScoresError};
 mod answer;
 pub mod format;
 mod glossary;
+mod margins;
 mod outcomes;
 mod paper_numbers;
 mod robot;
@@ -150,6 +151,11 @@ pub struct ExperimentFacts {
     pub reward_readings: Vec<RewardReading>,
     /// The exploring rate ε of each method that explores ε-greedily, over the final window.
     pub final_epsilon: Vec<FinalEpsilon>,
+    /// The equivalence margin of each metric its task defines one for, with its reason
+    /// (`eamadm::Task::equivalence_margins`); empty in a context written before margins
+    /// existed, which then judges nothing equivalent.
+    #[serde(default)]
+    pub margins: Vec<claims::Margin>,
 }
 
 /// The exploring rate ε of one method over the final window of training (its schedule's
@@ -334,6 +340,34 @@ impl ReportContext {
     }
 }
 
+impl ReportContext {
+    /// The equivalence margins of the run's experiments, by experiment name (the `task`
+    /// column), for [`ClaimOptions::margins`].
+    ///
+    /// # Errors
+    /// [`ClaimsError::BadMargin`] naming the task and column of a margin that is not positive
+    /// and finite.
+    pub fn margins(&self) -> Result<claims::Margins, ClaimsError> {
+        let mut margins = claims::Margins::new();
+        for experiment in &self.experiments {
+            margins.insert(&experiment.name, &experiment.margins)?;
+        }
+        Ok(margins)
+    }
+
+    /// [`ClaimOptions::default`] with the margins of the run's experiments
+    /// ([`Self::margins`]): the options the main job judges with.
+    ///
+    /// # Errors
+    /// As [`Self::margins`].
+    pub fn claim_options(&self) -> Result<ClaimOptions, ClaimsError> {
+        Ok(ClaimOptions {
+            margins: self.margins()?,
+            ..ClaimOptions::default()
+        })
+    }
+}
+
 /// Everything the report states: the per-seed scores and what [`claims`] computes from them.
 #[derive(Debug, Clone)]
 pub struct Verdicts {
@@ -410,7 +444,7 @@ impl Verdicts {
             overviews: claims::overview(&scores)?,
             controls: claims::control_comparisons(&scores, options)?,
             scores,
-            options: *options,
+            options: options.clone(),
             sensitivity: Vec::new(),
         })
     }
@@ -456,7 +490,7 @@ pub fn render(context: &ReportContext, verdicts: &Verdicts) -> Result<String, Re
 }
 
 /// `REPORT.md` from the text of a run's `final-scores.csv`: the verdicts are judged again
-/// with `options` (the run's are [`ClaimOptions::default`]), so with the run's context this is
+/// with `options` (the run's are [`ReportContext::claim_options`]), so with the run's context this is
 /// the run's `REPORT.md` byte for byte. What the Python package's `eamadm.report(dir)` calls.
 pub fn render_from_csv(
     context: &ReportContext,
@@ -662,7 +696,24 @@ pub(crate) mod tests {
             permutation: crate::stats::PermutationTest::new(2000, 0).unwrap(),
             sign_flip: crate::stats::SignFlipTest::new(2000, 0).unwrap(),
             alpha: 0.05,
+            margins: test_margins(),
         }
+    }
+
+    /// The paper's maze margins on Task I (2 steps, 2 reward), as `eamadm::Task` derives them.
+    pub(crate) fn test_margins() -> claims::Margins {
+        let mut margins = claims::Margins::new();
+        let table: Vec<claims::Margin> = claims::claim_columns()
+            .into_iter()
+            .filter(|c| c.contains("steps") || c.contains("return"))
+            .map(|column| claims::Margin {
+                column: column.to_owned(),
+                value: 2.0,
+                reason: format!("the shortest detour, for `{column}`"),
+            })
+            .collect();
+        margins.insert("task1", &table).unwrap();
+        margins
     }
 
     fn verdict_row(report: &str, claim: &str) -> String {
@@ -725,8 +776,8 @@ pub(crate) mod tests {
             verdict_row(&report, "C1").contains("**contradicted**"),
             "{report}"
         );
-        // Identical per seed: equivalent within the 2-step margin on steps; return has no
-        // margin and stays inconclusive.
+        // Identical per seed: equivalent within the 2-step margin on steps and the 2-reward
+        // margin on return; without margins neither can be.
         let same = Verdicts::compute(scores(100.0), &options()).unwrap();
         let report = render_body(&context(), &same);
         assert!(
@@ -734,7 +785,31 @@ pub(crate) mod tests {
             "{report}"
         );
         assert!(
-            verdict_row(&report, "C2").contains("**inconclusive**"),
+            verdict_row(&report, "C2").contains("**equivalent**"),
+            "{report}"
+        );
+        assert!(
+            report.contains(
+                "- Task I, `final_return`: ±2 reward, the shortest detour, for `final_return`."
+            ),
+            "{report}"
+        );
+        let no_margins = ClaimOptions {
+            margins: claims::Margins::new(),
+            ..options()
+        };
+        let report = render_body(
+            &context(),
+            &Verdicts::compute(scores(100.0), &no_margins).unwrap(),
+        );
+        for claim in ["C1", "C2"] {
+            assert!(
+                verdict_row(&report, claim).contains("**inconclusive**"),
+                "{report}"
+            );
+        }
+        assert!(
+            report.contains("No task of this run defines an equivalence margin"),
             "{report}"
         );
         assert!(report.starts_with("# EA-MADM reproduction report"));
@@ -771,6 +846,7 @@ pub(crate) mod tests {
             behaviour: Vec::new(),
             reward_readings: Vec::new(),
             final_epsilon: Vec::new(),
+            margins: Vec::new(),
         });
         let report = render_body(&planned, &verdicts);
         assert!(

@@ -805,6 +805,7 @@ mod tests {
             behaviour,
             reward_readings: readings,
             final_epsilon: Vec::new(),
+            margins: Vec::new(),
         }
     }
 

@@ -92,7 +92,8 @@ pub(crate) fn deciding_words(judgement: &Judgement, versus: bool) -> String {
                 method_title(&c.versus),
                 c.metric.column,
                 interval(&p.difference),
-                p.margin.map_or_else(|| "—".to_owned(), number),
+                c.margin
+                    .map_or_else(|| "—".to_owned(), super::margins::short_number),
                 p_value(p.p_equivalence_holm.unwrap_or(1.0))
             ),
             None => comparison_in_words(c),
@@ -237,10 +238,8 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
          when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
          method. A comparison favours one side when its Holm p is below {alpha}, its interval \
-         excludes 0 and, for a metric with an equivalence margin (2 steps for `final_steps`, \
-         `fluctuation_greedy_steps` and `fluctuation_steps`: the shortest detour on a grid), \
-         the difference exceeds the \
-         margin. Runs of one seed share their random streams, so each comparison is also \
+         excludes 0 and, for a metric with an equivalence margin on the task (the margins \
+         are listed below), the difference exceeds the margin. Runs of one seed share their random streams, so each comparison is also \
          paired by seed: the mean paired difference with a paired bootstrap interval, a \
          sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
          equivalence within the margin (claims.csv: `paired_*`, `p_equivalence`). The \
@@ -263,7 +262,9 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          competitor the stable-reaching seeds are compared by the exact paired sign test \
          (claims.csv: metric `stable_reaching`, Holm across competitors) and the greedy \
          fluctuation by the rule above; a comparison favours a side when either does and the \
-         other does not favour the other side. The fair comparison is ε-decreasing, which uses \
+         other does not favour the other side, and is equivalent when the greedy fluctuations \
+         are and the same seeds stable-reach on both sides (the per-seed test has no margin). \
+         The fair comparison is ε-decreasing, which uses \
          EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
          without its exploration. The training curves' SDs (`fluctuation_steps`, \
          `fluctuation_return`) are reported as secondary rows with no verdict. The deciding \
@@ -275,6 +276,7 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
         verdicts.options.sign_flip.resamples,
         alpha = verdicts.options.alpha
     );
+    super::margins::write_margins(text, context, verdicts);
 
     let variants: Vec<&Judgement> = verdicts
         .judgements

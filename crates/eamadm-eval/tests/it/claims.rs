@@ -58,6 +58,7 @@ fn options() -> ClaimOptions {
         permutation: PermutationTest::new(2000, 7).unwrap(),
         sign_flip: eamadm_eval::stats::SignFlipTest::new(2000, 7).unwrap(),
         alpha: 0.05,
+        margins: crate::margins::maze_margins(&["task1", "task2"]),
     }
 }
 
@@ -94,11 +95,11 @@ fn the_verdict_flips_when_the_numbers_flip() {
     let more = scores(1500.0, 100.0);
     assert_eq!(verdict(&more, "C1"), Verdict::Contradicted);
     assert_eq!(verdict(&more, "C2"), Verdict::Contradicted);
-    // Identical per seed: the paired difference is 0, inside the 2-step margin.
+    // Identical per seed: the paired difference is 0, inside the 2-step margin, and the
+    // return's inside the 2-reward margin.
     let same = scores(100.0, 100.0);
     assert_eq!(verdict(&same, "C1"), Verdict::Equivalent);
-    // Final return has no margin, so it is never judged equivalent.
-    assert_eq!(verdict(&same, "C2"), Verdict::Inconclusive);
+    assert_eq!(verdict(&same, "C2"), Verdict::Equivalent);
     // The deciding comparison of a contradicted claim favours the competitor.
     let judgement = claims::judge(&more, &options())
         .unwrap()
@@ -186,9 +187,23 @@ fn c3_counts_a_seed_stuck_at_the_cap_as_a_failure_not_as_stability() {
         assert_eq!(row.verdict, None, "{row:?}");
     }
     // Stuck on 3 seeds only: 3 discordant seeds cannot reach p < 0.05, and on the 7 paired
-    // stable seeds the greedy SDs are equal: nothing favours either side.
+    // stable seeds the greedy SDs are equal (equivalent within their margins): nothing
+    // favours either side, but 3 seeds stable-reach on one side only, so it is not
+    // equivalent either (the per-seed test has no margin).
     let judgement = c3(&stuck_competitor(3));
     assert_eq!(judgement.verdict, Verdict::Inconclusive, "{judgement:?}");
+    assert!(
+        judgement.comparisons.iter().all(|c| c
+            .paired
+            .as_ref()
+            .unwrap()
+            .p_equivalence_holm
+            .unwrap()
+            < 0.05),
+        "{judgement:?}"
+    );
+    // Stuck nowhere: the same seeds stable-reach and the greedy SDs are equal: equivalent.
+    assert_eq!(c3(&stuck_competitor(0)).verdict, Verdict::Equivalent);
     assert_eq!(judgement.reaching[0].discordant, (3, 0));
     assert!(judgement.comparisons.iter().all(|c| c.n == (10, 7)));
     // The other way round: EA-MADM stuck on every seed is contradicted, not "most stable".
@@ -235,16 +250,126 @@ fn equivalence_needs_the_paired_difference_inside_the_margin() {
         .into_iter()
         .find(|j| j.claim.id == "C1")
         .unwrap();
+    assert_eq!(judgement.comparisons[0].margin, Some(2.0));
     let paired = judgement.comparisons[0].paired.as_ref().unwrap();
     assert_eq!(paired.n, 10);
     assert_eq!(paired.difference.estimate, -1.5);
-    assert_eq!(paired.margin, Some(2.0));
     // All ten shifted differences share one sign: 1 of the 2^10 sign vectors is as extreme.
     assert_eq!(paired.p_equivalence, Some(1.0 / 1024.0));
     // 3 steps fewer on every seed: beyond the margin, so not equivalent; the unpaired IQM
     // difference is not significant with these spread-out seeds, so it stays inconclusive.
     let beyond = scores(100.0, 103.0);
     assert_eq!(verdict(&beyond, "C1"), Verdict::Inconclusive);
+}
+
+#[test]
+fn a_return_metric_is_judged_equivalent_within_its_margin_on_its_task() {
+    // 1.5 reward more on every seed (the rows' return is −steps): within Task II's 2-reward
+    // return margin, so C2 is equivalent, as C1 is on the steps.
+    let within = scores(100.0, 101.5);
+    assert_eq!(verdict(&within, "C2"), Verdict::Equivalent);
+    let c2 = claims::judge(&within, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C2")
+        .unwrap();
+    let comparison = &c2.comparisons[0];
+    assert_eq!(comparison.metric.column, "final_return");
+    assert_eq!(comparison.margin, Some(2.0));
+    assert_eq!(comparison.outcome, Outcome::Unsettled);
+    let paired = comparison.paired.as_ref().unwrap();
+    assert_eq!(paired.difference.estimate, 1.5);
+    assert_eq!(paired.p_equivalence, Some(1.0 / 1024.0));
+    // The same scores with margins for Task I only: Task II's return has none, so C2 cannot
+    // be equivalent, and the row says so with a blank margin.
+    let elsewhere = ClaimOptions {
+        margins: crate::margins::maze_margins(&["task1"]),
+        ..options()
+    };
+    let c2 = claims::judge(&within, &elsewhere)
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C2")
+        .unwrap();
+    assert_eq!(c2.verdict, Verdict::Inconclusive);
+    assert_eq!(c2.comparisons[0].margin, None);
+    assert_eq!(
+        c2.comparisons[0].paired.as_ref().unwrap().p_equivalence,
+        None
+    );
+    // 3 reward more on every seed: beyond the margin, never equivalent.
+    assert_ne!(verdict(&scores(100.0, 103.0), "C2"), Verdict::Equivalent);
+}
+
+#[test]
+fn an_effect_within_the_margin_never_favours_a_side() {
+    // Every seed 1.5 steps fewer with no spread: the IQM difference is significant and its
+    // interval excludes 0, but it lies within the 2-step margin, so it settles nothing.
+    let tight: Vec<FinalScore> = scores(100.0, 101.5)
+        .into_iter()
+        .map(|mut r| {
+            let level = if r.method == "ea-madm" { 100.0 } else { 101.5 };
+            r.final_steps = level + (r.seed % 2) as f64 * 0.01;
+            r
+        })
+        .collect();
+    let c1 = claims::judge(&tight, &options())
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C1")
+        .unwrap();
+    let comparison = &c1.comparisons[0];
+    assert!(comparison.p_holm < 0.05 && comparison.difference.excludes(0.0));
+    assert_eq!(comparison.outcome, Outcome::Unsettled);
+    assert_eq!(c1.verdict, Verdict::Equivalent);
+    // Without a margin the same comparison favours EA-MADM.
+    let none = ClaimOptions {
+        margins: claims::Margins::new(),
+        ..options()
+    };
+    let c1 = claims::judge(&tight, &none)
+        .unwrap()
+        .into_iter()
+        .find(|j| j.claim.id == "C1")
+        .unwrap();
+    assert_eq!(c1.comparisons[0].outcome, Outcome::FavoursMethod);
+    assert_eq!(c1.verdict, Verdict::Supported);
+}
+
+#[test]
+fn margins_are_per_task_and_column_and_refuse_bad_values() {
+    let margins = crate::margins::maze_margins(&["task1"]);
+    assert_eq!(margins.value("task1", "final_return"), Some(2.0));
+    assert_eq!(margins.value("task2", "final_return"), None);
+    assert_eq!(margins.value("task1", "reach_time"), None);
+    // A later margin of the same task and column replaces the earlier one.
+    let mut replaced = margins.clone();
+    let wider = claims::Margin {
+        column: "final_return".to_owned(),
+        value: 5.0,
+        reason: "wider".to_owned(),
+    };
+    replaced
+        .insert("task1", std::slice::from_ref(&wider))
+        .unwrap();
+    assert_eq!(replaced.value("task1", "final_return"), Some(5.0));
+    assert_eq!(replaced.iter().count(), margins.iter().count());
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let error = replaced
+            .insert(
+                "task1",
+                &[claims::Margin {
+                    value: bad,
+                    ..wider.clone()
+                }],
+            )
+            .unwrap_err();
+        let text = error.to_string();
+        assert!(
+            text.contains("task1") && text.contains("final_return"),
+            "{text}"
+        );
+    }
 }
 
 #[test]

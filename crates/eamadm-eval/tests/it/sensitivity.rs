@@ -70,6 +70,7 @@ fn options() -> ClaimOptions {
         permutation: PermutationTest::new(2000, 7).unwrap(),
         sign_flip: SignFlipTest::new(2000, 7).unwrap(),
         alpha: 0.05,
+        margins: crate::margins::maze_margins(&["task1", "task2"]),
     }
 }
 
