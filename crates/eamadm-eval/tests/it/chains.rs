@@ -20,7 +20,9 @@
 //! run's Monte-Carlo paths (20 seeds, 10 000 random splits, sign vectors and resamples).
 
 use eamadm_eval::Role;
-use eamadm_eval::claims::{self, ClaimOptions, Comparison, Judgement, Margin, Margins, ReachingComparison};
+use eamadm_eval::claims::{
+    self, ClaimOptions, Comparison, Judgement, Margin, Margins, ReachingComparison,
+};
 use eamadm_eval::scores::{FinalScore, RunOutcome};
 use eamadm_eval::stats::paired::{differences, paired_difference};
 use eamadm_eval::stats::{Alternative, Bootstrap, PermutationTest, SignFlipTest, Statistic};
