@@ -23,6 +23,8 @@ const UNROLL: usize = 4;
 pub(crate) struct BatchedStatistic<'a> {
     statistic: Statistic,
     sorted: &'a [f64],
+    /// How many values each multiset holds.
+    total: usize,
     /// Length of one lane: the multiset's size plus [`UNROLL`] slots of room.
     stride: usize,
     /// Up to [`LANES`] written-out multisets, lane `l` at `l * stride..`.
@@ -33,12 +35,19 @@ pub(crate) struct BatchedStatistic<'a> {
 }
 
 impl<'a> BatchedStatistic<'a> {
-    /// For multisets of `sorted` (ascending, non-empty); `capacity` is how many will be given.
-    pub(crate) fn new(statistic: Statistic, sorted: &'a [f64], capacity: usize) -> Self {
-        let stride = sorted.len() + UNROLL;
+    /// For multisets of `total ≥ 1` values of `sorted` (ascending, non-empty); `capacity` is
+    /// how many will be given.
+    pub(crate) fn new(
+        statistic: Statistic,
+        sorted: &'a [f64],
+        total: usize,
+        capacity: usize,
+    ) -> Self {
+        let stride = total + UNROLL;
         Self {
             statistic,
             sorted,
+            total,
             stride,
             lanes: vec![0.0; stride * LANES],
             filled: 0,
@@ -46,8 +55,8 @@ impl<'a> BatchedStatistic<'a> {
         }
     }
 
-    /// Adds the multiset holding `sorted[i]` `counts[i]` times; the counts must add up to
-    /// `sorted.len()`.
+    /// Adds the multiset holding `sorted[i]` `counts[i]` times; the counts must add up to the
+    /// `total` given to [`new`](Self::new).
     pub(crate) fn push(&mut self, counts: &[u32]) {
         let stride = self.stride;
         let lane = &mut self.lanes[self.filled * stride..(self.filled + 1) * stride];
@@ -67,7 +76,7 @@ impl<'a> BatchedStatistic<'a> {
             }
             position += count;
         }
-        debug_assert_eq!(position, self.sorted.len());
+        debug_assert_eq!(position, self.total);
         self.filled += 1;
         if self.filled == LANES {
             self.compute();
@@ -89,7 +98,7 @@ impl<'a> BatchedStatistic<'a> {
 
     /// Appends the statistic of the filled lanes.
     fn compute(&mut self) {
-        let total = self.sorted.len();
+        let total = self.total;
         match self.statistic {
             Statistic::Mean => self.trimmed_means(0, total),
             Statistic::Iqm => {
@@ -178,7 +187,7 @@ mod tests {
         #[test]
         fn batch_equals_one_at_a_time((sorted, draws) in multisets()) {
             for statistic in Statistic::ALL {
-                let mut batch = BatchedStatistic::new(statistic, &sorted, draws.len());
+                let mut batch = BatchedStatistic::new(statistic, &sorted, sorted.len(), draws.len());
                 for counts in &draws {
                     batch.push(counts);
                 }
@@ -196,7 +205,7 @@ mod tests {
     fn a_count_above_the_unroll_is_written_in_full() {
         let sorted = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
         let counts = [0, 7, 0, 0, 0, 0, 0];
-        let mut batch = BatchedStatistic::new(Statistic::Mean, &sorted, 1);
+        let mut batch = BatchedStatistic::new(Statistic::Mean, &sorted, 7, 1);
         batch.push(&counts);
         assert_eq!(batch.finish(), vec![2.0]);
     }

@@ -4,7 +4,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::batch::BatchedStatistic;
+use super::counted::CountedSample;
 use super::location::{Statistic, quantile_unsorted};
 use super::{
     Interval, StatsError, check_confidence, check_len, check_resamples, check_sample, finite,
@@ -56,13 +56,15 @@ impl Bootstrap {
     pub fn interval(&self, x: &[f64], statistic: Statistic) -> Result<Interval, StatsError> {
         self.validate()?;
         check_sample(x, "x")?;
-        let sample = Resampler::new(x)?;
+        check_len(x.len(), "the sample's size")?;
+        let sorted = sorted_copy(x);
+        let sample = CountedSample::new(&sorted, x.len());
         let estimate = statistic.of(x)?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let mut replicates = sample.batch(statistic, self.resamples);
-        let mut counts = vec![0; x.len()];
+        let mut replicates = sample.replicates(statistic, x.len(), self.resamples as usize);
+        let mut counts = vec![0; sample.slots()];
         for _ in 0..self.resamples {
-            sample.draw(&mut rng, &mut counts);
+            draw(&mut rng, sample.slot_of(), &mut counts);
             replicates.push(&counts);
         }
         self.percentile_interval(estimate, &mut replicates.finish(), statistic.name())
@@ -79,20 +81,24 @@ impl Bootstrap {
         self.validate()?;
         check_sample(x, "x")?;
         check_sample(y, "y")?;
-        let sample_x = Resampler::new(x)?;
-        let sample_y = Resampler::new(y)?;
+        check_len(x.len(), "x's size")?;
+        check_len(y.len(), "y's size")?;
+        let (sorted_x, sorted_y) = (sorted_copy(x), sorted_copy(y));
+        let sample_x = CountedSample::new(&sorted_x, x.len());
+        let sample_y = CountedSample::new(&sorted_y, y.len());
         let estimate = finite(statistic.of(x)? - statistic.of(y)?, "difference")?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let mut of_x = sample_x.batch(statistic, self.resamples);
-        let mut of_y = sample_y.batch(statistic, self.resamples);
-        let mut counts_x = vec![0; x.len()];
-        let mut counts_y = vec![0; y.len()];
+        let resamples = self.resamples as usize;
+        let mut of_x = sample_x.replicates(statistic, x.len(), resamples);
+        let mut of_y = sample_y.replicates(statistic, y.len(), resamples);
+        let mut counts_x = vec![0; sample_x.slots()];
+        let mut counts_y = vec![0; sample_y.slots()];
         // Both resamples are drawn in the documented order; their statistics are computed
-        // later, in batches, which changes no draw and no bit.
+        // from the counts, which changes no draw and no bit.
         for _ in 0..self.resamples {
-            sample_x.draw(&mut rng, &mut counts_x);
+            draw(&mut rng, sample_x.slot_of(), &mut counts_x);
             of_x.push(&counts_x);
-            sample_y.draw(&mut rng, &mut counts_y);
+            draw(&mut rng, sample_y.slot_of(), &mut counts_y);
             of_y.push(&counts_y);
         }
         let mut replicates: Vec<f64> = of_x
@@ -151,15 +157,21 @@ impl Bootstrap {
             offset += values.len();
         }
 
+        let sample = CountedSample::new(&sorted, total);
+        // Each group's draws land in the slots of its positions.
+        let slots: Vec<Vec<u32>> = positions
+            .iter()
+            .map(|group| group.iter().map(|&p| sample.slot_of()[p]).collect())
+            .collect();
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let mut replicates = BatchedStatistic::new(statistic, &sorted, self.resamples as usize);
-        let mut counts = vec![0; total];
+        let mut replicates = sample.replicates(statistic, total, self.resamples as usize);
+        let mut counts = vec![0; sample.slots()];
         for _ in 0..self.resamples {
             counts.fill(0);
-            for group in &positions {
+            for group in &slots {
                 let size = group.len() as u32;
                 for _ in 0..group.len() {
-                    counts[group[uniform_below(&mut rng, size) as usize]] += 1;
+                    counts[group[uniform_below(&mut rng, size) as usize] as usize] += 1;
                 }
             }
             replicates.push(&counts);
@@ -186,31 +198,13 @@ impl Bootstrap {
     }
 }
 
-/// A sample sorted once, ready to be resampled with replacement.
-struct Resampler {
-    sorted: Vec<f64>,
-    size: u32,
-}
-
-impl Resampler {
-    /// `x` must be non-empty and finite.
-    fn new(x: &[f64]) -> Result<Self, StatsError> {
-        let size = check_len(x.len(), "the sample's size")?;
-        let sorted = sorted_copy(x);
-        Ok(Self { sorted, size })
-    }
-
-    /// Draws one resample: its multiplicities, into `counts`.
-    fn draw(&self, rng: &mut ChaCha8Rng, counts: &mut [u32]) {
-        counts.fill(0);
-        for _ in 0..self.size {
-            counts[uniform_below(rng, self.size) as usize] += 1;
-        }
-    }
-
-    /// Collects `resamples` resamples' values of `statistic`.
-    fn batch(&self, statistic: Statistic, resamples: u32) -> BatchedStatistic<'_> {
-        BatchedStatistic::new(statistic, &self.sorted, resamples as usize)
+/// Draws one resample with replacement of the sorted sample that `slot_of` counts (`n` indices
+/// below `n`, `n = slot_of.len()`): its multiplicities per slot, into `counts`.
+fn draw(rng: &mut ChaCha8Rng, slot_of: &[u32], counts: &mut [u32]) {
+    counts.fill(0);
+    let size = slot_of.len() as u32;
+    for _ in 0..size {
+        counts[slot_of[uniform_below(rng, size) as usize] as usize] += 1;
     }
 }
 

@@ -135,6 +135,7 @@ use thiserror::Error;
 mod batch;
 pub mod bootstrap;
 pub mod comparison;
+mod counted;
 pub mod distribution;
 pub mod location;
 pub mod normal;

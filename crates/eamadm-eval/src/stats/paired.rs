@@ -33,6 +33,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::counted::CountedSample;
 use super::location::Statistic;
 use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample, finite};
 
@@ -103,29 +104,29 @@ impl SignFlipTest {
         let signed = SignedMagnitudes::new(differences);
         // Each sign vector picks one of the two slots of every difference (a count of 1);
         // the statistic walks the counts over the sorted slots, so nothing is sorted per
-        // sign vector and the bits equal those of `statistic.of` on the flipped values.
-        let mut counts = vec![0_u32; 2 * n];
-        let (mut greater, mut less) = (0_u64, 0_u64);
-        let mut count = |counts: &[u32]| -> Result<(), StatsError> {
-            let t = finite(
-                statistic.of_counts(&signed.slots, counts, n),
-                statistic.name(),
-            )?;
-            if t >= observed - slack {
-                greater += 1;
-            }
-            if t <= observed + slack {
-                less += 1;
-            }
-            Ok(())
+        // sign vector and the bits equal those of `statistic.of` on the flipped values. The
+        // statistics are computed together afterwards (per distinct value for integers, else
+        // in batches), then compared with the observed value.
+        let sample = CountedSample::new(&signed.slots, n);
+        let kept: Vec<u32> = signed.kept.iter().map(|&s| sample.slot_of()[s]).collect();
+        let flipped: Vec<u32> = signed
+            .flipped
+            .iter()
+            .map(|&s| sample.slot_of()[s])
+            .collect();
+        let mut counts = vec![0_u32; sample.slots()];
+        let exact = self.is_exact(n);
+        let vectors = if exact {
+            1_u64 << n
+        } else {
+            u64::from(self.resamples)
         };
-        let (p_greater, p_less) = if self.is_exact(n) {
-            let total = 1_u64 << n;
-            for signs in 0..total {
-                signed.fill_counts(&mut counts, |i| signs >> i & 1 == 1);
-                count(&counts)?;
+        let mut replicates = sample.replicates(statistic, n, vectors as usize);
+        if exact {
+            for signs in 0..vectors {
+                fill_counts(&mut counts, &kept, &flipped, |i| signs >> i & 1 == 1);
+                replicates.push(&counts);
             }
-            (greater as f64 / total as f64, less as f64 / total as f64)
         } else {
             let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
             let mut words = vec![0_u32; n.div_ceil(32)];
@@ -133,9 +134,28 @@ impl SignFlipTest {
                 for word in &mut words {
                     *word = rng.next_u32();
                 }
-                signed.fill_counts(&mut counts, |i| words[i / 32] >> (i % 32) & 1 == 1);
-                count(&counts)?;
+                fill_counts(&mut counts, &kept, &flipped, |i| {
+                    words[i / 32] >> (i % 32) & 1 == 1
+                });
+                replicates.push(&counts);
             }
+        }
+        let (mut greater, mut less) = (0_u64, 0_u64);
+        for t in replicates.finish() {
+            let t = finite(t, statistic.name())?;
+            if t >= observed - slack {
+                greater += 1;
+            }
+            if t <= observed + slack {
+                less += 1;
+            }
+        }
+        let (p_greater, p_less) = if exact {
+            (
+                greater as f64 / vectors as f64,
+                less as f64 / vectors as f64,
+            )
+        } else {
             let b = f64::from(self.resamples) + 1.0;
             ((greater as f64 + 1.0) / b, (less as f64 + 1.0) / b)
         };
@@ -213,13 +233,14 @@ impl SignedMagnitudes {
             flipped,
         }
     }
+}
 
-    /// The counts over `slots` of the sample with `dᵢ` negated where `flip(i)`.
-    fn fill_counts(&self, counts: &mut [u32], flip: impl Fn(usize) -> bool) {
-        counts.fill(0);
-        for (i, (&kept, &flipped)) in self.kept.iter().zip(&self.flipped).enumerate() {
-            counts[if flip(i) { flipped } else { kept }] = 1;
-        }
+/// The counts over a [`CountedSample`]'s slots of the differences with `dᵢ` negated where
+/// `flip(i)`: `kept[i]` and `flipped[i]` are the slots of `dᵢ` and `−dᵢ`.
+fn fill_counts(counts: &mut [u32], kept: &[u32], flipped: &[u32], flip: impl Fn(usize) -> bool) {
+    counts.fill(0);
+    for (i, (&kept, &flipped)) in kept.iter().zip(flipped).enumerate() {
+        counts[(if flip(i) { flipped } else { kept }) as usize] += 1;
     }
 }
 

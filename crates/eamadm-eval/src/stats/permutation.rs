@@ -5,6 +5,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::bootstrap::uniform_below;
+use super::counted::CountedSample;
 use super::location::Statistic;
 use super::{StatsError, check_len, check_resamples, check_sample};
 
@@ -57,53 +58,62 @@ impl PermutationTest {
         let observed = (statistic.of(x)? - statistic.of(y)?).abs();
         // Ties within rounding count as at least as extreme (see the module docs).
         let threshold = observed - 1e-12 * scale;
-        let mut in_x = vec![0_u32; total];
-        let mut in_y = vec![0_u32; total];
-        let as_extreme = |in_x: &[u32], in_y: &mut [u32]| {
-            for (to_y, &to_x) in in_y.iter_mut().zip(in_x) {
-                *to_y = 1 - to_x;
+        // Each split's two groups are counted over the pooled sample's slots; their
+        // statistics are computed together afterwards (per distinct value for integers,
+        // else in batches), the same bits as one split at a time.
+        let sample = CountedSample::new(&pooled, n.max(m));
+        let mut everything = vec![0_u32; sample.slots()];
+        for &slot in sample.slot_of() {
+            everything[slot as usize] += 1;
+        }
+        let mut in_x = vec![0_u32; sample.slots()];
+        let mut in_y = vec![0_u32; sample.slots()];
+        let exact = binomial_at_most(total, n, u64::from(self.resamples));
+        let splits = exact.map_or(self.resamples as usize, |splits| splits as usize);
+        let mut of_x = sample.replicates(statistic, n, splits);
+        let mut of_y = sample.replicates(statistic, m, splits);
+        let mut push = |positions: &[usize]| {
+            in_x.fill(0);
+            for &i in positions {
+                in_x[sample.slot_of()[i] as usize] += 1;
             }
-            let difference =
-                statistic.of_counts(&pooled, in_x, n) - statistic.of_counts(&pooled, in_y, m);
-            difference.abs() >= threshold
+            for ((to_y, &to_x), &all) in in_y.iter_mut().zip(&in_x).zip(&everything) {
+                *to_y = all - to_x;
+            }
+            of_x.push(&in_x);
+            of_y.push(&in_y);
         };
 
-        if let Some(splits) = binomial_at_most(total, n, u64::from(self.resamples)) {
+        if exact.is_some() {
             // Every n-subset of the pooled positions, in lexicographic order.
             let mut chosen: Vec<usize> = (0..n).collect();
-            let mut hits = 0_u64;
             loop {
-                in_x.fill(0);
-                for &i in &chosen {
-                    in_x[i] = 1;
-                }
-                if as_extreme(&in_x, &mut in_y) {
-                    hits += 1;
-                }
+                push(&chosen);
                 if !next_combination(&mut chosen, total) {
                     break;
                 }
             }
-            Ok(hits as f64 / splits as f64)
         } else {
             let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
             let mut permutation: Vec<usize> = (0..total).collect();
-            let mut hits = 0_u64;
             for _ in 0..self.resamples {
                 for i in 0..n {
                     let j = i + uniform_below(&mut rng, (total - i) as u32) as usize;
                     permutation.swap(i, j);
                 }
-                in_x.fill(0);
-                for &i in &permutation[..n] {
-                    in_x[i] = 1;
-                }
-                if as_extreme(&in_x, &mut in_y) {
-                    hits += 1;
-                }
+                push(&permutation[..n]);
             }
-            Ok((hits + 1) as f64 / (f64::from(self.resamples) + 1.0))
         }
+        let hits = of_x
+            .finish()
+            .iter()
+            .zip(of_y.finish())
+            .filter(|&(of_x, of_y)| (of_x - of_y).abs() >= threshold)
+            .count() as u64;
+        Ok(match exact {
+            Some(splits) => hits as f64 / splits as f64,
+            None => (hits + 1) as f64 / (f64::from(self.resamples) + 1.0),
+        })
     }
 }
 
