@@ -147,6 +147,151 @@ impl<'a> BatchedStatistic<'a> {
     }
 }
 
+/// The most sorted values [`BatchedSubsets`] takes: one bit each in a `u64`.
+pub(crate) const MAX_SUBSET_SLOTS: usize = 64;
+
+/// Collects subsets of one sorted sample of at most [`MAX_SUBSET_SLOTS`] values, each a bit
+/// mask (bit `i` takes `sorted[i]`), and computes `statistic` of each, in the order they were
+/// given: the splits of the permutation test and the sign vectors of the sign-flip test.
+///
+/// Bit for bit [`Statistic::of_counts`] with counts of 0 and 1: each lane walks its mask's set
+/// bits upward (lowest first, so ascending values) and adds the values of the trimmed window
+/// one at a time. Nothing is written out; the [`LANES`] lanes take one value each per step, so
+/// their chains of additions overlap.
+pub(crate) struct BatchedSubsets {
+    statistic: Statistic,
+    /// The sorted values, padded to 64 (the padding is never selected).
+    sorted: [f64; MAX_SUBSET_SLOTS],
+    /// How many bits each mask has set.
+    total: usize,
+    /// Up to [`LANES`] masks not yet computed.
+    masks: [u64; LANES],
+    filled: usize,
+    replicates: Vec<f64>,
+}
+
+impl BatchedSubsets {
+    /// For subsets of `total ≥ 1` values of `sorted` (ascending, at most [`MAX_SUBSET_SLOTS`]
+    /// values, else `None`); `capacity` is how many will be given.
+    pub(crate) fn new(
+        statistic: Statistic,
+        sorted: &[f64],
+        total: usize,
+        capacity: usize,
+    ) -> Option<Self> {
+        let mut padded = [0.0; MAX_SUBSET_SLOTS];
+        padded.get_mut(..sorted.len())?.copy_from_slice(sorted);
+        Some(Self {
+            statistic,
+            sorted: padded,
+            total,
+            masks: [0; LANES],
+            filled: 0,
+            replicates: Vec::with_capacity(capacity),
+        })
+    }
+
+    /// Adds the subset of the values whose bits `mask` sets (`total` of them).
+    pub(crate) fn push(&mut self, mask: u64) {
+        debug_assert_eq!(mask.count_ones() as usize, self.total);
+        self.masks[self.filled] = mask;
+        self.filled += 1;
+        if self.filled == LANES {
+            self.compute();
+        }
+    }
+
+    /// The statistic of every subset given, in order.
+    pub(crate) fn finish(mut self) -> Vec<f64> {
+        if self.filled > 0 {
+            self.compute();
+        }
+        self.replicates
+    }
+
+    /// The value of the lowest bit set in `mask` (not 0).
+    fn lowest(&self, mask: u64) -> f64 {
+        self.sorted[(mask.trailing_zeros() as usize) % MAX_SUBSET_SLOTS]
+    }
+
+    /// Appends the statistic of the filled lanes.
+    fn compute(&mut self) {
+        // Unfilled lanes repeat the first mask, so that every lane has `total` bits set.
+        let first = self.masks[0];
+        for mask in &mut self.masks[self.filled..] {
+            *mask = first;
+        }
+        let total = self.total;
+        match self.statistic {
+            Statistic::Mean => self.trimmed_means(0, total),
+            Statistic::Iqm => {
+                let k = total / 4;
+                self.trimmed_means(k, total - k);
+            }
+            Statistic::Median => {
+                for lane in 0..self.filled {
+                    let mut mask = self.masks[lane];
+                    for _ in 0..(total - 1) / 2 {
+                        mask = without_lowest(mask);
+                    }
+                    let lower = self.lowest(mask);
+                    if total % 2 == 0 {
+                        mask = without_lowest(mask);
+                    }
+                    let upper = self.lowest(mask);
+                    // As in `Statistic::of_counts`.
+                    self.replicates.push(lower / 2.0 + upper / 2.0);
+                }
+            }
+        }
+        self.filled = 0;
+    }
+
+    /// Appends the mean of the `start..end`-th set values of each filled lane.
+    fn trimmed_means(&mut self, start: usize, end: usize) {
+        let mut masks = self.masks;
+        for mask in &mut masks {
+            for _ in 0..start {
+                *mask = without_lowest(*mask);
+            }
+        }
+        let window = masks;
+        let lowest: [f64; LANES] = std::array::from_fn(|lane| self.lowest(window[lane]));
+        let mut sums = [0.0_f64; LANES];
+        let mut highest = [0.0_f64; LANES];
+        for _ in start..end {
+            for lane in 0..LANES {
+                let value = self.lowest(masks[lane]);
+                sums[lane] += value;
+                highest[lane] = value;
+                masks[lane] = without_lowest(masks[lane]);
+            }
+        }
+        let taken = (end - start) as f64;
+        for lane in 0..self.filled {
+            let mean = if sums[lane].is_finite() {
+                sums[lane] / taken
+            } else {
+                // Values near f64::MAX: divide first, as `trimmed_mean_of_counts` does.
+                let mut mask = window[lane];
+                let mut scaled = 0.0;
+                for _ in start..end {
+                    scaled += self.lowest(mask) / taken;
+                    mask = without_lowest(mask);
+                }
+                scaled
+            };
+            self.replicates
+                .push(mean.clamp(lowest[lane], highest[lane]));
+        }
+    }
+}
+
+/// `mask` without its lowest set bit.
+fn without_lowest(mask: u64) -> u64 {
+    mask & mask.wrapping_sub(1)
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;
@@ -199,6 +344,62 @@ mod tests {
                 prop_assert_eq!(got, want);
             }
         }
+    }
+
+    /// Sorted values (at most 64) and subsets of a size `total` of them, as masks.
+    fn subsets() -> impl Strategy<Value = (Vec<f64>, usize, Vec<u64>)> {
+        let value = prop_oneof![
+            4 => -1e3..1e3_f64,
+            2 => (-5_i32..5).prop_map(f64::from),
+            1 => Just(-0.0),
+            1 => Just(f64::MAX / 2.0),
+            1 => Just(-f64::MAX / 3.0),
+        ];
+        prop::collection::vec(value, 1..=MAX_SUBSET_SLOTS).prop_flat_map(|mut values| {
+            values.sort_by(f64::total_cmp);
+            let n = values.len();
+            (1..=n).prop_flat_map(move |total| {
+                let mask = Just((0..n).collect::<Vec<usize>>())
+                    .prop_shuffle()
+                    .prop_map(move |order| order[..total].iter().fold(0_u64, |m, &i| m | 1 << i));
+                (
+                    Just(values.clone()),
+                    Just(total),
+                    prop::collection::vec(mask, 0..20),
+                )
+            })
+        })
+    }
+
+    proptest! {
+        /// Law: each subset's statistic has the bits of `Statistic::of_counts` with 0/1 counts
+        /// (the one-at-a-time definition), in order.
+        #[test]
+        fn subsets_equal_one_at_a_time((sorted, total, masks) in subsets()) {
+            for statistic in Statistic::ALL {
+                let mut batch = BatchedSubsets::new(statistic, &sorted, total, masks.len())
+                    .ok_or_else(|| TestCaseError::fail("at most 64 values"))?;
+                for &mask in &masks {
+                    batch.push(mask);
+                }
+                let got: Vec<u64> = batch.finish().iter().map(|v| v.to_bits()).collect();
+                let want: Vec<u64> = masks
+                    .iter()
+                    .map(|&mask| {
+                        let counts: Vec<u32> =
+                            (0..sorted.len()).map(|i| (mask >> i & 1) as u32).collect();
+                        statistic.of_counts(&sorted, &counts, total).to_bits()
+                    })
+                    .collect();
+                prop_assert_eq!(got, want);
+            }
+        }
+    }
+
+    #[test]
+    fn more_than_64_values_are_refused() {
+        assert!(BatchedSubsets::new(Statistic::Mean, &[0.0; 65], 1, 1).is_none());
+        assert!(BatchedSubsets::new(Statistic::Mean, &[0.0; 64], 1, 1).is_some());
     }
 
     #[test]

@@ -33,6 +33,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::batch::BatchedSubsets;
 use super::counted::CountedSample;
 use super::location::Statistic;
 use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample, finite};
@@ -103,45 +104,57 @@ impl SignFlipTest {
         let n = differences.len();
         let signed = SignedMagnitudes::new(differences);
         // Each sign vector picks one of the two slots of every difference (a count of 1);
-        // the statistic walks the counts over the sorted slots, so nothing is sorted per
+        // the statistic walks the picked slots in ascending order, so nothing is sorted per
         // sign vector and the bits equal those of `statistic.of` on the flipped values. The
-        // statistics are computed together afterwards (per distinct value for integers, else
-        // in batches), then compared with the observed value.
-        let sample = CountedSample::new(&signed.slots, n);
-        let kept: Vec<u32> = signed.kept.iter().map(|&s| sample.slot_of()[s]).collect();
-        let flipped: Vec<u32> = signed
-            .flipped
-            .iter()
-            .map(|&s| sample.slot_of()[s])
-            .collect();
-        let mut counts = vec![0_u32; sample.slots()];
+        // statistics are computed together afterwards, then compared with the observed value:
+        // as bit masks over the slots for up to 32 differences, else counted over the slots
+        // (per distinct value for integers).
         let exact = self.is_exact(n);
         let vectors = if exact {
             1_u64 << n
         } else {
             u64::from(self.resamples)
         };
-        let mut replicates = sample.replicates(statistic, n, vectors as usize);
-        if exact {
-            for signs in 0..vectors {
-                fill_counts(&mut counts, &kept, &flipped, |i| signs >> i & 1 == 1);
-                replicates.push(&counts);
-            }
-        } else {
-            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-            let mut words = vec![0_u32; n.div_ceil(32)];
-            for _ in 0..self.resamples {
-                for word in &mut words {
-                    *word = rng.next_u32();
+        let replicates = if let Some(mut replicates) =
+            BatchedSubsets::new(statistic, &signed.slots, n, vectors as usize)
+        {
+            let bit = |slot: usize| 1_u64 << slot;
+            let unflipped = signed.kept.iter().fold(0, |mask, &slot| mask | bit(slot));
+            // Flipping dᵢ moves its bit from its own slot to its negation's.
+            let flip: Vec<u64> = signed
+                .kept
+                .iter()
+                .zip(&signed.flipped)
+                .map(|(&kept, &flipped)| bit(kept) | bit(flipped))
+                .collect();
+            self.for_each_sign_vector(n, exact, |words| {
+                let mut mask = unflipped;
+                for (i, &flip) in flip.iter().enumerate() {
+                    let flipped = u64::from(words[i / 32] >> (i % 32) & 1);
+                    mask ^= flip & flipped.wrapping_neg();
                 }
-                fill_counts(&mut counts, &kept, &flipped, |i| {
-                    words[i / 32] >> (i % 32) & 1 == 1
-                });
+                replicates.push(mask);
+            });
+            replicates.finish()
+        } else {
+            let sample = CountedSample::new(&signed.slots, n);
+            let slot = |&position: &usize| sample.slot_of()[position];
+            let kept: Vec<u32> = signed.kept.iter().map(slot).collect();
+            let flipped: Vec<u32> = signed.flipped.iter().map(slot).collect();
+            let mut counts = vec![0_u32; sample.slots()];
+            let mut replicates = sample.replicates(statistic, n, vectors as usize);
+            self.for_each_sign_vector(n, exact, |words| {
+                counts.fill(0);
+                for (i, (&kept, &flipped)) in kept.iter().zip(&flipped).enumerate() {
+                    let flip = words[i / 32] >> (i % 32) & 1 == 1;
+                    counts[(if flip { flipped } else { kept }) as usize] += 1;
+                }
                 replicates.push(&counts);
-            }
-        }
+            });
+            replicates.finish()
+        };
         let (mut greater, mut less) = (0_u64, 0_u64);
-        for t in replicates.finish() {
+        for t in replicates {
             let t = finite(t, statistic.name())?;
             if t >= observed - slack {
                 greater += 1;
@@ -164,6 +177,27 @@ impl SignFlipTest {
             Alternative::Less => p_less,
             Alternative::TwoSided => (2.0 * p_greater.min(p_less)).min(1.0),
         })
+    }
+
+    /// Calls `signs` with every sign vector of `n` differences (`exact`: `0..2ⁿ` in order,
+    /// bit `i` flipping `dᵢ`), or with `resamples` random ones drawn in the documented order;
+    /// a vector is given as words, bit `i mod 32` of word `⌊i/32⌋` flipping `dᵢ`.
+    fn for_each_sign_vector(&self, n: usize, exact: bool, mut signs: impl FnMut(&[u32])) {
+        if exact {
+            // `is_exact` holds only for n < 32: one word.
+            for vector in 0..1_u32 << n {
+                signs(&[vector]);
+            }
+        } else {
+            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            let mut words = vec![0_u32; n.div_ceil(32)];
+            for _ in 0..self.resamples {
+                for word in &mut words {
+                    *word = rng.next_u32();
+                }
+                signs(&words);
+            }
+        }
     }
 
     /// The TOST p-value that the location `statistic` of the paired `differences` lies within
@@ -232,15 +266,6 @@ impl SignedMagnitudes {
             kept,
             flipped,
         }
-    }
-}
-
-/// The counts over a [`CountedSample`]'s slots of the differences with `dᵢ` negated where
-/// `flip(i)`: `kept[i]` and `flipped[i]` are the slots of `dᵢ` and `−dᵢ`.
-fn fill_counts(counts: &mut [u32], kept: &[u32], flipped: &[u32], flip: impl Fn(usize) -> bool) {
-    counts.fill(0);
-    for (i, (&kept, &flipped)) in kept.iter().zip(flipped).enumerate() {
-        counts[(if flip(i) { flipped } else { kept }) as usize] += 1;
     }
 }
 

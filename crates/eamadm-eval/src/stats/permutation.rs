@@ -4,6 +4,7 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::batch::BatchedSubsets;
 use super::bootstrap::uniform_below;
 use super::counted::CountedSample;
 use super::location::Statistic;
@@ -58,37 +59,64 @@ impl PermutationTest {
         let observed = (statistic.of(x)? - statistic.of(y)?).abs();
         // Ties within rounding count as at least as extreme (see the module docs).
         let threshold = observed - 1e-12 * scale;
-        // Each split's two groups are counted over the pooled sample's slots; their
-        // statistics are computed together afterwards (per distinct value for integers,
-        // else in batches), the same bits as one split at a time.
-        let sample = CountedSample::new(&pooled, n.max(m));
-        let mut everything = vec![0_u32; sample.slots()];
-        for &slot in sample.slot_of() {
-            everything[slot as usize] += 1;
-        }
-        let mut in_x = vec![0_u32; sample.slots()];
-        let mut in_y = vec![0_u32; sample.slots()];
         let exact = binomial_at_most(total, n, u64::from(self.resamples));
         let splits = exact.map_or(self.resamples as usize, |splits| splits as usize);
-        let mut of_x = sample.replicates(statistic, n, splits);
-        let mut of_y = sample.replicates(statistic, m, splits);
-        let mut push = |positions: &[usize]| {
-            in_x.fill(0);
-            for &i in positions {
-                in_x[sample.slot_of()[i] as usize] += 1;
+        // Each split's two groups' statistics are computed together afterwards, the same
+        // bits as one split at a time: as bit masks over the pooled sample when it has at most
+        // 64 values, else counted over its slots (per distinct value for integers).
+        let (of_x, of_y) = if let (Some(mut of_x), Some(mut of_y)) = (
+            BatchedSubsets::new(statistic, &pooled, n, splits),
+            BatchedSubsets::new(statistic, &pooled, m, splits),
+        ) {
+            let everything = u64::MAX >> (64 - total);
+            self.for_each_split(n, total, exact.is_some(), |positions| {
+                let in_x = positions.iter().fold(0_u64, |mask, &i| mask | 1 << i);
+                of_x.push(in_x);
+                of_y.push(everything ^ in_x);
+            });
+            (of_x.finish(), of_y.finish())
+        } else {
+            let sample = CountedSample::new(&pooled, n.max(m));
+            let mut everything = vec![0_u32; sample.slots()];
+            for &slot in sample.slot_of() {
+                everything[slot as usize] += 1;
             }
-            for ((to_y, &to_x), &all) in in_y.iter_mut().zip(&in_x).zip(&everything) {
-                *to_y = all - to_x;
-            }
-            of_x.push(&in_x);
-            of_y.push(&in_y);
+            let mut in_x = vec![0_u32; sample.slots()];
+            let mut in_y = vec![0_u32; sample.slots()];
+            let mut of_x = sample.replicates(statistic, n, splits);
+            let mut of_y = sample.replicates(statistic, m, splits);
+            self.for_each_split(n, total, exact.is_some(), |positions| {
+                in_x.fill(0);
+                for &i in positions {
+                    in_x[sample.slot_of()[i] as usize] += 1;
+                }
+                for ((to_y, &to_x), &all) in in_y.iter_mut().zip(&in_x).zip(&everything) {
+                    *to_y = all - to_x;
+                }
+                of_x.push(&in_x);
+                of_y.push(&in_y);
+            });
+            (of_x.finish(), of_y.finish())
         };
+        let hits = of_x
+            .iter()
+            .zip(of_y)
+            .filter(|&(of_x, of_y)| (of_x - of_y).abs() >= threshold)
+            .count() as u64;
+        Ok(match exact {
+            Some(splits) => hits as f64 / splits as f64,
+            None => (hits + 1) as f64 / (f64::from(self.resamples) + 1.0),
+        })
+    }
 
-        if exact.is_some() {
-            // Every n-subset of the pooled positions, in lexicographic order.
+    /// Calls `split` with the pooled positions of `x`'s group of every split of `total`
+    /// positions into `n` and `total − n` (`exact`), in lexicographic order, or of
+    /// `resamples` random splits drawn in the documented order.
+    fn for_each_split(&self, n: usize, total: usize, exact: bool, mut split: impl FnMut(&[usize])) {
+        if exact {
             let mut chosen: Vec<usize> = (0..n).collect();
             loop {
-                push(&chosen);
+                split(&chosen);
                 if !next_combination(&mut chosen, total) {
                     break;
                 }
@@ -101,19 +129,9 @@ impl PermutationTest {
                     let j = i + uniform_below(&mut rng, (total - i) as u32) as usize;
                     permutation.swap(i, j);
                 }
-                push(&permutation[..n]);
+                split(&permutation[..n]);
             }
         }
-        let hits = of_x
-            .finish()
-            .iter()
-            .zip(of_y.finish())
-            .filter(|&(of_x, of_y)| (of_x - of_y).abs() >= threshold)
-            .count() as u64;
-        Ok(match exact {
-            Some(splits) => hits as f64 / splits as f64,
-            None => (hits + 1) as f64 / (f64::from(self.resamples) + 1.0),
-        })
     }
 }
 
