@@ -1,11 +1,9 @@
 //! The seeded percentile bootstrap: one sample, a difference of two, and the stratified
 //! bootstrap over groups (see [the module docs](super) for the formulas and the draw order).
 
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-
 use super::counted::CountedSample;
 use super::location::{Statistic, quantile_unsorted};
+use super::words::Words;
 use super::{
     Interval, StatsError, check_confidence, check_len, check_resamples, check_sample, finite,
     sorted_copy,
@@ -60,7 +58,7 @@ impl Bootstrap {
         let sorted = sorted_copy(x);
         let sample = CountedSample::new(&sorted, x.len());
         let estimate = statistic.of(x)?;
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut rng = Words::seed_from_u64(self.seed);
         let mut replicates = sample.replicates(statistic, x.len(), self.resamples as usize);
         let mut counts = vec![0; sample.slots()];
         for _ in 0..self.resamples {
@@ -87,7 +85,7 @@ impl Bootstrap {
         let sample_x = CountedSample::new(&sorted_x, x.len());
         let sample_y = CountedSample::new(&sorted_y, y.len());
         let estimate = finite(statistic.of(x)? - statistic.of(y)?, "difference")?;
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut rng = Words::seed_from_u64(self.seed);
         let resamples = self.resamples as usize;
         let mut of_x = sample_x.replicates(statistic, x.len(), resamples);
         let mut of_y = sample_y.replicates(statistic, y.len(), resamples);
@@ -163,7 +161,7 @@ impl Bootstrap {
             .iter()
             .map(|group| group.iter().map(|&p| sample.slot_of()[p]).collect())
             .collect();
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut rng = Words::seed_from_u64(self.seed);
         let mut replicates = sample.replicates(statistic, total, self.resamples as usize);
         let mut counts = vec![0; sample.slots()];
         for _ in 0..self.resamples {
@@ -171,7 +169,7 @@ impl Bootstrap {
             for group in &slots {
                 let size = group.len() as u32;
                 for _ in 0..group.len() {
-                    counts[group[uniform_below(&mut rng, size) as usize] as usize] += 1;
+                    counts[group[rng.uniform_below(size) as usize] as usize] += 1;
                 }
             }
             replicates.push(&counts);
@@ -200,43 +198,10 @@ impl Bootstrap {
 
 /// Draws one resample with replacement of the sorted sample that `slot_of` counts (`n` indices
 /// below `n`, `n = slot_of.len()`): its multiplicities per slot, into `counts`.
-fn draw(rng: &mut ChaCha8Rng, slot_of: &[u32], counts: &mut [u32]) {
+fn draw(rng: &mut Words, slot_of: &[u32], counts: &mut [u32]) {
     counts.fill(0);
     let size = slot_of.len() as u32;
     for _ in 0..size {
-        counts[slot_of[uniform_below(rng, size) as usize] as usize] += 1;
-    }
-}
-
-/// An index uniform on `0..k` (`k ≥ 1`) by Lemire's multiply-and-reject method: exactly
-/// uniform, one 32-bit word per draw except on the rare rejection.
-pub(crate) fn uniform_below(rng: &mut ChaCha8Rng, k: u32) -> u32 {
-    let bound = u64::from(k);
-    let mut product = u64::from(rng.next_u32()) * bound;
-    if (product as u32) < k {
-        let threshold = k.wrapping_neg() % k;
-        while (product as u32) < threshold {
-            product = u64::from(rng.next_u32()) * bound;
-        }
-    }
-    (product >> 32) as u32
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lemire_draw_covers_the_range_uniformly() {
-        let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let mut seen = [0_u32; 7];
-        for _ in 0..70_000 {
-            seen[uniform_below(&mut rng, 7) as usize] += 1;
-        }
-        assert!(
-            seen.iter().all(|&c| (9_500..10_500).contains(&c)),
-            "{seen:?}"
-        );
-        assert_eq!(uniform_below(&mut rng, 1), 0);
+        counts[slot_of[rng.uniform_below(size) as usize] as usize] += 1;
     }
 }

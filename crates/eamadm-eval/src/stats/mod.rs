@@ -142,6 +142,7 @@ pub mod normal;
 pub mod paired;
 pub mod permutation;
 pub mod proportion;
+mod words;
 
 pub use bootstrap::Bootstrap;
 pub use comparison::{holm, probability_of_improvement};

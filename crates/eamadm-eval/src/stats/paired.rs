@@ -30,12 +30,10 @@
 //! Monte-Carlo sign vectors: for `b = 1..=B`, one 32-bit word per block of 32 differences
 //! (bit `i mod 32` of word `⌊i/32⌋` set flips `dᵢ`), from `ChaCha8Rng::seed_from_u64(seed)`.
 
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-
 use super::batch::BatchedSubsets;
 use super::counted::CountedSample;
 use super::location::Statistic;
+use super::words::Words;
 use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample, finite};
 
 /// Which way a one-sided test looks.
@@ -189,7 +187,7 @@ impl SignFlipTest {
                 signs(&[vector]);
             }
         } else {
-            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            let mut rng = Words::seed_from_u64(self.seed);
             let mut words = vec![0_u32; n.div_ceil(32)];
             for _ in 0..self.resamples {
                 for word in &mut words {

@@ -1,13 +1,10 @@
 //! The two-sample permutation test: exact enumeration of every split when there are few,
 //! Monte Carlo with `(b + 1)/(B + 1)` otherwise (see [the module docs](super)).
 
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-
 use super::batch::BatchedSubsets;
-use super::bootstrap::uniform_below;
 use super::counted::CountedSample;
 use super::location::Statistic;
+use super::words::Words;
 use super::{StatsError, check_len, check_resamples, check_sample};
 
 /// Settings of the permutation test.
@@ -122,11 +119,11 @@ impl PermutationTest {
                 }
             }
         } else {
-            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            let mut rng = Words::seed_from_u64(self.seed);
             let mut permutation: Vec<usize> = (0..total).collect();
             for _ in 0..self.resamples {
                 for i in 0..n {
-                    let j = i + uniform_below(&mut rng, (total - i) as u32) as usize;
+                    let j = i + rng.uniform_below((total - i) as u32) as usize;
                     permutation.swap(i, j);
                 }
                 split(&permutation[..n]);
