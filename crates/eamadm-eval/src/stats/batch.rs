@@ -23,11 +23,13 @@ const UNROLL: usize = 4;
 pub(crate) struct BatchedStatistic<'a> {
     statistic: Statistic,
     sorted: &'a [f64],
-    /// How many values each multiset holds.
-    total: usize,
-    /// Length of one lane: the multiset's size plus [`UNROLL`] slots of room.
+    /// The sorted positions `start..end` of a multiset the statistic reads (the IQM's middle,
+    /// the median's one or two, the mean's all); only those are written out.
+    start: usize,
+    end: usize,
+    /// Length of one lane: the window's size plus [`UNROLL`] slots of room.
     stride: usize,
-    /// Up to [`LANES`] written-out multisets, lane `l` at `l * stride..`.
+    /// Up to [`LANES`] written-out windows, lane `l` at `l * stride..`.
     lanes: Vec<f64>,
     /// How many lanes hold a multiset not yet computed.
     filled: usize,
@@ -43,11 +45,17 @@ impl<'a> BatchedStatistic<'a> {
         total: usize,
         capacity: usize,
     ) -> Self {
-        let stride = total + UNROLL;
+        let (start, end) = match statistic {
+            Statistic::Mean => (0, total),
+            Statistic::Iqm => (total / 4, total - total / 4),
+            Statistic::Median => ((total - 1) / 2, total / 2 + 1),
+        };
+        let stride = end - start + UNROLL;
         Self {
             statistic,
             sorted,
-            total,
+            start,
+            end,
             stride,
             lanes: vec![0.0; stride * LANES],
             filled: 0,
@@ -58,25 +66,46 @@ impl<'a> BatchedStatistic<'a> {
     /// Adds the multiset holding `sorted[i]` `counts[i]` times; the counts must add up to the
     /// `total` given to [`new`](Self::new).
     pub(crate) fn push(&mut self, counts: &[u32]) {
+        let (start, end) = (self.start, self.end);
+        let window = end - start;
         let stride = self.stride;
         let lane = &mut self.lanes[self.filled * stride..(self.filled + 1) * stride];
-        let mut position = 0;
-        for (&value, &count) in self.sorted.iter().zip(counts) {
+        let mut slots = self.sorted.iter().zip(counts);
+        // The values below the window are only counted; the first value reaching into it
+        // fills its positions from `start` on. `written` counts the window's positions
+        // filled so far.
+        let mut below = 0;
+        let mut written = 0;
+        for (&value, &count) in slots.by_ref() {
+            let next = below + count as usize;
+            if next > start {
+                written = next.min(end) - start;
+                if let Some(slots) = lane.get_mut(..written) {
+                    slots.fill(value);
+                }
+                break;
+            }
+            below = next;
+        }
+        let mut position = written;
+        for (&value, &count) in slots {
+            if position >= window {
+                break;
+            }
             let count = count as usize;
             // Written UNROLL times whatever the count, in one store of adjacent slots (the
-            // extra copies are overwritten by the next values or lie past the end), so the
+            // extra copies are overwritten by the next values or lie past the window), so the
             // common small counts take no branch.
             if let Some(slots) = lane.get_mut(position..position + UNROLL) {
                 slots.copy_from_slice(&[value; UNROLL]);
             }
             if count > UNROLL
-                && let Some(slots) = lane.get_mut(position..position + count)
+                && let Some(slots) = lane.get_mut(position..(position + count).min(window))
             {
                 slots.fill(value);
             }
             position += count;
         }
-        debug_assert_eq!(position, self.total);
         self.filled += 1;
         if self.filled == LANES {
             self.compute();
@@ -91,24 +120,20 @@ impl<'a> BatchedStatistic<'a> {
         self.replicates
     }
 
-    /// The value at `position` of `lane`.
+    /// The value at `position` of the window of `lane`.
     fn at(&self, position: usize, lane: usize) -> f64 {
         self.lanes[lane * self.stride + position]
     }
 
     /// Appends the statistic of the filled lanes.
     fn compute(&mut self) {
-        let total = self.total;
+        let window = self.end - self.start;
         match self.statistic {
-            Statistic::Mean => self.trimmed_means(0, total),
-            Statistic::Iqm => {
-                let k = total / 4;
-                self.trimmed_means(k, total - k);
-            }
+            Statistic::Mean | Statistic::Iqm => self.trimmed_means(window),
             Statistic::Median => {
                 for lane in 0..self.filled {
-                    let lower = self.at((total - 1) / 2, lane);
-                    let upper = self.at(total / 2, lane);
+                    let lower = self.at(0, lane);
+                    let upper = self.at(window - 1, lane);
                     // As in `Statistic::of_counts`.
                     self.replicates.push(lower / 2.0 + upper / 2.0);
                 }
@@ -117,27 +142,27 @@ impl<'a> BatchedStatistic<'a> {
         self.filled = 0;
     }
 
-    /// Appends the mean of positions `start..end` of each filled lane.
-    fn trimmed_means(&mut self, start: usize, end: usize) {
-        let window: [&[f64]; LANES] = std::array::from_fn(|lane| {
-            &self.lanes[lane * self.stride + start..lane * self.stride + end]
+    /// Appends the mean of the `window` values of each filled lane.
+    fn trimmed_means(&mut self, window: usize) {
+        let lanes: [&[f64]; LANES] = std::array::from_fn(|lane| {
+            &self.lanes[lane * self.stride..lane * self.stride + window]
         });
         let mut sums = [0.0_f64; LANES];
-        for position in 0..end - start {
-            for (sum, lane) in sums.iter_mut().zip(&window) {
+        for position in 0..window {
+            for (sum, lane) in sums.iter_mut().zip(&lanes) {
                 *sum += lane[position];
             }
         }
-        let taken = (end - start) as f64;
+        let taken = window as f64;
         for (lane, &sum) in sums.iter().enumerate().take(self.filled) {
-            let lowest = window[lane][0];
-            let highest = window[lane][end - start - 1];
+            let lowest = lanes[lane][0];
+            let highest = lanes[lane][window - 1];
             let mean = if sum.is_finite() {
                 sum / taken
             } else {
                 // Values near f64::MAX: divide first, as `trimmed_mean_of_counts` does.
                 let mut scaled = 0.0;
-                for &value in window[lane] {
+                for &value in lanes[lane] {
                     scaled += value / taken;
                 }
                 scaled
@@ -400,6 +425,30 @@ mod tests {
     fn more_than_64_values_are_refused() {
         assert!(BatchedSubsets::new(Statistic::Mean, &[0.0; 65], 1, 1).is_none());
         assert!(BatchedSubsets::new(Statistic::Mean, &[0.0; 64], 1, 1).is_some());
+    }
+
+    #[test]
+    fn long_runs_across_the_window_edges_keep_their_bits() {
+        let sorted = [0.1, 0.2, 0.3, 0.7, 1.1, 1.3, 1.7, 1.9, 2.3, 2.9, 3.1, 3.7];
+        let draws = [
+            [0, 0, 9, 0, 0, 0, 0, 0, 0, 0, 3, 0],
+            [5, 0, 0, 0, 0, 0, 6, 0, 0, 0, 0, 1],
+            [1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 11],
+            [0, 0, 0, 0, 0, 12, 0, 0, 0, 0, 0, 0],
+            [2, 1, 0, 0, 2, 0, 0, 7, 0, 0, 0, 0],
+        ];
+        for statistic in Statistic::ALL {
+            let mut batch = BatchedStatistic::new(statistic, &sorted, 12, draws.len());
+            for counts in &draws {
+                batch.push(counts);
+            }
+            let got: Vec<u64> = batch.finish().iter().map(|v| v.to_bits()).collect();
+            let want: Vec<u64> = draws
+                .iter()
+                .map(|counts| statistic.of_counts(&sorted, counts, 12).to_bits())
+                .collect();
+            assert_eq!(got, want, "{statistic:?}");
+        }
     }
 
     #[test]
