@@ -167,10 +167,9 @@ impl Bootstrap {
         for _ in 0..self.resamples {
             counts.fill(0);
             for group in &slots {
-                let size = group.len() as u32;
-                for _ in 0..group.len() {
-                    counts[group[rng.uniform_below(size) as usize] as usize] += 1;
-                }
+                rng.uniform_below_each(group.len() as u32, group.len(), |i| {
+                    counts[group[i] as usize] += 1;
+                });
             }
             replicates.push(&counts);
         }
@@ -200,8 +199,7 @@ impl Bootstrap {
 /// below `n`, `n = slot_of.len()`): its multiplicities per slot, into `counts`.
 fn draw(rng: &mut Words, slot_of: &[u32], counts: &mut [u32]) {
     counts.fill(0);
-    let size = slot_of.len() as u32;
-    for _ in 0..size {
-        counts[slot_of[rng.uniform_below(size) as usize] as usize] += 1;
-    }
+    rng.uniform_below_each(slot_of.len() as u32, slot_of.len(), |i| {
+        counts[slot_of[i] as usize] += 1;
+    });
 }

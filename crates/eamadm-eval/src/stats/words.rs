@@ -67,6 +67,37 @@ impl Words {
         }
         (product >> 32) as u32
     }
+
+    /// `count` indices uniform on `0..k` (`k ≥ 1`), each handed to `take`: the indices and
+    /// the words used are those of `count` calls of [`uniform_below`](Self::uniform_below),
+    /// but the block is walked without a check per word for its end. Lemire's method keeps a
+    /// word `w` exactly when `(w k) mod 2³² ≥ (2³² − k) mod k`; that bound is below `k`, so
+    /// it is computed only for the rare word with `(w k) mod 2³² < k`.
+    #[inline]
+    pub(crate) fn uniform_below_each(&mut self, k: u32, count: usize, mut take: impl FnMut(usize)) {
+        let bound = u64::from(k);
+        let mut remaining = count;
+        while remaining > 0 {
+            if self.next == BLOCK {
+                self.refill();
+            }
+            let mut next = self.next;
+            for &word in &self.block[self.next..] {
+                next += 1;
+                let product = u64::from(word) * bound;
+                let low = product as u32;
+                if low < k && low < k.wrapping_neg() % k {
+                    continue;
+                }
+                take((product >> 32) as usize);
+                remaining -= 1;
+                if remaining == 0 {
+                    break;
+                }
+            }
+            self.next = next;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -96,6 +127,22 @@ mod tests {
             "{seen:?}"
         );
         assert_eq!(words.uniform_below(1), 0);
+    }
+
+    #[test]
+    fn drawing_many_equals_drawing_one_at_a_time() {
+        for (k, count) in [(1, 5), (7, 200), (20, 20), (1000, 1000), (3 << 30, 300)] {
+            let mut one = Words::seed_from_u64(u64::from(k));
+            let mut many = Words::seed_from_u64(u64::from(k));
+            for _ in 0..3 {
+                let want: Vec<usize> = (0..count).map(|_| one.uniform_below(k) as usize).collect();
+                let mut got = Vec::new();
+                many.uniform_below_each(k, count, |i| got.push(i));
+                assert_eq!(got, want, "k = {k}");
+            }
+            // And the stream goes on from the same word.
+            assert_eq!(many.next_u32(), one.next_u32());
+        }
     }
 
     #[test]
