@@ -11,5 +11,6 @@ mod claims;
 mod margins;
 mod monte_carlo;
 mod paired;
+mod resampling;
 mod sensitivity;
 mod stats;
