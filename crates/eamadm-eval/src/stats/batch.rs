@@ -260,7 +260,7 @@ impl BatchedSubsets {
                         mask = without_lowest(mask);
                     }
                     let lower = self.lowest(mask);
-                    if total % 2 == 0 {
+                    if total.is_multiple_of(2) {
                         mask = without_lowest(mask);
                     }
                     let upper = self.lowest(mask);
