@@ -62,7 +62,7 @@ impl Bootstrap {
         let mut replicates = sample.replicates(statistic, x.len(), self.resamples as usize);
         let mut counts = vec![0; sample.slots()];
         for _ in 0..self.resamples {
-            draw(&mut rng, sample.slot_of(), &mut counts);
+            draw(&mut rng, &sample, &mut counts);
             replicates.push(&counts);
         }
         self.percentile_interval(estimate, &mut replicates.finish(), statistic.name())
@@ -94,9 +94,9 @@ impl Bootstrap {
         // Both resamples are drawn in the documented order; their statistics are computed
         // from the counts, which changes no draw and no bit.
         for _ in 0..self.resamples {
-            draw(&mut rng, sample_x.slot_of(), &mut counts_x);
+            draw(&mut rng, &sample_x, &mut counts_x);
             of_x.push(&counts_x);
-            draw(&mut rng, sample_y.slot_of(), &mut counts_y);
+            draw(&mut rng, &sample_y, &mut counts_y);
             of_y.push(&counts_y);
         }
         let mut replicates: Vec<f64> = of_x
@@ -195,11 +195,16 @@ impl Bootstrap {
     }
 }
 
-/// Draws one resample with replacement of the sorted sample that `slot_of` counts (`n` indices
-/// below `n`, `n = slot_of.len()`): its multiplicities per slot, into `counts`.
-fn draw(rng: &mut Words, slot_of: &[u32], counts: &mut [u32]) {
+/// Draws one resample with replacement of the sorted sample of `sample` (`n` indices below `n`):
+/// its multiplicities per slot, into `counts`.
+fn draw(rng: &mut Words, sample: &CountedSample<'_>, counts: &mut [u32]) {
     counts.fill(0);
-    rng.uniform_below_each(slot_of.len() as u32, slot_of.len(), |i| {
-        counts[slot_of[i] as usize] += 1;
-    });
+    let slot_of = sample.slot_of();
+    let size = slot_of.len();
+    if sample.is_exact() {
+        rng.uniform_below_each(size as u32, size, |i| counts[slot_of[i] as usize] += 1);
+    } else {
+        // One slot per position: no table to look up.
+        rng.uniform_below_each(size as u32, size, |i| counts[i] += 1);
+    }
 }

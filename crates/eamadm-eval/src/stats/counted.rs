@@ -70,8 +70,8 @@ impl<'a> CountedSample<'a> {
         &self.slot_of
     }
 
-    /// Whether the multisets are counted per distinct value (the exact-integer shortcut).
-    #[cfg(test)]
+    /// Whether the multisets are counted per distinct value (the exact-integer shortcut);
+    /// otherwise `slot_of` is the identity.
     pub(crate) fn is_exact(&self) -> bool {
         self.exact.is_some()
     }

@@ -81,21 +81,21 @@ impl Words {
             if self.next == BLOCK {
                 self.refill();
             }
-            let mut next = self.next;
-            for &word in &self.block[self.next..] {
-                next += 1;
+            // At most `remaining` words are kept from the next `walked` ones, so none of them
+            // is read beyond need; a rejected word only leaves one more to draw.
+            let walked = remaining.min(BLOCK - self.next);
+            let mut rejected = 0;
+            for &word in &self.block[self.next..self.next + walked] {
                 let product = u64::from(word) * bound;
                 let low = product as u32;
                 if low < k && low < k.wrapping_neg() % k {
-                    continue;
-                }
-                take((product >> 32) as usize);
-                remaining -= 1;
-                if remaining == 0 {
-                    break;
+                    rejected += 1;
+                } else {
+                    take((product >> 32) as usize);
                 }
             }
-            self.next = next;
+            self.next += walked;
+            remaining -= walked - rejected;
         }
     }
 }
