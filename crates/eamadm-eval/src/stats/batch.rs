@@ -70,25 +70,25 @@ impl<'a> BatchedStatistic<'a> {
         let window = end - start;
         let stride = self.stride;
         let lane = &mut self.lanes[self.filled * stride..(self.filled + 1) * stride];
-        let mut slots = self.sorted.iter().zip(counts);
+        let mut values = self.sorted.iter().zip(counts);
         // The values below the window are only counted; the first value reaching into it
         // fills its positions from `start` on. `written` counts the window's positions
         // filled so far.
         let mut below = 0;
         let mut written = 0;
-        for (&value, &count) in slots.by_ref() {
+        for (&value, &count) in values.by_ref() {
             let next = below + count as usize;
             if next > start {
                 written = next.min(end) - start;
-                if let Some(slots) = lane.get_mut(..written) {
-                    slots.fill(value);
+                if let Some(copies) = lane.get_mut(..written) {
+                    copies.fill(value);
                 }
                 break;
             }
             below = next;
         }
         let mut position = written;
-        for (&value, &count) in slots {
+        for (&value, &count) in values {
             if position >= window {
                 break;
             }
