@@ -351,13 +351,11 @@ impl EaMadmPolicy {
                 }
                 self.row[len] = own;
                 len += 1;
-                match self.decider.evaluate(
-                    &self.row[..len],
-                    1,
-                    len,
-                    &mut cached_value[action..=action],
-                ) {
-                    Ok(()) => cached_own[action] = own.to_bits(),
+                match self.decider.evaluate_one(&self.row[..len]) {
+                    Ok(value) => {
+                        cached_value[action] = value;
+                        cached_own[action] = own.to_bits();
+                    }
                     Err(error) => {
                         // Validated configs bound initial values and rewards so that rows stay
                         // finite; should one not, the step goes on (a policy cannot fail) and
@@ -410,16 +408,14 @@ impl EaMadmPolicy {
             len += 1;
             let slot = cached.start + action;
             self.cached_own[slot] = NOT_COMPUTED;
-            if let Err(error) = self.decider.evaluate(
-                &self.row[..len],
-                1,
-                len,
-                &mut self.cached_value[slot..=slot],
-            ) {
-                // as in `evaluate`: the run reports the error when its episode ends
-                self.cached_value[slot] = f64::NEG_INFINITY;
-                if self.failure.is_none() {
-                    self.failure = Some(error);
+            match self.decider.evaluate_one(&self.row[..len]) {
+                Ok(value) => self.cached_value[slot] = value,
+                Err(error) => {
+                    // as in `evaluate`: the run reports the error when its episode ends
+                    self.cached_value[slot] = f64::NEG_INFINITY;
+                    if self.failure.is_none() {
+                        self.failure = Some(error);
+                    }
                 }
             }
         }
