@@ -523,7 +523,15 @@ impl<S: Similarity> EaTree<S> {
             }
             if shared >= min_shared {
                 let id = members[position as usize];
-                if self.state_passes(state, &self.clusters[id.index()]) {
+                let cluster = &self.clusters[id.index()];
+                // The bound needs no token lookups and is never below the similarity, so a
+                // cluster it rules out would fail the state test.
+                let may_pass = self.similarity.state_similarity_bound(
+                    state.len(),
+                    shared,
+                    &cluster.state_centre(),
+                ) >= self.config.state_threshold;
+                if may_pass && self.state_passes(state, cluster) {
                     return Some(id);
                 }
             }
