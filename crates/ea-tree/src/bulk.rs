@@ -92,8 +92,10 @@ impl<S: Similarity> EaTree<S> {
     ) -> AnswerTable {
         let mut answers = Vec::new();
         let mut n_states = 0;
+        let mut memo = Vec::new();
         for state in states {
-            answers.extend((0..n_actions).map(|action| self.lookup(state, action)));
+            // `lookup` of each action, sharing the walk's state tests between the actions.
+            self.lookup_each_action(state, n_actions, &mut memo, |answer| answers.push(answer));
             n_states += 1;
         }
         AnswerTable {

@@ -17,6 +17,22 @@ pub trait Similarity {
     /// Similarity of the one-token set `{action}` to an action centre.
     fn action_similarity(&self, action: usize, centre: &ActionCentre<'_>) -> f64;
 
+    /// An upper bound of [`state_similarity`](Similarity::state_similarity)`(state, centre)`
+    /// for a `state` of `state_len` features of which the centre carries exactly
+    /// `shared_tokens`, found without looking the tokens up. The shared-token index skips a
+    /// cluster whose bound is below `τₛ` without computing its similarity. The default,
+    /// infinity, skips nothing. A bound below the similarity makes the indexed walk disagree
+    /// with the literal one (it never makes it panic).
+    fn state_similarity_bound(
+        &self,
+        state_len: usize,
+        shared_tokens: usize,
+        centre: &StateCentre<'_>,
+    ) -> f64 {
+        let _ = (state_len, shared_tokens, centre);
+        f64::INFINITY
+    }
+
     /// What [`state_similarity`](Similarity::state_similarity) guarantees, so the indexed
     /// lookup may skip clusters that cannot match. The default promises nothing, and the
     /// tree then always takes the literal walk. A promise that does not hold makes the
@@ -78,6 +94,27 @@ impl Similarity for WeightedJaccard {
             1.0
         } else {
             count_ratio(shared, union)
+        }
+    }
+
+    fn state_similarity_bound(
+        &self,
+        state_len: usize,
+        shared_tokens: usize,
+        centre: &StateCentre<'_>,
+    ) -> f64 {
+        // The summed counts m of the query's tokens are at most n·k (each of the k carried
+        // tokens is carried by at most n members) and at most T. The similarity
+        // m / (n·d + T − m) grows with m, and so does its rounded value (converting and
+        // dividing round monotonically), so m's largest possible value bounds it exactly.
+        let members = u128::from(centre.members());
+        let total = u128::from(centre.total_count());
+        let most = (members * shared_tokens as u128).min(total);
+        let union = (members * state_len as u128 + total).saturating_sub(most);
+        if union == 0 {
+            1.0
+        } else {
+            count_ratio(most, union)
         }
     }
 

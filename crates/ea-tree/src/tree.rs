@@ -442,6 +442,53 @@ impl<S: Similarity> EaTree<S> {
 
     /// The first cluster of `chain` whose state test passes, visiting only clusters that
     /// share enough tokens with `state` (see [`crate::index`]).
+    /// [`lookup`](Self::lookup) of `(state, action)` for every action `0..n_actions`, in
+    /// order, passed to `emit`. Each walk with the shared-token index enters chains and asks
+    /// of each "which is the first cluster whose state test passes?", a question that does
+    /// not involve the action; that answer is found once per chain for the state here
+    /// (`memo`, a scratch buffer) and reused by every action's walk, which is otherwise the
+    /// walk of [`walk_indexed`](Self::walk_indexed). The answers are those of `lookup`.
+    pub(crate) fn lookup_each_action(
+        &self,
+        state: &[u32],
+        n_actions: usize,
+        memo: &mut Vec<(u32, Option<ClusterId>)>,
+        mut emit: impl FnMut(Option<Answer>),
+    ) {
+        let WalkIndex::SharedTokens(index) = &self.index else {
+            (0..n_actions).for_each(|action| emit(self.lookup(state, action)));
+            return;
+        };
+        if state.len() > MAX_FEATURES || self.clusters.is_empty() {
+            (0..n_actions).for_each(|action| emit(self.lookup(state, action)));
+            return;
+        }
+        memo.clear();
+        for action in 0..n_actions {
+            let mut head = ClusterId::ROOT;
+            let answer = loop {
+                let chain = index.chain_of(head);
+                let first = match memo.iter().find(|(seen, _)| *seen == chain) {
+                    Some(&(_, first)) => first,
+                    None => {
+                        let first = self.first_state_match(index, chain, state);
+                        memo.push((chain, first));
+                        first
+                    }
+                };
+                let Some(id) = first else {
+                    break None;
+                };
+                match self.after_state_passed(id, &self.clusters[id.index()], action) {
+                    Step::Stop(WalkEnd::Found(id)) => break Some(self.answer(id)),
+                    Step::Stop(WalkEnd::Vacant(_)) => break None,
+                    Step::Next(next) => head = next,
+                }
+            };
+            emit(answer);
+        }
+    }
+
     fn first_state_match(
         &self,
         index: &SharedTokenIndex,
@@ -476,7 +523,15 @@ impl<S: Similarity> EaTree<S> {
             }
             if shared >= min_shared {
                 let id = members[position as usize];
-                if self.state_passes(state, &self.clusters[id.index()]) {
+                let cluster = &self.clusters[id.index()];
+                // The bound needs no token lookups and is never below the similarity, so a
+                // cluster it rules out would fail the state test.
+                let may_pass = self.similarity.state_similarity_bound(
+                    state.len(),
+                    shared,
+                    &cluster.state_centre(),
+                ) >= self.config.state_threshold;
+                if may_pass && self.state_passes(state, cluster) {
                     return Some(id);
                 }
             }

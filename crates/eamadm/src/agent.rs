@@ -72,8 +72,13 @@ pub struct EaMadmPolicy {
 /// What [`EaMadmPolicy::with_agreement`] counts with.
 #[derive(Debug, Clone)]
 struct AgreementTally {
-    /// Sub-task `k`'s behaviour values at `(k · n_states + s) · n_actions + a`.
-    values: Vec<f64>,
+    /// Per `(sub-task k, state)`: the actions at which sub-task `k`'s behaviour values in that
+    /// state reach their maximum, as bits of `words` `u64`s starting at
+    /// `(k · n_states + state) · words`. The sub-tasks are frozen while the source task learns,
+    /// so these sets are found once here instead of scanning a row at every decision.
+    best: Vec<u64>,
+    /// `u64` words per `(sub-task, state)`: `ceil(n_actions / 64)`.
+    words: usize,
     n_states: usize,
     /// First episode of the final window.
     final_from: u64,
@@ -84,15 +89,50 @@ struct AgreementTally {
 }
 
 impl AgreementTally {
-    fn count(&mut self, state: usize, action: usize, n_actions: usize, missing: bool) {
+    /// The tally of `values` (sub-task `k`'s behaviour values at
+    /// `(k · n_states + s) · n_actions + a`), counting from episode `final_from` on in the
+    /// final window.
+    fn new(values: &[f64], m: usize, n_states: usize, n_actions: usize, final_from: u64) -> Self {
+        let words = n_actions.div_ceil(64).max(1);
+        let mut best = vec![0_u64; m * n_states * words];
+        for (row, bits) in values
+            .chunks_exact(n_actions.max(1))
+            .zip(best.chunks_exact_mut(words))
+        {
+            // The same maximum and comparison the per-decision scan made: NaN never agrees.
+            let max = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            for (action, &value) in row.iter().enumerate() {
+                if value == max {
+                    bits[action / 64] |= 1 << (action % 64);
+                }
+            }
+        }
+        let counts = AgreementCounts {
+            agrees: vec![0; m],
+            ..AgreementCounts::default()
+        };
+        Self {
+            best,
+            words,
+            n_states,
+            final_from,
+            in_final: false,
+            training: counts.clone(),
+            final_window: counts,
+        }
+    }
+
+    /// Counts one exploitation decision: `action` in `state`, taken `missing` some prior
+    /// experience there.
+    #[inline]
+    fn count(&mut self, state: usize, action: usize, missing: bool) {
         let m = self.training.agrees.len();
+        let (word, bit) = (action / 64, action % 64);
         let mut agrees_with_all = true;
         for k in 0..m {
-            let start = (k * self.n_states + state) * n_actions;
-            let row = &self.values[start..start + n_actions];
-            let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             // Ties: agreeing with any of the tied maxima is agreeing.
-            let agrees = row[action] == best;
+            let agrees =
+                (self.best[(k * self.n_states + state) * self.words + word] >> bit) & 1 == 1;
             agrees_with_all &= agrees;
             self.training.agrees[k] += u64::from(agrees);
             if self.in_final {
@@ -200,18 +240,13 @@ impl EaMadmPolicy {
                 learner.action_values(state, &mut values[start..start + n_actions]);
             }
         }
-        let counts = AgreementCounts {
-            agrees: vec![0; subtasks.len()],
-            ..AgreementCounts::default()
-        };
-        self.agreement = Some(AgreementTally {
-            values,
+        self.agreement = Some(AgreementTally::new(
+            &values,
+            subtasks.len(),
             n_states,
+            n_actions,
             final_from,
-            in_final: false,
-            training: counts.clone(),
-            final_window: counts,
-        });
+        ));
         self
     }
 
@@ -316,13 +351,11 @@ impl EaMadmPolicy {
                 }
                 self.row[len] = own;
                 len += 1;
-                match self.decider.evaluate(
-                    &self.row[..len],
-                    1,
-                    len,
-                    &mut cached_value[action..=action],
-                ) {
-                    Ok(()) => cached_own[action] = own.to_bits(),
+                match self.decider.evaluate_one(&self.row[..len]) {
+                    Ok(value) => {
+                        cached_value[action] = value;
+                        cached_own[action] = own.to_bits();
+                    }
                     Err(error) => {
                         // Validated configs bound initial values and rewards so that rows stay
                         // finite; should one not, the step goes on (a policy cannot fail) and
@@ -375,16 +408,14 @@ impl EaMadmPolicy {
             len += 1;
             let slot = cached.start + action;
             self.cached_own[slot] = NOT_COMPUTED;
-            if let Err(error) = self.decider.evaluate(
-                &self.row[..len],
-                1,
-                len,
-                &mut self.cached_value[slot..=slot],
-            ) {
-                // as in `evaluate`: the run reports the error when its episode ends
-                self.cached_value[slot] = f64::NEG_INFINITY;
-                if self.failure.is_none() {
-                    self.failure = Some(error);
+            match self.decider.evaluate_one(&self.row[..len]) {
+                Ok(value) => self.cached_value[slot] = value,
+                Err(error) => {
+                    // as in `evaluate`: the run reports the error when its episode ends
+                    self.cached_value[slot] = f64::NEG_INFINITY;
+                    if self.failure.is_none() {
+                        self.failure = Some(error);
+                    }
                 }
             }
         }
@@ -413,7 +444,7 @@ impl ExplorationPolicy for EaMadmPolicy {
                 let action = self.decide(state, action_values, rng);
                 if let Some(tally) = self.agreement.as_mut() {
                     let missing = !self.prior.is_complete(state);
-                    tally.count(state, action, self.prior.n_actions(), missing);
+                    tally.count(state, action, missing);
                 }
                 action
             }
@@ -582,8 +613,76 @@ mod tests {
         );
     }
 
+    /// The per-decision scan the tally's precomputed sets replace, written plainly: sub-task
+    /// `k` agrees when the action's value equals the largest of its row.
+    fn plain_agreement(
+        values: &[f64],
+        n_states: usize,
+        n_actions: usize,
+        decisions: &[(usize, usize, bool, bool)],
+        m: usize,
+    ) -> (AgreementCounts, AgreementCounts) {
+        let fresh = AgreementCounts {
+            agrees: vec![0; m],
+            ..AgreementCounts::default()
+        };
+        let (mut training, mut final_window) = (fresh.clone(), fresh);
+        for &(state, action, missing, in_final) in decisions {
+            let mut all = true;
+            for k in 0..m {
+                let start = (k * n_states + state) * n_actions;
+                let row = &values[start..start + n_actions];
+                let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let agrees = row[action] == best;
+                all &= agrees;
+                training.agrees[k] += u64::from(agrees);
+                if in_final {
+                    final_window.agrees[k] += u64::from(agrees);
+                }
+            }
+            for (counts, counted) in [(&mut training, true), (&mut final_window, in_final)] {
+                if counted {
+                    counts.decisions += 1;
+                    counts.agrees_with_all += u64::from(all);
+                    counts.missing_experience += u64::from(missing);
+                }
+            }
+        }
+        (training, final_window)
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(128))]
+
+        /// The tally's precomputed best-action sets count exactly what scanning each
+        /// sub-task's row at every decision counts: ties (values drawn from a few levels, so
+        /// they are frequent), NaN values (which never agree) and more than 64 actions
+        /// included.
+        #[test]
+        fn precomputed_agreement_equals_the_plain_scan(
+            m in 1..4_usize,
+            n_states in 1..4_usize,
+            n_actions in prop_oneof![1..6_usize, 63..67_usize],
+            levels in proptest::collection::vec(0..4_u8, 4 * 4 * 67),
+            picks in proptest::collection::vec((0..4_usize, 0..67_usize, any::<bool>(), any::<bool>()), 0..40),
+        ) {
+            let values: Vec<f64> = levels[..m * n_states * n_actions]
+                .iter()
+                .map(|&level| if level == 3 { f64::NAN } else { f64::from(level) })
+                .collect();
+            let decisions: Vec<(usize, usize, bool, bool)> = picks
+                .into_iter()
+                .map(|(s, a, missing, in_final)| (s % n_states, a % n_actions, missing, in_final))
+                .collect();
+            let mut tally = AgreementTally::new(&values, m, n_states, n_actions, 0);
+            for &(state, action, missing, in_final) in &decisions {
+                tally.in_final = in_final;
+                tally.count(state, action, missing);
+            }
+            let (training, final_window) = plain_agreement(&values, n_states, n_actions, &decisions, m);
+            prop_assert_eq!(tally.training, training);
+            prop_assert_eq!(tally.final_window, final_window);
+        }
 
         /// The per-row cache gives exactly what a fresh policy computes, however the own values
         /// change between decisions.

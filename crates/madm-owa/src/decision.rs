@@ -230,6 +230,21 @@ impl MadmDecider {
         Ok(())
     }
 
+    /// The evaluation value `Eq` of the single `row` (Eq. 16): what
+    /// [`evaluate`](Self::evaluate) writes for a one-row matrix, bit for bit, without its
+    /// output slice. The per-decision path of a caller that evaluates rows one at a time (the
+    /// facade's EA-MADM policy recomputes only the rows whose attributes changed).
+    ///
+    /// # Errors
+    ///
+    /// As [`evaluate`](Self::evaluate) for a matrix of one row of `row.len()` columns.
+    #[inline]
+    pub fn evaluate_one(&mut self, row: &[f64]) -> Result<f64, MadmError> {
+        check_matrix(row, 1, row.len())?;
+        self.prepare(row.len())?;
+        Ok(self.evaluate_row(row))
+    }
+
     /// The index of the row with the largest evaluation value; when several rows share the
     /// largest value exactly, one of them uniformly at random from `rng`. The generator is
     /// drawn from only when there is a tie, so a decision without ties consumes no randomness.
@@ -294,6 +309,7 @@ impl MadmDecider {
     }
 
     /// Sizes the scratch buffers for `cols` columns and computes row-independent weights.
+    #[inline]
     fn prepare(&mut self, cols: usize) -> Result<(), MadmError> {
         if self.sorted.len() != cols {
             // `resize` only allocates when growing past the capacity: once per largest shape.
@@ -387,6 +403,7 @@ fn visibility_row_value_fixed<const N: usize>(
 }
 
 /// Checks a flat row-major matrix: non-empty shape, matching length, finite entries.
+#[inline]
 fn check_matrix(matrix: &[f64], rows: usize, cols: usize) -> Result<(), MadmError> {
     if rows == 0 || cols == 0 {
         return Err(MadmError::EmptyMatrix { rows, cols });
@@ -445,6 +462,55 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
+
+    fn any_weighting() -> impl proptest::strategy::Strategy<Value = Weighting> {
+        use proptest::prelude::*;
+        prop_oneof![
+            Just(Weighting::default()),
+            Just(Weighting::Visibility {
+                support: Support::Distance
+            }),
+            Just(Weighting::Visibility {
+                support: Support::Paper { epsilon: 0.0 }
+            }),
+            Just(Weighting::Uniform),
+            (0.0..=1.0_f64).prop_map(|orness| Weighting::MaximumEntropy { orness }),
+            Just(Weighting::Given {
+                weights: OwaWeights::uniform(3).expect("3 uniform weights are valid")
+            }),
+        ]
+    }
+
+    proptest::proptest! {
+        /// `evaluate_one` is `evaluate` of a one-row matrix: the same value bit for bit, or
+        /// the same error (non-finite entries, an empty row, given weights of another length),
+        /// whatever rows the decider saw before (its scratch buffers change size with them).
+        #[test]
+        fn evaluate_one_equals_a_one_row_evaluate(
+            weighting in any_weighting(),
+            rows in proptest::collection::vec(
+                proptest::collection::vec(
+                    proptest::prop_oneof![
+                        8 => -100.0..100.0_f64,
+                        1 => proptest::sample::select(vec![0.0, -0.0, 1.0, f64::NAN, f64::INFINITY]),
+                    ],
+                    0..12,
+                ),
+                1..8,
+            ),
+        ) {
+            let mut one = MadmDecider::new(weighting.clone()).expect("valid weighting");
+            let mut whole = MadmDecider::new(weighting).expect("valid weighting");
+            for row in &rows {
+                let mut out = [0.0];
+                let expected = whole.evaluate(row, 1, row.len(), &mut out).map(|()| out[0]);
+                let got = one.evaluate_one(row);
+                // errors compared by their text: a NaN entry makes them unequal under `==`
+                let bits = |r: Result<f64, MadmError>| r.map(f64::to_bits).map_err(|e| format!("{e:?}"));
+                proptest::prop_assert_eq!(bits(got), bits(expected));
+            }
+        }
+    }
 
     #[test]
     fn argmax_without_tie_consumes_no_randomness() {

@@ -96,13 +96,15 @@ impl RunningStandardiser {
     /// beyond [`MAX_ABS_REWARD`]). The input is checked before anything changes, so on error
     /// the statistics are as before the call.
     pub fn push(&mut self, rewards: &[f64]) -> Result<f64, RewardStdError> {
-        check_rewards("rewards", rewards, self.mean.len())?;
-        if let Some(index) = rewards.iter().position(|r| r.abs() > MAX_ABS_REWARD) {
-            return Err(RewardStdError::OutOfRange {
-                index,
-                value: rewards[index],
-                limit: MAX_ABS_REWARD,
-            });
+        // One branch-free pass decides the common case (`|r| <= limit` is false for NaN and
+        // the infinities too, and `new` refused 0 sub-tasks); only a bad input takes the
+        // checks that find the error to report.
+        let valid = rewards.len() == self.mean.len()
+            && rewards
+                .iter()
+                .fold(true, |ok, r| ok & (r.abs() <= MAX_ABS_REWARD));
+        if !valid {
+            reject(rewards, self.mean.len())?;
         }
         self.count += 1;
         // exact below 2^53 steps
@@ -159,5 +161,67 @@ impl RunningStandardiser {
     #[must_use]
     pub fn z_scores(&self) -> &[f64] {
         &self.z
+    }
+}
+
+/// The error for `rewards` given to a standardiser of `subtasks` sub-tasks: empty, not one
+/// reward per sub-task, non-finite, or beyond [`MAX_ABS_REWARD`], checked in that order.
+/// `Ok` only for valid rewards.
+fn reject(rewards: &[f64], subtasks: usize) -> Result<(), RewardStdError> {
+    check_rewards("rewards", rewards, subtasks)?;
+    if let Some(index) = rewards.iter().position(|r| r.abs() > MAX_ABS_REWARD) {
+        return Err(RewardStdError::OutOfRange {
+            index,
+            value: rewards[index],
+            limit: MAX_ABS_REWARD,
+        });
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The single-pass check accepts exactly the rewards the full checks accept, and a
+        /// rejected push reports their error and changes nothing: bad pushes mixed into an
+        /// episode leave it as if they had not been made.
+        #[test]
+        fn the_fast_check_accepts_what_the_full_checks_accept(
+            pushes in proptest::collection::vec(
+                proptest::collection::vec(
+                    prop_oneof![
+                        8 => -10.0..10.0_f64,
+                        1 => proptest::sample::select(vec![
+                            f64::NAN, f64::INFINITY, f64::NEG_INFINITY, MAX_ABS_REWARD,
+                            -MAX_ABS_REWARD, 2.0 * MAX_ABS_REWARD, 0.0,
+                        ]),
+                    ],
+                    0..4,
+                ),
+                0..20,
+            ),
+        ) {
+            let mut checked = RunningStandardiser::new(2).expect("2 sub-tasks");
+            let mut clean = checked.clone();
+            for rewards in &pushes {
+                let before = checked.clone();
+                let got = checked.push(rewards);
+                match reject(rewards, 2) {
+                    Ok(()) => {
+                        let expected = clean.push(rewards).expect("valid rewards");
+                        prop_assert_eq!(got.map(f64::to_bits), Ok(expected.to_bits()));
+                    }
+                    Err(error) => {
+                        // errors compared by their text: a NaN makes them unequal under `==`
+                        prop_assert_eq!(format!("{:?}", got), format!("{:?}", Err::<f64, _>(error)));
+                        prop_assert_eq!(&checked, &before);
+                    }
+                }
+                prop_assert_eq!(&checked, &clean);
+            }
+        }
     }
 }

@@ -42,7 +42,7 @@ fn check_equivalent<S: Similarity + Clone>(
             );
         }
     }
-    // The precomputed table agrees too.
+    // The precomputed table agrees too (its walks share the state tests between actions).
     let table = indexed.answer_table(queries.iter().map(Vec::as_slice), actions + 1);
     for (id, state) in queries.iter().enumerate() {
         for action in 0..=actions {

@@ -113,6 +113,25 @@ proptest! {
         prop_assert_eq!(action, if action_a == action_b { 1.0 } else { 0.0 });
     }
 
+    /// The bound the shared-token index skips clusters by is never below the similarity, for
+    /// any centre (mixed state lengths included) and query, given how many of the query's
+    /// tokens the centre carries.
+    #[test]
+    fn the_state_similarity_bound_is_never_below_the_similarity(
+        config in config(),
+        data in mixed_samples(4, 3, 3, 1..60),
+        query in prop::collection::vec(0..3_u32, 0..5),
+    ) {
+        let tree = build(config, &data);
+        for view in tree.clusters() {
+            let centre = view.state_centre();
+            let shared = centre.overlap(&query).tokens;
+            let bound = WeightedJaccard.state_similarity_bound(query.len(), shared, &centre);
+            let similarity = WeightedJaccard.state_similarity(&query, &centre);
+            prop_assert!(bound >= similarity, "{} < {}", bound, similarity);
+        }
+    }
+
     #[test]
     fn similarities_lie_in_the_unit_interval_and_one_means_identical(
         config in config(),
