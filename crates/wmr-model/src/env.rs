@@ -7,6 +7,12 @@
 //! The episode *terminates* on a hit, on reaching the target (the robot's centre within the
 //! reach radius), or on losing the target from the camera's view, with that precedence when
 //! several happen on one step; it is *truncated* by the step cap.
+//!
+//! A step's move and what is sensed after it (everything but the noise and what depends on
+//! it) are a pure function of the start pose and the action, and poses repeat bit for bit
+//! from episode to episode (every episode starts from one pose, and the actions' arcs are
+//! fixed), so the environment remembers steps by start pose and action (`StepMemo`). The memo
+//! changes what a step costs, never what it returns.
 
 use dql::{Environment, Step};
 use nalgebra::{Isometry2, Point2};
