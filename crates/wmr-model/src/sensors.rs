@@ -113,8 +113,14 @@ impl DistanceSensors {
         if self.params.noise == 0.0 {
             return;
         }
-        for reading in readings.iter_mut() {
-            *reading = (*reading + self.params.noise * standard_normalish(rng)).clamp(0.0, 1.0);
+        // The draws first, in order, then the arithmetic over them: a loop without calls,
+        // which the compiler can run two readings at a time. Same draws, same operations.
+        let mut draws = [0; SENSOR_COUNT];
+        for draw in &mut draws {
+            *draw = rng.next_u64();
+        }
+        for (reading, bits) in readings.iter_mut().zip(draws) {
+            *reading = (*reading + self.params.noise * normalish_from_bits(bits)).clamp(0.0, 1.0);
         }
     }
 }
@@ -123,7 +129,11 @@ impl DistanceSensors {
 /// uniforms, centred and scaled to unit variance. Bounded by `±2√3 ≈ ±3.46`, symmetric, and
 /// cheap (no logarithm or trigonometry), which is all a sensor noise model needs.
 pub fn standard_normalish<R: Rng + ?Sized>(rng: &mut R) -> f64 {
-    let bits = rng.next_u64();
+    normalish_from_bits(rng.next_u64())
+}
+
+/// [`standard_normalish`] of the draw `bits`.
+fn normalish_from_bits(bits: u64) -> f64 {
     // Each uniform is (chunk + ½) / 2¹⁶ ∈ (0, 1), mean ½, variance ≈ 1/12. Their sum,
     // centred, is (Σ chunk + 4 · ½ − 2 · 2¹⁶) / 2¹⁶; every term and partial sum of it is a
     // multiple of 2⁻¹⁷ below 4, exact in f64, so it is computed in integers: the four

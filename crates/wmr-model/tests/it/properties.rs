@@ -348,6 +348,34 @@ proptest! {
         }
     }
 
+    /// `add_noise` (draws first, then the arithmetic) adds `C_noise · ξ` reading by reading,
+    /// each ξ a `standard_normalish` draw in reading order, and clamps, bit for bit.
+    #[test]
+    fn noise_is_added_draw_by_draw(
+        readings in prop::array::uniform8(0.0..=1.0),
+        noise in prop_oneof![Just(0.02), 0.0..1.0],
+        seed in any::<u64>(),
+        skip in 0usize..3,
+    ) {
+        let sensors = DistanceSensors::new(SensorParams { noise, ..SensorParams::default() });
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        for _ in 0..skip {
+            rng.next_u32();
+        }
+        let mut same = rng.clone();
+        let mut noisy = readings;
+        sensors.add_noise(&mut noisy, &mut rng);
+        for (reading, noisy) in readings.iter().zip(noisy) {
+            let plain = if noise == 0.0 {
+                *reading
+            } else {
+                (reading + noise * standard_normalish(&mut same)).clamp(0.0, 1.0)
+            };
+            prop_assert_eq!(noisy.to_bits(), plain.to_bits());
+        }
+        prop_assert_eq!(rng.next_u64(), same.next_u64());
+    }
+
     /// `uniform_bin` is the floor of the scaled value, clamped to the end bins.
     #[test]
     fn uniform_bins_are_floors(
