@@ -159,17 +159,23 @@ fn robot_over_maze(tiny: bool) {
         (15, 250_000, 25_000_000)
     };
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let robot_actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..5)).collect();
+    // One action per robot step of every round, none repeated by cycling a short list: the
+    // robot remembers steps by start pose and action, and an episode's course is a function
+    // of its actions alone (the noise moves only the readings), so a cycled list would replay
+    // whole episodes from the memo and time lookups instead of steps.
+    let robot_actions: Vec<u8> = (0..rounds * robot_steps)
+        .map(|_| rng.random_range(0..5))
+        .collect();
     let maze_actions: Vec<usize> = (0..4096).map(|_| rng.random_range(0..4)).collect();
     let mut robot = WmrEnv::default();
     let mut maze = Preset::Task1.env();
     maze.reset(None);
     let mut total = 0.0;
     let (mut robot_ns, mut maze_ns, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
-    for _ in 0..rounds {
+    for actions in robot_actions.chunks(robot_steps as usize) {
         let start = Clock::start();
-        for i in 0..robot_steps {
-            let step = robot.step(black_box(robot_actions[i as usize % robot_actions.len()]));
+        for &action in actions {
+            let step = robot.step(black_box(usize::from(action)));
             total += step.reward + robot.subtask_rewards()[1];
             if step.done() {
                 robot.reset(None);

@@ -7,6 +7,12 @@
 //! The episode *terminates* on a hit, on reaching the target (the robot's centre within the
 //! reach radius), or on losing the target from the camera's view, with that precedence when
 //! several happen on one step; it is *truncated* by the step cap.
+//!
+//! A step's move and what is sensed after it (everything but the noise and what depends on
+//! it) are a pure function of the start pose and the action, and poses repeat bit for bit
+//! from episode to episode (every episode starts from one pose, and the actions' arcs are
+//! fixed), so the environment remembers steps by start pose and action (`StepMemo`). The memo
+//! changes what a step costs, never what it returns.
 
 use dql::{Environment, Step};
 use nalgebra::{Isometry2, Point2};
@@ -21,7 +27,7 @@ use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES, TaskStep};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::sensors::{DistanceSensors, SENSOR_COUNT};
 use crate::state::{Discretiser, StateBins};
-use crate::world::World;
+use crate::world::{Motion, World};
 
 /// Seed of a fresh environment's random stream (sensor noise), as if reset with `Some(0)`.
 pub const DEFAULT_SEED: u64 = 0;
@@ -44,6 +50,116 @@ pub struct Observation {
     pub state: usize,
 }
 
+/// What `WmrEnv` senses from one pose before the noise, and the state it makes: a pure function
+/// of the pose (the world, sensors, camera, target and bins are fixed), so it is kept to be
+/// reused whenever the robot is at the very same pose again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Sensed {
+    /// The pose's translation and rotation (`cos`, `sin`), bit for bit.
+    pose_bits: [u64; 4],
+    /// Noise-free proximities.
+    proximities: [f64; SENSOR_COUNT],
+    view: CameraView,
+    /// From the robot's centre to the target.
+    target_distance: f64,
+    /// The state index.
+    state: usize,
+}
+
+/// The bits of `pose`: two poses with the same bits sense the same.
+fn pose_bits(pose: &Isometry2<f64>) -> [u64; 4] {
+    let rotation = pose.rotation.complex();
+    [
+        pose.translation.vector.x.to_bits(),
+        pose.translation.vector.y.to_bits(),
+        rotation.re.to_bits(),
+        rotation.im.to_bits(),
+    ]
+}
+
+/// One step remembered: the move of `action` from the pose whose bits are `from`, and what is
+/// sensed where it ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RememberedStep {
+    from: [u64; 4],
+    action: Action,
+    motion: Motion,
+    sensed: Sensed,
+}
+
+/// Steps remembered by their start pose and action, one per slot, a newer one replacing an
+/// older in its slot.
+///
+/// A step's move and what is sensed after it (everything but the noise and what depends on
+/// it) are a pure function of the start pose and the action, and poses repeat exactly: every
+/// episode starts from the same pose, and the few arcs of the five actions lead from it to
+/// the same poses, bit for bit, in every episode that takes the same actions (a learner's
+/// greedy choices, `stop`). A remembered step is the value it would be computed as, so what
+/// the memo holds changes the cost of a step, never its result.
+#[derive(Clone)]
+struct StepMemo {
+    slots: Vec<Option<RememberedStep>>,
+}
+
+impl std::fmt::Debug for StepMemo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let filled = self.slots.iter().filter(|slot| slot.is_some()).count();
+        f.debug_struct("StepMemo")
+            .field("slots", &self.slots.len())
+            .field("filled", &filled)
+            .finish()
+    }
+}
+
+impl StepMemo {
+    /// log₂ of the slot count: 4096 slots of 280 bytes, 1.1 MB (1024 and 2048 slots timed
+    /// the same on the ratios bench's random walk, within the noise of a shared machine).
+    const SLOT_BITS: u32 = 12;
+
+    fn new() -> Self {
+        Self {
+            slots: vec![None; 1 << Self::SLOT_BITS],
+        }
+    }
+
+    /// The slot of the step of `action` from the pose whose bits are `from`.
+    fn slot(from: &[u64; 4], action: Action) -> usize {
+        let mixed = from[0]
+            ^ from[1].rotate_left(16)
+            ^ from[2].rotate_left(32)
+            ^ from[3].rotate_left(48)
+            ^ action.index() as u64;
+        // Fibonacci hashing: the top bits of the product depend on every bit of `mixed`.
+        (mixed.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - Self::SLOT_BITS)) as usize
+    }
+}
+
+/// What the sensors and the camera measure from `pose` before the noise, the distance to
+/// `target` and the state they make.
+fn measure(
+    world: &World,
+    sensors: &DistanceSensors,
+    camera: &Camera,
+    discretiser: &Discretiser,
+    scenario: &Scenario,
+    target: &Point2<f64>,
+    pose: &Isometry2<f64>,
+) -> Sensed {
+    let view = camera.observe(world, pose, target);
+    let target_distance = (target - Point2::from(pose.translation.vector)).norm();
+    Sensed {
+        pose_bits: pose_bits(pose),
+        proximities: sensors.proximities(world, pose, scenario.robot.body_radius),
+        state: discretiser.index(discretiser.bins(
+            target_distance,
+            view.target_ratio,
+            view.obstacle.as_ref(),
+        )),
+        view,
+        target_distance,
+    }
+}
+
 /// The robot among its obstacles, as a discrete episodic task with three sub-tasks.
 #[derive(Debug, Clone)]
 pub struct WmrEnv {
@@ -56,15 +172,20 @@ pub struct WmrEnv {
     arcs: [FixedArc; Action::COUNT],
     /// The clearance of the body at `pose`, when known (from the last move).
     clearance: Option<f64>,
-    /// The distance from `pose` to the target (set by `sense`).
-    target_distance: f64,
+    /// What is sensed at `pose`, before the noise.
+    sensed: Sensed,
+    /// What is sensed at the start pose, before the noise: every episode starts there.
+    start_sensed: Sensed,
+    /// The body's clearance at the start pose.
+    start_clearance: f64,
+    /// Steps already computed, by start pose and action.
+    memo: StepMemo,
     target: Point2<f64>,
     retention_progress: f64,
     rng: ChaCha8Rng,
     pose: Isometry2<f64>,
     state: usize,
     readings: [f64; SENSOR_COUNT],
-    view: CameraView,
     subtask_rewards: [f64; SUBTASK_COUNT],
     metrics: EpisodeMetrics,
     path: Vec<Point2<f64>>,
@@ -94,25 +215,38 @@ impl WmrEnv {
         let retention_progress = scenario.metrics.retention_progress
             * robot.max_linear_speed()
             * scenario.control_period;
+        let sensors = DistanceSensors::new(scenario.sensors);
+        let target = scenario.target_point();
+        let start = scenario.start_pose();
+        let discretiser = Discretiser::new(scenario.state, &scenario.camera);
+        let start_sensed = measure(
+            &world,
+            &sensors,
+            &camera,
+            &discretiser,
+            &scenario,
+            &target,
+            &start,
+        );
+        let start_clearance =
+            world.clearance(&Point2::from(start.translation.vector), robot.body_radius);
         let mut env = Self {
             world,
-            sensors: DistanceSensors::new(scenario.sensors),
+            sensors,
             camera,
-            discretiser: Discretiser::new(scenario.state, &scenario.camera),
+            discretiser,
             arcs,
             clearance: None,
-            target_distance: 0.0,
-            target: scenario.target_point(),
+            sensed: start_sensed,
+            start_sensed,
+            start_clearance,
+            memo: StepMemo::new(),
+            target,
             retention_progress,
             rng: ChaCha8Rng::seed_from_u64(DEFAULT_SEED),
             pose: scenario.start_pose(),
             state: 0,
             readings: [0.0; SENSOR_COUNT],
-            view: CameraView {
-                target_in_view: true,
-                target_ratio: 0.5,
-                obstacle: None,
-            },
             subtask_rewards: [0.0; SUBTASK_COUNT],
             metrics: EpisodeMetrics::default(),
             path: Vec::with_capacity(scenario.step_cap as usize + 1),
@@ -173,7 +307,7 @@ impl WmrEnv {
     /// What the camera saw last.
     #[must_use]
     pub fn camera_view(&self) -> &CameraView {
-        &self.view
+        &self.sensed.view
     }
 
     /// The current episode's metrics.
@@ -217,25 +351,65 @@ impl WmrEnv {
         }
     }
 
-    fn target_distance(&self) -> f64 {
-        (self.target - Point2::from(self.pose.translation.vector)).norm()
+    /// What is sensed at `pose` before the noise.
+    fn measure(&self, pose: &Isometry2<f64>) -> Sensed {
+        measure(
+            &self.world,
+            &self.sensors,
+            &self.camera,
+            &self.discretiser,
+            &self.scenario,
+            &self.target,
+            pose,
+        )
     }
 
-    /// Reads the sensors (with noise) and the camera at the current pose, and sets the state.
+    /// Moves by `action`'s arc from the current pose and senses where the move ends (before
+    /// the noise), or recalls both from the memo; sets the pose, its clearance and `sensed`.
+    fn move_and_sense(&mut self, action: Action) -> Motion {
+        let from = pose_bits(&self.pose);
+        let slot = StepMemo::slot(&from, action);
+        let motion = if let Some(step) = &self.memo.slots[slot]
+            && step.from == from
+            && step.action == action
+        {
+            self.sensed = step.sensed;
+            step.motion
+        } else {
+            let motion = self.world.move_disc_along(
+                &self.pose,
+                &self.arcs[action.index()],
+                self.scenario.robot.body_radius,
+                self.clearance,
+            );
+            let to = pose_bits(&motion.pose);
+            // A `stop` (or a move blocked at its start) senses from the same pose again.
+            if to != self.sensed.pose_bits {
+                self.sensed = if to == self.start_sensed.pose_bits {
+                    self.start_sensed
+                } else {
+                    self.measure(&motion.pose)
+                };
+            }
+            self.memo.slots[slot] = Some(RememberedStep {
+                from,
+                action,
+                motion,
+                sensed: self.sensed,
+            });
+            motion
+        };
+        self.pose = motion.pose;
+        self.clearance = motion.clearance;
+        motion
+    }
+
+    /// Reads the sensors (adding the noise to `sensed`) and sets the state.
     fn sense(&mut self) -> f64 {
-        self.readings =
-            self.sensors
-                .proximities(&self.world, &self.pose, self.scenario.robot.body_radius);
+        self.readings = self.sensed.proximities;
         self.sensors.add_noise(&mut self.readings, &mut self.rng);
-        self.view = self.camera.observe(&self.world, &self.pose, &self.target);
-        let distance = self.target_distance();
-        self.state = self.discretiser.index(self.discretiser.bins(
-            distance,
-            self.view.target_ratio,
-            self.view.obstacle.as_ref(),
-        ));
-        self.target_distance = distance;
-        distance
+        self.state = self.sensed.state;
+        self.sensed.target_distance
     }
 
     /// Applies `action` (see [`Environment::step`]).
@@ -252,28 +426,22 @@ impl WmrEnv {
         }
         let dt = self.scenario.control_period;
         // `sense` measured it at this pose.
-        let before = self.target_distance;
+        let before = self.sensed.target_distance;
         let from = Point2::from(self.pose.translation.vector);
-        let motion = self.world.move_disc_along(
-            &self.pose,
-            &self.arcs[action.index()],
-            self.scenario.robot.body_radius,
-            self.clearance,
-        );
-        self.pose = motion.pose;
-        self.clearance = motion.clearance;
+        let motion = self.move_and_sense(action);
         let to = Point2::from(self.pose.translation.vector);
         self.path.push(to);
         let distance = self.sense();
 
         let reached = distance <= self.scenario.target.reach_radius;
-        let lost = !reached && !self.view.target_in_view;
+        let lost = !reached && !self.sensed.view.target_in_view;
         let reward = &self.scenario.reward;
         let inputs = RewardInputs {
             target_distance: distance,
             readings: &self.readings,
             noise: self.scenario.sensors.noise,
             rad: self
+                .sensed
                 .view
                 .obstacle
                 .map_or(std::f64::consts::PI, |seen| seen.angle.abs()),
@@ -304,6 +472,7 @@ impl WmrEnv {
         }
         m.path_length += (to - from).norm();
         let obstacle_in_front = self
+            .sensed
             .view
             .obstacle
             .is_some_and(|seen| seen.distance <= self.scenario.metrics.retention_distance);
@@ -356,11 +525,12 @@ impl Environment for WmrEnv {
             self.rng = ChaCha8Rng::seed_from_u64(seed);
         }
         self.pose = self.scenario.start_pose();
-        self.clearance = None;
+        self.clearance = Some(self.start_clearance);
         self.metrics = EpisodeMetrics::default();
         self.subtask_rewards = [0.0; SUBTASK_COUNT];
         self.path.clear();
         self.path.push(Point2::from(self.pose.translation.vector));
+        self.sensed = self.start_sensed;
         self.sense();
         self.state
     }

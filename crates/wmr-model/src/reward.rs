@@ -246,12 +246,22 @@ impl RewardParams {
     /// Eq. 6: `−(k·D + S − C_noise)`.
     #[must_use]
     pub fn reach(&self, inputs: &RewardInputs<'_>) -> f64 {
-        -(self.k * inputs.target_distance + self.sensor_term(inputs.readings) - inputs.noise)
+        self.reach_with(inputs, self.sensor_term(inputs.readings))
+    }
+
+    /// [`reach`](Self::reach) given the sensor term `S` of `inputs.readings`.
+    fn reach_with(&self, inputs: &RewardInputs<'_>, sensor_term: f64) -> f64 {
+        -(self.k * inputs.target_distance + sensor_term - inputs.noise)
     }
 
     /// Eq. 7: `−(f·Rad + S − C_noise)`, or the hit reward.
     #[must_use]
     pub fn avoid(&self, inputs: &RewardInputs<'_>) -> f64 {
+        self.avoid_with(inputs, self.sensor_term(inputs.readings))
+    }
+
+    /// [`avoid`](Self::avoid) given the sensor term `S` of `inputs.readings`.
+    fn avoid_with(&self, inputs: &RewardInputs<'_>, sensor_term: f64) -> f64 {
         if inputs.hit {
             return self.hit;
         }
@@ -259,7 +269,7 @@ impl RewardParams {
             RadPenalty::Literal => inputs.rad,
             RadPenalty::Facing => std::f64::consts::PI - inputs.rad,
         };
-        -(self.f * angle + self.sensor_term(inputs.readings) - inputs.noise)
+        -(self.f * angle + sensor_term - inputs.noise)
     }
 
     /// Eq. 8: `+2` while the target is kept, `−10` when it is lost.
@@ -284,12 +294,18 @@ impl RewardParams {
             };
             return [penalty; SUBTASK_COUNT];
         }
+        // Eq. 6 and 7 share `S`: taken once, the same value.
+        let sensor_term = self.sensor_term(inputs.readings);
         let reach = if self.repairs.reach_goal_bonus && inputs.reached {
             self.goal_bonus
         } else {
-            self.reach(inputs)
+            self.reach_with(inputs, sensor_term)
         };
-        [reach, self.avoid(inputs), self.view(inputs)]
+        [
+            reach,
+            self.avoid_with(inputs, sensor_term),
+            self.view(inputs),
+        ]
     }
 
     /// The task reward of one step, by [`RewardParams::task`]; `subtasks` are the step's

@@ -177,6 +177,46 @@ impl World {
             })
     }
 
+    /// The obstacles among the first 64 whose bounding disc comes within `reach` of `centre`
+    /// (give or take [`BROAD_PHASE_MARGIN`]), as a bit set by index: those a disc of radius
+    /// `r` whose centre stays within `reach − r` of `centre` may overlap.
+    fn obstacles_near(&self, centre: &Point2<f64>, reach: f64) -> u64 {
+        let mut near = 0;
+        for (index, bound) in self.bounds.iter().take(64).enumerate() {
+            let limit = reach + bound.radius + BROAD_PHASE_MARGIN;
+            // Written as "not beyond" so that a NaN keeps the obstacle in.
+            let beyond = (bound.centre - centre).norm_squared() > limit * limit;
+            if !beyond {
+                near |= 1 << index;
+            }
+        }
+        near
+    }
+
+    /// [`overlaps`](Self::overlaps) asking only the walls, the obstacles in the bit set
+    /// `near` (from [`obstacles_near`](Self::obstacles_near)) and any past the 64th: the same
+    /// answer for a centre within the reach `near` was taken for.
+    fn overlaps_among(&self, centre: &Point2<f64>, radius: f64, near: u64) -> bool {
+        if self.arena.inner_clearance(centre) < radius {
+            return true;
+        }
+        let overlaps_obstacle = |index: usize| {
+            let bound = &self.bounds[index];
+            let limit = radius + bound.radius + BROAD_PHASE_MARGIN;
+            (bound.centre - centre).norm_squared() <= limit * limit
+                && self.obstacles[index].distance_to(centre) < radius
+        };
+        let mut left = near;
+        while left != 0 {
+            let index = left.trailing_zeros() as usize;
+            left &= left - 1;
+            if overlaps_obstacle(index) {
+                return true;
+            }
+        }
+        (64..self.obstacles.len()).any(overlaps_obstacle)
+    }
+
     /// Distance along the ray from `origin` in the unit `direction` to the first wall or
     /// obstacle, capped at `max_range`.
     #[must_use]
@@ -326,7 +366,17 @@ impl World {
         let length = (twist.linear * duration).abs();
         let end = arc.end(pose);
         if length <= start_clearance {
-            let end_clearance = self.clearance(&centre_of(&end), radius);
+            let end_centre = centre_of(&end);
+            let start_centre = centre_of(pose);
+            // A move that leaves the centre where it was, bit for bit (a `stop`, a turn on
+            // the spot), keeps its clearance.
+            let end_clearance = if end_centre.x.to_bits() == start_centre.x.to_bits()
+                && end_centre.y.to_bits() == start_centre.y.to_bits()
+            {
+                start_clearance
+            } else {
+                self.clearance(&end_centre, radius)
+            };
             if end_clearance >= 0.0 {
                 // The centre moves at most `length` (an arc is never shorter than its chord).
                 return Motion {
@@ -341,6 +391,8 @@ impl World {
         let centre_at = |s: f64| integrate_arc_centre(pose, twist, duration * (s / length));
         let mut travelled = 0.0;
         let mut clearance = start_clearance;
+        // The centre after `travelled`.
+        let mut centre = centre_of(pose);
         loop {
             let remaining = length - travelled;
             let advance = clearance.max(MAX_SUBSTEP).min(remaining);
@@ -352,11 +404,14 @@ impl World {
             };
             let next_clearance = self.clearance(&next_centre, radius);
             if next_clearance < 0.0 {
-                // Contact lies in (travelled, next]: bisect, keeping the free end.
+                // Contact lies in (travelled, next]: bisect, keeping the free end. Every
+                // centre tried is within `advance` of `centre` (an arc is never shorter
+                // than its chord), so only the obstacles within that reach can overlap it.
+                let near = self.obstacles_near(&centre, radius + advance);
                 let (mut free, mut blocked) = (travelled, next);
                 for _ in 0..CONTACT_BISECTIONS {
                     let mid = 0.5 * (free + blocked);
-                    if self.overlaps(&centre_at(mid), radius) {
+                    if self.overlaps_among(&centre_at(mid), radius, near) {
                         blocked = mid;
                     } else {
                         free = mid;
@@ -378,6 +433,7 @@ impl World {
             }
             travelled = next;
             clearance = next_clearance;
+            centre = next_centre;
         }
     }
 }

@@ -5,7 +5,8 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use wmr_model::sensors::standard_normalish;
+use wmr_model::reward::{RewardInputs, RewardParams};
+use wmr_model::sensors::{DistanceSensors, SensorParams, standard_normalish};
 use wmr_model::state::uniform_bin;
 use wmr_model::world::MAX_SUBSTEP;
 use wmr_model::{
@@ -59,7 +60,11 @@ proptest! {
         world in world(),
         (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
         radius in 0.01..0.05,
-        twists in prop::collection::vec((-0.2..0.2, -6.0..6.0), 1..12),
+        // `stop` and turns on the spot included: they keep the centre, and the clearance.
+        twists in prop::collection::vec(
+            (prop_oneof![Just(0.0), -0.2..0.2], prop_oneof![Just(0.0), -6.0..6.0]),
+            1..12,
+        ),
         duration in 0.01..0.3,
     ) {
         let mut pose = Isometry2::new(Vector2::new(x, y), heading);
@@ -343,6 +348,34 @@ proptest! {
         }
     }
 
+    /// `add_noise` (draws first, then the arithmetic) adds `C_noise · ξ` reading by reading,
+    /// each ξ a `standard_normalish` draw in reading order, and clamps, bit for bit.
+    #[test]
+    fn noise_is_added_draw_by_draw(
+        readings in prop::array::uniform8(0.0..=1.0),
+        noise in prop_oneof![Just(0.02), 0.0..1.0],
+        seed in any::<u64>(),
+        skip in 0usize..3,
+    ) {
+        let sensors = DistanceSensors::new(SensorParams { noise, ..SensorParams::default() });
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        for _ in 0..skip {
+            rng.next_u32();
+        }
+        let mut same = rng.clone();
+        let mut noisy = readings;
+        sensors.add_noise(&mut noisy, &mut rng);
+        for (reading, noisy) in readings.iter().zip(noisy) {
+            let plain = if noise == 0.0 {
+                *reading
+            } else {
+                (reading + noise * standard_normalish(&mut same)).clamp(0.0, 1.0)
+            };
+            prop_assert_eq!(noisy.to_bits(), plain.to_bits());
+        }
+        prop_assert_eq!(rng.next_u64(), same.next_u64());
+    }
+
     /// `uniform_bin` is the floor of the scaled value, clamped to the end bins.
     #[test]
     fn uniform_bins_are_floors(
@@ -562,6 +595,121 @@ proptest! {
         let step = env.step(action);
         prop_assert!(step.next_state < env.n_states());
         prop_assert!(step.reward.is_finite());
+    }
+}
+
+/// Everything an environment shows after a step, as text: `{:?}` prints every float's
+/// shortest round trip, so equal text is equal bits.
+fn everything_shown(env: &WmrEnv, step: &dql::Step) -> String {
+    format!(
+        "{step:?} {:?} {:?} {:?} {:?} {:?} {:?} {}",
+        env.pose(),
+        env.readings(),
+        env.camera_view(),
+        env.subtask_rewards(),
+        env.metrics(),
+        env.path().last(),
+        env.state(),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// A step recalled from the step memo, or sensed from a pose already sensed, is the step
+    /// computed afresh, bit for bit: an environment that played the earlier episodes (its
+    /// memo filled by them) and a new environment for each episode, both reset with the
+    /// episode's seed, show the same after every step. Episodes replay prefixes of the first
+    /// one's actions, so that poses repeat.
+    #[test]
+    fn remembered_steps_are_the_steps_computed_afresh(
+        scenario in scenario(),
+        first in prop::collection::vec(0usize..5, 1..40),
+        episodes in prop::collection::vec(
+            (any::<prop::sample::Index>(), prop::collection::vec(0usize..5, 0..20), any::<u64>()),
+            1..6,
+        ),
+    ) {
+        prop_assume!(scenario.validate().is_ok());
+        let mut seasoned = WmrEnv::new(scenario.clone()).unwrap();
+        for (prefix, tail, seed) in episodes {
+            let mut actions = first[..prefix.index(first.len() + 1)].to_vec();
+            actions.extend(tail);
+            let mut fresh = WmrEnv::new(scenario.clone()).unwrap();
+            prop_assert_eq!(seasoned.reset(Some(seed)), fresh.reset(Some(seed)));
+            prop_assert_eq!(format!("{:?}", seasoned.readings()), format!("{:?}", fresh.readings()));
+            for action in actions {
+                let (a, b) = (seasoned.step(action), fresh.step(action));
+                prop_assert_eq!(everything_shown(&seasoned, &a), everything_shown(&fresh, &b));
+                if a.done() {
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Without noise, what the robot senses after every step (remembered or not) is what
+    /// `observe` measures from its pose: the readings are the proximities, the view is the
+    /// view, bit for bit.
+    #[test]
+    fn what_the_robot_senses_is_what_it_observes_from_its_pose(
+        scenario in scenario(),
+        actions in prop::collection::vec(0usize..5, 1..80),
+    ) {
+        let mut scenario = scenario;
+        scenario.sensors.noise = 0.0;
+        prop_assume!(scenario.validate().is_ok());
+        let mut env = WmrEnv::new(scenario).unwrap();
+        for action in actions {
+            if env.step(action).done() {
+                env.reset(None);
+            }
+            let seen = env.observe(env.pose());
+            prop_assert_eq!(format!("{:?}", env.readings()), format!("{:?}", seen.proximities));
+            prop_assert_eq!(format!("{:?}", env.camera_view()), format!("{:?}", seen.view));
+        }
+    }
+
+    /// The sub-task rewards share Eq. 6 and 7's sensor term, taken once: they are `reach`
+    /// and `avoid`, bit for bit.
+    #[test]
+    fn subtask_rewards_are_eq_6_and_7(
+        readings in prop::array::uniform8(0.0..=1.0),
+        (k, p, f) in (0.0..5.0, 0.1..9.0, 0.0..1.0),
+        (target_distance, rad) in (0.0..3.0, 0.0..3.2),
+        (hit, lost, reached) in (any::<bool>(), any::<bool>(), any::<bool>()),
+    ) {
+        let reward = RewardParams { k, p, f, ..RewardParams::default() };
+        let inputs = RewardInputs {
+            target_distance,
+            readings: &readings,
+            noise: 0.02,
+            rad,
+            hit,
+            lost,
+            reached,
+        };
+        let [reach, avoid, _] = reward.subtasks(&inputs);
+        prop_assert_eq!(reach.to_bits(), reward.reach(&inputs).to_bits());
+        prop_assert_eq!(avoid.to_bits(), reward.avoid(&inputs).to_bits());
+    }
+
+    /// A proximity is `1 − distance / range`, clamped, bit for bit (a ray that met nothing
+    /// reads 0 without the division).
+    #[test]
+    fn proximities_are_one_minus_relative_distances(
+        world in world(),
+        (x, y, heading) in (0.0..1.0, 0.0..1.0, -4.0..4.0),
+        range in prop_oneof![Just(0.07), 0.001..2.0],
+    ) {
+        let sensors = DistanceSensors::new(SensorParams { range, ..SensorParams::default() });
+        let pose = Isometry2::new(Vector2::new(x, y), heading);
+        let distances = sensors.distances(&world, &pose, 0.037);
+        let proximities = sensors.proximities(&world, &pose, 0.037);
+        for (distance, proximity) in distances.iter().zip(proximities) {
+            let plain = (1.0 - distance / range).clamp(0.0, 1.0);
+            prop_assert_eq!(proximity.to_bits(), plain.to_bits());
+        }
     }
 }
 
