@@ -112,9 +112,11 @@ impl std::fmt::Debug for StepMemo {
 }
 
 impl StepMemo {
-    /// log₂ of the slot count: 4096 slots of 280 bytes, 1.1 MB (1024 and 2048 slots timed
-    /// the same on the ratios bench's random walk, within the noise of a shared machine).
-    const SLOT_BITS: u32 = 12;
+    /// log₂ of the slot count: 1024 slots of 280 bytes, 280 KB an environment. 4096 slots
+    /// timed the same on the ratios bench's random walk and on the robot tasks (within the
+    /// noise), and cost 1.1 MB an environment, which a vector environment of many robots
+    /// multiplies.
+    const SLOT_BITS: u32 = 10;
 
     fn new() -> Self {
         Self {
