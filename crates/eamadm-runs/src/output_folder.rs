@@ -337,6 +337,16 @@ mod tests {
         names
     }
 
+    /// The next invocation on `out` after this process dropped its `OutputFolder`, waiting for
+    /// the lock. A lock belongs to the open file, and a child that another test of this binary
+    /// forks at that moment (`mkfifo` in `no_follow`) holds a copy of every open file until it
+    /// execs, so for a moment the dropped lock may still be held: refusing then (`wait =
+    /// false`) made these tests fail now and then under load, a race of the test binary and not
+    /// of the invocations the tests stand for.
+    fn reopen_after_drop(out: &Path) -> OutputFolder {
+        OutputFolder::open(out, true).unwrap()
+    }
+
     #[test]
     fn a_second_set_replaces_the_first_and_leaves_no_stale_file() {
         let dir = tempfile::tempdir().unwrap();
@@ -381,8 +391,9 @@ mod tests {
             std::fs::read_to_string(out.join("REPORT.md")).unwrap(),
             "old"
         );
-        // The next invocation throws the half-written set away.
-        let _folder = OutputFolder::open(&out, false).unwrap();
+        // The next invocation throws the half-written set away. It waits for the lock (see
+        // `reopen_after_drop`).
+        let _folder = reopen_after_drop(&out);
         assert!(!out.join(STAGING).exists());
         assert_eq!(
             visible_files(&out),
@@ -404,7 +415,7 @@ mod tests {
         std::fs::rename(&staging, out.join(COMMITTED)).unwrap();
         std::fs::rename(out.join(COMMITTED).join("REPORT.md"), out.join("REPORT.md")).unwrap();
         drop(folder);
-        let _folder = OutputFolder::open(&out, false).unwrap();
+        let _folder = reopen_after_drop(&out);
         assert_eq!(
             visible_files(&out),
             [".outputs", "REPORT.md", "b/curves.csv"]
