@@ -28,9 +28,8 @@ use eamadm::report::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
 use eamadm_runs::store::{RunStore, StoreError, StoredRun};
 
-/// Each experiment's per-episode table, compressed: about 5–6× smaller than the CSV at gzip
-/// level 1 (23 of the default run's 62 MB were these tables), and pandas, R and `zcat` read it
-/// as it is.
+/// Each experiment's per-episode table, compressed: about 6–8× smaller than the CSV at gzip
+/// level 4 (`eamadm_runs::gzip`'s table level), and pandas, R and `zcat` read it as it is.
 pub(crate) const CURVES_FILE: &str = eamadm_runs::names::CURVES;
 
 /// What to write.

@@ -4,8 +4,8 @@
 //! encoder's output depends on its level and implementation. Every output here must be a pure
 //! function of the plan (a merge of shards equals an unsharded run byte for byte, on any
 //! machine), so [`encoder`] fixes all of them: modification time 0, operating system 255
-//! ("unknown"), level 1 for store entries and 6 for tables, and flate2's pure-Rust backend (`miniz_oxide`), which has no
-//! platform-dependent code paths. Any gzip reader (`zcat`, Python's `gzip`, pandas, R) reads
+//! ("unknown"), level 1 for store entries and 4 for tables, and flate2's pure-Rust backend
+//! (`miniz_oxide`), which has no platform-dependent code paths. Any gzip reader (`zcat`, Python's `gzip`, pandas, R) reads
 //! the files.
 
 use std::io::{self, Read as _, Write};
@@ -20,9 +20,12 @@ use flate2::write::GzEncoder;
 const LEVEL: u32 = 1;
 
 /// The DEFLATE level of the tables (`curves.csv.gz`): written once per output folder rather
-/// than once per run, so the denser level 6 costs little (about 1.5 s of CPU on the default
-/// run's 60 MB of curves) and saves about 15 % of their size against level 1 (10.1 → 8.6 MB).
-const TABLE_LEVEL: u32 = 6;
+/// than once per run, so a denser level than the store's pays. Level 4 is the knee, measured on
+/// the four experiments' curves of the default plan (29.7 MB of CSV, miniz_oxide, best of 3 on
+/// the 2-core development machine; docs/paper-notes.md §16): level 1 5.4× in 0.18 s, level 4
+/// 6.7× in 0.38 s, level 5 6.8× in 0.44 s, level 6 6.9× in 0.78 s. Level 6 would take twice
+/// level 4's CPU to make the files 1.9 % smaller.
+const TABLE_LEVEL: u32 = 4;
 
 /// A gzip encoder writing to `writer` whose bytes depend only on what is written: the run
 /// store's entries, at the fast level.
