@@ -54,4 +54,4 @@ pub mod store;
 pub use eamadm::output_names as names;
 pub use key::{RESULTS_FORMAT, RunDescription, RunKey, canonical_json};
 pub use pretrained::{PRETRAINED_FORMAT, PretrainedStore, PretrainingDescription};
-pub use store::{KeepTrajectories, RunStore, StoreError, StoredRun, compact};
+pub use store::{AppendReceipt, KeepTrajectories, RunStore, StoreError, StoredRun, compact};
