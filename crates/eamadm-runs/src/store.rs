@@ -47,6 +47,16 @@
 //!   experiment, method and seed agree with the header. Anything else is reported once (the
 //!   next [`RunStore::pack`] sets it aside in `runs/.set-aside/`, never deleting it) and the run
 //!   is recomputed.
+//! - **Bytes checked or made once are not parsed again.** The index keeps, for each verified
+//!   entry, the BLAKE3 hash of its compressed bytes. Bytes read back later that hash to it are
+//!   the bytes checked, so they are trusted without inflating and parsing them again; bytes that
+//!   differ in any way are checked in full as above. This applies three times: a loose file
+//!   [`RunStore::append`] wrote from a record it serialised, when its [`AppendReceipt`] is
+//!   handed to [`RunStore::open_with_receipts`]; an entry [`RunStore::pack`] copies (a loose
+//!   file replaced by another process since it was indexed is read as it now is); and the
+//!   bundles `pack` has just written under the lock, indexed from what it wrote. Everything
+//!   else a store is opened on is checked in full, and [`RunStore::load`] checks the entry it
+//!   returns in full.
 //! - **No link is followed inside the store** ([`crate::no_follow`]).
 
 use std::collections::HashMap;
@@ -886,8 +896,8 @@ impl RunStore {
         loose_path_in(&self.folder, key, keep)
     }
 
-    /// Whether run `key` was stored (and verified when the store was opened) keeping at least
-    /// the trajectories `keep` asks for.
+    /// Whether run `key` was stored (and verified when the store was opened, or written by this
+    /// process with those very bytes) keeping at least the trajectories `keep` asks for.
     #[must_use]
     pub fn has(&self, key: &RunKey, keep: KeepTrajectories) -> bool {
         self.index
@@ -1020,12 +1030,17 @@ impl RunStore {
     /// of this store and of the runs `wanted` that `sources` hold (as `merge` takes them from
     /// other stores), each run once with the richest trajectories stored. A bundle lists first
     /// the runs of `wanted` in that order (the plan's job order), then any other runs by key, so
-    /// its bytes are a function of the set of runs. Entries are copied byte for byte (checked
-    /// again on the way). Then the loose files now in a bundle are removed, the entries that
-    /// failed their checks are set aside in `runs/.set-aside/`, and temporary files of killed
-    /// writers are removed. Needs the output folder's lock (`_lock`), so no two packs overlap;
-    /// writers of loose runs may go on meanwhile (their new files stay loose). Returns the store
-    /// reopened.
+    /// its bytes are a function of the set of runs. The entries that failed their checks are
+    /// first set aside in `runs/.set-aside/`. Entries are copied byte for byte, each read again
+    /// on the way: bytes that still hash to the digest taken when they were verified (or
+    /// written) are copied as they are, any others are checked in full again (a loose file
+    /// replaced by another process since it was indexed is packed as what it now holds, and one
+    /// that no longer checks is [`StoreError::Changed`], with nothing removed). Then the loose
+    /// files now in a bundle are removed, and temporary files of killed writers are removed.
+    /// Needs the output folder's lock (`_lock`), so no two packs overlap; writers of loose runs
+    /// may go on meanwhile (their new files stay loose). Returns the store reopened: what
+    /// [`RunStore::open`] would read, with the bundles just written indexed from what was
+    /// written rather than read back, and every other file checked in full.
     pub fn pack(
         self,
         _lock: &crate::output_folder::OutputFolder,
