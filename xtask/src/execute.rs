@@ -12,7 +12,8 @@ use eamadm::{
     ExperimentConfig, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
 };
 use eamadm_runs::{
-    KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription, RunStore, StoreError,
+    AppendReceipt, KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription,
+    RunStore, StoreError,
 };
 use rayon::prelude::*;
 use thiserror::Error;
@@ -49,6 +50,16 @@ pub(crate) struct RunCounts {
     pub(crate) pretrained: usize,
     /// Pre-trained sub-tasks loaded from the store's artefacts instead.
     pub(crate) pretrained_loaded: usize,
+}
+
+/// What [`run_jobs`] did, and the receipts of the runs it stored: with them the store is
+/// reopened without reading those runs back ([`RunStore::open_with_receipts`]).
+#[derive(Debug)]
+pub(crate) struct Executed {
+    /// The counts.
+    pub(crate) counts: RunCounts,
+    /// One receipt per run computed now, in no particular order.
+    pub(crate) receipts: Vec<AppendReceipt>,
 }
 
 /// The run store's pre-trained artefacts ([`eamadm_runs::pretrained`]) as the cache of
@@ -106,7 +117,8 @@ impl PretrainingCache for ArtefactCache<'_> {
 
 /// Runs every job of `jobs` the store does not hold yet, in parallel, appending each finished
 /// run to the store as soon as it completes. Records are dropped once stored, so memory holds
-/// only the runs in flight; the outputs are made afterwards from the store ([`crate::finish`]).
+/// only the runs in flight (and a receipt of each, a few dozen bytes); the outputs are made
+/// afterwards from the store ([`crate::finish`]).
 pub(crate) fn run_jobs(
     experiments: &[PlannedExperiment],
     jobs: &[Job<'_>],
@@ -114,7 +126,7 @@ pub(crate) fn run_jobs(
     keep: KeepTrajectories,
     progress: &Progress,
     warn: &(dyn Fn(&str) + Sync),
-) -> Result<RunCounts, ExecuteError> {
+) -> Result<Executed, ExecuteError> {
     let bars: Vec<TaskProgress> = experiments
         .iter()
         .enumerate()
@@ -155,9 +167,9 @@ pub(crate) fn run_jobs(
             None => groups.push(vec![job]),
         }
     }
-    groups
+    let receipts = groups
         .par_iter()
-        .try_for_each(|group| -> Result<(), ExecuteError> {
+        .map(|group| -> Result<Vec<AppendReceipt>, ExecuteError> {
             let planned = &experiments[group[0].experiment];
             let methods: Vec<&MethodSpec> = group.iter().map(|job| job.method).collect();
             let shared = planned
@@ -165,7 +177,7 @@ pub(crate) fn run_jobs(
                 .share_pretraining_with(&methods, group[0].seed, &cache);
             group
                 .par_iter()
-                .try_for_each(|job| -> Result<(), ExecuteError> {
+                .map(|job| -> Result<AppendReceipt, ExecuteError> {
                     let record = planned
                         .experiment
                         .run_shared(job.method, job.seed, &shared)
@@ -173,24 +185,32 @@ pub(crate) fn run_jobs(
                             experiment: planned.name.clone(),
                             source,
                         })?;
-                    store.append(
+                    let receipt = store.append(
                         &job.key,
                         &RunDescription::new(planned.config(), job.method, job.seed),
                         &record,
                         keep,
                     )?;
                     bars[job.experiment].inc();
-                    Ok(())
+                    Ok(receipt)
                 })
-        })?;
+                .collect()
+        })
+        .collect::<Result<Vec<Vec<AppendReceipt>>, ExecuteError>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     for bar in &bars {
         bar.finish();
     }
-    Ok(RunCounts {
-        ran: todo.len(),
-        resumed: jobs.len() - todo.len(),
-        pretrained: cache.trained.into_inner(),
-        pretrained_loaded: cache.loaded.into_inner(),
+    Ok(Executed {
+        counts: RunCounts {
+            ran: todo.len(),
+            resumed: jobs.len() - todo.len(),
+            pretrained: cache.trained.into_inner(),
+            pretrained_loaded: cache.loaded.into_inner(),
+        },
+        receipts,
     })
 }
 
@@ -218,7 +238,24 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        let counts = run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+        let executed =
+            run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+        let counts = executed.counts;
+        // One receipt per run computed, and the store reopened with them is the store read in
+        // full.
+        let mut received: Vec<&eamadm_runs::RunKey> = executed
+            .receipts
+            .iter()
+            .map(eamadm_runs::AppendReceipt::key)
+            .collect();
+        received.sort();
+        let mut planned_keys: Vec<&eamadm_runs::RunKey> = jobs.iter().map(|job| &job.key).collect();
+        planned_keys.sort();
+        assert_eq!(received, planned_keys);
+        let trusting =
+            RunStore::open_with_receipts(dir.path(), &executed.receipts, &mut |w| panic!("{w}"))
+                .unwrap();
+        assert_eq!(trusting.keys(), open().keys());
         let subtasks = planned[0].experiment.task().subtask_names().len();
         assert_eq!(
             counts,
@@ -230,7 +267,9 @@ mod tests {
             }
         );
         let store = open();
-        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden(), &quiet).unwrap();
+        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden(), &quiet)
+            .unwrap()
+            .counts;
         assert_eq!(
             again,
             RunCounts {
@@ -299,7 +338,8 @@ mod tests {
                 &Progress::hidden(),
                 &quiet,
             )
-            .unwrap();
+            .unwrap()
+            .counts;
             assert_eq!(counts.ran, 1);
             trained += counts.pretrained;
             loaded += counts.pretrained_loaded;
@@ -335,7 +375,8 @@ mod tests {
             &Progress::hidden(),
             &quiet,
         )
-        .unwrap();
+        .unwrap()
+        .counts;
         assert_eq!(first.pretrained, subtasks);
         let files = artefact_files(dir.path());
         let whole = std::fs::read(&files[0]).unwrap();
@@ -350,7 +391,8 @@ mod tests {
             &Progress::hidden(),
             &collect,
         )
-        .unwrap();
+        .unwrap()
+        .counts;
         assert_eq!(
             (second.pretrained, second.pretrained_loaded),
             (1, subtasks - 1)

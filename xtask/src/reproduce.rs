@@ -141,7 +141,7 @@ pub(crate) fn reproduce_paper(
     let started = Instant::now();
     let keep = args.keep_trajectories;
     let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
-    let counts = run_jobs(
+    let executed = run_jobs(
         &experiments,
         &jobs,
         &store,
@@ -151,9 +151,13 @@ pub(crate) fn reproduce_paper(
     )
     .map_err(Failure::failed)?;
     drop(store);
+    let counts = executed.counts;
     // Reopened, with the runs stored above (its damaged entries were reported by the first
-    // open), and packed: every run stored in the folder, this plan's in job order.
-    let store = RunStore::open(folder.root(), &mut |_| {}).map_err(Failure::failed)?;
+    // open), and packed: every run stored in the folder, this plan's in job order. The runs
+    // stored above are indexed from their receipts while their files hold the bytes written.
+    let store = RunStore::open_with_receipts(folder.root(), &executed.receipts, &mut |_| {})
+        .map_err(Failure::failed)?;
+    drop(executed);
     let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();
     let store = store
         .pack(&folder, &[], &keys, &mut warn_on_stderr)
@@ -251,7 +255,8 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
         &Progress::hidden(),
         &warn_on_stderr,
     )
-    .map_err(Failure::failed)?;
+    .map_err(Failure::failed)?
+    .counts;
     println!(
         "{} {} seed {}: {} ({}); {}",
         experiments[job.experiment].name,

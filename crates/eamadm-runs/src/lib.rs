@@ -6,7 +6,8 @@
 //! - [`key`]: a run's [`RunDescription`] (its config, method, seed and code version) and its
 //!   [`RunKey`], the BLAKE3 hash of the description in canonical JSON;
 //! - [`store`]: the [`RunStore`] of `<out>/runs/`, every run checked (key, checksum, record)
-//!   before it is trusted;
+//!   before it is trusted, and bytes checked or written once recognised by their BLAKE3 hash
+//!   rather than parsed again ([`AppendReceipt`]);
 //! - [`pretrained`]: the pre-trained sub-task learners as content-addressed artefacts
 //!   (`<out>/runs/pretrained/`), shared by every process of a sweep;
 //! - [`gzip`]: compression whose bytes depend only on the content;
@@ -54,4 +55,4 @@ pub mod store;
 pub use eamadm::output_names as names;
 pub use key::{RESULTS_FORMAT, RunDescription, RunKey, canonical_json};
 pub use pretrained::{PRETRAINED_FORMAT, PretrainedStore, PretrainingDescription};
-pub use store::{KeepTrajectories, RunStore, StoreError, StoredRun, compact};
+pub use store::{AppendReceipt, KeepTrajectories, RunStore, StoreError, StoredRun, compact};

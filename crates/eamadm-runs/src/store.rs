@@ -47,6 +47,16 @@
 //!   experiment, method and seed agree with the header. Anything else is reported once (the
 //!   next [`RunStore::pack`] sets it aside in `runs/.set-aside/`, never deleting it) and the run
 //!   is recomputed.
+//! - **Bytes checked or made once are not parsed again.** The index keeps, for each verified
+//!   entry, the BLAKE3 hash of its compressed bytes. Bytes read back later that hash to it are
+//!   the bytes checked, so they are trusted without inflating and parsing them again; bytes that
+//!   differ in any way are checked in full as above. This applies three times: a loose file
+//!   [`RunStore::append`] wrote from a record it serialised, when its [`AppendReceipt`] is
+//!   handed to [`RunStore::open_with_receipts`]; an entry [`RunStore::pack`] copies (a loose
+//!   file replaced by another process since it was indexed is read as it now is); and the
+//!   bundles `pack` has just written under the lock, indexed from what it wrote. Everything
+//!   else a store is opened on is checked in full, and [`RunStore::load`] checks the entry it
+//!   returns in full.
 //! - **No link is followed inside the store** ([`crate::no_follow`]).
 
 use std::collections::HashMap;
@@ -230,7 +240,7 @@ impl LineHeader {
 }
 
 /// Where a verified entry is.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 struct Location {
     /// The bundle or loose run file.
     file: Arc<PathBuf>,
@@ -240,10 +250,54 @@ struct Location {
     len: usize,
     trajectories: KeepTrajectories,
     experiment: String,
+    /// The BLAKE3 hash of the entry's compressed bytes as verified (or as written by this
+    /// process): bytes read back later with this hash are those very bytes, so they are copied
+    /// without decompressing and parsing them again ([`RunStore::pack`]).
+    digest: blake3::Hash,
+}
+
+/// What [`RunStore::append`] wrote: the run's loose file, its length and the BLAKE3 hash of its
+/// bytes, and the header fields the index needs. Handed to [`RunStore::open_with_receipts`], it
+/// lets the reopened store index that loose file without decompressing and parsing it, as long
+/// as the file still holds exactly those bytes. It is a few dozen bytes whatever the run's size,
+/// and only [`RunStore::append`] makes one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AppendReceipt {
+    key: RunKey,
+    keep: KeepTrajectories,
+    experiment: String,
+    len: u64,
+    digest: blake3::Hash,
+}
+
+impl AppendReceipt {
+    /// The run written.
+    #[must_use]
+    pub fn key(&self) -> &RunKey {
+        &self.key
+    }
+
+    /// Which trajectories the written record keeps.
+    #[must_use]
+    pub fn keep(&self) -> KeepTrajectories {
+        self.keep
+    }
+}
+
+/// The files a store being opened may index without checking them in full, because this
+/// process made their bytes.
+#[derive(Default)]
+struct Trusted<'a> {
+    /// Loose run files [`RunStore::append`] wrote, by path (used only while the file's bytes
+    /// hash to the receipt's digest).
+    received: HashMap<PathBuf, &'a AppendReceipt>,
+    /// Bundles [`RunStore::pack`] just wrote under the folder's lock (which no other writer of
+    /// bundles can hold meanwhile), by path, with their entries in file order.
+    written: HashMap<PathBuf, Vec<(RunKey, Location)>>,
 }
 
 /// An entry that failed its checks, to be set aside by the next [`RunStore::pack`].
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 struct Rejected {
     file: PathBuf,
     loose: bool,
@@ -558,6 +612,20 @@ impl RunStore {
     /// bundle and loose run is read and checked; each bad entry is passed to `warn` and ignored
     /// (its run will be recomputed). Nothing is changed on disk.
     pub fn open(out: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
+        Self::open_with_receipts(out, &[], warn)
+    }
+
+    /// Like [`RunStore::open`], but a loose run file this process wrote is indexed from its
+    /// `receipts` ([`RunStore::append`]'s) without being decompressed and parsed again, when
+    /// the file's length and the BLAKE3 hash of its bytes equal the receipt's: those are the
+    /// bytes `append` made from the record it serialised. Any other file, and a receipted file
+    /// whose bytes differ (replaced by another process, damaged, cut short), is checked in full
+    /// as [`RunStore::open`] does; a receipt whose file is gone is ignored.
+    pub fn open_with_receipts(
+        out: &Path,
+        receipts: &[AppendReceipt],
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<Self, StoreError> {
         let folder = out.join(crate::names::RUNS_FOLDER);
         crate::no_follow::check_under(out, Path::new(crate::names::RUNS_FOLDER), false).map_err(
             |source| StoreError::Read {
@@ -565,7 +633,15 @@ impl RunStore {
                 source,
             },
         )?;
-        Self::open_folder(&folder, warn)
+        let received = receipts
+            .iter()
+            .map(|receipt| (loose_path_in(&folder, &receipt.key, receipt.keep), receipt))
+            .collect();
+        let trusted = Trusted {
+            received,
+            written: HashMap::new(),
+        };
+        Self::open_folder(&folder, trusted, warn)
     }
 
     /// A store opened only to read (as `merge` does): `path` is an output folder (its `runs/` is
@@ -586,10 +662,16 @@ impl RunStore {
                 ),
             });
         }
-        Self::open_folder(&folder, warn)
+        Self::open_folder(&folder, Trusted::default(), warn)
     }
 
-    fn open_folder(folder: &Path, warn: &mut dyn FnMut(&str)) -> Result<Self, StoreError> {
+    /// Indexes every bundle (sorted by path) and then every loose run file (sorted by path) of
+    /// `folder`, each checked in full unless `trusted` vouches for its bytes.
+    fn open_folder(
+        folder: &Path,
+        mut trusted: Trusted<'_>,
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<Self, StoreError> {
         let mut store = Self {
             folder: folder.to_path_buf(),
             index: HashMap::new(),
@@ -617,7 +699,14 @@ impl RunStore {
         // Sorted, so which of two equal entries is indexed does not depend on directory order.
         bundles.sort();
         for path in bundles {
-            store.index_file(&path, false, warn)?;
+            match trusted.written.remove(&path) {
+                Some(entries) => {
+                    for (key, location) in entries {
+                        store.insert(key, location);
+                    }
+                }
+                None => store.index_file(&path, false, warn)?,
+            }
         }
         let loose_folder = folder.join(LOOSE_FOLDER);
         crate::no_follow::check_under(folder, Path::new(LOOSE_FOLDER), false)
@@ -630,9 +719,59 @@ impl RunStore {
             .collect();
         loose.sort();
         for path in loose {
-            store.index_file(&path, true, warn)?;
+            let received = trusted.received.get(&path).copied();
+            if !received.is_some_and(|receipt| store.index_received(&path, receipt)) {
+                store.index_file(&path, true, warn)?;
+            }
         }
         Ok(store)
+    }
+
+    /// Indexes the loose file `path` from `receipt` if the file holds exactly the bytes
+    /// [`RunStore::append`] wrote (same length, same BLAKE3 hash); returns whether it did. A
+    /// file that cannot be read or holds other bytes is left to the full check, which reports
+    /// it as [`RunStore::open`] does.
+    fn index_received(&mut self, path: &Path, receipt: &AppendReceipt) -> bool {
+        let Ok(file) = crate::no_follow::open_regular(path) else {
+            return false;
+        };
+        let mut bytes = Vec::new();
+        // One byte more than the receipt's length reveals a longer file without reading it all.
+        let read = file
+            .take(receipt.len.saturating_add(1))
+            .read_to_end(&mut bytes);
+        if read.is_err()
+            || bytes.len() as u64 != receipt.len
+            || blake3::hash(&bytes) != receipt.digest
+        {
+            return false;
+        }
+        let location = Location {
+            file: Arc::new(path.to_path_buf()),
+            loose: true,
+            offset: 0,
+            len: bytes.len(),
+            trajectories: receipt.keep,
+            experiment: receipt.experiment.clone(),
+            digest: receipt.digest,
+        };
+        self.insert(receipt.key.clone(), location);
+        true
+    }
+
+    /// Adds a verified entry to the index: the richest stored version serves; of equals, the
+    /// first indexed stays.
+    fn insert(&mut self, key: RunKey, location: Location) {
+        match self.index.entry(key) {
+            std::collections::hash_map::Entry::Vacant(entry) => {
+                entry.insert(location);
+            }
+            std::collections::hash_map::Entry::Occupied(mut entry) => {
+                if !entry.get().trajectories.covers(location.trajectories) {
+                    entry.insert(location);
+                }
+            }
+        }
     }
 
     /// Reads and checks every entry of the bundle or loose file `path` into the index, one
@@ -673,8 +812,8 @@ impl RunStore {
         let mut number = 0_usize;
         while offset < end {
             number += 1;
-            let next = match read_entry(&mut reader, offset, &mut line) {
-                Ok(next) => next,
+            let (next, digest) = match read_entry(&mut reader, offset, &mut line) {
+                Ok(read) => read,
                 Err(problem) => {
                     // Damaged or incomplete: go on at the next entry that decompresses whole.
                     let next = next_entry(&mut reader, offset + 1, &mut line)
@@ -712,18 +851,9 @@ impl RunStore {
                         len: usize::try_from(next - offset).unwrap_or(usize::MAX),
                         trajectories: parsed.header.trajectories,
                         experiment: parsed.header.experiment,
+                        digest,
                     };
-                    // The richest stored version serves; the first of equals stays.
-                    match self.index.entry(key) {
-                        std::collections::hash_map::Entry::Vacant(entry) => {
-                            entry.insert(location);
-                        }
-                        std::collections::hash_map::Entry::Occupied(mut entry) => {
-                            if !entry.get().trajectories.covers(location.trajectories) {
-                                entry.insert(location);
-                            }
-                        }
-                    }
+                    self.insert(key, location);
                 }
                 Err(problem) => {
                     warn(&format!(
@@ -763,13 +893,11 @@ impl RunStore {
     /// The loose run file of run `key` keeping `keep`.
     #[must_use]
     pub fn loose_path(&self, key: &RunKey, keep: KeepTrajectories) -> PathBuf {
-        self.folder
-            .join(LOOSE_FOLDER)
-            .join(format!("{key}.{keep}.{}", crate::names::RUN_FILE_EXTENSION))
+        loose_path_in(&self.folder, key, keep)
     }
 
-    /// Whether run `key` was stored (and verified when the store was opened) keeping at least
-    /// the trajectories `keep` asks for.
+    /// Whether run `key` was stored (and verified when the store was opened, or written by this
+    /// process with those very bytes) keeping at least the trajectories `keep` asks for.
     #[must_use]
     pub fn has(&self, key: &RunKey, keep: KeepTrajectories) -> bool {
         self.index
@@ -864,14 +992,16 @@ impl RunStore {
     /// Stores a finished run in a file of its own, `runs/loose/<key>.<keep>.run.gz`: written
     /// aside, synced, then renamed into place, so no other process ever sees it half written and
     /// no two processes write the same file. (Two storing the same run write the same bytes.)
-    /// Needs no lock; [`RunStore::pack`] moves it into its bundle later.
+    /// Needs no lock; [`RunStore::pack`] moves it into its bundle later. Returns the receipt
+    /// of the bytes written, with which [`RunStore::open_with_receipts`] indexes the file
+    /// without reading it back in full.
     pub fn append(
         &self,
         key: &RunKey,
         description: &RunDescription,
         record: &RunRecord,
         keep: KeepTrajectories,
-    ) -> Result<(), StoreError> {
+    ) -> Result<AppendReceipt, StoreError> {
         let path = self.loose_path(key, keep);
         let write = |source| StoreError::Write {
             path: path.clone(),
@@ -886,19 +1016,31 @@ impl RunStore {
             &Path::new(crate::names::RUNS_FOLDER).join(LOOSE_FOLDER),
         )
         .map_err(write)?;
-        crate::atomic::write_atomic(&path, &entry).map_err(|e| write(e.source))
+        crate::atomic::write_atomic(&path, &entry).map_err(|e| write(e.source))?;
+        Ok(AppendReceipt {
+            key: key.clone(),
+            keep,
+            experiment: record.experiment.clone(),
+            len: entry.len() as u64,
+            digest: blake3::hash(&entry),
+        })
     }
 
     /// Packs the store into its bundles, one per experiment: the union of every verified entry
     /// of this store and of the runs `wanted` that `sources` hold (as `merge` takes them from
     /// other stores), each run once with the richest trajectories stored. A bundle lists first
     /// the runs of `wanted` in that order (the plan's job order), then any other runs by key, so
-    /// its bytes are a function of the set of runs. Entries are copied byte for byte (checked
-    /// again on the way). Then the loose files now in a bundle are removed, the entries that
-    /// failed their checks are set aside in `runs/.set-aside/`, and temporary files of killed
-    /// writers are removed. Needs the output folder's lock (`_lock`), so no two packs overlap;
-    /// writers of loose runs may go on meanwhile (their new files stay loose). Returns the store
-    /// reopened.
+    /// its bytes are a function of the set of runs. The entries that failed their checks are
+    /// first set aside in `runs/.set-aside/`. Entries are copied byte for byte, each read again
+    /// on the way: bytes that still hash to the digest taken when they were verified (or
+    /// written) are copied as they are, any others are checked in full again (a loose file
+    /// replaced by another process since it was indexed is packed as what it now holds, and one
+    /// that no longer checks is [`StoreError::Changed`], with nothing removed). Then the loose
+    /// files now in a bundle are removed, and temporary files of killed writers are removed.
+    /// Needs the output folder's lock (`_lock`), so no two packs overlap; writers of loose runs
+    /// may go on meanwhile (their new files stay loose). Returns the store reopened: what
+    /// [`RunStore::open`] would read, with the bundles just written indexed from what was
+    /// written rather than read back, and every other file checked in full.
     pub fn pack(
         self,
         _lock: &crate::output_folder::OutputFolder,
@@ -938,6 +1080,11 @@ impl RunStore {
         let mut experiments: Vec<&str> = chosen.values().map(|at| at.experiment.as_str()).collect();
         experiments.sort_unstable();
         experiments.dedup();
+        // Rejected entries are copied aside before their bundles are replaced below: afterwards
+        // their offsets would point into the new bundles.
+        self.set_aside(warn)?;
+        // What each bundle written holds, to index it without reading it back.
+        let mut written = HashMap::new();
         for experiment in experiments {
             let mut keys: Vec<&RunKey> = chosen
                 .iter()
@@ -953,11 +1100,49 @@ impl RunStore {
             let path = self.bundle_path(experiment);
             let mut bundle =
                 crate::atomic::AtomicFile::create(&path).map_err(|e| write(&path)(e.source))?;
+            let shared = Arc::new(path.clone());
+            let mut entries = Vec::with_capacity(keys.len());
+            let mut offset = 0_u64;
+            let mut source = OpenSource::default();
             for key in &keys {
-                let checked = Self::entry_at(chosen[*key])?;
-                bundle.write_all(&checked.entry).map_err(write(&path))?;
+                let at = chosen[*key];
+                let (bytes, key, location) = match source.read_verified(at) {
+                    // The very bytes verified (or written) earlier: copied as they are.
+                    Some(bytes) => {
+                        let location = Location {
+                            file: Arc::clone(&shared),
+                            loose: false,
+                            offset,
+                            len: bytes.len(),
+                            trajectories: at.trajectories,
+                            experiment: at.experiment.clone(),
+                            digest: at.digest,
+                        };
+                        (bytes, (*key).clone(), location)
+                    }
+                    // Changed since (another process's copy of a loose file, or damage):
+                    // checked in full again, and indexed as what it now holds.
+                    None => {
+                        let checked = Self::entry_at(at)?;
+                        let location = Location {
+                            file: Arc::clone(&shared),
+                            loose: false,
+                            offset,
+                            len: checked.entry.len(),
+                            trajectories: checked.header.trajectories,
+                            experiment: checked.header.experiment,
+                            digest: blake3::hash(&checked.entry),
+                        };
+                        let key = RunKey::from_verified_hex(checked.header.key);
+                        (checked.entry, key, location)
+                    }
+                };
+                bundle.write_all(&bytes).map_err(write(&path))?;
+                offset += bytes.len() as u64;
+                entries.push((key, location));
             }
             bundle.commit().map_err(|e| write(&path)(e.source))?;
+            written.insert(path, entries);
         }
         // The loose runs now packed, and the rejected entries, leave the loose folder.
         let mut packed: Vec<&Path> = self
@@ -975,7 +1160,6 @@ impl RunStore {
                 Err(source) => return Err(write(path)(source)),
             }
         }
-        self.set_aside(warn)?;
         for dir in [
             folder.clone(),
             folder.join(LOOSE_FOLDER),
@@ -984,7 +1168,13 @@ impl RunStore {
             crate::atomic::remove_stale_temporary_files(&dir).map_err(write(&dir))?;
         }
         drop(chosen);
-        Self::open_folder(&folder, &mut |_| {})
+        // Reopened as `open` would (every other file checked in full: other bundles, loose runs
+        // that appeared meanwhile, loose runs not packed), its own bundles from what it wrote.
+        let trusted = Trusted {
+            received: HashMap::new(),
+            written,
+        };
+        Self::open_folder(&folder, trusted, &mut |_| {})
     }
 
     /// Copies each rejected entry into `runs/.set-aside/` (a loose file is moved there whole),
@@ -1032,6 +1222,37 @@ impl RunStore {
     }
 }
 
+/// The file [`RunStore::pack`] last read an entry from, kept open for the next entry of the same
+/// bundle.
+#[derive(Default)]
+struct OpenSource {
+    open: Option<(Arc<PathBuf>, File)>,
+}
+
+impl OpenSource {
+    /// The compressed bytes at `location` if they hash to its digest, i.e. are the bytes
+    /// verified when it was indexed; `None` if they differ or cannot be read (the caller then
+    /// checks the entry in full, which reports why).
+    fn read_verified(&mut self, location: &Location) -> Option<Vec<u8>> {
+        // A loose file is reopened for its one entry, so one replaced since it was indexed is
+        // read as it now is; a bundle, which only a pack under the lock rewrites, stays open.
+        let reuse = !location.loose
+            && self
+                .open
+                .as_ref()
+                .is_some_and(|(path, _)| path == &location.file);
+        if !reuse {
+            let file = crate::no_follow::open_regular(&location.file).ok()?;
+            self.open = Some((Arc::clone(&location.file), file));
+        }
+        let (_, file) = self.open.as_mut()?;
+        file.seek(SeekFrom::Start(location.offset)).ok()?;
+        let mut bytes = vec![0; location.len];
+        file.read_exact(&mut bytes).ok()?;
+        (blake3::hash(&bytes) == location.digest).then_some(bytes)
+    }
+}
+
 /// An entry read and checked: its compressed bytes and what they hold.
 struct CheckedEntry {
     entry: Vec<u8>,
@@ -1069,6 +1290,13 @@ pub fn check_bytes(bytes: &[u8]) -> (usize, Vec<String>) {
         }
     }
     (verified, problems)
+}
+
+/// The loose run file of run `key` keeping `keep` in the store folder `folder`.
+fn loose_path_in(folder: &Path, key: &RunKey, keep: KeepTrajectories) -> PathBuf {
+    folder
+        .join(LOOSE_FOLDER)
+        .join(format!("{key}.{keep}.{}", crate::names::RUN_FILE_EXTENSION))
 }
 
 /// The regular files and other entries of `folder` (none when it does not exist), as path and
@@ -1109,14 +1337,81 @@ fn capped_decompress<R: BufRead>(reader: &mut R, line: &mut Vec<u8>) -> io::Resu
 }
 
 /// Decompresses the entry at byte `at` of the file into `line`; returns where the next entry
-/// starts, or why the entry is damaged or incomplete.
-fn read_entry(reader: &mut BufReader<File>, at: u64, line: &mut Vec<u8>) -> Result<u64, String> {
+/// starts and the BLAKE3 hash of the entry's compressed bytes, or why the entry is damaged or
+/// incomplete.
+fn read_entry(
+    reader: &mut BufReader<File>,
+    at: u64,
+    line: &mut Vec<u8>,
+) -> Result<(u64, blake3::Hash), String> {
     let io = |e: io::Error| e.to_string();
     if reader.stream_position().map_err(io)? != at {
         reader.seek(SeekFrom::Start(at)).map_err(io)?;
     }
-    capped_decompress(reader, line).map_err(io)?;
-    reader.stream_position().map_err(io)
+    let mut hashing = Hashing::new(reader);
+    capped_decompress(&mut hashing, line).map_err(io)?;
+    let (digest, hashed) = hashing.finish();
+    let next = reader.stream_position().map_err(io)?;
+    // The decoder takes its member's bytes, and only those, through the hashing reader.
+    if next.checked_sub(at) != Some(hashed) {
+        return Err(format!(
+            "read {hashed} bytes of a {}-byte entry (a file changing while read)",
+            next - at
+        ));
+    }
+    Ok((next, digest))
+}
+
+/// A reader that hashes every byte taken from the reader it wraps, whether read or consumed
+/// from its buffer: the compressed bytes of one entry as the gzip decoder takes them.
+struct Hashing<'a, R> {
+    inner: &'a mut R,
+    hasher: blake3::Hasher,
+    taken: u64,
+}
+
+impl<'a, R: BufRead> Hashing<'a, R> {
+    fn new(inner: &'a mut R) -> Self {
+        Self {
+            inner,
+            hasher: blake3::Hasher::new(),
+            taken: 0,
+        }
+    }
+
+    /// The hash of the bytes taken, and how many.
+    fn finish(self) -> (blake3::Hash, u64) {
+        (self.hasher.finalize(), self.taken)
+    }
+}
+
+impl<R: BufRead> io::Read for Hashing<'_, R> {
+    fn read(&mut self, into: &mut [u8]) -> io::Result<usize> {
+        let read = self.inner.read(into)?;
+        self.hasher.update(&into[..read]);
+        self.taken += read as u64;
+        Ok(read)
+    }
+}
+
+impl<R: BufRead> BufRead for Hashing<'_, R> {
+    fn fill_buf(&mut self) -> io::Result<&[u8]> {
+        self.inner.fill_buf()
+    }
+
+    fn consume(&mut self, amount: usize) {
+        if amount > 0 {
+            // The buffer `fill_buf` returned is still there (consuming is what changes it), so
+            // asking again reads nothing; a failure here cannot happen and would show as a
+            // count that disagrees with the reader's position (checked by `read_entry`).
+            if let Ok(buffer) = self.inner.fill_buf() {
+                let taken = &buffer[..amount.min(buffer.len())];
+                self.hasher.update(taken);
+                self.taken += taken.len() as u64;
+            }
+        }
+        self.inner.consume(amount);
+    }
 }
 
 /// The first byte at or after `from` where a whole entry decompresses, if any.
@@ -1154,9 +1449,14 @@ mod tests {
 
     /// Two tiny runs of Task I and their descriptions.
     pub(crate) fn runs() -> Vec<(RunKey, RunDescription, RunRecord)> {
+        runs_of(2)
+    }
+
+    /// `seeds` tiny runs of Task I and their descriptions.
+    fn runs_of(seeds: u32) -> Vec<(RunKey, RunDescription, RunRecord)> {
         let mut config = eamadm::paper::task1();
         config.episodes = 3;
-        config.seeds = 2;
+        config.seeds = seeds;
         config.trajectories.episodes.retain(|&e| e < 3);
         if let eamadm::TaskConfig::Maze { step_cap, .. } = &mut config.task {
             *step_cap = Some(40);
@@ -1445,8 +1745,11 @@ mod tests {
         assert_eq!(store.len(), 2);
         let aside: Vec<_> = std::fs::read_dir(dir.path().join("runs/.set-aside"))
             .unwrap()
+            .map(|entry| entry.unwrap().path())
             .collect();
         assert_eq!(aside.len(), 1);
+        // What is kept is the torn tail itself, not the bytes the new bundle has there.
+        assert_eq!(std::fs::read(&aside[0]).unwrap(), &whole[..whole.len() / 2]);
     }
 
     #[test]
@@ -1528,5 +1831,248 @@ mod tests {
             "{}",
             problem(&short)
         );
+    }
+
+    /// What a store knows: every run's location (file, offset, length, trajectories,
+    /// experiment, digest), the entries it rejected, and the order of its keys.
+    type Contents = (HashMap<RunKey, Location>, Vec<Rejected>, Vec<RunKey>);
+
+    fn contents(store: &RunStore) -> Contents {
+        (
+            store.index.clone(),
+            store.rejected.clone(),
+            store.keys().into_iter().cloned().collect(),
+        )
+    }
+
+    fn append_all(
+        dir: &Path,
+        runs: &[(RunKey, RunDescription, RunRecord)],
+        keep: KeepTrajectories,
+    ) -> Vec<AppendReceipt> {
+        let (store, _) = open(dir);
+        runs.iter()
+            .map(|(key, description, record)| store.append(key, description, record, keep).unwrap())
+            .collect()
+    }
+
+    /// Opens the store of `dir`, lets `meanwhile` change the folder (as another process
+    /// would between indexing and packing), packs it wanting `wanted`, and checks that the
+    /// store `pack` returns is the store `open` then reads; returns the pack's warnings.
+    fn pack_equals_open(
+        dir: &Path,
+        wanted: &[RunKey],
+        meanwhile: impl FnOnce(&RunStore),
+    ) -> Vec<String> {
+        let lock = crate::output_folder::OutputFolder::open(dir, false).unwrap();
+        let (store, mut warnings) = open(dir);
+        meanwhile(&store);
+        let packed = store
+            .pack(&lock, &[], wanted, &mut |w| warnings.push(w.to_owned()))
+            .unwrap();
+        let (opened, _) = open(dir);
+        assert_eq!(contents(&packed), contents(&opened));
+        // And every location's digest is the hash of the bytes there.
+        for location in opened.index.values() {
+            let bytes = std::fs::read(&*location.file).unwrap();
+            let start = usize::try_from(location.offset).unwrap();
+            let entry = &bytes[start..start + location.len];
+            assert_eq!(blake3::hash(entry), location.digest);
+        }
+        warnings
+    }
+
+    #[test]
+    fn the_store_pack_returns_is_the_store_open_reads() {
+        let runs = runs_of(4);
+        let all = keys(&runs);
+        let figures = KeepTrajectories::Figures;
+
+        // Fresh appends.
+        let dir = tempfile::tempdir().unwrap();
+        append_all(dir.path(), &runs[..2], figures);
+        assert!(pack_equals_open(dir.path(), &all, |_| {}).is_empty());
+
+        // Resumed: a bundle and new loose runs; then one more not in `wanted`.
+        append_all(dir.path(), &runs[2..3], figures);
+        assert!(pack_equals_open(dir.path(), &all[..2], |_| {}).is_empty());
+        append_all(dir.path(), &runs[3..], figures);
+        assert!(pack_equals_open(dir.path(), &all, |_| {}).is_empty());
+
+        // A concurrent writer's loose file appearing after indexing stays loose and is read.
+        let dir = tempfile::tempdir().unwrap();
+        append_all(dir.path(), &runs[..2], figures);
+        pack_equals_open(dir.path(), &all, |_| {
+            append_all(dir.path(), &runs[2..3], figures);
+        });
+        let (store, _) = open(dir.path());
+        assert_eq!(store.len(), 3);
+        assert!(store.index[&runs[2].0].loose);
+
+        // A damaged entry in a bundle (set aside, left out), and a damaged bundle of its own
+        // (nothing verified in it, so not rewritten: rejected again).
+        let dir = tempfile::tempdir().unwrap();
+        let bundle = stored(dir.path(), &runs[..2]);
+        let mut damaged = std::fs::read(&bundle).unwrap();
+        damaged[20] ^= 0x55;
+        std::fs::write(&bundle, &damaged).unwrap();
+        std::fs::write(dir.path().join("runs/other.jsonl.gz"), &damaged[..30]).unwrap();
+        let warnings = pack_equals_open(dir.path(), &all, |_| {});
+        assert_eq!(
+            warnings.iter().filter(|w| w.contains("set aside")).count(),
+            2,
+            "{warnings:?}"
+        );
+        let (store, _) = open(dir.path());
+        assert_eq!(store.len(), 1);
+        assert_eq!(store.rejected.len(), 1);
+
+        // A torn tail.
+        let dir = tempfile::tempdir().unwrap();
+        let bundle = stored(dir.path(), &runs[..1]);
+        let whole = std::fs::read(&bundle).unwrap();
+        std::fs::write(&bundle, [&whole[..], &whole[..whole.len() / 2]].concat()).unwrap();
+        append_all(dir.path(), &runs[1..2], figures);
+        pack_equals_open(dir.path(), &all, |_| {});
+
+        // Duplicates: a run stored keeping the figures' trajectories and keeping all, loose and
+        // packed; the richer serves, the poorer loose file stays loose.
+        let dir = tempfile::tempdir().unwrap();
+        stored(dir.path(), &runs[..2]);
+        append_all(dir.path(), &runs[..1], KeepTrajectories::All);
+        append_all(dir.path(), &runs[1..2], figures);
+        assert!(pack_equals_open(dir.path(), &all, |_| {}).is_empty());
+        let (store, _) = open(dir.path());
+        assert!(store.has(&runs[0].0, KeepTrajectories::All));
+        assert!(!store.index[&runs[0].0].loose);
+
+        // A loose file replaced after indexing by other bytes of the same length that still
+        // hold the run (another process's copy whose gzip header says another time): checked
+        // in full on the way, and the bytes now there are packed, as `open` reads them.
+        let dir = tempfile::tempdir().unwrap();
+        append_all(dir.path(), &runs[..2], figures);
+        let mut replaced = Vec::new();
+        pack_equals_open(dir.path(), &all, |store| {
+            let path = store.loose_path(&runs[0].0, figures);
+            replaced = std::fs::read(&path).unwrap();
+            replaced[4] = 1; // the gzip header's modification time
+            crate::atomic::write_atomic(&path, &replaced).unwrap();
+        });
+        let bundle = std::fs::read(dir.path().join("runs/task1.jsonl.gz")).unwrap();
+        assert_eq!(&bundle[..replaced.len()], replaced.as_slice());
+    }
+
+    #[test]
+    fn pack_finds_a_loose_file_damaged_after_indexing_and_keeps_it() {
+        let runs = runs();
+        let dir = tempfile::tempdir().unwrap();
+        append_all(dir.path(), &runs, KeepTrajectories::Figures);
+        let lock = crate::output_folder::OutputFolder::open(dir.path(), false).unwrap();
+        let (store, _) = open(dir.path());
+        let path = store.loose_path(&runs[0].0, KeepTrajectories::Figures);
+        let mut bytes = std::fs::read(&path).unwrap();
+        let middle = bytes.len() / 2;
+        bytes[middle] ^= 0x55;
+        std::fs::write(&path, &bytes).unwrap();
+        let error = store
+            .pack(&lock, &[], &keys(&runs), &mut |w| panic!("{w}"))
+            .unwrap_err();
+        assert!(matches!(error, StoreError::Changed { .. }), "{error}");
+        assert!(
+            error.to_string().contains("no longer decompresses"),
+            "{error}"
+        );
+        // Nothing was lost: both loose files are still there, no bundle was committed.
+        assert_eq!(std::fs::read(&path).unwrap(), bytes);
+        assert!(
+            dir.path()
+                .join("runs/loose")
+                .join(format!("{}.figures.run.gz", runs[1].0))
+                .exists()
+        );
+        assert!(!dir.path().join("runs/task1.jsonl.gz").exists());
+    }
+
+    #[test]
+    fn receipts_index_exactly_the_bytes_appended_and_the_rest_is_checked_in_full() {
+        let runs = runs_of(3);
+        let figures = KeepTrajectories::Figures;
+        let dir = tempfile::tempdir().unwrap();
+        let receipts = append_all(dir.path(), &runs, figures);
+        assert_eq!(receipts[0].key(), &runs[0].0);
+        assert_eq!(receipts[0].keep(), figures);
+        let reopen = |receipts: &[AppendReceipt]| {
+            let mut warnings = Vec::new();
+            let store = RunStore::open_with_receipts(dir.path(), receipts, &mut |w| {
+                warnings.push(w.to_owned());
+            })
+            .unwrap();
+            (store, warnings)
+        };
+        // Untouched: the same store as a full check gives.
+        let (trusting, warnings) = reopen(&receipts);
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(contents(&trusting), contents(&open(dir.path()).0));
+
+        // The trust is in the bytes alone: a receipt made here for bytes that are no entry at
+        // all is believed (which is why only `append` makes receipts), while `open` rejects
+        // them. So the receipted path really skips the decompression and parse.
+        let path = trusting.loose_path(&runs[0].0, figures);
+        let whole = std::fs::read(&path).unwrap();
+        let garbage = b"not a gzip member".to_vec();
+        std::fs::write(&path, &garbage).unwrap();
+        let forged = AppendReceipt {
+            len: garbage.len() as u64,
+            digest: blake3::hash(&garbage),
+            ..receipts[0].clone()
+        };
+        let (trusting, warnings) = reopen(std::slice::from_ref(&forged));
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert!(trusting.has(&runs[0].0, figures));
+        let (checking, warnings) = open(dir.path());
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(!checking.has(&runs[0].0, figures));
+
+        // A receipted file replaced by other bytes (here the same garbage, against the true
+        // receipt) is checked in full: rejected with a warning, and set aside by the next pack.
+        let (store, warnings) = reopen(&receipts);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("damaged"), "{}", warnings[0]);
+        assert!(!store.has(&runs[0].0, figures));
+        assert_eq!(contents(&store), contents(&open(dir.path()).0));
+        // Replaced by a longer file that starts with the appended bytes: checked in full too
+        // (it then holds two entries, the second a torn copy).
+        std::fs::write(&path, [&whole[..], &whole[..10]].concat()).unwrap();
+        let (store, warnings) = reopen(&receipts);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("incomplete"), "{}", warnings[0]);
+        assert!(store.has(&runs[0].0, figures));
+        assert_eq!(contents(&store), contents(&open(dir.path()).0));
+        std::fs::write(&path, &garbage).unwrap();
+        let lock = crate::output_folder::OutputFolder::open(dir.path(), false).unwrap();
+        let (store, _) = reopen(&receipts);
+        let mut warnings = Vec::new();
+        let store = store
+            .pack(&lock, &[], &keys(&runs), &mut |w| {
+                warnings.push(w.to_owned());
+            })
+            .unwrap();
+        assert!(
+            warnings.len() == 1 && warnings[0].contains("set aside"),
+            "{warnings:?}"
+        );
+        assert_eq!(store.len(), 2);
+        let aside = dir
+            .path()
+            .join("runs/.set-aside")
+            .join(format!("{}.figures.run.gz.at-0", runs[0].0));
+        assert_eq!(std::fs::read(aside).unwrap(), garbage);
+
+        // A receipt whose file is gone (packed meanwhile) is ignored, silently.
+        assert!(!path.exists());
+        let (store, warnings) = reopen(&receipts);
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(store.len(), 2);
+        assert_eq!(contents(&store), contents(&open(dir.path()).0));
     }
 }
