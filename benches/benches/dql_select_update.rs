@@ -1,4 +1,4 @@
-//! One ε-greedy select + one double-Q update on Task I's table size (900 × 4).
+//! One ε-greedy (or softmax) select + one double-Q update on Task I's table size (900 × 4).
 //!
 //! Each iteration processes a batch of pre-drawn transitions, so the figure is
 //! the learning core's cost per environment step, without any environment. Two
@@ -12,7 +12,9 @@ use eamadm::dql;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use dql::{DoubleQ, DoubleQParams, EpsilonGreedy, ExplorationPolicy, Initialisation, Learner};
+use dql::{
+    DoubleQ, DoubleQParams, EpsilonGreedy, ExplorationPolicy, Initialisation, Learner, Softmax,
+};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -65,8 +67,10 @@ fn walk_transitions(rng: &mut ChaCha8Rng) -> Vec<Transition> {
         .collect()
 }
 
-fn bench(
+fn bench<P: ExplorationPolicy>(
     c: &mut Criterion,
+    group_name: &str,
+    mut policy: P,
     name: &str,
     init: Initialisation,
     transitions: fn(&mut ChaCha8Rng) -> Vec<Transition>,
@@ -77,11 +81,10 @@ fn bench(
         ..DoubleQParams::default()
     };
     let mut learner = DoubleQ::new(N_STATES, N_ACTIONS, params, &mut rng).unwrap();
-    let mut policy = EpsilonGreedy::constant(0.1).unwrap();
     let batch = transitions(&mut rng);
     let mut values = [0.0; N_ACTIONS];
 
-    let mut group = c.benchmark_group("epsilon_greedy_select_plus_double_q_update_900x4");
+    let mut group = c.benchmark_group(group_name);
     group.throughput(Throughput::Elements(BATCH as u64));
     group.bench_function(name, |b| {
         b.iter(|| {
@@ -108,15 +111,43 @@ fn select_and_update(c: &mut Criterion) {
         low: -1.0,
         high: 1.0,
     };
-    bench(c, "uniform_states", learned, uniform_transitions);
-    bench(c, "grid_walk", learned, walk_transitions);
+    let group = "epsilon_greedy_select_plus_double_q_update_900x4";
+    let epsilon_greedy = || EpsilonGreedy::constant(0.1).unwrap();
+    bench(
+        c,
+        group,
+        epsilon_greedy(),
+        "uniform_states",
+        learned,
+        uniform_transitions,
+    );
+    bench(
+        c,
+        group,
+        epsilon_greedy(),
+        "grid_walk",
+        learned,
+        walk_transitions,
+    );
     // Zero initialisation: every argmax starts as a tie, so tie-break draws
     // dominate until the values separate.
     bench(
         c,
+        group,
+        epsilon_greedy(),
         "uniform_states_zero_init",
         Initialisation::Zero,
         uniform_transitions,
+    );
+    // Softmax at Table 1's starting temperature: one `exp` per action and draw.
+    let softmax = Softmax::constant(0.1).unwrap();
+    bench(
+        c,
+        "softmax_select_plus_double_q_update_900x4",
+        softmax,
+        "grid_walk",
+        learned,
+        walk_transitions,
     );
 }
 

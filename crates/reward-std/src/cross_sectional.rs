@@ -106,12 +106,45 @@ fn power_of_two_scale(magnitude: f64) -> (f64, f64) {
     // log2 of a finite positive f64 lies in [-1075, 1024].
     let k = -(magnitude.log2().round() as i32);
     let half = k / 2;
-    (2.0_f64.powi(half), 2.0_f64.powi(k - half))
+    (power_of_two(half), power_of_two(k - half))
+}
+
+/// `2^exponent` for an exponent of a normal `f64`, `[-1022, 1023]` (the scales above need
+/// `[-512, 538]`), assembled from its bits: the value `2.0_f64.powi(exponent)` computes by
+/// repeated multiplication, exact for powers of two, without the `__powidf2` call.
+fn power_of_two(exponent: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&exponent), "normal exponent");
+    // the biased exponent lies in [1, 2046]
+    f64::from_bits(u64::from((exponent + 1023).unsigned_abs()) << 52)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The assembled powers of two are `powi`'s, bit for bit, over every exponent a normal
+    /// `f64` has (a superset of what `power_of_two_scale` asks for).
+    #[test]
+    fn powers_of_two_are_powis() {
+        for exponent in -1022..=1023 {
+            assert_eq!(
+                power_of_two(exponent).to_bits(),
+                2.0_f64.powi(std::hint::black_box(exponent)).to_bits(),
+                "2^{exponent}"
+            );
+        }
+    }
+
+    /// Every `k` the scale can produce splits into two normal powers of two.
+    #[test]
+    fn every_scale_exponent_is_in_range() {
+        for magnitude in [f64::MAX, 5e-324, f64::MIN_POSITIVE, 1.0] {
+            let k = -(magnitude.log2().round() as i32);
+            assert!((-1024..=1075).contains(&k), "{magnitude}: {k}");
+            let half = k / 2;
+            assert!((-1022..=1023).contains(&half) && (-1022..=1023).contains(&(k - half)));
+        }
+    }
 
     #[test]
     fn scale_brings_extremes_near_one() {
