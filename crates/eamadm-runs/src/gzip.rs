@@ -21,7 +21,7 @@ const LEVEL: u32 = 1;
 
 /// The DEFLATE level of the tables (`curves.csv.gz`): written once per output folder rather
 /// than once per run, so a denser level than the store's pays. Level 4 is the knee, measured on
-/// the four experiments' curves of the default plan (29.7 MB of CSV, miniz_oxide, best of 3 on
+/// the four experiments' curves of the default plan (29.7 MB of CSV, `miniz_oxide`, best of 3 on
 /// the 2-core development machine; docs/paper-notes.md §16): level 1 5.4× in 0.18 s, level 4
 /// 6.7× in 0.38 s, level 5 6.8× in 0.44 s, level 6 6.9× in 0.78 s. Level 6 would take twice
 /// level 4's CPU to make the files 1.9 % smaller.
