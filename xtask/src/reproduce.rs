@@ -150,12 +150,14 @@ pub(crate) fn reproduce_paper(
         &warn_on_stderr,
     )
     .map_err(Failure::failed)?;
-    drop(store);
     let counts = executed.counts;
     // Reopened, with the runs stored above (its damaged entries were reported by the first
     // open), and packed: every run stored in the folder, this plan's in job order. The runs
-    // stored above are indexed from their receipts while their files hold the bytes written.
-    let store = RunStore::open_with_receipts(folder.root(), &executed.receipts, &mut |_| {})
+    // stored above are indexed from their receipts while their files hold the bytes written,
+    // and what the first open checked is not read again (the folder's lock, held since, keeps
+    // other packers out).
+    let store = store
+        .reopen(&executed.receipts, &mut |_| {})
         .map_err(Failure::failed)?;
     drop(executed);
     let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();

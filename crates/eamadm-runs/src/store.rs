@@ -50,13 +50,15 @@
 //! - **Bytes checked or made once are not parsed again.** The index keeps, for each verified
 //!   entry, the BLAKE3 hash of its compressed bytes. Bytes read back later that hash to it are
 //!   the bytes checked, so they are trusted without inflating and parsing them again; bytes that
-//!   differ in any way are checked in full as above. This applies three times: a loose file
+//!   differ in any way are checked in full as above. This applies four times: a loose file
 //!   [`RunStore::append`] wrote from a record it serialised, when its [`AppendReceipt`] is
-//!   handed to [`RunStore::open_with_receipts`]; an entry [`RunStore::pack`] copies (a loose
-//!   file replaced by another process since it was indexed is read as it now is); and the
-//!   bundles `pack` has just written under the lock, indexed from what it wrote. Everything
-//!   else a store is opened on is checked in full, and [`RunStore::load`] checks the entry it
-//!   returns in full.
+//!   handed to [`RunStore::open_with_receipts`] or [`RunStore::reopen`]; an entry
+//!   [`RunStore::pack`] copies (a loose file replaced by another process since it was indexed
+//!   is read as it now is); the bundles `pack` has just written under the lock, indexed from
+//!   what it wrote; and, in [`RunStore::reopen`] by the process holding the lock since the
+//!   first open, the bundles that open read (while their length is unchanged) and the loose
+//!   files it verified (while their bytes hash the same). Everything else a store is opened on
+//!   is checked in full, and [`RunStore::load`] checks the entry it returns in full.
 //! - **No link is followed inside the store** ([`crate::no_follow`]).
 
 use std::collections::HashMap;
@@ -285,15 +287,27 @@ impl AppendReceipt {
 }
 
 /// The files a store being opened may index without checking them in full, because this
-/// process made their bytes.
+/// process checked or made their bytes.
 #[derive(Default)]
-struct Trusted<'a> {
-    /// Loose run files [`RunStore::append`] wrote, by path (used only while the file's bytes
-    /// hash to the receipt's digest).
-    received: HashMap<PathBuf, &'a AppendReceipt>,
-    /// Bundles [`RunStore::pack`] just wrote under the folder's lock (which no other writer of
-    /// bundles can hold meanwhile), by path, with their entries in file order.
-    written: HashMap<PathBuf, Vec<(RunKey, Location)>>,
+struct Trusted {
+    /// Loose run files by path: those [`RunStore::append`] wrote (their receipts) and those
+    /// the store being reopened had verified (used only while the file's bytes hash to the
+    /// receipt's digest).
+    received: HashMap<PathBuf, AppendReceipt>,
+    /// Bundles by path, while their length is the one recorded: those [`RunStore::pack`] just
+    /// wrote and those the store being reopened had read, both under the folder's lock (which
+    /// no other writer of bundles can hold meanwhile).
+    bundles: HashMap<PathBuf, BundleContents>,
+}
+
+/// What a bundle held when it was read in full or written: its length, every verified entry in
+/// file order (those a richer or earlier duplicate outranks included, so a reopen indexes
+/// exactly what a full read would) and the entries that failed their checks.
+#[derive(Debug, Clone, Default)]
+struct BundleContents {
+    len: u64,
+    entries: Vec<(RunKey, Location)>,
+    rejected: Vec<Rejected>,
 }
 
 /// An entry that failed its checks, to be set aside by the next [`RunStore::pack`].
@@ -605,6 +619,9 @@ pub struct RunStore {
     folder: PathBuf,
     index: HashMap<RunKey, Location>,
     rejected: Vec<Rejected>,
+    /// What each bundle held when this store read it in full or wrote it, for
+    /// [`RunStore::reopen`] (a few dozen bytes a run, never a record).
+    bundles: HashMap<PathBuf, BundleContents>,
 }
 
 impl RunStore {
@@ -635,13 +652,65 @@ impl RunStore {
         )?;
         let received = receipts
             .iter()
-            .map(|receipt| (loose_path_in(&folder, &receipt.key, receipt.keep), receipt))
+            .map(|receipt| {
+                let path = loose_path_in(&folder, &receipt.key, receipt.keep);
+                (path, receipt.clone())
+            })
             .collect();
         let trusted = Trusted {
             received,
-            written: HashMap::new(),
+            bundles: HashMap::new(),
         };
         Self::open_folder(&folder, trusted, warn)
+    }
+
+    /// This store opened again, as [`RunStore::open_with_receipts`] would open its output
+    /// folder with `receipts`, without reading again what this store has already checked: a
+    /// bundle whose length is the one this store read (or wrote) is indexed from what it held,
+    /// and a loose file it indexed is trusted while its bytes hash to the digest checked. This
+    /// is for a process holding the folder's lock ([`crate::output_folder::OutputFolder`]) since
+    /// this store was opened, so that no bundle can have been rewritten meanwhile; any other
+    /// file, a bundle of another length and a loose file with other bytes are checked in full.
+    /// (Bytes damaged in place are still found: [`RunStore::pack`] hashes every entry it copies
+    /// and [`RunStore::load`] checks in full.)
+    pub fn reopen(
+        self,
+        receipts: &[AppendReceipt],
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<Self, StoreError> {
+        let out = self.folder.parent().unwrap_or(Path::new("."));
+        crate::no_follow::check_under(out, Path::new(crate::names::RUNS_FOLDER), false).map_err(
+            |source| StoreError::Read {
+                path: self.folder.clone(),
+                source,
+            },
+        )?;
+        // The loose files this store verified, as receipts of their bytes; the receipts of runs
+        // appended since take their place where both name a file.
+        let mut received: HashMap<PathBuf, AppendReceipt> = self
+            .index
+            .iter()
+            .filter(|(_, at)| at.loose)
+            .map(|(key, at)| {
+                let receipt = AppendReceipt {
+                    key: key.clone(),
+                    keep: at.trajectories,
+                    experiment: at.experiment.clone(),
+                    len: at.len as u64,
+                    digest: at.digest,
+                };
+                (at.file.to_path_buf(), receipt)
+            })
+            .collect();
+        for receipt in receipts {
+            let path = loose_path_in(&self.folder, &receipt.key, receipt.keep);
+            received.insert(path, receipt.clone());
+        }
+        let trusted = Trusted {
+            received,
+            bundles: self.bundles,
+        };
+        Self::open_folder(&self.folder, trusted, warn)
     }
 
     /// A store opened only to read (as `merge` does): `path` is an output folder (its `runs/` is
@@ -669,13 +738,14 @@ impl RunStore {
     /// `folder`, each checked in full unless `trusted` vouches for its bytes.
     fn open_folder(
         folder: &Path,
-        mut trusted: Trusted<'_>,
+        mut trusted: Trusted,
         warn: &mut dyn FnMut(&str),
     ) -> Result<Self, StoreError> {
         let mut store = Self {
             folder: folder.to_path_buf(),
             index: HashMap::new(),
             rejected: Vec::new(),
+            bundles: HashMap::new(),
         };
         let read = |path: &Path| {
             let path = path.to_path_buf();
@@ -699,13 +769,20 @@ impl RunStore {
         // Sorted, so which of two equal entries is indexed does not depend on directory order.
         bundles.sort();
         for path in bundles {
-            match trusted.written.remove(&path) {
-                Some(entries) => {
-                    for (key, location) in entries {
-                        store.insert(key, location);
+            match trusted.bundles.remove(&path) {
+                // A symbolic link or special file has no length here and is checked (and
+                // named) in full below.
+                Some(contents)
+                    if std::fs::symlink_metadata(&path)
+                        .is_ok_and(|meta| meta.is_file() && meta.len() == contents.len) =>
+                {
+                    for (key, location) in &contents.entries {
+                        store.insert(key.clone(), location.clone());
                     }
+                    store.rejected.extend(contents.rejected.iter().cloned());
+                    store.bundles.insert(path, contents);
                 }
-                None => store.index_file(&path, false, warn)?,
+                _ => store.index_file(&path, false, warn)?,
             }
         }
         let loose_folder = folder.join(LOOSE_FOLDER);
@@ -719,7 +796,7 @@ impl RunStore {
             .collect();
         loose.sort();
         for path in loose {
-            let received = trusted.received.get(&path).copied();
+            let received = trusted.received.get(&path);
             if !received.is_some_and(|receipt| store.index_received(&path, receipt)) {
                 store.index_file(&path, true, warn)?;
             }
@@ -810,6 +887,9 @@ impl RunStore {
         let mut offset = 0_u64;
         let mut line = Vec::new();
         let mut number = 0_usize;
+        // A bundle's verified entries and rejected ones, recorded for `reopen`.
+        let rejected_before = self.rejected.len();
+        let mut entries = Vec::new();
         while offset < end {
             number += 1;
             let (next, digest) = match read_entry(&mut reader, offset, &mut line) {
@@ -853,6 +933,9 @@ impl RunStore {
                         experiment: parsed.header.experiment,
                         digest,
                     };
+                    if !loose {
+                        entries.push((key.clone(), location.clone()));
+                    }
                     self.insert(key, location);
                 }
                 Err(problem) => {
@@ -865,6 +948,14 @@ impl RunStore {
                 }
             }
             offset = next;
+        }
+        if !loose {
+            let contents = BundleContents {
+                len: end,
+                entries,
+                rejected: self.rejected[rejected_before..].to_vec(),
+            };
+            self.bundles.insert(path.to_path_buf(), contents);
         }
         Ok(())
     }
@@ -1142,7 +1233,12 @@ impl RunStore {
                 entries.push((key, location));
             }
             bundle.commit().map_err(|e| write(&path)(e.source))?;
-            written.insert(path, entries);
+            let contents = BundleContents {
+                len: offset,
+                entries,
+                rejected: Vec::new(),
+            };
+            written.insert(path, contents);
         }
         // The loose runs now packed, and the rejected entries, leave the loose folder.
         let mut packed: Vec<&Path> = self
@@ -1172,7 +1268,7 @@ impl RunStore {
         // that appeared meanwhile, loose runs not packed), its own bundles from what it wrote.
         let trusted = Trusted {
             received: HashMap::new(),
-            written,
+            bundles: written,
         };
         Self::open_folder(&folder, trusted, &mut |_| {})
     }
@@ -2074,5 +2170,124 @@ mod tests {
         assert!(warnings.is_empty(), "{warnings:?}");
         assert_eq!(store.len(), 2);
         assert_eq!(contents(&store), contents(&open(dir.path()).0));
+    }
+
+    /// Opens the store of `dir`, lets `meanwhile` change the folder (as this process's jobs
+    /// and other processes would between the first open and the reopen; it returns the
+    /// receipts of what it appended), reopens, and checks that the reopened store is the store
+    /// `open` then reads.
+    fn reopen_equals_open(dir: &Path, meanwhile: impl FnOnce(&RunStore) -> Vec<AppendReceipt>) {
+        let (store, _) = open(dir);
+        let receipts = meanwhile(&store);
+        let reopened = store.reopen(&receipts, &mut |_| {}).unwrap();
+        let (opened, _) = open(dir);
+        assert_eq!(contents(&reopened), contents(&opened));
+    }
+
+    #[test]
+    fn a_reopened_store_is_the_store_open_reads() {
+        let runs = runs_of(4);
+        let figures = KeepTrajectories::Figures;
+
+        // Resumed: a bundle and a loose run of an earlier invocation; a run appended now.
+        let dir = tempfile::tempdir().unwrap();
+        stored(dir.path(), &runs[..2]);
+        append_all(dir.path(), &runs[2..3], figures);
+        reopen_equals_open(dir.path(), |_| append_all(dir.path(), &runs[3..], figures));
+
+        // Another process's loose run appearing meanwhile (no receipt: checked in full).
+        let dir = tempfile::tempdir().unwrap();
+        stored(dir.path(), &runs[..2]);
+        reopen_equals_open(dir.path(), |_| {
+            append_all(dir.path(), &runs[2..3], figures);
+            Vec::new()
+        });
+
+        // A damaged entry and a torn tail in a bundle, and a bundle of nothing good: their
+        // rejected entries carry over.
+        let dir = tempfile::tempdir().unwrap();
+        let bundle = stored(dir.path(), &runs[..2]);
+        let mut damaged = std::fs::read(&bundle).unwrap();
+        damaged[20] ^= 0x55;
+        let torn = [&damaged[..], &damaged[..damaged.len() / 2]].concat();
+        std::fs::write(&bundle, &torn).unwrap();
+        std::fs::write(dir.path().join("runs/other.jsonl.gz"), &damaged[..30]).unwrap();
+        reopen_equals_open(dir.path(), |store| {
+            assert_eq!(store.rejected.len(), 3);
+            Vec::new()
+        });
+
+        // Duplicates: the richer loose copy of a packed run removed meanwhile; the bundle's
+        // poorer entry, outranked at the first open, serves again.
+        let dir = tempfile::tempdir().unwrap();
+        stored(dir.path(), &runs[..2]);
+        append_all(dir.path(), &runs[..1], KeepTrajectories::All);
+        reopen_equals_open(dir.path(), |store| {
+            let richer = store.loose_path(&runs[0].0, KeepTrajectories::All);
+            assert!(store.index[&runs[0].0].loose);
+            std::fs::remove_file(richer).unwrap();
+            Vec::new()
+        });
+
+        // Two bundles holding the same runs: the second's entries, outranked at the first open
+        // by the first's (first of equals), serve once the first is found damaged.
+        let dir = tempfile::tempdir().unwrap();
+        let bundle = stored(dir.path(), &runs[..2]);
+        let copy = dir.path().join("runs/a-copy.jsonl.gz");
+        std::fs::copy(&bundle, &copy).unwrap();
+        reopen_equals_open(dir.path(), |store| {
+            assert_eq!(*store.index[&runs[0].0].file, copy);
+            std::fs::write(&copy, b"damaged").unwrap();
+            Vec::new()
+        });
+        assert_eq!(*open(dir.path()).0.index[&runs[0].0].file, bundle);
+
+        // A bundle of another length (here grown by a torn copy of its first entry): read in
+        // full again. A loose file replaced by other bytes: checked in full, and rejected.
+        let dir = tempfile::tempdir().unwrap();
+        let bundle = stored(dir.path(), &runs[..2]);
+        append_all(dir.path(), &runs[2..3], figures);
+        reopen_equals_open(dir.path(), |store| {
+            let whole = std::fs::read(&bundle).unwrap();
+            std::fs::write(&bundle, [&whole[..], &whole[..40]].concat()).unwrap();
+            let loose = store.loose_path(&runs[2].0, figures);
+            std::fs::write(loose, b"not a gzip member").unwrap();
+            Vec::new()
+        });
+        let (store, warnings) = open(dir.path());
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert_eq!(store.len(), 2);
+    }
+
+    /// The reopen trusts a bundle of the length it read without reading it again (the lock
+    /// keeps packers out meanwhile); bytes damaged in place are then found by `pack`, which
+    /// hashes what it copies, and nothing is removed.
+    #[test]
+    fn a_reopen_trusts_a_bundle_of_the_same_length_and_pack_still_finds_damage() {
+        let runs = runs_of(2);
+        let dir = tempfile::tempdir().unwrap();
+        let bundle = stored(dir.path(), &runs);
+        let lock = crate::output_folder::OutputFolder::open(dir.path(), false).unwrap();
+        let (store, _) = open(dir.path());
+        let mut damaged = std::fs::read(&bundle).unwrap();
+        damaged[20] ^= 0x55;
+        std::fs::write(&bundle, &damaged).unwrap();
+        let reopened = store.reopen(&[], &mut |_| {}).unwrap();
+        assert_eq!(reopened.len(), 2, "trusted, not read again");
+        assert_eq!(
+            open(dir.path()).0.len(),
+            1,
+            "a full read rejects the damaged entry"
+        );
+        let packed = reopened.pack(&lock, &[], &keys(&runs), &mut |_| {});
+        assert!(
+            matches!(packed, Err(StoreError::Changed { .. })),
+            "{packed:?}"
+        );
+        assert_eq!(
+            std::fs::read(&bundle).unwrap(),
+            damaged,
+            "nothing rewritten"
+        );
     }
 }
