@@ -440,8 +440,6 @@ impl<S: Similarity> EaTree<S> {
         }
     }
 
-    /// The first cluster of `chain` whose state test passes, visiting only clusters that
-    /// share enough tokens with `state` (see [`crate::index`]).
     /// [`lookup`](Self::lookup) of `(state, action)` for every action `0..n_actions`, in
     /// order, passed to `emit`. Each walk with the shared-token index enters chains and asks
     /// of each "which is the first cluster whose state test passes?", a question that does
@@ -455,14 +453,18 @@ impl<S: Similarity> EaTree<S> {
         memo: &mut Vec<(u32, Option<ClusterId>)>,
         mut emit: impl FnMut(Option<Answer>),
     ) {
-        let WalkIndex::SharedTokens(index) = &self.index else {
-            (0..n_actions).for_each(|action| emit(self.lookup(state, action)));
-            return;
+        let index = match &self.index {
+            WalkIndex::SharedTokens(index)
+                if state.len() <= MAX_FEATURES && !self.clusters.is_empty() =>
+            {
+                index
+            }
+            // Walks that take no shared-token chains share nothing: each action's own lookup.
+            _ => {
+                (0..n_actions).for_each(|action| emit(self.lookup(state, action)));
+                return;
+            }
         };
-        if state.len() > MAX_FEATURES || self.clusters.is_empty() {
-            (0..n_actions).for_each(|action| emit(self.lookup(state, action)));
-            return;
-        }
         memo.clear();
         for action in 0..n_actions {
             let mut head = ClusterId::ROOT;
@@ -489,6 +491,8 @@ impl<S: Similarity> EaTree<S> {
         }
     }
 
+    /// The first cluster of `chain` whose state test passes, visiting only clusters that
+    /// share enough tokens with `state` (see [`crate::index`]).
     fn first_state_match(
         &self,
         index: &SharedTokenIndex,

@@ -173,7 +173,8 @@ impl RunningStandardiser {
 
 /// `z_sum / subtasks`, as a multiplication when `reciprocal` is the exact `1 / subtasks` of a
 /// power of two: both then round the same real number `z_sum · 2⁻ᵏ` once, so the bits are the
-/// same, and the result is ready some ten cycles sooner (the step's learning update waits on it).
+/// same, and the step's learning update, which waits on the result, waits on a multiplication
+/// rather than a division.
 #[inline]
 fn mean_over_subtasks(z_sum: f64, subtasks: usize, reciprocal: Option<f64>) -> f64 {
     match reciprocal {

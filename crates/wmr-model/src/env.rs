@@ -246,7 +246,7 @@ impl WmrEnv {
             target,
             retention_progress,
             rng: ChaCha8Rng::seed_from_u64(DEFAULT_SEED),
-            pose: scenario.start_pose(),
+            pose: start,
             state: 0,
             readings: [0.0; SENSOR_COUNT],
             subtask_rewards: [0.0; SUBTASK_COUNT],

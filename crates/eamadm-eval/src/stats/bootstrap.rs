@@ -79,8 +79,8 @@ impl Bootstrap {
         self.validate()?;
         check_sample(x, "x")?;
         check_sample(y, "y")?;
-        check_len(x.len(), "the sample's size")?;
-        check_len(y.len(), "the sample's size")?;
+        check_len(x.len(), "x's size")?;
+        check_len(y.len(), "y's size")?;
         let (sorted_x, sorted_y) = (sorted_copy(x), sorted_copy(y));
         let sample_x = CountedSample::new(&sorted_x, x.len());
         let sample_y = CountedSample::new(&sorted_y, y.len());
