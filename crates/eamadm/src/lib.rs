@@ -189,6 +189,7 @@ pub mod config;
 pub mod data_package;
 pub mod diagnosis;
 pub mod error;
+pub mod family;
 pub mod margins;
 pub mod output_names;
 pub mod paper;
@@ -199,6 +200,7 @@ pub mod runner;
 pub mod signal;
 pub mod task;
 pub mod theme;
+pub mod tuning;
 
 pub use agent::{EaMadmPolicy, PolicyError};
 // `behaviour` (the function) comes with the module of the same name above.
