@@ -12,7 +12,7 @@
 //! | [`ea_tree`] | the experience-aggregation tree (Sec. IV.B, Fig. 4) |
 //! | [`madm_owa`] | OWA, visibility weights and the multi-attribute decision (Eq. 3, 13–16) |
 //! | [`reward_std`] | reward standardisation (Eq. 10–12, literal and running) |
-//! | [`mazes`] | Task I and Task II (Sec. VI.A) |
+//! | [`mazes`] | Task I and Task II (Sec. VI.A), and layouts with structure |
 //! | [`wmr_model`] | the wheeled robot and its scenario (Sec. III, VI.B) |
 //! | [`config`] | experiment configs in TOML |
 //! | [`paper`] | the paper's presets (Table 1 and 2), methods, titles, reported numbers, claims C1–C4 |
@@ -22,7 +22,7 @@
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
 //! | [`eamadm_eval`] | the evaluation, re-exported module by module: |
 //! | [`summary`], [`results`] | statistics over seeds; JSON and CSV output |
-//! | [`stats`] | IQM, bootstrap and stratified bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
+//! | [`stats`] | IQM, bootstrap, stratified and two-level (layouts, seeds) bootstrap intervals, permutation tests, Holm, P(X > Y), Wilson |
 //! | [`scores`] | per-seed final scores (one row per task, method, seed): `final-scores.csv` |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4) and the seeds behind each point |
@@ -31,6 +31,8 @@
 //! | [`data_package`], [`columns`] | `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its type, unit and meaning |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
 //! | [`margins`] | each task's equivalence margins, derived from its rewards and control period |
+//! | [`family`] | the maze family: held-out layouts with structure (perfect mazes, rooms, traps) as experiments, and `layouts.csv` |
+//! | [`tuning`] | the same number of hyperparameter trials per method from stated ranges, on tuning seeds apart from the held-out ones, and `tuning.csv` |
 //!
 //! # A first experiment
 //!
@@ -189,6 +191,7 @@ pub mod config;
 pub mod data_package;
 pub mod diagnosis;
 pub mod error;
+pub mod family;
 pub mod margins;
 pub mod output_names;
 pub mod paper;
@@ -199,6 +202,7 @@ pub mod runner;
 pub mod signal;
 pub mod task;
 pub mod theme;
+pub mod tuning;
 
 pub use agent::{EaMadmPolicy, PolicyError};
 // `behaviour` (the function) comes with the module of the same name above.

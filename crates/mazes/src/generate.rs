@@ -45,7 +45,7 @@ impl GeneratorParams {
     /// [`DEFAULT_MAX_ATTEMPTS`] attempts. (With a zero size the corners saturate at 0;
     /// generation then reports the size error.)
     #[must_use]
-    pub fn corner_to_corner(width: usize, height: usize, obstacles: usize) -> Self {
+    pub const fn corner_to_corner(width: usize, height: usize, obstacles: usize) -> Self {
         Self {
             width,
             height,

@@ -6,7 +6,8 @@
 //! the outer wall is a *bump* and the agent stays. [`MazeEnv`] turns a maze and a
 //! [`TaskSpec`] (rewards as data, sub-tasks, step cap) into a [`dql::Environment`].
 //! Around it: a plain-text map format ([`Maze::parse`], [`Maze::to_text`]), seeded
-//! generation ([`generate`], [`generate_seeded`]), the paper's two tasks as [`Preset`]s
+//! generation ([`generate`], [`generate_seeded`]; structured layouts with [`LayoutSpec`]),
+//! the paper's two tasks as [`Preset`]s
 //! frozen under `fixtures/mazes/`, BFS shortest paths ([`Maze::shortest_path`], the
 //! optimum every learning curve is compared with), and rendering as text
 //! ([`render_text`]) and SVG ([`render_svg`], the analogue of the paper's Fig. 6 and 9).
@@ -133,6 +134,43 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! # Layouts with structure
+//!
+//! The paper's layouts are uniform random obstacles, and both of ours sit at the Manhattan
+//! bound: some shortest path only ever moves towards the target, so distance shaping alone is
+//! optimal there. A [`LayoutSpec`] also makes layouts where it is not, each from a seed and
+//! the same on every platform: a perfect maze ([`PerfectMazeParams`], corridors and dead ends
+//! drawn by the recursive backtracker or Wilson's algorithm, optionally braided), rooms joined
+//! by doors ([`RoomsParams`]) and a trap ([`TrapParams`]: walls across the direct route whose
+//! gaps lie at the far end). Every spec promises an exact obstacle count
+//! ([`LayoutSpec::obstacle_count`]) and a reachable target; bad parameters are a
+//! [`LayoutError`] naming the field. A layout is described by its detour ratio,
+//! [`Maze::detour_ratio`]: the BFS optimum over the Manhattan distance.
+//!
+//! ```
+//! use mazes::{LayoutSpec, MazeAlgorithm, PerfectMazeParams, RoomsParams, TrapParams};
+//!
+//! let perfect = PerfectMazeParams::corner_to_corner(9, 9, MazeAlgorithm::Wilson, 0);
+//! let maze = LayoutSpec::PerfectMaze(perfect).generate(7)?;
+//! // 25 cells joined by 24 open walls; every other tile is an obstacle.
+//! assert_eq!(maze.obstacle_count(), 81 - 49);
+//! assert_eq!(maze.manhattan_distance(), 16);
+//!
+//! let rooms = LayoutSpec::Rooms(RoomsParams::new(11, 11, 2, 2, 0, 5));
+//! assert_eq!(rooms.obstacle_count(), Some(11 + 11 - 1 - 3 + 5));
+//! assert_eq!(rooms.generate(1)?.obstacle_count(), 23);
+//!
+//! // A wall down from the top row with its gap at the bottom: the trap's route goes round it.
+//! let trap = LayoutSpec::Trap(TrapParams::new(5, 4, 1, 1, 0)).generate(0)?;
+//! assert_eq!(trap.detour_ratio(), (4.0 + 2.0 * 3.0) / 4.0);
+//!
+//! // Parameters that cannot work are refused, naming the field.
+//! let even = PerfectMazeParams::corner_to_corner(10, 9, MazeAlgorithm::Backtracker, 0);
+//! let error = LayoutSpec::PerfectMaze(even).generate(0).unwrap_err();
+//! assert!(error.to_string().starts_with("`width` = 10 is even"));
+//! # Ok::<(), mazes::LayoutError>(())
+//! ```
+//!
 //! # Paper references
 //!
 //! Sec. VI.A (Task I: 30 × 30 tiles, 100 obstacles, the ±1/−100/+100 reward, cap 2000;
@@ -142,6 +180,7 @@
 mod env;
 mod generate;
 mod geometry;
+pub mod layouts;
 pub mod map_text;
 mod maze;
 mod path;
@@ -153,6 +192,10 @@ mod reward;
 pub use env::{MazeCursor, MazeEnv};
 pub use generate::{DEFAULT_MAX_ATTEMPTS, GeneratorParams, generate, generate_seeded};
 pub use geometry::{Action, N_ACTIONS, Pos};
+pub use layouts::{
+    LayoutError, LayoutKind, LayoutSpec, MAX_LAYOUT_TILES, MazeAlgorithm, PerfectMazeParams,
+    RoomsParams, TrapParams,
+};
 pub use map_text::{Marker, ParseError};
 pub use maze::{MAX_TILES, Maze, MazeError};
 pub use presets::{FIXTURE_DIR, Preset};

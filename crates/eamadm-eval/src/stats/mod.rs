@@ -137,6 +137,7 @@ pub mod bootstrap;
 pub mod comparison;
 mod counted;
 pub mod distribution;
+pub mod hierarchical;
 pub mod location;
 pub mod normal;
 pub mod paired;

@@ -6,6 +6,7 @@ mod common;
 mod env;
 mod fixtures;
 mod generation;
+mod layouts;
 mod map_text;
 mod path;
 mod render;
