@@ -12,8 +12,9 @@ use crate::cli::{Readings, ReproduceArgs, Task};
 
 /// Seeds per task and method of the default run: the presets' ([`eamadm::paper::SEEDS`]).
 pub(crate) const DEFAULT_SEEDS: u32 = eamadm::paper::SEEDS;
-/// Seeds per task and method of a `--quick` run.
-pub(crate) const QUICK_SEEDS: u32 = 3;
+/// Seeds per task and method of a `--quick` run: the facade's ([`eamadm::QUICK_SEEDS`]), which
+/// Python's `eamadm.run(..., quick=True)` uses too.
+pub(crate) const QUICK_SEEDS: u32 = eamadm::QUICK_SEEDS;
 
 /// The method labels of the embedded default configs, in order of first appearance: the four
 /// methods, the ablations (each EA-MADM with one switch flipped), then the maze tasks'
