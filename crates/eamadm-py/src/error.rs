@@ -46,5 +46,6 @@ pub(crate) fn internal_error(what: &str, payload: &(dyn Any + Send)) -> PyErr {
 /// Runs `body`, turning a panic into a `RuntimeError` naming `what` (every entry point of the
 /// module goes through this).
 pub(crate) fn guard<T>(what: &str, body: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
-    catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| Err(internal_error(what, &*payload)))
+    catch_unwind(AssertUnwindSafe(body))
+        .unwrap_or_else(|payload| Err(internal_error(what, &*payload)))
 }

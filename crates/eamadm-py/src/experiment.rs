@@ -274,7 +274,8 @@ fn run<'py>(
     let stop = Arc::new(AtomicBool::new(false));
     let (sender, receiver) = mpsc::channel::<Finished>();
     for (index, (spec, seed)) in jobs.into_iter().enumerate() {
-        let (experiment, stop, sender) = (Arc::clone(&experiment), Arc::clone(&stop), sender.clone());
+        let (experiment, stop, sender) =
+            (Arc::clone(&experiment), Arc::clone(&stop), sender.clone());
         pool.spawn(move || {
             if stop.load(Ordering::Relaxed) {
                 return;

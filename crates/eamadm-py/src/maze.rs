@@ -7,8 +7,7 @@
 use eamadm::dql::Environment;
 use eamadm::dql::RgbFrame;
 use eamadm::mazes::{
-    Event, Maze, MazeCursor, MazeEnv, Pos, Preset, SpecError, TILE_PIXELS, render_rgb,
-    render_text,
+    Event, Maze, MazeCursor, MazeEnv, Pos, Preset, SpecError, TILE_PIXELS, render_rgb, render_text,
 };
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1};
@@ -125,10 +124,6 @@ impl MazeCore {
     }
 
     /// The arguments to make it again (pickling).
-    #[expect(
-        clippy::type_complexity,
-        reason = "the constructor's arguments, as pickle wants them"
-    )]
     fn __getnewargs__(&self) -> (String, Option<String>, Option<String>, Option<u32>) {
         self.arguments.clone()
     }
@@ -146,10 +141,6 @@ impl MazeCore {
 
     /// Puts the episode back where `__getstate__` saw it; a `ValueError` naming `state` when
     /// it cannot stand on this maze.
-    #[expect(
-        clippy::needless_pass_by_value,
-        reason = "pyo3 hands extracted arguments over by value"
-    )]
     fn __setstate__(&mut self, state: MazeState) -> PyResult<()> {
         guard("state", || {
             let ((x, y), steps, event, path) = state;

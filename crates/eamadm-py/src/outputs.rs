@@ -86,7 +86,10 @@ fn load<'py>(
     path: &std::path::Path,
 ) -> PyResult<(Bound<'py, PyDict>, Vec<String>)> {
     if !path.exists() {
-        return Err(not_found("dir", format!("{} does not exist", path.display())));
+        return Err(not_found(
+            "dir",
+            format!("{} does not exist", path.display()),
+        ));
     }
     if !path.is_dir() {
         return Err(value_error(

@@ -31,7 +31,8 @@ const CLI_OPENING: &str = "Made by `python -m eamadm reproduce`{quick}. Do not e
      in [claims.csv](claims.csv).";
 
 /// What the main job's report says of a `--quick` run, after the command.
-const QUICK_NOTE: &str = " --quick (a smoke run: few seeds and episodes; these numbers mean little)";
+const QUICK_NOTE: &str =
+    " --quick (a smoke run: few seeds and episodes; these numbers mean little)";
 
 /// What a report needs of one experiment's runs, as text Python carries opaquely: the
 /// experiment's facts (TOML) and its runs' `final-scores.csv` rows.

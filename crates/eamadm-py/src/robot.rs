@@ -21,7 +21,12 @@ fn frame_of<'py>(py: Python<'py>, env: &WmrEnv) -> PyResult<Bound<'py, PyArray3<
     guard("render", || {
         frame_array(
             py,
-            render_rgb(env.scenario(), env.pose(), env.path(), FRAME_PIXELS_PER_METRE),
+            render_rgb(
+                env.scenario(),
+                env.pose(),
+                env.path(),
+                FRAME_PIXELS_PER_METRE,
+            ),
         )
     })
 }

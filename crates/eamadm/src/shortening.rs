@@ -208,7 +208,11 @@ mod tests {
             *step_cap = Some(100);
         }
         let kept = capped.shortened(&Shortening::QUICK);
-        assert_eq!(kept.task.step_cap(), Some(100), "a lower cap of the task's own stays");
+        assert_eq!(
+            kept.task.step_cap(),
+            Some(100),
+            "a lower cap of the task's own stays"
+        );
     }
 
     #[test]
@@ -223,7 +227,10 @@ mod tests {
                 Method::EpsilonGreedy { training: a, .. },
             ) = (&before.method, &after.method)
             {
-                assert_eq!(a.warmup_env_steps, b.warmup_env_steps * 20 / preset.episodes);
+                assert_eq!(
+                    a.warmup_env_steps,
+                    b.warmup_env_steps * 20 / preset.episodes
+                );
             }
         }
         assert!(shorter.trajectories.episodes.iter().all(|&e| e < 20));

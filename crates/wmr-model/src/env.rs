@@ -419,7 +419,10 @@ impl WmrEnv {
                 rotation.im,
             ],
         )?;
-        finite("clearance", &snapshot.clearance.into_iter().collect::<Vec<_>>())?;
+        finite(
+            "clearance",
+            &snapshot.clearance.into_iter().collect::<Vec<_>>(),
+        )?;
         finite("readings", &snapshot.readings)?;
         finite("subtask_rewards", &snapshot.subtask_rewards)?;
         let m = &snapshot.metrics;

@@ -324,7 +324,11 @@ pub fn render_rgb(
     let body = scenario.robot.body_radius;
     let centre = Point2::from(pose.translation.vector);
     let target = Point2::new(scenario.target.x, scenario.target.y);
-    let obstacles: Vec<_> = scenario.obstacles.iter().map(ObstacleSpec::obstacle).collect();
+    let obstacles: Vec<_> = scenario
+        .obstacles
+        .iter()
+        .map(ObstacleSpec::obstacle)
+        .collect();
     for row in 0..height {
         for column in 0..width {
             let point = world(column, row);
@@ -383,7 +387,11 @@ mod frame_tests {
         assert_eq!((frame.width, frame.height), (200, 200));
         assert_eq!(frame.pixels.len(), 200 * 200 * 3);
         let at = |x: f64, y: f64| {
-            #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            #[expect(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "points inside the 1 m arena"
+            )]
             frame
                 .get((x * 200.0) as usize, ((1.0 - y) * 200.0) as usize)
                 .expect("inside the frame")

@@ -319,10 +319,10 @@ fn an_episode_that_cannot_be_on_the_maze_is_refused_and_changes_nothing() {
     env.step(3);
     let saved = env.episode();
     for (position, steps, event) in [
-        (Pos::new(2, 0), 1, Some(Event::Bump)), // an obstacle
-        (Pos::new(5, 0), 1, Some(Event::Bump)), // outside the grid
+        (Pos::new(2, 0), 1, Some(Event::Bump)),   // an obstacle
+        (Pos::new(5, 0), 1, Some(Event::Bump)),   // outside the grid
         (Pos::new(1, 0), 0, Some(Event::Closer)), // an event without a step
-        (Pos::new(1, 0), 3, None),              // steps without an event
+        (Pos::new(1, 0), 3, None),                // steps without an event
     ] {
         assert!(env.set_episode(position, steps, event).is_err());
         assert_eq!(env.episode(), saved);
