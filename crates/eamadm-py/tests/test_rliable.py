@@ -59,6 +59,11 @@ def test_results_of_run_give_the_same_shape():
     assert all(matrix.shape == (3, 1) for matrix in scores.values())
     plain = eamadm.run(small_task1(episodes=3, seeds=3), methods=["softmax"], dataframe=False)
     numpy.testing.assert_array_equal(eamadm.rliable_scores(plain, "final_steps")["softmax"], scores["softmax"])
+    # A nullable column's missing values (pandas' NA, numpy's NaN) are blanks, named as such.
+    assert results.final_scores["collapse_episode"].isna().any()
+    for source in (results, plain):
+        with pytest.raises(ValueError, match="^metric: 'collapse_episode' is blank"):
+            eamadm.rliable_scores(source, "collapse_episode")
 
 
 def test_scores_feed_rliables_interval_estimates(quick_out):

@@ -73,7 +73,10 @@ def _labels(value: object, name: str) -> Optional[List[str]]:
 
 
 def _missing(value: Any) -> bool:
-    return value is None or (isinstance(value, float) and math.isnan(value))
+    """A blank cell: None, NaN, or pandas' missing value of a nullable column (``pd.NA``)."""
+    if value is None or type(value).__name__ == "NAType":
+        return True
+    return isinstance(value, (float, numpy.floating)) and math.isnan(value)
 
 
 def rliable_scores(
