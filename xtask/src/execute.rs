@@ -218,7 +218,7 @@ pub(crate) fn run_jobs(
 mod tests {
     use super::*;
     use crate::cli::{Readings, Task};
-    use crate::experiments::{plan_experiments, shorten};
+    use crate::experiments::plan_experiments;
     use crate::jobs::plan_jobs;
 
     #[test]
@@ -227,8 +227,10 @@ mod tests {
         let mut planned =
             plan_experiments(&[Task::Task1], false, None, 2, true, Readings::None).unwrap();
         assert_eq!(planned.len(), 1);
-        let mut config = planned[0].config().clone();
-        shorten(&mut config, 4, Some(60), None);
+        let config = planned[0].config().shortened(&eamadm::Shortening {
+            maze_step_cap: Some(60),
+            ..eamadm::Shortening::episodes(4)
+        });
         planned[0].experiment = eamadm::Experiment::new(config).unwrap();
         let methods = vec!["epsilon-greedy".to_owned(), "ea-madm".to_owned()];
         let jobs = plan_jobs(&planned, &methods).unwrap();
@@ -291,8 +293,10 @@ mod tests {
         let mut planned =
             plan_experiments(&[Task::Task1], false, None, seeds, true, Readings::None).unwrap();
         planned.truncate(1);
-        let mut config = planned[0].config().clone();
-        shorten(&mut config, 3, Some(60), None);
+        let config = planned[0].config().shortened(&eamadm::Shortening {
+            maze_step_cap: Some(60),
+            ..eamadm::Shortening::episodes(3)
+        });
         let methods: Vec<String> = config
             .methods
             .iter()

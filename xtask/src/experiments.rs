@@ -4,17 +4,11 @@
 
 use std::path::Path;
 
-use eamadm::config::TaskConfig;
 use eamadm::paper::Reading;
-use eamadm::{ConfigError, Experiment, ExperimentConfig, Method, Role};
+use eamadm::{ConfigError, Experiment, ExperimentConfig, Role, Shortening};
 use thiserror::Error;
 
 use crate::cli::{Readings, Task};
-
-/// Episodes of a `--quick` run (source task and each sub-task's pre-training).
-pub(crate) const QUICK_EPISODES: u64 = 30;
-/// Step cap of a `--quick` run's episodes on the mazes (the presets' is 2000).
-pub(crate) const QUICK_MAZE_STEP_CAP: u32 = 500;
 
 /// A config that cannot be used.
 #[derive(Debug, Error)]
@@ -78,72 +72,10 @@ pub(crate) fn load_config_file(path: &Path) -> Result<ExperimentConfig, Experime
     ExperimentConfig::from_toml_str(&text).map_err(error)
 }
 
-/// The most warm-up steps a competitor takes in a `--quick` run: far above the presets'
-/// shortened budgets (tens of thousands), so a config's budget cannot make a smoke run take
-/// minutes per run.
-pub(crate) const QUICK_MAX_WARMUP_ENV_STEPS: u64 = 1_000_000;
-
-/// `config` shortened to a smoke run: [`QUICK_EPISODES`] episodes (and pre-training episodes),
-/// maze episodes capped at [`QUICK_MAZE_STEP_CAP`] steps, warm-ups at
-/// [`QUICK_MAX_WARMUP_ENV_STEPS`], trajectory episodes past the end dropped.
-pub(crate) fn quick(mut config: ExperimentConfig) -> ExperimentConfig {
-    shorten(&mut config, QUICK_EPISODES, Some(QUICK_MAZE_STEP_CAP), None);
-    for spec in &mut config.methods {
-        if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
-            &mut spec.method
-        {
-            training.warmup_env_steps = training.warmup_env_steps.min(QUICK_MAX_WARMUP_ENV_STEPS);
-        }
-    }
-    config
-}
-
-/// Shortens `config` to `episodes` (source and pre-training), with the given step caps for maze
-/// and robot tasks (`None` keeps the task's own).
-pub(crate) fn shorten(
-    config: &mut ExperimentConfig,
-    episodes: u64,
-    maze_step_cap: Option<u32>,
-    robot_step_cap: Option<u32>,
-) {
-    let episodes_before = config.episodes;
-    config.episodes = config.episodes.min(episodes);
-    let episodes_now = config.episodes;
-    config.trajectories.episodes.retain(|&e| e < episodes_now);
-    for spec in &mut config.methods {
-        match &mut spec.method {
-            Method::EaMadm(ea) => ea.pretrain.episodes = ea.pretrain.episodes.min(episodes),
-            Method::SubtaskGreedy(alone) => {
-                alone.pretrain.episodes = alone.pretrain.episodes.min(episodes);
-            }
-            // A budget written for the full run shrinks with the episodes, as pre-training
-            // does (only roughly matched in a shortened run, whose step caps differ too).
-            Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
-                training.warmup_env_steps = u64::try_from(
-                    u128::from(training.warmup_env_steps) * u128::from(episodes_now)
-                        / u128::from(episodes_before.max(1)),
-                )
-                .unwrap_or(u64::MAX);
-            }
-            _ => {}
-        }
-    }
-    match &mut config.task {
-        TaskConfig::Maze { step_cap, .. }
-        | TaskConfig::MazeFile { step_cap, .. }
-        | TaskConfig::MazeText { step_cap, .. } => {
-            if let Some(cap) = maze_step_cap {
-                *step_cap = Some(step_cap.map_or(cap, |own| own.min(cap)));
-            }
-        }
-        TaskConfig::Robot { step_cap, .. } => {
-            if let Some(cap) = robot_step_cap {
-                *step_cap = Some(step_cap.map_or(cap, |own| own.min(cap)));
-            }
-        }
-        // A task kind added to eamadm later keeps its own cap.
-        _ => {}
-    }
+/// `config` shortened to a smoke run: [`Shortening::QUICK`], the facade's one definition of
+/// `--quick` (which Python's `eamadm.run(..., quick=True)` applies too).
+pub(crate) fn quick(config: &ExperimentConfig) -> ExperimentConfig {
+    config.shortened(&Shortening::QUICK)
 }
 
 /// The experiments to run: one per selected task (its preset), or the `--config` file's one
@@ -180,7 +112,7 @@ pub(crate) fn plan_experiments(
         .map(|(title, mut config)| {
             config.seeds = seeds;
             if quick_run {
-                config = quick(config);
+                config = quick(&config);
             }
             let name = config.name.clone();
             let experiment = Experiment::new(config).map_err(|source| ExperimentError::Config {
@@ -246,60 +178,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn quick_bounds_every_warm_up_and_leaves_the_presets_alone() {
-        for preset in [eamadm::paper::task1(), eamadm::paper::task2()] {
-            let shortened = {
-                let mut config = preset.clone();
-                shorten(&mut config, QUICK_EPISODES, Some(QUICK_MAZE_STEP_CAP), None);
-                config
-            };
-            assert_eq!(
-                quick(preset.clone()),
-                shortened,
-                "the cap does not bind on presets"
-            );
-            let mut huge = preset;
-            huge.episodes = QUICK_EPISODES;
-            for spec in &mut huge.methods {
-                if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
-                    &mut spec.method
-                {
-                    training.warmup_env_steps = 1_000_000_000;
-                }
-            }
-            for spec in &quick(huge).methods {
-                if let Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } =
-                    &spec.method
-                {
-                    assert!(training.warmup_env_steps <= QUICK_MAX_WARMUP_ENV_STEPS);
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn quick_shortens_every_part() {
-        let config = quick(eamadm::paper::task1());
-        assert_eq!(config.episodes, QUICK_EPISODES);
-        assert_eq!(config.task.step_cap(), Some(QUICK_MAZE_STEP_CAP));
-        for spec in &config.methods {
-            match &spec.method {
-                Method::EaMadm(ea) => assert_eq!(ea.pretrain.episodes, QUICK_EPISODES),
-                Method::SubtaskGreedy(alone) => {
-                    assert_eq!(alone.pretrain.episodes, QUICK_EPISODES);
-                }
-                Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
-                    assert!(
-                        training.warmup_env_steps
-                            <= eamadm::paper::TASK1_PRETRAIN_BUDGET * QUICK_EPISODES / 200
-                    );
-                }
-                _ => {}
-            }
-        }
-        assert!(config.validate().is_ok());
-        let robot = quick(eamadm::paper::robot());
-        assert_eq!(robot.task.step_cap(), Some(eamadm::paper::ROBOT_STEP_CAP));
+    fn quick_is_the_facades_shortening() {
+        // The rule itself is tested in `eamadm::shortening`; here only that `--quick` uses it.
+        let config = quick(&eamadm::paper::task1());
+        assert_eq!(config, eamadm::paper::task1().shortened(&Shortening::QUICK));
+        assert_eq!(config.episodes, 30);
+        assert_eq!(config.task.step_cap(), Some(500));
     }
 
     #[test]

@@ -25,7 +25,6 @@ use rayon::prelude::*;
 use crate::Failure;
 use crate::atomic::write_atomic;
 use crate::cli::Task;
-use crate::experiments::shorten;
 use crate::plan::{Workspace, describe_regen_fixtures};
 use crate::readme;
 use crate::text_diff::first_difference;
@@ -195,13 +194,12 @@ pub(crate) fn fixture_config(task: Task) -> ExperimentConfig {
     let mut config = task.paper().config();
     config.seeds = 1;
     config.base_seed = FIXTURE_SEED;
-    shorten(
-        &mut config,
-        FIXTURE_EPISODES,
-        Some(FIXTURE_MAZE_STEP_CAP),
-        Some(FIXTURE_ROBOT_STEP_CAP),
-    );
-    config
+    config.shortened(&eamadm::Shortening {
+        episodes: Some(FIXTURE_EPISODES),
+        maze_step_cap: Some(FIXTURE_MAZE_STEP_CAP),
+        robot_step_cap: Some(FIXTURE_ROBOT_STEP_CAP),
+        max_warmup_env_steps: None,
+    })
 }
 
 /// Every fixture file, in a fixed order.

@@ -12,8 +12,9 @@ use crate::cli::{Readings, ReproduceArgs, Task};
 
 /// Seeds per task and method of the default run: the presets' ([`eamadm::paper::SEEDS`]).
 pub(crate) const DEFAULT_SEEDS: u32 = eamadm::paper::SEEDS;
-/// Seeds per task and method of a `--quick` run.
-pub(crate) const QUICK_SEEDS: u32 = 3;
+/// Seeds per task and method of a `--quick` run: the facade's ([`eamadm::QUICK_SEEDS`]), which
+/// Python's `eamadm.run(..., quick=True)` uses too.
+pub(crate) const QUICK_SEEDS: u32 = eamadm::QUICK_SEEDS;
 
 /// The method labels of the embedded default configs, in order of first appearance: the four
 /// methods, the ablations (each EA-MADM with one switch flipped), then the maze tasks'
@@ -106,6 +107,25 @@ impl Workspace {
     /// The default output folder, `target/reproduce-paper` under the root.
     pub(crate) fn default_out(&self) -> PathBuf {
         self.root.join("target").join("reproduce-paper")
+    }
+
+    /// The build folder cargo uses: `CARGO_TARGET_DIR` (a relative one taken from the folder
+    /// the command was started in, as cargo takes it) or the workspace's `target/`. The Python
+    /// tooling keeps its virtualenvs and wheels there.
+    pub(crate) fn target_dir(&self) -> PathBuf {
+        target_dir_of(
+            std::env::var_os("CARGO_TARGET_DIR").as_deref(),
+            &self.root,
+            &self.current_dir,
+        )
+    }
+}
+
+/// [`Workspace::target_dir`] for the value `variable` of `CARGO_TARGET_DIR`.
+fn target_dir_of(variable: Option<&std::ffi::OsStr>, root: &Path, current_dir: &Path) -> PathBuf {
+    match variable {
+        Some(dir) if !dir.is_empty() => current_dir.join(dir),
+        _ => root.join("target"),
     }
 }
 
@@ -338,6 +358,24 @@ fn resolve_links(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_target_dir_follows_cargo_target_dir() {
+        let (root, here) = (Path::new("/ws"), Path::new("/elsewhere"));
+        assert_eq!(target_dir_of(None, root, here), Path::new("/ws/target"));
+        assert_eq!(
+            target_dir_of(Some("".as_ref()), root, here),
+            Path::new("/ws/target")
+        );
+        assert_eq!(
+            target_dir_of(Some("/tmp/t".as_ref()), root, here),
+            Path::new("/tmp/t")
+        );
+        assert_eq!(
+            target_dir_of(Some("build".as_ref()), root, here),
+            Path::new("/elsewhere/build")
+        );
+    }
 
     fn args() -> ReproduceArgs {
         ReproduceArgs {

@@ -51,7 +51,7 @@ mod tests {
     use eamadm::sensitivity::{Change, ReadingRuns};
 
     use crate::cli::{KeepTrajectories, ReproduceArgs, ReproduceCommand, RunModeArgs, Task};
-    use crate::experiments::{base_count, plan_experiments, shorten};
+    use crate::experiments::{base_count, plan_experiments};
     use crate::jobs::plan_jobs;
     use crate::plan::{Workspace, default_methods};
 
@@ -110,8 +110,10 @@ mod tests {
             crate::cli::Readings::All,
         )
         .unwrap();
-        let mut config = planned[0].config().clone();
-        shorten(&mut config, 6, Some(80), None);
+        let config = planned[0].config().shortened(&eamadm::Shortening {
+            maze_step_cap: Some(80),
+            ..eamadm::Shortening::episodes(6)
+        });
         planned[0].experiment = eamadm::Experiment::new(config.clone()).unwrap();
         let base = &planned[0].experiment;
         // A reading whose change is nothing, rerunning two of the paper's methods.

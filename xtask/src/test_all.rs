@@ -1,11 +1,13 @@
 //! `cargo xtask test`: the one test command. Runs the Rust tests, `regen-fixtures --check`
 //! (the README's generated parts and `fixtures/` against the code), then the Python package's
-//! pytest suite in a virtualenv (`target/py-venv`, made from the package registry with the
-//! pinned `crates/eamadm-py/requirements-test.txt` when missing or when those pins change),
-//! into which it builds and installs the package with `maturin develop` (the dev profile, so
-//! the workspace crates `cargo test` just built are reused). Then `cargo xtask wheel` (the
-//! release wheel, installed without Rust, running the README's Python examples). Fails if any
-//! step fails, and when pytest collects no test.
+//! pytest suite in a virtualenv (`<target>/py-venv`, `<target>` being `CARGO_TARGET_DIR` or
+//! `target/`, made from the package registry with the pinned
+//! `crates/eamadm-py/requirements-test.txt` when missing or when those pins change), into which
+//! it builds and installs the package with `maturin develop` (the dev profile, so the workspace
+//! crates `cargo test` just built are reused). The suite includes `mypy --strict` and
+//! `stubtest` of the package (`tests/test_typing.py`). Then `cargo xtask wheel` (the release
+//! wheel, installed without Rust, running the README's Python examples). Fails if any step
+//! fails, and when pytest collects no test.
 //!
 //! A Rust test that cannot run here (the SLURM test without a cluster) returns early, which
 //! libtest prints as "ok"; such a test leaves a note in `target/tmp/skipped-tests/` (named
@@ -21,8 +23,8 @@ use crate::plan::Workspace;
 
 /// The Python package's folder, relative to the workspace root.
 const PY_CRATE: &str = "crates/eamadm-py";
-/// The virtualenv, relative to the workspace root.
-const VENV: &str = "target/py-venv";
+/// The virtualenv, in the target folder ([`Workspace::target_dir`]).
+pub(crate) const VENV: &str = "py-venv";
 /// Copy of the requirements last installed into the virtualenv.
 const INSTALLED_STAMP: &str = "installed-requirements-test.txt";
 /// pytest's exit code when it collected no test.
@@ -32,7 +34,7 @@ const PYTEST_NO_TESTS: i32 = 5;
 pub(crate) fn test_all(workspace: &Workspace) -> Result<(), Failure> {
     let root = &workspace.root;
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| OsString::from("cargo"));
-    let skipped = skipped_tests_folder(root);
+    let skipped = workspace.target_dir().join("tmp").join("skipped-tests");
     // Notes of an earlier run would list tests that ran this time.
     match std::fs::remove_dir_all(&skipped) {
         Ok(()) => {}
@@ -58,15 +60,8 @@ pub(crate) fn test_all(workspace: &Workspace) -> Result<(), Failure> {
     announce("cargo xtask regen-fixtures --check");
     crate::fixtures::regen_fixtures(true, workspace)?;
 
-    let venv = root.join(VENV);
-    let python = venv.join("bin").join("python");
-    if !python.exists() {
-        announce(&format!("python3 -m venv {VENV}"));
-        run(
-            Command::new("python3").args(["-m", "venv"]).arg(&venv),
-            "python3 -m venv",
-        )?;
-    }
+    let venv = workspace.target_dir().join(VENV);
+    let python = make_venv(&venv)?;
     install_requirements(root, &venv, &python)?;
 
     announce("maturin develop --locked (dev profile)");
@@ -101,13 +96,42 @@ pub(crate) fn test_all(workspace: &Workspace) -> Result<(), Failure> {
     }
 }
 
-/// Where tests leave their skip notes: `CARGO_TARGET_TMPDIR` of the integration tests, i.e.
-/// `<target>/tmp/skipped-tests` (`CARGO_TARGET_DIR` or the workspace's `target/`).
-fn skipped_tests_folder(root: &Path) -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map_or_else(|| root.join("target"), PathBuf::from)
-        .join("tmp")
-        .join("skipped-tests")
+/// The virtualenv `venv` (made with `python3 -m venv` when missing); returns its Python.
+pub(crate) fn make_venv(venv: &Path) -> Result<PathBuf, Failure> {
+    let python = venv.join("bin").join("python");
+    if !python.exists() {
+        announce(&format!("python3 -m venv {}", venv.display()));
+        run(
+            Command::new("python3").args(["-m", "venv"]).arg(venv),
+            "python3 -m venv",
+        )?;
+    }
+    Ok(python)
+}
+
+/// The pinned requirement of `package` in the test requirements (`maturin==1.16.0`).
+pub(crate) fn pinned(root: &Path, package: &str) -> Result<String, Failure> {
+    let requirements = root.join(PY_CRATE).join("requirements-test.txt");
+    let text = std::fs::read_to_string(&requirements).map_err(|error| {
+        Failure::failed(format!("cannot read {}: {error}", requirements.display()))
+    })?;
+    pin_in(&text, package).ok_or_else(|| {
+        Failure::failed(format!(
+            "{} pins no {package} (a line `{package}==<version>`)",
+            requirements.display()
+        ))
+    })
+}
+
+/// The line `package==version` of a requirements text.
+fn pin_in(text: &str, package: &str) -> Option<String> {
+    text.lines()
+        .map(str::trim)
+        .find(|line| {
+            line.strip_prefix(package)
+                .is_some_and(|rest| rest.starts_with("=="))
+        })
+        .map(str::to_owned)
 }
 
 /// The summary of the skip notes in `folder`: one line per skipped test, by name, with its
@@ -148,7 +172,10 @@ fn install_requirements(root: &Path, venv: &Path, python: &Path) -> Result<(), F
     if std::fs::read_to_string(&stamp).is_ok_and(|installed| installed == wanted) {
         return Ok(());
     }
-    announce("pip install -r crates/eamadm-py/requirements-test.txt");
+    announce(&format!(
+        "pip install -r crates/eamadm-py/requirements-test.txt (into {})",
+        venv.display()
+    ));
     run(
         Command::new(python)
             .args([
@@ -193,6 +220,22 @@ pub(crate) fn run(command: &mut Command, what: &str) -> Result<(), Failure> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pin_is_found_by_its_package_name() {
+        let text = "# comment\nmaturin==1.16.0\nmaturin-extra==2\n  numpy==2.4.6\n";
+        assert_eq!(pin_in(text, "maturin").as_deref(), Some("maturin==1.16.0"));
+        assert_eq!(pin_in(text, "numpy").as_deref(), Some("numpy==2.4.6"));
+        assert_eq!(pin_in(text, "pandas"), None);
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .expect("the workspace");
+        assert!(
+            pinned(root, "maturin")
+                .expect("the file pins maturin")
+                .starts_with("maturin==")
+        );
+    }
 
     #[test]
     fn the_summary_names_each_skipped_test_with_its_reason() {

@@ -1,9 +1,13 @@
 //! `cargo xtask wheel`: the Python package as users install it, without a Rust toolchain.
+//! Every folder it makes is in the target folder, `<target>` (`CARGO_TARGET_DIR` or `target/`).
 //!
-//! 1. `maturin build --release --locked` (from the test virtualenv `target/py-venv`) builds an
-//!    abi3 wheel (`cp39-abi3`, pyo3's `abi3-py39`) into `target/wheels/`, tagged manylinux by
-//!    maturin's auditwheel check of the libraries it links;
-//! 2. a fresh virtualenv `target/wheel-venv` (removed first) gets the wheel with its `[pandas]`
+//! 1. `maturin build --release --locked` (from the virtualenv `<target>/py-venv`, which
+//!    `cargo xtask test` fills; on a fresh clone this command makes it and installs the pinned
+//!    maturin of `crates/eamadm-py/requirements-test.txt` into it) builds an abi3 wheel
+//!    (`cp39-abi3`, pyo3's `abi3-py39`) into `<target>/wheels/`, tagged manylinux by maturin's
+//!    auditwheel check of the libraries it links; its metadata must carry the README and the
+//!    project URLs;
+//! 2. a fresh virtualenv `<target>/wheel-venv` (removed first) gets the wheel with its `[pandas]`
 //!    extra from pip, with a `PATH` that holds no `cargo` or `rustc`, so that pip could not
 //!    build the package from source even if it tried;
 //! 3. every ```` ```python ```` block of `README.md` runs in that virtualenv, each in a fresh
@@ -11,11 +15,11 @@
 //!    sources) that holds only a `--quick` output of the main job at `target/reproduce-paper`
 //!    (made by this binary, for the examples that read one), and must print something;
 //! 4. the `--quick` plan is run twice: by this binary (`reproduce-paper --quick`, into a scratch
-//!    folder) and from the installed wheel (`eamadm.run` on each of the plan's configs, which
-//!    this binary writes out, then `eamadm.report`). The wheel's `final-scores.csv` and
-//!    `claims.csv` must equal the main job's byte for byte, and `eamadm.report` of the main
-//!    job's folder must equal its `REPORT.md` byte for byte (the figures, and so their captions,
-//!    are drawn only by xtask).
+//!    folder) and from the installed wheel (`python -m eamadm reproduce --quick`, the package's
+//!    own plan). The wheel's `final-scores.csv`, `claims.csv` and `datapackage.json` must equal
+//!    the main job's byte for byte, and `python -m eamadm report` of the main job's folder must
+//!    equal its `REPORT.md` byte for byte (the figures, and so their captions, are drawn only by
+//!    xtask).
 //!
 //! `cargo xtask test` runs it after the pytest suite.
 
@@ -29,12 +33,10 @@ use crate::test_all::{announce, run};
 
 /// The Python package's folder, relative to the workspace root.
 const PY_CRATE: &str = "crates/eamadm-py";
-/// The virtualenv with maturin (made by `cargo xtask test`).
-const BUILD_VENV: &str = "target/py-venv";
-/// Where the wheel is written.
-const WHEELS: &str = "target/wheels";
-/// The clean virtualenv the wheel is installed into.
-const CLEAN_VENV: &str = "target/wheel-venv";
+/// Where the wheel is written, in the target folder.
+const WHEELS: &str = "wheels";
+/// The clean virtualenv the wheel is installed into, in the target folder.
+const CLEAN_VENV: &str = "wheel-venv";
 /// The tag every wheel we ship carries: one wheel for every Python from 3.9 on.
 const ABI3_TAG: &str = "-cp39-abi3-";
 
@@ -42,14 +44,28 @@ const ABI3_TAG: &str = "-cp39-abi3-";
 /// Python examples there.
 pub(crate) fn wheel(workspace: &Workspace) -> Result<(), Failure> {
     let root = &workspace.root;
-    let maturin = root.join(BUILD_VENV).join("bin").join("maturin");
+    let target = workspace.target_dir();
+    let build_venv = target.join(crate::test_all::VENV);
+    let maturin = build_venv.join("bin").join("maturin");
     if !maturin.exists() {
-        return Err(Failure::failed(format!(
-            "{} is missing: run `cargo xtask test` once (it makes {BUILD_VENV} with maturin)",
-            maturin.display()
-        )));
+        // A fresh clone: the build virtualenv with the pinned maturin only (`cargo xtask test`
+        // adds the rest of the test requirements later).
+        let python = crate::test_all::make_venv(&build_venv)?;
+        let pin = crate::test_all::pinned(root, "maturin")?;
+        announce(&format!("pip install {pin}"));
+        run(
+            Command::new(&python).args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+                &pin,
+            ]),
+            "pip install maturin",
+        )?;
     }
-    let wheels = root.join(WHEELS);
+    let wheels = target.join(WHEELS);
     remove_dir(&wheels)?;
     announce("maturin build --release --locked");
     run(
@@ -57,8 +73,8 @@ pub(crate) fn wheel(workspace: &Workspace) -> Result<(), Failure> {
             .args(["build", "--release", "--locked", "--quiet", "--out"])
             .arg(&wheels)
             .current_dir(root.join(PY_CRATE))
-            .env("VIRTUAL_ENV", root.join(BUILD_VENV))
-            .env("PATH", path_with(&root.join(BUILD_VENV).join("bin"), true)?),
+            .env("VIRTUAL_ENV", &build_venv)
+            .env("PATH", path_with(&build_venv.join("bin"), true)?),
         "maturin build",
     )?;
     let wheel = the_wheel(&wheels)?;
@@ -72,12 +88,14 @@ pub(crate) fn wheel(workspace: &Workspace) -> Result<(), Failure> {
         )));
     }
     println!("built {name}");
+    check_metadata(&wheel)?;
 
-    let venv = root.join(CLEAN_VENV);
+    let venv = target.join(CLEAN_VENV);
     remove_dir(&venv)?;
     let no_rust = path_with(&venv.join("bin"), false)?;
     announce(&format!(
-        "python3 -m venv {CLEAN_VENV} (PATH without cargo or rustc)"
+        "python3 -m venv {} (PATH without cargo or rustc)",
+        venv.display()
     ));
     run(
         Command::new("python3")
@@ -155,31 +173,8 @@ pub(crate) fn wheel(workspace: &Workspace) -> Result<(), Failure> {
     quick_plan_from_the_wheel(&python, &no_rust, scratch.path())
 }
 
-/// The Python run of step 4: `argv[1]` holds the main job's folder, `argv[2:]` the plan's
-/// configs in run order, each as `path=label,label,…` with its methods in job order.
-const QUICK_FROM_PYTHON: &str = r#"
-import pathlib, sys
-import eamadm
-
-folder = pathlib.Path(sys.argv[1])
-def run(argument):
-    path, labels = argument.rsplit("=", 1)
-    return eamadm.run(pathlib.Path(path), methods=labels.split(","))
-results = [run(argument) for argument in sys.argv[2:]]
-ours = eamadm.report(results, quick=True)
-from_folder = eamadm.report(folder)
-def same(name, text):
-    if text != (folder / name).read_text(encoding="utf-8"):
-        sys.exit(f"{name}: the wheel's text differs from the main job's")
-same("final-scores.csv", ours.scores_csv)
-same("claims.csv", ours.claims_csv)
-same("REPORT.md", from_folder.markdown)
-same("claims.csv", from_folder.claims_csv)
-print(f"the wheel reproduces the --quick plan: {len(results)} experiments, "
-      f"{len(ours.verdicts)} rows of claims.csv")
-"#;
-
-/// Step 4: the `--quick` plan from this binary and from the installed wheel, compared.
+/// Step 4: the `--quick` plan from this binary and from the installed wheel's command line,
+/// compared.
 fn quick_plan_from_the_wheel(
     python: &Path,
     path: &OsString,
@@ -194,50 +189,118 @@ fn quick_plan_from_the_wheel(
             .arg(&out),
         "reproduce-paper --quick",
     )?;
-    let planned = crate::experiments::plan_experiments(
-        &crate::cli::Task::ALL,
-        false,
-        None,
-        crate::plan::QUICK_SEEDS,
-        true,
-        crate::cli::Readings::All,
-    )
-    .map_err(Failure::failed)?;
-    // The main job runs (and lists) each experiment's methods in the order of
-    // `default_methods`, which need not be the config's.
-    let order = crate::plan::default_methods();
-    let mut configs = Vec::with_capacity(planned.len());
-    // The readings' reruns feed only `sensitivity.csv`, which `eamadm.report(folder)` reads
-    // back; the runs compared here are the presets'.
-    for experiment in planned.iter().filter(|e| e.reading.is_none()) {
-        let file = scratch.join(format!("{}.toml", experiment.name));
-        let text = experiment
-            .config()
-            .to_toml_string()
-            .map_err(Failure::failed)?;
-        std::fs::write(&file, text).map_err(|error| {
-            Failure::failed(format!("cannot write {}: {error}", file.display()))
-        })?;
-        let labels: Vec<&str> = order
-            .iter()
-            .filter(|label| experiment.config().method(label).is_some())
-            .map(String::as_str)
-            .collect();
-        let mut argument = file.into_os_string();
-        argument.push(format!("={}", labels.join(",")));
-        configs.push(argument);
-    }
-    announce("the --quick plan from the installed wheel (eamadm.run, eamadm.report)");
-    run(
-        Command::new(python)
-            .args(["-c", QUICK_FROM_PYTHON])
-            .arg(&out)
-            .args(&configs)
+    let python_m = |args: &[&std::ffi::OsStr], what: &str| {
+        let output = Command::new(python)
+            .args(["-m", "eamadm"])
+            .args(args)
             .current_dir(scratch)
             .env("PATH", path)
-            .env_remove("PYTHONPATH"),
-        "the --quick plan from the wheel",
-    )
+            .env_remove("PYTHONPATH")
+            .output()
+            .map_err(|error| Failure::failed(format!("cannot start python: {error}")))?;
+        if output.status.success() {
+            Ok(output.stdout)
+        } else {
+            Err(Failure::failed(format!(
+                "{what} failed from the installed wheel ({}):\n{}",
+                output.status,
+                String::from_utf8_lossy(&output.stderr)
+            )))
+        }
+    };
+    announce("python -m eamadm --help (installed wheel)");
+    python_m(&["--help".as_ref()], "python -m eamadm --help")?;
+    announce("python -m eamadm reproduce --quick (installed wheel)");
+    let ours = scratch.join("quick-python");
+    python_m(
+        &[
+            "reproduce".as_ref(),
+            ours.as_os_str(),
+            "--quick".as_ref(),
+            "--no-progress".as_ref(),
+        ],
+        "python -m eamadm reproduce --quick",
+    )?;
+    let read = |path: &Path| {
+        std::fs::read(path)
+            .map_err(|error| Failure::failed(format!("cannot read {}: {error}", path.display())))
+    };
+    for name in [
+        eamadm::output_names::FINAL_SCORES,
+        eamadm::output_names::CLAIMS,
+        eamadm::output_names::DATA_PACKAGE,
+    ] {
+        if read(&ours.join(name))? != read(&out.join(name))? {
+            return Err(Failure::failed(format!(
+                "{name}: `python -m eamadm reproduce --quick` from the wheel differs from the \
+                 main job's"
+            )));
+        }
+    }
+    announce("python -m eamadm report <the main job's folder> (installed wheel)");
+    let report = python_m(
+        &["report".as_ref(), out.as_os_str()],
+        "python -m eamadm report",
+    )?;
+    if report != read(&out.join(eamadm::output_names::REPORT))? {
+        return Err(Failure::failed(
+            "REPORT.md: `python -m eamadm report` from the wheel differs from the main job's",
+        ));
+    }
+    println!(
+        "the wheel reproduces the --quick plan's tables and renders its REPORT.md byte for byte"
+    );
+    Ok(())
+}
+
+/// The wheel's metadata (`*.dist-info/METADATA`, read with Python's `zipfile`) must carry the
+/// README as its description and the project URLs.
+fn check_metadata(wheel: &Path) -> Result<(), Failure> {
+    let script = "import sys, zipfile\n\
+        wheel = zipfile.ZipFile(sys.argv[1])\n\
+        name = next(n for n in wheel.namelist() if n.endswith('.dist-info/METADATA'))\n\
+        sys.stdout.write(wheel.read(name).decode('utf-8'))\n";
+    let output = Command::new("python3")
+        .args(["-c", script])
+        .arg(wheel)
+        .output()
+        .map_err(|error| Failure::failed(format!("cannot start python3: {error}")))?;
+    if !output.status.success() {
+        return Err(Failure::failed(format!(
+            "cannot read the metadata of {}: {}",
+            wheel.display(),
+            String::from_utf8_lossy(&output.stderr)
+        )));
+    }
+    let metadata = String::from_utf8_lossy(&output.stdout);
+    let missing = metadata_missing(&metadata);
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::failed(format!(
+            "the wheel's metadata lacks {}",
+            missing.join(", ")
+        )))
+    }
+}
+
+/// What a wheel's `METADATA` text lacks of what we ship: the README (Markdown) as its
+/// description, the project URLs, the typing classifier.
+fn metadata_missing(metadata: &str) -> Vec<&'static str> {
+    let mut missing = Vec::new();
+    if !metadata.contains("Description-Content-Type: text/markdown") {
+        missing.push("the README as a Markdown description");
+    }
+    if !metadata.contains("# eamadm (Python)") {
+        missing.push("the package README's text");
+    }
+    if !metadata.contains("Project-URL: ") {
+        missing.push("the project URLs");
+    }
+    if !metadata.contains("Classifier: Typing :: Typed") {
+        missing.push("the `Typing :: Typed` classifier");
+    }
+    missing
 }
 
 /// The code of every ```` ```python ```` block of `markdown`, in order.
@@ -308,6 +371,15 @@ fn remove_dir(dir: &Path) -> Result<(), Failure> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn metadata_without_readme_or_urls_is_named() {
+        let full = "Metadata-Version: 2.4\nClassifier: Typing :: Typed\n\
+                    Project-URL: Paper, https://doi.org/x\n\
+                    Description-Content-Type: text/markdown; charset=UTF-8\n\n# eamadm (Python)\n";
+        assert!(metadata_missing(full).is_empty());
+        assert_eq!(metadata_missing("Metadata-Version: 2.4\n").len(), 4);
+    }
 
     #[test]
     fn python_blocks_are_found_in_order_and_other_blocks_skipped() {

@@ -109,3 +109,46 @@ pub trait Environment {
         vec![u32::try_from(state).unwrap_or(u32::MAX)]
     }
 }
+
+/// A picture of an environment's state, as Gymnasium's `rgb_array` render mode returns it:
+/// `height` rows of `width` pixels, each three bytes (red, green, blue), row by row from the
+/// top. Environments draw their own (`mazes::render_rgb`, `wmr_model::render_rgb`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RgbFrame {
+    /// Pixels per row.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// `height · width · 3` bytes.
+    pub pixels: Vec<u8>,
+}
+
+impl RgbFrame {
+    /// A frame of one colour.
+    #[must_use]
+    pub fn filled(width: usize, height: usize, colour: [u8; 3]) -> Self {
+        Self {
+            width,
+            height,
+            pixels: colour.repeat(width * height),
+        }
+    }
+
+    /// Paints the pixel at column `x`, row `y` (from the top); a pixel outside the frame is
+    /// ignored.
+    pub fn set(&mut self, x: usize, y: usize, colour: [u8; 3]) {
+        if x < self.width && y < self.height {
+            let at = (y * self.width + x) * 3;
+            self.pixels[at..at + 3].copy_from_slice(&colour);
+        }
+    }
+
+    /// The colour of the pixel at column `x`, row `y`, if inside the frame.
+    #[must_use]
+    pub fn get(&self, x: usize, y: usize) -> Option<[u8; 3]> {
+        (x < self.width && y < self.height).then(|| {
+            let at = (y * self.width + x) * 3;
+            [self.pixels[at], self.pixels[at + 1], self.pixels[at + 2]]
+        })
+    }
+}

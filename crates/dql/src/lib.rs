@@ -126,7 +126,7 @@ pub mod table;
 
 pub use double_q::{BehaviourValues, DoubleQ, DoubleQParams};
 pub use draw::Coin;
-pub use env::{Environment, Step};
+pub use env::{Environment, RgbFrame, Step};
 pub use episode::{EpisodeOptions, EpisodeOutcome, Trajectory, run_episode};
 pub use error::DqlError;
 pub use learner::{ExperienceSample, Learner};

@@ -10,8 +10,9 @@
 //! `claims.csv`).
 //!
 //! This layer is thin on purpose: every rule lives in the `eamadm` crates; here arguments are
-//! checked, Rust's typed errors become `ValueError`s that name the Python argument, and results
-//! become Python objects. Python users read the package's docs; from Python:
+//! checked, Rust's typed errors become `ValueError`s (`TypeError`s, `FileNotFoundError`s) that
+//! name the Python argument, a panic becomes a `RuntimeError` (never pyo3's `PanicException`),
+//! long calls release the GIL and stop on Ctrl-C, and results become Python objects. Python users read the package's docs; from Python:
 //!
 //! ```python
 //! import gymnasium as gym
@@ -37,6 +38,13 @@ use pyo3::prelude::*;
 fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     // The crate's version is the package's (maturin takes the wheel's version from Cargo.toml).
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // numpy's C API is loaded now, not on the first array made: loaded lazily it imports
+    // numpy, and a signal pending then (Ctrl-C during a long call) made that import fail
+    // inside a conversion, which rust-numpy can only report as a panic.
+    error::guard("import eamadm._native (numpy's C API)", || {
+        let _ = numpy::PyArray1::<f64>::zeros(module.py(), 0, false);
+        Ok(())
+    })?;
     module.add_class::<maze::MazeCore>()?;
     module.add_class::<maze::MazeVecCore>()?;
     module.add_class::<robot::RobotCore>()?;
@@ -44,7 +52,9 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(experiment::run_config, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::paper_config_toml, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::check_config, module)?)?;
-    module.add_function(wrap_pyfunction!(experiment::json_to_toml, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::config_from_json, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::shortened_config, module)?)?;
+    module.add_function(wrap_pyfunction!(experiment::paper_tasks, module)?)?;
     module.add_function(wrap_pyfunction!(experiment::toml_to_json, module)?)?;
     module.add_function(wrap_pyfunction!(outputs::load_runs, module)?)?;
     module.add_function(wrap_pyfunction!(outputs::data_package_json, module)?)?;

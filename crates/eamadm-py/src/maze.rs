@@ -1,13 +1,30 @@
 //! The maze cores: one maze stepped from Python (`MazeCore`), and N mazes stepped in one call
-//! on numpy arrays (`MazeVecCore`, Gymnasium's next-step autoreset).
+//! on numpy arrays (`MazeVecCore`, Gymnasium's next-step autoreset). Both render the maze as
+//! text and as an RGB frame (`mazes::render_rgb`); a `MazeCore` pickles (its task arguments and
+//! where its episode stands, `MazeEnv::episode`), so a pickled or deep-copied environment
+//! continues exactly.
 
 use eamadm::dql::Environment;
-use eamadm::mazes::{Maze, MazeCursor, MazeEnv, Pos, Preset, SpecError, render_text};
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
+use eamadm::dql::RgbFrame;
+use eamadm::mazes::{
+    Event, Maze, MazeCursor, MazeEnv, Pos, Preset, SpecError, TILE_PIXELS, render_rgb, render_text,
+};
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1};
 use pyo3::prelude::*;
 
-use crate::error::value_error;
+use crate::error::{guard, internal_error, value_error};
+
+/// An RGB frame as a numpy `uint8` array of shape `(height, width, 3)`.
+pub(crate) fn frame_array(py: Python<'_>, frame: RgbFrame) -> PyResult<Bound<'_, PyArray3<u8>>> {
+    Array3::from_shape_vec((frame.height, frame.width, 3), frame.pixels)
+        .map(|array| array.into_pyarray(py))
+        .map_err(|error| internal_error("render", &error.to_string()))
+}
+
+/// The pickled state of a `MazeCore`: the agent's tile, steps, last event and the episode's
+/// visited tiles.
+type MazeState = ((usize, usize), u32, Option<String>, Vec<(usize, usize)>);
 
 /// The preset called `name` (`"task1"` or `"task2"`), or a `ValueError` naming `argument`.
 fn preset(argument: &str, name: &str) -> PyResult<Preset> {
@@ -70,8 +87,10 @@ fn xy(pos: Pos) -> (usize, usize) {
 #[pyclass(module = "eamadm._native")]
 pub(crate) struct MazeCore {
     env: MazeEnv,
-    /// Tiles visited in the current episode (for the text rendering).
+    /// Tiles visited in the current episode (for the renderings).
     path: Vec<Pos>,
+    /// The arguments it was made with (to pickle it).
+    arguments: (String, Option<String>, Option<String>, Option<u32>),
 }
 
 #[pymethods]
@@ -87,10 +106,66 @@ impl MazeCore {
         rewards: Option<&str>,
         step_cap: Option<u32>,
     ) -> PyResult<Self> {
-        let mut env = build_env(task, map, rewards, step_cap)?;
-        env.reset(None);
-        let path = vec![env.position()];
-        Ok(Self { env, path })
+        guard("MazeCore", || {
+            let mut env = build_env(task, map, rewards, step_cap)?;
+            env.reset(None);
+            let path = vec![env.position()];
+            Ok(Self {
+                env,
+                path,
+                arguments: (
+                    task.to_owned(),
+                    map.map(str::to_owned),
+                    rewards.map(str::to_owned),
+                    step_cap,
+                ),
+            })
+        })
+    }
+
+    /// The arguments to make it again (pickling).
+    fn __getnewargs__(&self) -> (String, Option<String>, Option<String>, Option<u32>) {
+        self.arguments.clone()
+    }
+
+    /// Where the episode stands (pickling).
+    fn __getstate__(&self) -> MazeState {
+        let (position, steps, event) = self.env.episode();
+        (
+            xy(position),
+            steps,
+            event.map(|event| event.name().to_owned()),
+            self.path.iter().map(|&pos| xy(pos)).collect(),
+        )
+    }
+
+    /// Puts the episode back where `__getstate__` saw it; a `ValueError` naming `state` when
+    /// it cannot stand on this maze.
+    fn __setstate__(&mut self, state: MazeState) -> PyResult<()> {
+        guard("state", || {
+            let ((x, y), steps, event, path) = state;
+            let event = match event {
+                None => None,
+                Some(name) => Some(
+                    Event::ALL
+                        .into_iter()
+                        .find(|event| event.name() == name)
+                        .ok_or_else(|| value_error("state", format!("no event named {name:?}")))?,
+                ),
+            };
+            let path: Vec<Pos> = path.into_iter().map(|(x, y)| Pos::new(x, y)).collect();
+            if path.last() != Some(&Pos::new(x, y)) {
+                return Err(value_error(
+                    "state",
+                    "the visited tiles must end on the agent's tile",
+                ));
+            }
+            self.env
+                .set_episode(Pos::new(x, y), steps, event)
+                .map_err(|error| value_error("state", error))?;
+            self.path = path;
+            Ok(())
+        })
     }
 
     /// Number of states (tiles, obstacles included).
@@ -127,14 +202,16 @@ impl MazeCore {
 
     /// One step: `(state, reward, terminated, truncated)`.
     fn step(&mut self, action: i64) -> PyResult<(usize, f64, bool, bool)> {
-        let step = self.env.step(action_index("action", action)?);
-        self.path.push(self.env.position());
-        Ok((
-            step.next_state,
-            step.reward,
-            step.terminated,
-            step.truncated,
-        ))
+        guard("step", || {
+            let step = self.env.step(action_index("action", action)?);
+            self.path.push(self.env.position());
+            Ok((
+                step.next_state,
+                step.reward,
+                step.terminated,
+                step.truncated,
+            ))
+        })
     }
 
     /// The last step's reward of each sub-task (zeros right after a reset).
@@ -155,6 +232,14 @@ impl MazeCore {
     /// The maze as text, the episode's path marked.
     fn render(&self) -> String {
         render_text(self.env.maze(), &self.path)
+    }
+
+    /// The maze as an RGB frame (`uint8`, height × width × 3), the episode's path and the agent
+    /// marked.
+    fn render_rgb<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        guard("render", || {
+            frame_array(py, render_rgb(self.env.maze(), &self.path, TILE_PIXELS))
+        })
     }
 }
 
@@ -252,14 +337,16 @@ impl MazeVecCore {
         rewards: Option<&str>,
         step_cap: Option<u32>,
     ) -> PyResult<Self> {
-        if num_envs == 0 {
-            return Err(value_error("num_envs", "expected at least 1, got 0"));
-        }
-        let env = build_env(task, map, rewards, step_cap)?;
-        Ok(Self {
-            cursors: vec![env.start_cursor(); num_envs],
-            needs_reset: vec![false; num_envs],
-            env,
+        guard("MazeVecCore", || {
+            if num_envs == 0 {
+                return Err(value_error("num_envs", "expected at least 1, got 0"));
+            }
+            let env = build_env(task, map, rewards, step_cap)?;
+            Ok(Self {
+                cursors: vec![env.start_cursor(); num_envs],
+                needs_reset: vec![false; num_envs],
+                env,
+            })
         })
     }
 
@@ -303,6 +390,49 @@ impl MazeVecCore {
         py: Python<'py>,
         actions: PyReadonlyArray1<'py, i64>,
     ) -> PyResult<VecStep<'py>> {
+        guard("step", || self.step_all(py, &actions))
+    }
+
+    /// The maze as text with copy `index`'s agent marked.
+    fn render(&self, index: usize) -> PyResult<String> {
+        let cursor = self.cursor(index)?;
+        Ok(render_text(
+            self.env.maze(),
+            &[self.env.cursor_position(cursor)],
+        ))
+    }
+
+    /// The maze as an RGB frame with copy `index`'s agent marked.
+    fn render_rgb<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        let cursor = self.cursor(index)?;
+        guard("render", || {
+            frame_array(
+                py,
+                render_rgb(
+                    self.env.maze(),
+                    &[self.env.cursor_position(cursor)],
+                    TILE_PIXELS,
+                ),
+            )
+        })
+    }
+}
+
+impl MazeVecCore {
+    fn cursor(&self, index: usize) -> PyResult<&MazeCursor> {
+        self.cursors.get(index).ok_or_else(|| {
+            value_error(
+                "index",
+                format!("expected a copy in 0..{}, got {index}", self.cursors.len()),
+            )
+        })
+    }
+
+    fn step_all<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: &PyReadonlyArray1<'py, i64>,
+    ) -> PyResult<VecStep<'py>> {
         let actions = actions
             .as_slice()
             .map_err(|error| value_error("actions", error))?;
@@ -345,20 +475,6 @@ impl MazeVecCore {
             }
         }
         columns.into_arrays(py, n_subtasks)
-    }
-
-    /// The maze as text with copy `index`'s agent marked.
-    fn render(&self, index: usize) -> PyResult<String> {
-        let cursor = self.cursors.get(index).ok_or_else(|| {
-            value_error(
-                "index",
-                format!("expected a copy in 0..{}, got {index}", self.cursors.len()),
-            )
-        })?;
-        Ok(render_text(
-            self.env.maze(),
-            &[self.env.cursor_position(cursor)],
-        ))
     }
 }
 

@@ -10,7 +10,9 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::error::value_error;
+use eamadm::output_names::{BUNDLE_EXTENSION, LOOSE_RUNS, RUNS_FOLDER};
+
+use crate::error::{guard, not_found, value_error};
 
 /// The text of `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its
 /// type, unit, meaning and when it is blank, as the main job writes it.
@@ -63,6 +65,32 @@ pub(crate) fn load_runs(
     py: Python<'_>,
     path: PathBuf,
 ) -> PyResult<(Bound<'_, PyDict>, Vec<String>)> {
+    guard("dir", || load(py, &path))
+}
+
+/// Whether `folder` is a run store itself: it holds a bundle or the loose runs' folder.
+fn is_store(folder: &std::path::Path) -> bool {
+    folder.join(LOOSE_RUNS).is_dir()
+        || std::fs::read_dir(folder).is_ok_and(|entries| {
+            entries.flatten().any(|entry| {
+                entry
+                    .file_name()
+                    .to_string_lossy()
+                    .ends_with(&format!(".{BUNDLE_EXTENSION}"))
+            })
+        })
+}
+
+fn load<'py>(
+    py: Python<'py>,
+    path: &std::path::Path,
+) -> PyResult<(Bound<'py, PyDict>, Vec<String>)> {
+    if !path.exists() {
+        return Err(not_found(
+            "dir",
+            format!("{} does not exist", path.display()),
+        ));
+    }
     if !path.is_dir() {
         return Err(value_error(
             "dir",
@@ -72,15 +100,30 @@ pub(crate) fn load_runs(
             ),
         ));
     }
+    if !path.join(RUNS_FOLDER).is_dir() && !is_store(path) {
+        return Err(value_error(
+            "dir",
+            format!(
+                "{} is not an output folder of `cargo xtask reproduce-paper` (it has no \
+                 {RUNS_FOLDER}/ folder) nor a run store (no *.{BUNDLE_EXTENSION} bundle, no \
+                 {LOOSE_RUNS}/ folder): give the main job's `--out` folder",
+                path.display()
+            ),
+        ));
+    }
     let mut warnings = Vec::new();
-    let store = RunStore::open_read_only(&path, &mut |warning| warnings.push(warning.to_owned()))
+    let store = RunStore::open_read_only(path, &mut |warning| warnings.push(warning.to_owned()))
         .map_err(|error| value_error("dir", error))?;
     let columns: Vec<Bound<'_, PyList>> = RUN_COLUMNS
         .iter()
         .chain(&CURVES)
         .map(|_| PyList::empty(py))
         .collect();
-    for key in store.keys() {
+    for (index, key) in store.keys().into_iter().enumerate() {
+        // A large store takes seconds to read: Ctrl-C stops it between runs.
+        if index % 64 == 63 {
+            py.check_signals()?;
+        }
         let Some(run) = store
             .load(key, KeepTrajectories::Figures)
             .map_err(|error| value_error("dir", error))?

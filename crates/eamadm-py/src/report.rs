@@ -3,6 +3,10 @@
 //! (the report's context, figures and robot behaviour included, as the main job wrote it); for
 //! runs of [`run_config`](crate::experiment::run_config), from the scores and facts computed
 //! beside them ([`report_input`]), without figures.
+//!
+//! A report of runs does not open with the main job's "Made by `cargo xtask reproduce-paper`
+//! … rerun the command" (no such command made it): its opening paragraph is the caller's
+//! ([`PYTHON_OPENING`] by default). A folder's report keeps its own opening.
 
 use std::path::{Path, PathBuf};
 
@@ -13,7 +17,22 @@ use eamadm::scores::FinalScore;
 use eamadm::{BehaviourAccumulator, Experiment, RunRecord, TaskConfig};
 use pyo3::prelude::*;
 
-use crate::error::value_error;
+use crate::error::{guard, not_found, value_error};
+
+/// The opening paragraph of a report of runs made in Python: what made it and where its
+/// tables are.
+const PYTHON_OPENING: &str = "Made by `eamadm.report` from runs of `eamadm.run` in Python{quick}. The per-seed \
+     scores are its `scores_csv` (the columns of `final-scores.csv`), every estimate and \
+     comparison its `claims_csv` (those of `claims.csv`).";
+
+/// The opening paragraph of `python -m eamadm reproduce`'s report.
+const CLI_OPENING: &str = "Made by `python -m eamadm reproduce`{quick}. Do not edit: rerun the command. The \
+     per-seed scores are in [final-scores.csv](final-scores.csv), every estimate and comparison \
+     in [claims.csv](claims.csv).";
+
+/// What the main job's report says of a `--quick` run, after the command.
+const QUICK_NOTE: &str =
+    " --quick (a smoke run: few seeds and episodes; these numbers mean little)";
 
 /// What a report needs of one experiment's runs, as text Python carries opaquely: the
 /// experiment's facts (TOML) and its runs' `final-scores.csv` rows.
@@ -70,6 +89,22 @@ fn read(folder: &Path, name: &str, hint: &str) -> PyResult<String> {
     reason = "pyo3 hands extracted arguments over by value"
 )]
 pub(crate) fn report_of_folder(folder: PathBuf) -> PyResult<(String, String, String)> {
+    guard("dir", || folder_report(&folder))
+}
+
+fn folder_report(folder: &Path) -> PyResult<(String, String, String)> {
+    if !folder.exists() {
+        return Err(not_found(
+            "dir",
+            format!("{} does not exist", folder.display()),
+        ));
+    }
+    if !folder.is_dir() {
+        return Err(value_error(
+            "dir",
+            format!("{} is not a folder", folder.display()),
+        ));
+    }
     if !folder.join(REPORT).is_file() && !folder.join(FINAL_SCORES).is_file() {
         return Err(value_error(
             "dir",
@@ -80,9 +115,9 @@ pub(crate) fn report_of_folder(folder: PathBuf) -> PyResult<(String, String, Str
             ),
         ));
     }
-    let scores_csv = read(&folder, FINAL_SCORES, "")?;
+    let scores_csv = read(folder, FINAL_SCORES, "")?;
     let context_text = read(
-        &folder,
+        folder,
         REPORT_CONTEXT,
         "; an older version wrote this folder: rerun `cargo xtask reproduce-paper` \
          (finished runs are reused)",
@@ -119,25 +154,45 @@ pub(crate) fn report_of_folder(folder: PathBuf) -> PyResult<(String, String, Str
             ));
         }
     };
-    render(
+    let (report, claims, scores) = render(
         &context,
         scores,
         sensitivity,
         &format!("dir {}", folder.display()),
-    )
+    )?;
+    // A folder `python -m eamadm reproduce` made says so, as its own REPORT.md does.
+    let own = std::fs::read_to_string(folder.join(REPORT)).unwrap_or_default();
+    let report = match opening_of(&own) {
+        Some(opening) if opening.starts_with("Made by `python -m eamadm reproduce`") => {
+            with_opening(&report, opening)?
+        }
+        _ => report,
+    };
+    Ok((report, claims, scores))
 }
 
-/// `(REPORT.md, claims.csv, final-scores.csv)` of runs: `inputs` holds one
-/// [`report_input`] per experiment (in report order); `quick` marks the report as a smoke run.
+/// `(REPORT.md, claims.csv, final-scores.csv, report-context.toml)` of runs: `inputs` holds
+/// one [`report_input`] per experiment (in report order); `quick` marks the report as a smoke
+/// run; `cli` opens it as `python -m eamadm reproduce`'s (else as `eamadm.report`'s).
 #[pyfunction]
 #[expect(
     clippy::needless_pass_by_value,
     reason = "pyo3 hands extracted arguments over by value"
 )]
+#[pyo3(signature = (inputs, quick, cli=false))]
 pub(crate) fn report_of_runs(
     inputs: Vec<(String, String)>,
     quick: bool,
-) -> PyResult<(String, String, String)> {
+    cli: bool,
+) -> PyResult<(String, String, String, String)> {
+    guard("results", || runs_report(&inputs, quick, cli))
+}
+
+fn runs_report(
+    inputs: &[(String, String)],
+    quick: bool,
+    cli: bool,
+) -> PyResult<(String, String, String, String)> {
     if inputs.is_empty() {
         return Err(value_error(
             "results",
@@ -146,7 +201,7 @@ pub(crate) fn report_of_runs(
     }
     let mut context = eamadm::paper::report_context(quick);
     let mut scores = Vec::new();
-    for (facts, scores_csv) in &inputs {
+    for (facts, scores_csv) in inputs {
         let facts: ExperimentFacts =
             toml::from_str(facts).map_err(|error| value_error("results", error))?;
         if context.experiments.iter().any(|e| e.name == facts.name) {
@@ -165,7 +220,30 @@ pub(crate) fn report_of_runs(
                 .map_err(|error| value_error("results", error))?,
         );
     }
-    render(&context, scores, Vec::new(), "results")
+    let (report, claims, scores) = render(&context, scores, Vec::new(), "results")?;
+    let opening = if cli { CLI_OPENING } else { PYTHON_OPENING }
+        .replace("{quick}", if quick { QUICK_NOTE } else { "" });
+    let context = eamadm::paper::report_context_toml(&context)
+        .map_err(|error| value_error("results", error))?;
+    Ok((with_opening(&report, &opening)?, claims, scores, context))
+}
+
+/// The opening paragraph of a report: the one after its title.
+fn opening_of(report: &str) -> Option<&str> {
+    let (_, rest) = report.split_once("\n\n")?;
+    let (opening, _) = rest.split_once("\n\n")?;
+    opening.starts_with("Made by ").then_some(opening)
+}
+
+/// `report` with its opening paragraph replaced by `opening`.
+fn with_opening(report: &str, opening: &str) -> PyResult<String> {
+    let old = opening_of(report).ok_or_else(|| {
+        crate::error::internal_error(
+            "report",
+            &"the rendered report has no opening paragraph after its title",
+        )
+    })?;
+    Ok(report.replacen(old, opening, 1))
 }
 
 /// The report, `claims.csv` and `final-scores.csv` of `scores` in `context`, as the main job

@@ -1,14 +1,35 @@
 //! The robot cores: the wheeled robot of a scenario (TOML text), with optional overrides of its
 //! state discretisation and step cap, stepped from Python one at a time (`RobotCore`) or as N
-//! copies in one call (`RobotVecCore`, with Gymnasium's next-step autoreset).
+//! copies in one call (`RobotVecCore`, with Gymnasium's next-step autoreset). Both render the
+//! arena as text and as an RGB frame (`wmr_model::render_rgb`); a `RobotCore` pickles (its
+//! scenario as TOML and `wmr_model::EpisodeSnapshot` as JSON: pose, noise stream, metrics), so a
+//! pickled or deep-copied environment continues bit for bit.
 
 use eamadm::dql::Environment;
-use eamadm::wmr_model::{Action, Outcome, Scenario, WmrEnv};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use eamadm::wmr_model::{
+    Action, EpisodeSnapshot, FRAME_PIXELS_PER_METRE, Outcome, Scenario, WmrEnv, render_rgb,
+};
+use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
-use crate::error::value_error;
+use crate::error::{guard, type_error, value_error};
+use crate::maze::frame_array;
+
+/// The arena of `env` as an RGB frame: the robot at its pose, the episode's path.
+fn frame_of<'py>(py: Python<'py>, env: &WmrEnv) -> PyResult<Bound<'py, PyArray3<u8>>> {
+    guard("render", || {
+        frame_array(
+            py,
+            render_rgb(
+                env.scenario(),
+                env.pose(),
+                env.path(),
+                FRAME_PIXELS_PER_METRE,
+            ),
+        )
+    })
+}
 
 /// A Python scalar as a TOML value, or a `ValueError` naming `argument`.
 fn toml_value(argument: &str, value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
@@ -23,7 +44,7 @@ fn toml_value(argument: &str, value: &Bound<'_, PyAny>) -> PyResult<toml::Value>
     } else if value.is_instance_of::<PyString>() {
         Ok(toml::Value::String(value.extract()?))
     } else {
-        Err(value_error(
+        Err(type_error(
             argument,
             format!(
                 "expected an int, float, bool or str, got {}",
@@ -53,7 +74,7 @@ fn build_scenario(
         for (key, value) in state.iter() {
             let key: String = key
                 .extract()
-                .map_err(|_| value_error("state", "keys must be strings"))?;
+                .map_err(|_| type_error("state", "keys must be strings"))?;
             table.insert(key, toml_value("state", &value)?);
         }
         let mut whole =
@@ -155,9 +176,35 @@ impl RobotCore {
         state: Option<&Bound<'_, PyDict>>,
         step_cap: Option<u32>,
     ) -> PyResult<Self> {
-        let scenario = build_scenario(scenario, state, step_cap)?;
-        let env = WmrEnv::new(scenario).map_err(|error| value_error("scenario", error))?;
-        Ok(Self { env })
+        guard("RobotCore", || {
+            let scenario = build_scenario(scenario, state, step_cap)?;
+            let env = WmrEnv::new(scenario).map_err(|error| value_error("scenario", error))?;
+            Ok(Self { env })
+        })
+    }
+
+    /// The arguments to make it again (pickling): the scenario in use, overrides applied.
+    fn __getnewargs__(&self) -> PyResult<(String,)> {
+        Ok((self.scenario_toml()?,))
+    }
+
+    /// The episode and the noise stream, as JSON (pickling).
+    fn __getstate__(&self) -> PyResult<String> {
+        guard("state", || {
+            serde_json::to_string(&self.env.snapshot()).map_err(|error| value_error("state", error))
+        })
+    }
+
+    /// Puts back what `__getstate__` saved; a `ValueError` naming `state` when it is not a
+    /// snapshot of this scenario's robot.
+    fn __setstate__(&mut self, state: &str) -> PyResult<()> {
+        guard("state", || {
+            let snapshot: EpisodeSnapshot =
+                serde_json::from_str(state).map_err(|error| value_error("state", error))?;
+            self.env
+                .restore(&snapshot)
+                .map_err(|error| value_error("state", error))
+        })
     }
 
     /// Number of states.
@@ -196,13 +243,15 @@ impl RobotCore {
 
     /// One step: `(state, reward, terminated, truncated)`.
     fn step(&mut self, action: i64) -> PyResult<(usize, f64, bool, bool)> {
-        let step = self.env.step(action_index("action", action)?);
-        Ok((
-            step.next_state,
-            step.reward,
-            step.terminated,
-            step.truncated,
-        ))
+        guard("step", || {
+            let step = self.env.step(action_index("action", action)?);
+            Ok((
+                step.next_state,
+                step.reward,
+                step.terminated,
+                step.truncated,
+            ))
+        })
     }
 
     /// The last step's reward of each sub-task (zeros right after a reset).
@@ -224,6 +273,12 @@ impl RobotCore {
     /// One line of text: time, pose, state, proximity readings and outcome.
     fn render(&self) -> String {
         render_of(&self.env)
+    }
+
+    /// The arena as an RGB frame (`uint8`, height × width × 3): obstacles, target, the
+    /// episode's path and the robot.
+    fn render_rgb<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        frame_of(py, &self.env)
     }
 }
 
@@ -267,16 +322,20 @@ impl RobotVecCore {
         state: Option<&Bound<'_, PyDict>>,
         step_cap: Option<u32>,
     ) -> PyResult<Self> {
-        if num_envs == 0 {
-            return Err(value_error("num_envs", "expected a positive int, got 0"));
-        }
-        let scenario = build_scenario(scenario, state, step_cap)?;
-        let envs = (0..num_envs)
-            .map(|_| WmrEnv::new(scenario.clone()).map_err(|error| value_error("scenario", error)))
-            .collect::<PyResult<Vec<_>>>()?;
-        Ok(Self {
-            envs,
-            ended: vec![false; num_envs],
+        guard("RobotVecCore", || {
+            if num_envs == 0 {
+                return Err(value_error("num_envs", "expected a positive int, got 0"));
+            }
+            let scenario = build_scenario(scenario, state, step_cap)?;
+            let envs = (0..num_envs)
+                .map(|_| {
+                    WmrEnv::new(scenario.clone()).map_err(|error| value_error("scenario", error))
+                })
+                .collect::<PyResult<Vec<_>>>()?;
+            Ok(Self {
+                envs,
+                ended: vec![false; num_envs],
+            })
         })
     }
 
@@ -326,6 +385,45 @@ impl RobotVecCore {
         py: Python<'py>,
         actions: PyReadonlyArray1<'py, i64>,
     ) -> PyResult<RobotVecStep<'py>> {
+        guard("step", || self.step_all(py, &actions))
+    }
+
+    /// Copy `index`'s last sub-task rewards (zeros right after a reset).
+    fn subtask_rewards<'py>(
+        &self,
+        py: Python<'py>,
+        index: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_slice(py, self.env(index)?.subtask_rewards()))
+    }
+
+    /// Copy `index`'s pose `(x, y, heading)`.
+    fn pose(&self, index: usize) -> PyResult<(f64, f64, f64)> {
+        Ok(pose_of(self.env(index)?))
+    }
+
+    /// Copy `index`'s episode metrics so far.
+    fn metrics<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+        metrics_of(py, self.env(index)?)
+    }
+
+    /// Copy `index` as one line of text.
+    fn render(&self, index: usize) -> PyResult<String> {
+        Ok(render_of(self.env(index)?))
+    }
+
+    /// Copy `index`'s arena as an RGB frame.
+    fn render_rgb<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        frame_of(py, self.env(index)?)
+    }
+}
+
+impl RobotVecCore {
+    fn step_all<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: &PyReadonlyArray1<'py, i64>,
+    ) -> PyResult<RobotVecStep<'py>> {
         let actions = actions
             .as_slice()
             .map_err(|error| value_error("actions", error))?;
@@ -368,29 +466,5 @@ impl RobotVecCore {
             terminated.into_pyarray(py),
             truncated.into_pyarray(py),
         ))
-    }
-
-    /// Copy `index`'s last sub-task rewards (zeros right after a reset).
-    fn subtask_rewards<'py>(
-        &self,
-        py: Python<'py>,
-        index: usize,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_slice(py, self.env(index)?.subtask_rewards()))
-    }
-
-    /// Copy `index`'s pose `(x, y, heading)`.
-    fn pose(&self, index: usize) -> PyResult<(f64, f64, f64)> {
-        Ok(pose_of(self.env(index)?))
-    }
-
-    /// Copy `index`'s episode metrics so far.
-    fn metrics<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
-        metrics_of(py, self.env(index)?)
-    }
-
-    /// Copy `index` as one line of text.
-    fn render(&self, index: usize) -> PyResult<String> {
-        Ok(render_of(self.env(index)?))
     }
 }

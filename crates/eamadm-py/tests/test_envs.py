@@ -127,47 +127,55 @@ def test_robot_scenario_text_round_trips():
 
 
 @pytest.mark.parametrize(
-    "kwargs, argument",
+    "kwargs, error, argument",
     [
-        ({"step_cap": 0}, "step_cap"),
-        ({"step_cap": -3}, "step_cap"),
-        ({"step_cap": "10"}, "step_cap"),
-        ({"map": "S.#\nxx"}, "map"),
-        ({"map": 42}, "map"),
-        ({"map_file": "/nonexistent/eamadm.map"}, "map_file"),
-        ({"map": SMALL_MAP, "map_file": "x.map"}, "map_file"),
-        ({"rewards": "task3"}, "rewards"),
-        ({"render_mode": "human"}, "render_mode"),
+        ({"step_cap": 0}, ValueError, "step_cap"),
+        ({"step_cap": -3}, ValueError, "step_cap"),
+        ({"step_cap": "500"}, TypeError, "step_cap"),
+        ({"step_cap": 2.0}, TypeError, "step_cap"),
+        ({"map": "S.#\nxx"}, ValueError, "map"),
+        ({"map": 42}, TypeError, "map"),
+        ({"map_file": "/nonexistent/eamadm.map"}, FileNotFoundError, "map_file"),
+        ({"map_file": 3}, TypeError, "map_file"),
+        ({"map": SMALL_MAP, "map_file": "x.map"}, ValueError, "map_file"),
+        ({"rewards": "task3"}, ValueError, "rewards"),
+        ({"rewards": 2}, TypeError, "rewards"),
+        ({"render_mode": "human"}, ValueError, "render_mode"),
+        ({"render_mode": 1}, TypeError, "render_mode"),
     ],
 )
-def test_bad_maze_arguments_name_the_argument(kwargs, argument):
-    with pytest.raises(ValueError, match=f"^{argument}: "):
+def test_bad_maze_arguments_name_the_argument(kwargs, error, argument):
+    with pytest.raises(error, match=f"^{argument}: "):
         eamadm.MazeEnv(**kwargs)
 
 
 @pytest.mark.parametrize(
-    "kwargs, argument",
+    "kwargs, error, argument",
     [
-        ({"scenario": "not = [valid"}, "scenario"),
-        ({"scenario_file": "/nonexistent/scenario.toml"}, "scenario_file"),
-        ({"state": {"distance_bins": 0}}, "state"),
-        ({"state": {"no_such_field": 1}}, "state"),
-        ({"state": {"distance_bins": [1]}}, "state"),
-        ({"state": [1]}, "state"),
-        ({"step_cap": 0}, "step_cap"),
+        ({"scenario": "not = [valid"}, ValueError, "scenario"),
+        ({"scenario_file": "/nonexistent/scenario.toml"}, FileNotFoundError, "scenario_file"),
+        ({"state": {"distance_bins": 0}}, ValueError, "state"),
+        ({"state": {"no_such_field": 1}}, ValueError, "state"),
+        ({"state": {"distance_bins": [1]}}, TypeError, "state"),
+        ({"state": [1]}, TypeError, "state"),
+        ({"step_cap": 0}, ValueError, "step_cap"),
+        ({"step_cap": "500"}, TypeError, "step_cap"),
     ],
 )
-def test_bad_robot_arguments_name_the_argument(kwargs, argument):
-    with pytest.raises(ValueError, match=f"^{argument}: "):
+def test_bad_robot_arguments_name_the_argument(kwargs, error, argument):
+    with pytest.raises(error, match=f"^{argument}: "):
         eamadm.RobotEnv(**kwargs)
 
 
 @pytest.mark.parametrize("env_id", eamadm.ENV_IDS)
-@pytest.mark.parametrize("action", [-1, 99, 1.5, "up"])
-def test_bad_actions_name_the_argument(env_id, action):
+@pytest.mark.parametrize(
+    "action, error",
+    [(-1, ValueError), (99, ValueError), (1.5, TypeError), (1.0, TypeError), ("up", TypeError), (True, TypeError)],
+)
+def test_bad_actions_name_the_argument(env_id, action, error):
     env = gym.make(env_id, disable_env_checker=True)
     env.reset(seed=0)
-    with pytest.raises(ValueError, match="^action: "):
+    with pytest.raises(error, match="^action: "):
         env.step(action)
 
 
@@ -175,3 +183,7 @@ def test_bad_seed_names_the_argument():
     env = eamadm.RobotEnv()
     with pytest.raises(ValueError, match="^seed: "):
         env.reset(seed=2**64)
+    with pytest.raises(TypeError, match="^seed: "):
+        env.reset(seed="3")
+    with pytest.raises(TypeError, match="^seed: "):
+        eamadm.MazeEnv().reset(seed=1.5)

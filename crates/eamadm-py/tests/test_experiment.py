@@ -46,19 +46,25 @@ def same(a, b):
 def test_paper_configs():
     episodes = {"task1": 200, "task2": 200, "robot": 500, "robot-paper-state": 500}
     for name, count in episodes.items():
-        text = eamadm.paper_config(name)
-        assert isinstance(text, str) and f'name = "{name}"' in text
+        config = eamadm.paper_config(name)
+        assert isinstance(config, eamadm.Config) and config.name == name
+        assert f'name = "{name}"' in config.to_toml()
         as_dict = eamadm.paper_config(name, as_dict=True)
         assert as_dict["name"] == name and as_dict["episodes"] == count
-        _native.check_config(text)
+        # The same settings, however written (from_dict spells every default out).
+        assert eamadm.Config.from_dict(as_dict) == config
+        assert eamadm.Config.from_dict(eamadm.Config.from_dict(as_dict).to_dict()) == config
+        _native.check_config(config.to_toml())
     with pytest.raises(ValueError, match="^name: "):
         eamadm.paper_config("task3")
+    with pytest.raises(TypeError, match="^name: "):
+        eamadm.paper_config(1)
 
 
 def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
     config = small_task1()
     config_file = tmp_path / "task1-small.toml"
-    config_file.write_text(_native.json_to_toml(__import__("json").dumps(config)))
+    config_file.write_text(eamadm.Config.from_dict(config).to_toml())
     out = tmp_path / "out"
     run_xtask(xtask, "reproduce-paper", "--config", str(config_file), "--out", str(out))
     [curves_csv] = list(out.rglob("curves.csv.gz"))
@@ -85,14 +91,14 @@ def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
                 assert cell == str(value), (column, i)
 
     # The final scores are the main job's final-scores.csv, byte for byte.
-    text = _native.run_config(_native.json_to_toml(__import__("json").dumps(config)))
+    text = _native.run_config(eamadm.Config.from_dict(config).to_toml())
     assert text["final_scores"] == (out / "final-scores.csv").read_text(encoding="utf-8")
 
 
 def test_dict_and_text_configs_give_the_same_run():
     config = small_task1(episodes=4, seeds=1)
     from_dict = eamadm.run(config, methods=["ea-madm", "softmax"], dataframe=False)
-    text = _native.json_to_toml(__import__("json").dumps(config))
+    text = eamadm.Config.from_toml(eamadm.Config.from_dict(config).to_toml())
     from_text = eamadm.run(text, methods=["ea-madm", "softmax"], threads=1, dataframe=False)
     assert same(from_dict, from_text)
     assert list(from_dict.final_scores["method"]) == ["ea-madm", "softmax"]
@@ -132,29 +138,112 @@ def test_pandas_opt_out_returns_column_dicts():
 
 
 @pytest.mark.parametrize(
-    "kwargs, argument",
+    "kwargs, error, argument",
     [
-        ({"config": 'name = "x"\nepisodes = "many"'}, "config"),
-        ({"config": 42}, "config"),
-        ({"config": {"name": None}}, "config"),
-        ({"methods": ["no-such-method"]}, "methods"),
-        ({"methods": "softmax"}, "methods"),
-        ({"seeds": [-1]}, "seeds"),
-        ({"seeds": 0}, "seeds"),
-        ({"seeds": True}, "seeds"),
-        ({"episodes": 0}, "episodes"),
-        ({"episodes": "ten"}, "episodes"),
-        ({"episodes": 2.5}, "episodes"),
-        ({"seeds": []}, "seeds"),
-        ({"threads": 0}, "threads"),
-        ({"threads": "two"}, "threads"),
+        ({"config": 42}, TypeError, "config"),
+        ({"config": {"name": None}}, ValueError, "config"),
+        ({"config": {"name": "x", "episodes": {1, 2}}}, TypeError, "config"),
+        ({"config": {3: "x"}}, TypeError, "config"),
+        ({"config": 'name = "x"\nepisodes = "many"'}, FileNotFoundError, "config"),
+        ({"config": "no-such-file.toml"}, FileNotFoundError, "config"),
+        ({"methods": ["no-such-method"]}, ValueError, "methods"),
+        ({"methods": "softmax"}, TypeError, "methods"),
+        ({"methods": [1]}, TypeError, "methods"),
+        ({"seeds": [-1]}, ValueError, "seeds"),
+        ({"seeds": 0}, ValueError, "seeds"),
+        ({"seeds": True}, TypeError, "seeds"),
+        ({"seeds": "3"}, TypeError, "seeds"),
+        ({"seeds": [1.5]}, TypeError, "seeds"),
+        ({"seeds": []}, ValueError, "seeds"),
+        ({"episodes": 0}, ValueError, "episodes"),
+        ({"episodes": 3}, ValueError, "episodes"),
+        ({"episodes": "ten"}, TypeError, "episodes"),
+        ({"episodes": 2.5}, TypeError, "episodes"),
+        ({"quick": 1}, TypeError, "quick"),
+        ({"threads": 0}, ValueError, "threads"),
+        ({"threads": "two"}, TypeError, "threads"),
+        ({"dataframe": "no"}, TypeError, "dataframe"),
     ],
 )
-def test_bad_run_arguments_name_the_argument(kwargs, argument):
+def test_bad_run_arguments_name_the_argument(kwargs, error, argument):
     call = {"config": small_task1(episodes=2, seeds=1), **kwargs}
     config = call.pop("config")
-    with pytest.raises(ValueError, match=f"^{argument}: "):
+    with pytest.raises(error, match=f"^{argument}: "):
         eamadm.run(config, **call)
+
+
+def test_a_str_names_a_file(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    text = eamadm.Config.from_dict(small_task1(episodes=2, seeds=1)).to_toml()
+    (tmp_path / "t1.toml").write_text(text, encoding="utf-8")
+    by_name = eamadm.run("t1.toml", methods=["softmax"], dataframe=False)
+    by_path = eamadm.run(tmp_path / "t1.toml", methods=["softmax"], dataframe=False)
+    by_text = eamadm.run(eamadm.Config.from_toml(text), methods=["softmax"], dataframe=False)
+    assert same(by_name, by_path) and same(by_name, by_text)
+    assert eamadm.Config.from_file("t1.toml") == eamadm.Config.from_toml(text)
+
+
+def test_a_dict_configs_errors_name_the_key_the_user_wrote():
+    config = small_task1()
+    config["episodes"] = "many"
+    with pytest.raises(ValueError, match="^config: `episodes`: invalid type") as caught:
+        eamadm.run(config)
+    assert "line" not in str(caught.value) and "TOML" not in str(caught.value)
+    config = small_task1()
+    config["methods"][1]["no_such_key"] = 1
+    with pytest.raises(ValueError, match=r"^config: `methods\[1\]`.*no_such_key") as caught:
+        eamadm.Config.from_dict(config)
+    assert "line" not in str(caught.value)
+    config = small_task1()
+    config["task"]["step_cap"] = 0
+    with pytest.raises(ValueError, match="task.step_cap"):
+        eamadm.Config.from_dict(config)
+    config["task"]["step_cap"] = float("nan")
+    with pytest.raises(ValueError, match="^config: `task.step_cap` = nan"):
+        eamadm.Config.from_dict(config)
+
+
+def test_toml_texts_errors_name_the_line_of_that_text():
+    with pytest.raises(ValueError, match="^config: .*line 2") as caught:
+        eamadm.Config.from_toml('name = "x"\nepisodes = "many"\n')
+    assert "episodes" in str(caught.value)
+    with pytest.raises(TypeError, match="^config: "):
+        eamadm.Config.from_toml(3)
+
+
+def test_configs_pickle_and_compare():
+    import pickle
+
+    config = eamadm.paper_config("task2")
+    again = pickle.loads(pickle.dumps(config))
+    assert again == config and hash(again) == hash(config) and again.name == "task2"
+    assert config != eamadm.paper_config("task1")
+    assert "task2" in repr(config)
+
+
+def test_quick_is_the_main_jobs_quick_run(quick_out):
+    # `run(preset, quick=True)` with the main job's method order equals the `--quick` run's
+    # rows of final-scores.csv, byte for byte: one definition of `--quick` (Shortening::QUICK).
+    from eamadm.__main__ import method_order
+
+    config = eamadm.paper_config("task1")
+    labels = [label for label in method_order() if label in {m["label"] for m in config.to_dict()["methods"]}]
+    results = eamadm.run(config, quick=True, methods=labels, dataframe=False)
+    ours = eamadm.report(results, quick=True).scores_csv.splitlines()
+    theirs = (quick_out / "final-scores.csv").read_text(encoding="utf-8").splitlines()
+    assert ours[0] == theirs[0]
+    assert ours[1:] == [line for line in theirs[1:] if line.startswith("task1,")]
+    assert set(results.final_scores["seed"]) == {0, 1, 2}
+
+
+def test_shortened_says_what_it_shortens():
+    preset = eamadm.paper_config("task1")
+    quick = preset.shortened(quick=True).to_dict()
+    assert quick["episodes"] == 30 and quick["task"]["step_cap"] == 500
+    shorter = preset.shortened(episodes=30).to_dict()
+    assert shorter["episodes"] == 30 and "step_cap" not in shorter["task"]
+    with pytest.raises(ValueError, match="^episodes: 500 is more than the config's 200"):
+        preset.shortened(episodes=500)
 
 
 def test_invalid_field_is_named():

@@ -126,12 +126,20 @@ def test_load_runs_without_pandas_gives_lists_and_arrays(quick_out):
     assert all(isinstance(steps, numpy.ndarray) for steps in columns["steps"])
 
 
-@pytest.mark.parametrize("reader", [eamadm.load_runs, eamadm.read_scores])
+@pytest.mark.parametrize(
+    "reader", [eamadm.load_runs, eamadm.read_scores, eamadm.data_package, eamadm.report]
+)
 def test_a_bad_folder_is_named(tmp_path, reader):
-    with pytest.raises(ValueError, match="^dir: "):
+    with pytest.raises(FileNotFoundError, match="^dir: "):
         reader(tmp_path / "missing")
-    with pytest.raises(ValueError, match="^dir: "):
+    with pytest.raises(TypeError, match="^(dir|results): "):
         reader(42)
+    # A folder that is not an output folder of the main job is refused, not read as empty.
+    with pytest.raises(ValueError, match="^dir: .*(not an output folder|no REPORT.md)"):
+        reader(tmp_path)
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(ValueError, match="^dir: "):
+        reader(tmp_path / "file")
 
 
 def test_read_scores_names_a_missing_table(tmp_path):
@@ -139,5 +147,5 @@ def test_read_scores_names_a_missing_table(tmp_path):
         eamadm.read_scores(tmp_path)
 
 
-def test_an_empty_folder_has_no_runs(tmp_path):
-    assert len(eamadm.load_runs(tmp_path)) == 0
+def test_the_store_folder_itself_is_read(quick_out):
+    assert len(eamadm.load_runs(quick_out / "runs")) == len(eamadm.load_runs(quick_out))

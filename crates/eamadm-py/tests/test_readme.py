@@ -1,4 +1,5 @@
-"""Every Python snippet of README.md runs (each in a fresh namespace) and prints something."""
+"""Every Python snippet of README.md and of the package's README (the wheel's description)
+runs (each in a fresh namespace) and prints something."""
 
 import re
 
@@ -7,9 +8,16 @@ import pytest
 from conftest import ROOT
 
 
+#: The READMEs whose Python blocks must run: the project's and the package's.
+READMES = (ROOT / "README.md", ROOT / "crates" / "eamadm-py" / "README.md")
+
+
 def python_snippets():
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    return re.findall(r"^```python\n(.*?)^```$", text, flags=re.DOTALL | re.MULTILINE)
+    snippets = []
+    for readme in READMES:
+        text = readme.read_text(encoding="utf-8")
+        snippets += re.findall(r"^```python\n(.*?)^```$", text, flags=re.DOTALL | re.MULTILINE)
+    return snippets
 
 
 def test_the_readme_has_python_snippets():

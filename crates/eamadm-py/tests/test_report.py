@@ -54,6 +54,10 @@ def test_report_of_runs_has_no_figure_links():
     assert "--quick" in report.markdown
     assert ".svg" not in report.markdown and "curves.csv.gz" not in report.markdown
     assert "No figures or tables were written for `task1`" in report.markdown
+    # It opens with what made it, not with the main job's "rerun the command".
+    opening = report.markdown.split("\n\n")[1]
+    assert opening.startswith("Made by `eamadm.report` from runs of `eamadm.run` in Python --quick")
+    assert "cargo xtask" not in opening and "rerun" not in opening
     assert set(report.verdicts["method"]) <= {"ea-madm", "epsilon-greedy"}
     assert report.scores_csv.count("\ntask1,") == 4
 
@@ -64,8 +68,10 @@ def test_report_errors_name_the_argument(tmp_path):
     (tmp_path / "final-scores.csv").write_text("task\n", encoding="utf-8")
     with pytest.raises(ValueError, match="^dir: .*report-context.toml.*rerun"):
         eamadm.report(tmp_path)
-    with pytest.raises(ValueError, match="^results: "):
+    with pytest.raises(TypeError, match="^results: "):
         eamadm.report([{"curves": []}])
+    with pytest.raises(FileNotFoundError, match="^dir: "):
+        eamadm.report(tmp_path / "missing")
     with pytest.raises(ValueError, match="^results: "):
         eamadm.report([])
     with pytest.raises(ValueError, match="^quick: "):

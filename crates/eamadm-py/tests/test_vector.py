@@ -54,8 +54,40 @@ def test_vector_env_bad_arguments():
         env.step(np.array([0, 1]))
     with pytest.raises(ValueError, match="^actions: "):
         env.step(np.array([0, 1, 4]))
-    with pytest.raises(ValueError, match="^actions: "):
+    with pytest.raises(TypeError, match="^actions: "):
         env.step(["a", "b", "c"])
+    with pytest.raises(TypeError, match="^num_envs: "):
+        eamadm.MazeVectorEnv("3")
+
+
+@pytest.mark.parametrize(
+    "actions",
+    [[0.9, 1.7, 2.2], np.array([0.0, 1.0, 2.0]), [True, False, True], [0, 1, 2.5]],
+    ids=["floats", "float-array", "bools", "mixed"],
+)
+def test_vector_actions_are_integers_only_as_the_single_envs(actions):
+    # The single env refuses 1.0 with a TypeError; so does the vector env, for every copy.
+    env = eamadm.MazeVectorEnv(3)
+    env.reset()
+    with pytest.raises(TypeError, match="^actions: "):
+        env.step(actions)
+    robots = eamadm.RobotVectorEnv(3)
+    robots.reset(seed=0)
+    with pytest.raises(TypeError, match="^actions: "):
+        robots.step(actions)
+    single = eamadm.MazeEnv()
+    single.reset()
+    with pytest.raises(TypeError, match="^action: "):
+        single.step(np.asarray(actions)[0].item() if np.asarray(actions).dtype.kind == "f" else actions[0])
+
+
+def test_vector_actions_may_be_a_list_of_ints_or_any_integer_array():
+    steps = []
+    for actions in ([3, 1], np.array([3, 1], dtype=np.uint8), np.array([3, 1], dtype=np.int32)):
+        env = eamadm.MazeVectorEnv(2, map=SMALL_MAP)
+        env.reset()
+        steps.append(env.step(actions)[0].tolist())
+    assert steps == [[1, 4]] * 3
 
 
 def test_vector_render():
@@ -116,7 +148,7 @@ def test_robot_vector_env_bad_arguments():
         eamadm.RobotVectorEnv(0)
     with pytest.raises(ValueError, match="^step_cap: "):
         eamadm.RobotVectorEnv(2, step_cap=0)
-    with pytest.raises(ValueError, match="^state: "):
+    with pytest.raises(TypeError, match="^state: "):
         eamadm.RobotVectorEnv(2, state=[1])
     env = eamadm.RobotVectorEnv(2, render_mode="ansi")
     with pytest.raises(ValueError, match="^seed: "):

@@ -199,6 +199,7 @@ pub mod pretrain;
 pub mod prior;
 mod rng;
 pub mod runner;
+pub mod shortening;
 pub mod signal;
 pub mod task;
 pub mod theme;
@@ -225,6 +226,7 @@ pub use record::{
 pub use runner::{
     Experiment, NoPretrainingCache, PretrainingCache, SharedPretraining, run, run_all,
 };
+pub use shortening::{QUICK_SEEDS, Shortening};
 pub use signal::StandardisedReward;
 pub use summary::{DEFAULT_FINAL_WINDOW, MethodSummary, RobotSummary, SeedSummary, summarise};
 pub use task::Task;

@@ -18,6 +18,26 @@ const EVENT_MASK: u32 = (1 << EVENT_BITS) - 1;
 /// `last_event` before the first step of an episode (the index of the all-zero row).
 const NO_EVENT: u32 = Event::COUNT as u32;
 
+/// A saved episode that cannot be put back on a maze ([`MazeEnv::set_episode`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EpisodeError {
+    /// The position is outside the grid or on an obstacle.
+    #[error("the agent cannot stand on ({x}, {y}): not a free tile of this maze")]
+    Position {
+        /// Column.
+        x: usize,
+        /// Row from the top.
+        y: usize,
+    },
+    /// A last event without a step, or steps without a last event.
+    #[error("{steps} steps and the last event disagree (an event needs a step, a step an event)")]
+    Steps {
+        /// The steps given.
+        steps: u32,
+    },
+}
+
 /// A maze task: states are tiles (`y * width + x`), actions are [`Action`] indices
 /// (0 up, 1 down, 2 left, 3 right; `y` grows downwards).
 ///
@@ -191,6 +211,49 @@ impl MazeEnv {
             terminated,
             truncated: !terminated && cursor.steps >= self.step_cap,
         }
+    }
+
+    /// Where the current episode stands: the agent's tile, the steps taken and the last
+    /// step's event (to save an episode; [`set_episode`](Self::set_episode) puts it back).
+    #[must_use]
+    pub fn episode(&self) -> (Pos, u32, Option<Event>) {
+        (self.position(), self.steps(), self.last_event())
+    }
+
+    /// Puts the current episode where a saved one stood ([`episode`](Self::episode)): the
+    /// agent on `position` after `steps` steps, the last of which was `last_event` (`None`
+    /// for an episode without a step yet). The next steps are those the saved episode would
+    /// have taken, bit for bit.
+    ///
+    /// # Errors
+    ///
+    /// [`EpisodeError`] (and nothing changes) when the agent cannot stand on `position` (not
+    /// a tile of this maze, or an obstacle), or when `steps` and `last_event` disagree (a
+    /// last event without a step, or steps without one).
+    pub fn set_episode(
+        &mut self,
+        position: Pos,
+        steps: u32,
+        last_event: Option<Event>,
+    ) -> Result<(), EpisodeError> {
+        let state = self
+            .maze
+            .state_of(position)
+            .filter(|_| !self.maze.is_obstacle(position))
+            .ok_or(EpisodeError::Position {
+                x: position.x,
+                y: position.y,
+            })?;
+        if (steps == 0) != last_event.is_none() {
+            return Err(EpisodeError::Steps { steps });
+        }
+        self.cursor = MazeCursor {
+            // A tile index is below `MAX_TILES = 2^24`.
+            position: state as u32,
+            steps,
+            last_event: last_event.map_or(NO_EVENT, |event| event.index() as u32),
+        };
+        Ok(())
     }
 
     /// The sub-task rewards of `cursor`'s last step (all zeros before its first).

@@ -185,11 +185,12 @@ pub mod map_text;
 mod maze;
 mod path;
 mod presets;
+mod render_rgb;
 mod render_svg;
 mod render_text;
 mod reward;
 
-pub use env::{MazeCursor, MazeEnv};
+pub use env::{EpisodeError, MazeCursor, MazeEnv};
 pub use generate::{DEFAULT_MAX_ATTEMPTS, GeneratorParams, generate, generate_seeded};
 pub use geometry::{Action, N_ACTIONS, Pos};
 pub use layouts::{
@@ -199,6 +200,7 @@ pub use layouts::{
 pub use map_text::{Marker, ParseError};
 pub use maze::{MAX_TILES, Maze, MazeError};
 pub use presets::{FIXTURE_DIR, Preset};
+pub use render_rgb::{TILE_PIXELS, render_rgb};
 pub use render_svg::{PALETTE, SvgOptions, SvgTrajectory, render_svg};
 pub use render_text::{PATH_MARK, render_text};
 pub use reward::{

@@ -193,6 +193,47 @@ pub struct WmrEnv {
     path: Vec<Point2<f64>>,
 }
 
+/// Where an episode of a [`WmrEnv`] stands, with the sensor-noise stream: what
+/// [`WmrEnv::snapshot`] saves and [`WmrEnv::restore`] puts back, so that a saved environment
+/// (a pickled Python env, a checkpoint) continues bit for bit as the original would. Opaque
+/// apart from serde: the scenario is not in it (restore into an environment of the same
+/// scenario).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EpisodeSnapshot {
+    rng: ChaCha8Rng,
+    pose: Isometry2<f64>,
+    clearance: Option<f64>,
+    state: usize,
+    readings: [f64; SENSOR_COUNT],
+    subtask_rewards: [f64; SUBTASK_COUNT],
+    metrics: EpisodeMetrics,
+    path: Vec<Point2<f64>>,
+}
+
+/// A snapshot that cannot be restored ([`WmrEnv::restore`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SnapshotError {
+    /// The state index is not one of this environment's.
+    #[error("state {state} is not below the environment's {n_states} states")]
+    State {
+        /// The snapshot's state.
+        state: usize,
+        /// The environment's state count.
+        n_states: usize,
+    },
+    /// A number of the snapshot is NaN or infinite.
+    #[error("`{field}` is not finite")]
+    NotFinite {
+        /// Which part of the snapshot.
+        field: &'static str,
+    },
+    /// The path does not end at the pose, or is empty.
+    #[error("the path must be non-empty and end at the robot's position")]
+    Path,
+}
+
 impl Default for WmrEnv {
     /// The environment of the embedded default scenario.
     fn default() -> Self {
@@ -328,6 +369,91 @@ impl WmrEnv {
     #[must_use]
     pub fn path(&self) -> &[Point2<f64>] {
         &self.path
+    }
+
+    /// The current episode and noise stream, to [`restore`](Self::restore) later.
+    #[must_use]
+    pub fn snapshot(&self) -> EpisodeSnapshot {
+        EpisodeSnapshot {
+            rng: self.rng.clone(),
+            pose: self.pose,
+            clearance: self.clearance,
+            state: self.state,
+            readings: self.readings,
+            subtask_rewards: self.subtask_rewards,
+            metrics: self.metrics,
+            path: self.path.clone(),
+        }
+    }
+
+    /// Puts back an episode saved by [`snapshot`](Self::snapshot) on an environment of the
+    /// same scenario: every later step, reading and metric equals the original's, bit for bit
+    /// (what the robot senses at the pose is measured again; it is a pure function of the pose).
+    ///
+    /// # Errors
+    /// [`SnapshotError`] (and nothing changes) when the snapshot cannot belong to this
+    /// environment: a state out of range, a number not finite, a path not ending at the pose.
+    pub fn restore(&mut self, snapshot: &EpisodeSnapshot) -> Result<(), SnapshotError> {
+        let n_states = self.discretiser.n_states();
+        if snapshot.state >= n_states {
+            return Err(SnapshotError::State {
+                state: snapshot.state,
+                n_states,
+            });
+        }
+        let pose = &snapshot.pose;
+        let finite = |field, values: &[f64]| {
+            if values.iter().all(|v| v.is_finite()) {
+                Ok(())
+            } else {
+                Err(SnapshotError::NotFinite { field })
+            }
+        };
+        let rotation = pose.rotation.complex();
+        finite(
+            "pose",
+            &[
+                pose.translation.vector.x,
+                pose.translation.vector.y,
+                rotation.re,
+                rotation.im,
+            ],
+        )?;
+        finite(
+            "clearance",
+            &snapshot.clearance.into_iter().collect::<Vec<_>>(),
+        )?;
+        finite("readings", &snapshot.readings)?;
+        finite("subtask_rewards", &snapshot.subtask_rewards)?;
+        let m = &snapshot.metrics;
+        finite(
+            "metrics",
+            &[m.time, m.task_return, m.retention_time, m.path_length],
+        )?;
+        finite("metrics.subtask_returns", &m.subtask_returns)?;
+        if snapshot.path.last() != Some(&Point2::from(pose.translation.vector))
+            || snapshot
+                .path
+                .iter()
+                .any(|point| !(point.x.is_finite() && point.y.is_finite()))
+        {
+            return Err(SnapshotError::Path);
+        }
+        let sensed = if pose_bits(pose) == self.start_sensed.pose_bits {
+            self.start_sensed
+        } else {
+            self.measure(pose)
+        };
+        self.sensed = sensed;
+        self.rng = snapshot.rng.clone();
+        self.pose = snapshot.pose;
+        self.clearance = snapshot.clearance;
+        self.state = snapshot.state;
+        self.readings = snapshot.readings;
+        self.subtask_rewards = snapshot.subtask_rewards;
+        self.metrics = snapshot.metrics;
+        self.path.clone_from(&snapshot.path);
+        Ok(())
     }
 
     /// What the robot would sense at `pose`, without noise (does not move the robot).

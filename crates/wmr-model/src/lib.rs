@@ -158,7 +158,7 @@ pub mod world;
 
 pub use action::{Action, ActionSet, WheelFractions};
 pub use camera::{Camera, CameraParams, CameraView, DeltaAxis, ObstacleSighting, image_ratio};
-pub use env::{DEFAULT_SEED, Observation, WmrEnv};
+pub use env::{DEFAULT_SEED, EpisodeSnapshot, Observation, SnapshotError, WmrEnv};
 pub use geometry::{Circle, Rect};
 pub use kinematics::{
     FixedArc, RobotParams, Twist, WheelSpeeds, integrate_arc, integrate_arc_centre,
@@ -167,7 +167,7 @@ pub use metrics::{EpisodeMetrics, MetricsParams, Outcome};
 pub use planner::{
     Plan, PlanError, PlannerParams, TabularPolicy, search, shortest_plan, tabular_policy,
 };
-pub use render::{RenderedPath, render_svg};
+pub use render::{FRAME_PIXELS_PER_METRE, RenderedPath, render_rgb, render_svg};
 pub use reward::{
     RadPenalty, ReferenceEpisode, ReferenceValues, RewardInputs, RewardParams, SUBTASK_COUNT,
     SUBTASK_NAMES, SubtaskRepairs, TaskReward, TaskStep,

@@ -276,3 +276,133 @@ fn axes(mut doc: Document, w: f64, h: f64) -> Document {
             "middle",
         ))
 }
+
+/// Pixels per metre of the frames the Python environment renders: the default 1 m × 1 m arena
+/// is 200 × 200 pixels.
+pub const FRAME_PIXELS_PER_METRE: f64 = 200.0;
+
+const FRAME_FLOOR: [u8; 3] = [0xfa, 0xfa, 0xfa];
+const FRAME_OBSTACLE: [u8; 3] = [0x88, 0x88, 0x88];
+const FRAME_TARGET: [u8; 3] = [0xff, 0xe0, 0x8a];
+const FRAME_PATH: [u8; 3] = [0x1f, 0x77, 0xb4];
+const FRAME_ROBOT: [u8; 3] = [0xd6, 0x27, 0x28];
+const FRAME_HEADING: [u8; 3] = [0xff, 0xff, 0xff];
+
+/// The arena of `scenario` as an RGB frame (Gymnasium's `rgb_array`), `pixels_per_metre`
+/// pixels a metre, y up: the floor, the obstacles (gray), the target's reach disc (yellow),
+/// `path` (the robot centre's positions, blue, joined), and the robot's body (red) at `pose`
+/// with its heading as a white radius. Each pixel is painted by what covers its centre.
+#[must_use]
+pub fn render_rgb(
+    scenario: &Scenario,
+    pose: &nalgebra::Isometry2<f64>,
+    path: &[Point2<f64>],
+    pixels_per_metre: f64,
+) -> dql::RgbFrame {
+    let scale = if pixels_per_metre.is_finite() && pixels_per_metre > 0.0 {
+        pixels_per_metre
+    } else {
+        FRAME_PIXELS_PER_METRE
+    };
+    // A validated arena is at most a few metres; the cast saturates for anything else.
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "the arena's extent in pixels is small and positive"
+    )]
+    let pixels = |metres: f64| ((metres * scale).ceil().max(1.0) as usize).min(4096);
+    let (width, height) = (pixels(scenario.arena.width), pixels(scenario.arena.height));
+    let mut frame = dql::RgbFrame::filled(width, height, FRAME_FLOOR);
+    // The world point at the centre of pixel (column, row).
+    #[expect(clippy::cast_precision_loss, reason = "pixel indices are small")]
+    let world = |column: usize, row: usize| {
+        Point2::new(
+            (column as f64 + 0.5) / scale,
+            (height as f64 - row as f64 - 0.5) / scale,
+        )
+    };
+    let body = scenario.robot.body_radius;
+    let centre = Point2::from(pose.translation.vector);
+    let target = Point2::new(scenario.target.x, scenario.target.y);
+    let obstacles: Vec<_> = scenario
+        .obstacles
+        .iter()
+        .map(ObstacleSpec::obstacle)
+        .collect();
+    for row in 0..height {
+        for column in 0..width {
+            let point = world(column, row);
+            let colour = if (point - centre).norm() <= body {
+                FRAME_ROBOT
+            } else if obstacles
+                .iter()
+                .any(|obstacle| obstacle.distance_to(&point) <= 0.0)
+            {
+                FRAME_OBSTACLE
+            } else if (point - target).norm() <= scenario.target.reach_radius {
+                FRAME_TARGET
+            } else {
+                continue;
+            };
+            frame.set(column, row, colour);
+        }
+    }
+    // The path and the heading, sampled every half pixel along each segment.
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "points outside the frame are skipped by RgbFrame::set"
+    )]
+    let line = |frame: &mut dql::RgbFrame, from: Point2<f64>, to: Point2<f64>, colour| {
+        let samples = (((to - from).norm() * scale * 2.0).ceil() as usize).clamp(1, 100_000);
+        for i in 0..=samples {
+            #[expect(clippy::cast_precision_loss, reason = "a small count")]
+            let point = from + (to - from) * (i as f64 / samples as f64);
+            let (x, y) = (point.x * scale, (scenario.arena.height - point.y) * scale);
+            if x >= 0.0 && y >= 0.0 {
+                frame.set(x as usize, y as usize, colour);
+            }
+        }
+    };
+    for pair in path.windows(2) {
+        if (pair[0] - centre).norm() > body || (pair[1] - centre).norm() > body {
+            line(&mut frame, pair[0], pair[1], FRAME_PATH);
+        }
+    }
+    let heading = pose.rotation * nalgebra::Vector2::new(body, 0.0);
+    line(&mut frame, centre, centre + heading, FRAME_HEADING);
+    frame
+}
+
+#[cfg(test)]
+mod frame_tests {
+    use super::*;
+    use crate::{Scenario, WmrEnv};
+
+    #[test]
+    fn the_default_arena_shows_robot_obstacles_and_target() {
+        let scenario = Scenario::default_scenario();
+        let env = WmrEnv::new(scenario.clone()).expect("the default scenario is valid");
+        let frame = render_rgb(&scenario, env.pose(), env.path(), FRAME_PIXELS_PER_METRE);
+        assert_eq!((frame.width, frame.height), (200, 200));
+        assert_eq!(frame.pixels.len(), 200 * 200 * 3);
+        let at = |x: f64, y: f64| {
+            #[expect(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "points inside the 1 m arena"
+            )]
+            frame
+                .get((x * 200.0) as usize, ((1.0 - y) * 200.0) as usize)
+                .expect("inside the frame")
+        };
+        let start = &scenario.start;
+        // Just off the heading line, inside the body.
+        assert_eq!(at(start.x, start.y - 0.01), FRAME_ROBOT);
+        assert_eq!(at(scenario.target.x, scenario.target.y), FRAME_TARGET);
+        let colours: std::collections::HashSet<_> = frame.pixels.chunks(3).collect();
+        assert!(colours.contains(&FRAME_OBSTACLE[..]), "obstacles are drawn");
+        assert!(colours.contains(&FRAME_HEADING[..]), "the heading is drawn");
+        assert_eq!(at(0.005, 0.995), FRAME_FLOOR);
+    }
+}

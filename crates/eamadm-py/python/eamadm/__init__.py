@@ -8,13 +8,20 @@ Importing the package registers three Gymnasium ids:
 * ``eamadm/Robot-v0``: the wheeled robot among obstacles of Sec. VI.B (:class:`RobotEnv`; also
   as a native vector env, :class:`RobotVectorEnv`).
 
-:func:`run` runs an experiment config (the TOML schema of the Rust runner) on the Rust runner
-and :func:`paper_config` returns the paper's presets. :func:`load_runs` reads the run store of
-an output folder of ``cargo xtask reproduce-paper`` and :func:`read_scores` its
+:func:`run` runs an experiment :class:`Config` (the TOML schema of the Rust runner; also a
+dict or a ``.toml`` file) on the Rust runner, with a progress bar if asked and stopping on
+Ctrl-C; :func:`paper_config` returns the paper's presets. :func:`load_runs` reads the run store
+of an output folder of ``cargo xtask reproduce-paper`` and :func:`read_scores` its
 ``final-scores.csv`` and ``claims.csv``, typed by its ``datapackage.json``; :func:`report`
 renders ``REPORT.md`` (and its verdicts) of such a folder, byte for byte, or of :func:`run`'s
-results. Everything is
-computed by the Rust crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
+results; :func:`rliable_scores` gives the scores in rliable's ``{method: runs × tasks}`` shape.
+``python -m eamadm reproduce|report|figures DIR`` runs the main job's commands without Rust.
+Everything is computed by the Rust crates; the numbers are bit-identical to
+``cargo xtask reproduce-paper``.
+
+Bad input raises Python's exceptions: ``TypeError`` for a value of the wrong type,
+``ValueError`` for a wrong value (the message starts with the argument's name, and for a config
+names the key as written), ``FileNotFoundError`` for a missing file or folder.
 """
 
 from __future__ import annotations
@@ -23,12 +30,15 @@ import gymnasium
 
 from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
-from eamadm.experiment import Results, paper_config, run
+from eamadm.experiment import Config, Results, paper_config, run
 from eamadm.outputs import Scores, data_package, load_runs, read_scores
 from eamadm.report import Report, report
+from eamadm.scores import rliable_scores
 from eamadm.vector import MazeVectorEnv, RobotVectorEnv
 
 __all__ = [
+    "ENV_IDS",
+    "Config",
     "MazeEnv",
     "MazeVectorEnv",
     "Report",
@@ -42,6 +52,7 @@ __all__ = [
     "paper_config",
     "read_scores",
     "report",
+    "rliable_scores",
     "run",
 ]
 
@@ -49,7 +60,7 @@ __all__ = [
 __version__: str = _native.__version__
 
 #: The Gymnasium ids this package registers on import.
-ENV_IDS = ("eamadm/MazeTaskI-v0", "eamadm/MazeTaskII-v0", "eamadm/Robot-v0")
+ENV_IDS: tuple[str, ...] = ("eamadm/MazeTaskI-v0", "eamadm/MazeTaskII-v0", "eamadm/Robot-v0")
 
 
 def _register() -> None:

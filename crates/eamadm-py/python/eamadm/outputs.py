@@ -8,8 +8,10 @@
 * :func:`data_package`: that package as a dict (every column's type, unit, meaning and when
   it is blank).
 
-A place is kept for ``report(dir)`` (the verdicts and ``REPORT.md`` of the main job), which
-needs the report's text rules in a library crate first.
+:func:`eamadm.report` (in :mod:`eamadm.report`) renders the folder's ``REPORT.md`` and its
+verdicts; :func:`eamadm.rliable_scores` shapes its scores for rliable. Each refuses a folder
+that is not an output folder of the main job: ``FileNotFoundError`` when it does not exist,
+``ValueError`` naming what is missing when it is not one.
 """
 
 from __future__ import annotations
@@ -21,13 +23,13 @@ import math
 import os
 import pathlib
 import warnings
-from typing import Any, NamedTuple, Union
+from typing import Any, Dict, List, NamedTuple, Optional
 
 import numpy
+import numpy.typing as npt
 
-from eamadm import _native
-
-PathLike = Union[str, "os.PathLike[str]"]
+from eamadm import _args, _native
+from eamadm._args import PathLike
 
 #: The file name of the data package beside the tables (``eamadm::output_names::DATA_PACKAGE``).
 DATA_PACKAGE = "datapackage.json"
@@ -42,33 +44,63 @@ class Scores(NamedTuple):
     claims: Any
 
 
-def data_package(dir: PathLike | None = None) -> dict:
+def data_package(dir: Optional[PathLike] = None) -> Dict[str, Any]:
     """The Frictionless data package of ``final-scores.csv`` and ``claims.csv``: the
-    ``datapackage.json`` of the output folder ``dir``, or when ``dir`` is None (or the folder
-    predates the package) the one this version of the package writes."""
+    ``datapackage.json`` of the output folder ``dir``, or when ``dir`` is None (or the output
+    folder predates the package) the one this version of the package writes.
+
+    Raises:
+        TypeError: ``dir`` is not a path.
+        FileNotFoundError: ``dir`` does not exist.
+        ValueError: ``dir`` is not an output folder of the main job (no ``final-scores.csv``),
+            or its ``datapackage.json`` cannot be read.
+    """
     if dir is not None:
-        path = _folder(dir) / DATA_PACKAGE
+        folder = run_folder(dir)
+        path = folder / DATA_PACKAGE
         if path.is_file():
             try:
-                return json.loads(path.read_text(encoding="utf-8"))
+                package: Dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
             except (OSError, UnicodeDecodeError, ValueError) as error:
                 raise ValueError(f"dir: cannot read {path}: {error}") from error
-    return json.loads(_native.data_package_json())
+            return package
+    built_in: Dict[str, Any] = json.loads(_native.data_package_json())
+    return built_in
 
 
-def _folder(dir: PathLike) -> pathlib.Path:
-    if not isinstance(dir, (str, os.PathLike)):
-        raise ValueError(f"dir: expected a path, got {type(dir).__name__}")
-    folder = pathlib.Path(dir)
-    if not folder.is_dir():
-        raise ValueError(f"dir: {os.fspath(dir)!r} is not a folder (give the main job's --out)")
-    return folder
+#: The table every output folder of the main job holds.
+FINAL_SCORES = "final-scores.csv"
 
 
-def _fields(package: dict, resource: str) -> list:
+def folder(dir: object) -> pathlib.Path:
+    """``dir`` as an existing folder: ``TypeError`` if it is not a path, ``FileNotFoundError``
+    if it does not exist, ``ValueError`` if it is a file."""
+    path = pathlib.Path(_args.check_path(dir, "dir"))
+    if not path.exists():
+        raise FileNotFoundError(f"dir: {os.fspath(path)!r} does not exist (give the main job's --out)")
+    if not path.is_dir():
+        raise ValueError(f"dir: {os.fspath(path)!r} is not a folder (give the main job's --out)")
+    return path
+
+
+def run_folder(dir: object) -> pathlib.Path:
+    """``dir`` as an output folder of the main job (one holding ``final-scores.csv``), as
+    :func:`folder` checks it, and ``ValueError`` when it is a folder but not such a one."""
+    path = folder(dir)
+    if not (path / FINAL_SCORES).is_file():
+        raise ValueError(
+            f"dir: {os.fspath(path)!r} is not an output folder of `cargo xtask reproduce-paper` "
+            f"(or `python -m eamadm reproduce`): it has no {FINAL_SCORES}"
+        )
+    return path
+
+
+def fields(package: Dict[str, Any], resource: str) -> List[Dict[str, Any]]:
+    """The Table Schema field descriptors of ``resource`` in the data package ``package``."""
     for entry in package.get("resources", []):
         if entry.get("name") == resource:
-            return entry["schema"]["fields"]
+            found: List[Dict[str, Any]] = entry["schema"]["fields"]
+            return found
     raise ValueError(f"dir: the data package has no resource {resource!r}")
 
 
@@ -89,16 +121,20 @@ def _cell(text: str, kind: str, column: str) -> Any:
     return text
 
 
-def typed_columns(text: str, fields: list) -> dict:
+def typed_columns(text: str, fields: List[Dict[str, Any]]) -> Dict[str, List[Any]]:
     """The CSV ``text`` as one typed Python list per column (``None`` for a blank cell); its
-    header must equal the names of ``fields`` (Table Schema field descriptors)."""
+    header must equal the names of ``fields`` (Table Schema field descriptors).
+
+    Raises:
+        ValueError: the header differs, or a cell is not of its column's type.
+    """
     reader = csv.reader(io.StringIO(text, newline=""))
     header = next(reader, None)
     names = [field["name"] for field in fields]
     if header != names:
         raise ValueError(f"the header {header} is not the data package's columns {names}")
     kinds = [field["type"] for field in fields]
-    columns: dict = {name: [] for name in names}
+    columns: Dict[str, List[Any]] = {name: [] for name in names}
     for line, row in enumerate(reader, start=2):
         if len(row) != len(names):
             raise ValueError(f"line {line}: {len(row)} cells, expected {len(names)}")
@@ -107,11 +143,13 @@ def typed_columns(text: str, fields: list) -> dict:
     return columns
 
 
-def as_arrays(columns: dict, fields: list) -> dict:
+def as_arrays(
+    columns: Dict[str, List[Any]], fields: List[Dict[str, Any]]
+) -> Dict[str, npt.NDArray[Any]]:
     """Typed columns as numpy arrays: ``int64`` (``float64`` with NaN if a cell is blank),
     ``float64`` with NaN for blanks, ``bool`` (``object`` with None if a cell is blank), and
     ``object`` for text (None for blanks)."""
-    arrays = {}
+    arrays: Dict[str, npt.NDArray[Any]] = {}
     for field in fields:
         name, kind = field["name"], field["type"]
         values = columns[name]
@@ -129,12 +167,16 @@ def as_arrays(columns: dict, fields: list) -> dict:
     return arrays
 
 
-def as_frame(columns: dict, fields: list) -> Any:
+def as_frame(columns: Dict[str, List[Any]], fields: List[Dict[str, Any]]) -> Any:
     """Typed columns as a pandas ``DataFrame``: ``int64`` (nullable ``Int64`` if a cell is
     blank), ``float64`` with NaN for blanks, ``bool`` (nullable ``boolean`` if a cell is
-    blank), and text with missing values for blanks."""
+    blank), and text with missing values for blanks.
+
+    Raises:
+        ImportError: pandas is not installed.
+    """
     pandas = _pandas("read the tables")
-    data = {}
+    data: Dict[str, Any] = {}
     for field in fields:
         name, kind = field["name"], field["type"]
         values = columns[name]
@@ -167,20 +209,28 @@ def _pandas(purpose: str) -> Any:
 def read_scores(dir: PathLike) -> Scores:
     """``final-scores.csv`` and ``claims.csv`` of the output folder ``dir`` as typed pandas
     ``DataFrame`` objects, by the column types of its ``datapackage.json`` (see
-    :func:`as_frame`; ``docs/outputs.md`` explains every column)."""
-    folder = _folder(dir)
-    package = data_package(folder)
+    :func:`as_frame`; ``docs/outputs.md`` explains every column).
+
+    Raises:
+        TypeError: ``dir`` is not a path.
+        FileNotFoundError: ``dir`` does not exist.
+        ValueError: ``dir`` is not an output folder of the main job, or a table cannot be
+            read or does not match its data package (naming the file, line and column).
+        ImportError: pandas is not installed.
+    """
+    root = run_folder(dir)
+    package = data_package(root)
     tables = []
     for resource in ("final-scores", "claims"):
         entry = next(e for e in package["resources"] if e.get("name") == resource)
-        path = folder / entry["path"]
+        path = root / entry["path"]
         try:
             text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as error:
             raise ValueError(f"dir: cannot read {path}: {error}") from error
         try:
-            fields = _fields(package, resource)
-            tables.append(as_frame(typed_columns(text, fields), fields))
+            described = fields(package, resource)
+            tables.append(as_frame(typed_columns(text, described), described))
         except ValueError as error:
             raise ValueError(f"dir: {path}: {error}") from error
     return Scores(*tables)
@@ -207,15 +257,24 @@ def load_runs(dir: PathLike, *, dataframe: bool = True) -> Any:
 
     Returns a pandas ``DataFrame`` (``dataframe=False``: a dict of columns, per-run columns
     as lists). A stored entry that fails its checks is skipped with a ``RuntimeWarning``.
+
+    Raises:
+        TypeError: ``dir`` is not a path.
+        FileNotFoundError: ``dir`` does not exist.
+        ValueError: ``dir`` is neither an output folder of the main job (no ``runs/``) nor a
+            run store, or the store cannot be read.
+        ImportError: pandas is not installed and ``dataframe`` is true.
+        KeyboardInterrupt: on Ctrl-C while a large store is read.
     """
-    folder = _folder(dir)
-    columns, problems = _native.load_runs(os.fspath(folder))
+    root = folder(dir)
+    dataframe = _args.check_bool(dataframe, "dataframe")
+    columns, problems = _native.load_runs(os.fspath(root))
     columns = {
         name: [signed(v) for v in values] if _is_curve(values) else values
         for name, values in columns.items()
     }
     for problem in problems:
-        warnings.warn(f"run store of {os.fspath(folder)!r}: {problem}", RuntimeWarning, stacklevel=2)
+        warnings.warn(f"run store of {os.fspath(root)!r}: {problem}", RuntimeWarning, stacklevel=2)
     if not dataframe:
         return columns
     pandas = _pandas("load runs as a DataFrame")
@@ -231,7 +290,7 @@ def load_runs(dir: PathLike, *, dataframe: bool = True) -> Any:
     return frame
 
 
-def signed(values: numpy.ndarray) -> numpy.ndarray:
+def signed(values: npt.NDArray[Any]) -> npt.NDArray[Any]:
     """A ``uint64`` array (Rust's counts) as ``int64`` when every value fits, so that
     differences and means behave as numpy users expect; other arrays unchanged."""
     if values.dtype == numpy.uint64 and (values.size == 0 or values.max() < 2**63):
@@ -239,5 +298,5 @@ def signed(values: numpy.ndarray) -> numpy.ndarray:
     return values
 
 
-def _is_curve(values: list) -> bool:
+def _is_curve(values: List[Any]) -> bool:
     return bool(values) and isinstance(values[0], numpy.ndarray)

@@ -5,7 +5,8 @@ nothing of it is re-derived in Python. Given an output folder of ``cargo xtask r
 it judges the claims again from the folder's ``final-scores.csv`` and renders them with the
 folder's ``report-context.toml`` (tasks, experiments, figures with captions, the robot's
 behaviour), so the text equals the folder's ``REPORT.md`` byte for byte. Given results of
-:func:`eamadm.run`, it renders the report of those runs, without figures (the report says so).
+:func:`eamadm.run`, it renders the report of those runs, without figures (the report says so),
+opening with what made it (``eamadm.report`` in Python, not the main job's command).
 """
 
 from __future__ import annotations
@@ -13,9 +14,9 @@ from __future__ import annotations
 import csv
 import io
 import os
-from typing import Any, Iterable, NamedTuple, Union
+from typing import Any, Iterable, List, NamedTuple, Tuple, Union
 
-from eamadm import _native
+from eamadm import _args, _native, outputs
 from eamadm.experiment import Results
 
 
@@ -34,28 +35,35 @@ class Report(NamedTuple):
     scores_csv: str
 
 
-def _report_inputs(results: Any) -> list:
-    """The Rust report inputs of one :class:`Results` or an iterable of them."""
+def report_inputs(results: object) -> List[Tuple[str, str]]:
+    """The Rust report inputs of one :class:`Results` or an iterable of them.
+
+    Raises:
+        TypeError: ``results`` is not what :func:`eamadm.run` returns, nor a list of it.
+        ValueError: the list is empty.
+    """
     items = [results] if isinstance(results, Results) else results
     if isinstance(items, (str, bytes)) or not hasattr(items, "__iter__"):
-        raise ValueError(
+        raise TypeError(
             "results: expected an output folder, a Results of eamadm.run or a list of them, "
-            f"got {type(results).__name__}"
+            f"got {_args.type_name(results)}"
         )
     inputs = []
     for item in items:
         report_input = getattr(item, "report_input", None)
         if not isinstance(item, Results) or report_input is None:
-            raise ValueError(
+            raise TypeError(
                 "results: expected what eamadm.run returns (a Results), got "
-                f"{type(item).__name__}"
+                f"{_args.type_name(item)}"
             )
         inputs.append(report_input)
+    if not inputs:
+        raise ValueError("results: expected the results of at least one run")
     return inputs
 
 
 def report(
-    source: Union[str, "os.PathLike[str]", Results, Iterable[Results]],
+    source: Union[_args.PathLike, Results, Iterable[Results]],
     *,
     quick: bool = False,
     dataframe: bool = True,
@@ -76,15 +84,20 @@ def report(
         ``final-scores.csv`` texts.
 
     Raises:
-        ValueError: naming the argument, when the folder lacks the files or the results are
-            not of :func:`eamadm.run`.
+        TypeError: ``source`` is neither a path nor results of :func:`eamadm.run`.
+        FileNotFoundError: the folder does not exist.
+        ValueError: naming the argument: the folder is not an output folder of the main job
+            (or lacks ``report-context.toml``), two results of one experiment, or ``quick``
+            given with a folder.
     """
+    quick = _args.check_bool(quick, "quick")
+    dataframe = _args.check_bool(dataframe, "dataframe")
     if isinstance(source, (str, os.PathLike)):
         if quick:
             raise ValueError("quick: a folder's report knows whether it was a --quick run")
-        markdown, claims, scores = _native.report_of_folder(os.fspath(source))
+        markdown, claims, scores = _native.report_of_folder(os.fspath(outputs.folder(source)))
     else:
-        markdown, claims, scores = _native.report_of_runs(_report_inputs(source), bool(quick))
+        markdown, claims, scores, _context = _native.report_of_runs(report_inputs(source), quick)
     verdicts: Any = None
     if dataframe:
         try:

@@ -277,3 +277,56 @@ fn specs_round_trip_through_serde() {
     }
     insta::assert_snapshot!(serde_json::to_string_pretty(&TaskSpec::task1()).unwrap());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// A saved episode put back on another environment of the same task continues exactly.
+    #[test]
+    fn a_saved_episode_continues_exactly(
+        before in prop::collection::vec(0..4usize, 0..300),
+        after in prop::collection::vec(0..4usize, 1..100),
+    ) {
+        let mut original = Preset::Task2.env();
+        original.reset(None);
+        for &action in &before {
+            original.step(action);
+        }
+        let (position, steps, last_event) = original.episode();
+        let mut restored = Preset::Task2.env();
+        restored.reset(None);
+        restored.step(3);
+        restored.set_episode(position, steps, last_event).unwrap();
+        prop_assert_eq!(restored.episode(), original.episode());
+        prop_assert_eq!(restored.subtask_rewards(), original.subtask_rewards());
+        for &action in &after {
+            let (a, b) = (original.step(action), restored.step(action));
+            prop_assert_eq!(a.next_state, b.next_state);
+            prop_assert_eq!(a.reward.to_bits(), b.reward.to_bits());
+            prop_assert_eq!((a.terminated, a.truncated), (b.terminated, b.truncated));
+            prop_assert_eq!(original.subtask_rewards(), restored.subtask_rewards());
+        }
+    }
+}
+
+#[test]
+fn an_episode_that_cannot_be_on_the_maze_is_refused_and_changes_nothing() {
+    let mut env = MazeEnv::new(
+        Maze::parse("S.#\n..T\n").unwrap(),
+        Preset::Task1.task_spec(),
+    )
+    .unwrap();
+    env.step(3);
+    let saved = env.episode();
+    for (position, steps, event) in [
+        (Pos::new(2, 0), 1, Some(Event::Bump)),   // an obstacle
+        (Pos::new(5, 0), 1, Some(Event::Bump)),   // outside the grid
+        (Pos::new(1, 0), 0, Some(Event::Closer)), // an event without a step
+        (Pos::new(1, 0), 3, None),                // steps without an event
+    ] {
+        assert!(env.set_episode(position, steps, event).is_err());
+        assert_eq!(env.episode(), saved);
+    }
+    env.set_episode(Pos::new(0, 0), 0, None).unwrap();
+    assert_eq!(env.subtask_rewards(), &[0.0, 0.0]);
+}

@@ -5,4 +5,5 @@ mod default_scenario;
 mod properties;
 mod refusals;
 mod scenarios;
+mod snapshot;
 mod snapshots;
