@@ -9,7 +9,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use eamadm::{
-    ExperimentConfig, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
+    Experiment, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
 };
 use eamadm_runs::{
     AppendReceipt, KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription,
@@ -76,12 +76,12 @@ struct ArtefactCache<'a> {
 impl PretrainingCache for ArtefactCache<'_> {
     fn load(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
     ) -> Option<PretrainedSubtask> {
-        let description = PretrainingDescription::new(config, pretrain, k, seed);
+        let description = PretrainingDescription::new(experiment, pretrain, k, seed);
         match self.artefacts.load(&description) {
             Ok(Some(subtask)) => {
                 self.loaded.fetch_add(1, Ordering::Relaxed);
@@ -99,14 +99,14 @@ impl PretrainingCache for ArtefactCache<'_> {
 
     fn save(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
         subtask: &PretrainedSubtask,
     ) {
         self.trained.fetch_add(1, Ordering::Relaxed);
-        let description = PretrainingDescription::new(config, pretrain, k, seed);
+        let description = PretrainingDescription::new(experiment, pretrain, k, seed);
         if let Err(error) = self.artefacts.save(&description, subtask) {
             (self.warn)(&format!(
                 "{error}; other processes will pre-train this sub-task themselves"
@@ -187,7 +187,7 @@ pub(crate) fn run_jobs(
                         })?;
                     let receipt = store.append(
                         &job.key,
-                        &RunDescription::new(planned.config(), job.method, job.seed),
+                        &RunDescription::new(&planned.experiment, job.method, job.seed),
                         &record,
                         keep,
                     )?;
@@ -356,6 +356,54 @@ mod tests {
             let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
             assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
         }
+    }
+
+    /// A `maze_file` config whose map is replaced while its runs are going (an editor saving,
+    /// a sync tool): the runs, their keys and the pre-trained artefacts all belong to the map
+    /// the experiment was loaded from. 9dc06af hashed the file again for every key, so its
+    /// artefacts trained on the old map were stored under the new map's keys (and loaded by a
+    /// later run on the new map), and its runs' descriptions did not hash to their keys.
+    #[test]
+    fn a_map_file_replaced_mid_run_changes_neither_the_runs_nor_their_keys() {
+        let dir = tempfile::tempdir().unwrap();
+        let map = dir.path().join("maze.map");
+        let old_map = eamadm::mazes::Preset::Task1.maze().to_text();
+        std::fs::write(&map, &old_map).unwrap();
+        let (mut planned, methods) = two_ea_madm_methods(1);
+        let mut config = planned[0].config().clone();
+        config.task = eamadm::TaskConfig::MazeFile {
+            path: map.clone(),
+            rewards: eamadm::mazes::Preset::Task1,
+            step_cap: Some(60),
+        };
+        planned[0].experiment = eamadm::Experiment::new(config.clone()).unwrap();
+        let jobs = plan_jobs(&planned, &methods).unwrap();
+        // Another map of the same size: one wall moved.
+        let new_map = old_map.replacen(".#", "#.", 1);
+        assert_ne!(new_map, old_map);
+        std::fs::write(&map, &new_map).unwrap();
+        let out = dir.path().join("out");
+        let keep = KeepTrajectories::Figures;
+        let open = || RunStore::open(&out, &mut |w: &str| panic!("{w}")).unwrap();
+        let quiet = |w: &str| panic!("{w}");
+        run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+        // Every run stored under its planned key, its description hashing to it.
+        let store = open();
+        for job in &jobs {
+            let stored = store.load(&job.key, keep).unwrap().unwrap();
+            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+        }
+        // A plan loaded now reads the new map: other keys, and no artefact of the old map.
+        let mut replanned = planned.clone();
+        replanned[0].experiment = eamadm::Experiment::new(config).unwrap();
+        let jobs = plan_jobs(&replanned, &methods).unwrap();
+        assert!(jobs.iter().all(|job| !store.has(&job.key, keep)));
+        let counts = run_jobs(&replanned, &jobs, &store, keep, &Progress::hidden(), &quiet)
+            .unwrap()
+            .counts;
+        assert_eq!(counts.pretrained_loaded, 0, "{counts:?}");
+        assert!(counts.pretrained > 0);
     }
 
     #[test]

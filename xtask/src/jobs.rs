@@ -39,7 +39,7 @@ pub(crate) fn plan_jobs<'a>(
                 continue;
             };
             for seed in config.seed_values() {
-                let key = RunKey::of(&RunDescription::new(config, method, seed))?;
+                let key = RunKey::of(&RunDescription::new(&planned.experiment, method, seed))?;
                 jobs.push(Job {
                     experiment: index,
                     method,

@@ -110,10 +110,10 @@ pub(crate) fn reproduce_paper(
     let (plan, experiments) = prepare(args, workspace)?;
     let mut jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     if command.mode.list_jobs {
-        for line in job_lines(args, &plan, &experiments, &jobs, workspace)? {
-            println!("{line}");
-        }
-        return Ok(());
+        return print_lines(
+            &mut std::io::stdout().lock(),
+            &job_lines(args, &plan, &experiments, &jobs, workspace)?,
+        );
     }
     let planned_runs = jobs.len();
     if let Some(shard) = shard {
@@ -205,6 +205,24 @@ pub(crate) fn reproduce_paper(
         println!("run store: {}", plan.out.join("runs").display());
     }
     Ok(())
+}
+
+/// Writes `lines` to `out`, one a line; a reader that stops reading (`--list-jobs | head -1`)
+/// ends the listing quietly (exit 0) instead of the panic `println!` raises on a closed pipe.
+fn print_lines(out: &mut dyn std::io::Write, lines: &[String]) -> Result<(), Failure> {
+    for line in lines {
+        match writeln!(out, "{line}") {
+            Ok(()) => {}
+            Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+            Err(error) => return Err(Failure::failed(format!("cannot print the jobs: {error}"))),
+        }
+    }
+    match out.flush() {
+        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::failed(
+            format!("cannot print the jobs: {error}"),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// The `--list-jobs` lines of `jobs`: one JSON object per run.

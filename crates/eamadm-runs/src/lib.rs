@@ -29,7 +29,7 @@
 //! config.methods.retain(|m| m.label == "epsilon-greedy");
 //! let experiment = eamadm::Experiment::new(config.clone())?;
 //! let method = &config.methods[0];
-//! let description = RunDescription::new(&config, method, 0);
+//! let description = RunDescription::new(&experiment, method, 0);
 //! let key = RunKey::of(&description)?;
 //!
 //! let out = tempfile::tempdir()?;

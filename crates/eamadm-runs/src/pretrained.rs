@@ -41,7 +41,7 @@ use std::path::{Path, PathBuf};
 
 use eamadm::config::TaskConfig;
 use eamadm::dql::DoubleQParams;
-use eamadm::{ExperimentConfig, PretrainConfig, PretrainedSubtask};
+use eamadm::{Experiment, PretrainConfig, PretrainedSubtask};
 use serde::{Deserialize, Serialize};
 
 use crate::key::{RESULTS_FORMAT, RunKey, canonical_json};
@@ -76,16 +76,18 @@ pub struct PretrainingDescription {
 }
 
 impl PretrainingDescription {
-    /// The description of training sub-task `k` of `config`'s task with `pretrain` and
-    /// `seed`, on `config`'s learner parameters.
+    /// The description of training sub-task `k` of `experiment`'s task with `pretrain` and
+    /// `seed`, on its learner parameters; a file the task names is hashed as the experiment
+    /// read it (see [`crate::RunDescription::new`]).
     #[must_use]
-    pub fn new(config: &ExperimentConfig, pretrain: &PretrainConfig, k: usize, seed: u64) -> Self {
+    pub fn new(experiment: &Experiment, pretrain: &PretrainConfig, k: usize, seed: u64) -> Self {
+        let config = experiment.config();
         Self {
             pretrained_format: PRETRAINED_FORMAT,
             results_format: RESULTS_FORMAT,
             crate_version: env!("CARGO_PKG_VERSION"),
             task: config.task.clone(),
-            task_file_blake3: crate::key::task_file_digest(&config.task),
+            task_file_blake3: crate::key::task_input_digest(experiment),
             learner: config.learner,
             pretrain: *pretrain,
             subtask: k as u64,
@@ -372,7 +374,7 @@ mod tests {
 
     use std::sync::Mutex;
 
-    use eamadm::{Method, PretrainingCache};
+    use eamadm::{ExperimentConfig, Method, PretrainingCache};
 
     /// Task I with its EA-MADM pre-training cut to 3 episodes per sub-task.
     fn config() -> ExperimentConfig {
@@ -401,7 +403,7 @@ mod tests {
     impl PretrainingCache for Capture {
         fn load(
             &self,
-            _: &ExperimentConfig,
+            _: &Experiment,
             _: &PretrainConfig,
             _: usize,
             _: u64,
@@ -411,7 +413,7 @@ mod tests {
 
         fn save(
             &self,
-            _: &ExperimentConfig,
+            _: &Experiment,
             _: &PretrainConfig,
             k: usize,
             _: u64,
@@ -432,7 +434,8 @@ mod tests {
     }
 
     fn described(config: &ExperimentConfig, k: usize, seed: u64) -> PretrainingDescription {
-        PretrainingDescription::new(config, &pretrain(config), k, seed)
+        let experiment = Experiment::new(config.clone()).unwrap();
+        PretrainingDescription::new(&experiment, &pretrain(config), k, seed)
     }
 
     #[test]

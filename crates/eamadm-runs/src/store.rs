@@ -1563,7 +1563,7 @@ mod tests {
         config
             .seed_values()
             .map(|seed| {
-                let description = RunDescription::new(&config, method, seed);
+                let description = RunDescription::new(&experiment, method, seed);
                 let key = RunKey::of(&description).unwrap();
                 let record = experiment.run(method, seed).unwrap();
                 (key, description, record)

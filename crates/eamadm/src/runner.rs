@@ -115,7 +115,7 @@ impl Experiment {
             .map_err(|error| fail(RunFailure::from(error)))?;
         let optimum = self.task.optimum_steps();
         let repairs = method.method.subtask_repairs();
-        let shared = shared.fits(&self.config, seed);
+        let shared = shared.fits(self, seed);
         match self.task.kind() {
             TaskKind::Maze(env) => {
                 run_on(env.as_ref(), &self.config, method, seed, optimum, shared)
@@ -175,22 +175,12 @@ impl Experiment {
         cache: &dyn PretrainingCache,
     ) -> SharedPretraining {
         match self.task.kind() {
-            TaskKind::Maze(env) => SharedPretraining::compute(
-                env.as_ref(),
-                &self.config,
-                &self.task,
-                methods,
-                seed,
-                cache,
-            ),
-            TaskKind::Robot(env) => SharedPretraining::compute(
-                env.as_ref(),
-                &self.config,
-                &self.task,
-                methods,
-                seed,
-                cache,
-            ),
+            TaskKind::Maze(env) => {
+                SharedPretraining::compute(env.as_ref(), self, methods, seed, cache)
+            }
+            TaskKind::Robot(env) => {
+                SharedPretraining::compute(env.as_ref(), self, methods, seed, cache)
+            }
         }
     }
 
@@ -253,25 +243,26 @@ impl Experiment {
 /// them, and where it puts those it trained: a store that outlives the process.
 ///
 /// A trained sub-task is a pure function of the experiment's task (`config.task`, with the
-/// content of any file it names), its learner parameters (`config.learner`), the pre-training
-/// config, the sub-task `k` (whose raw reward it learns: pre-training does not standardise
-/// rewards) and the seed, and of the code; an implementation must key what it keeps by all of
-/// them, or it hands back a learner another run trained.
+/// content of any file it names: [`Task::input_text`], the bytes the task was built from), its
+/// learner parameters (`config.learner`), the pre-training config, the sub-task `k` (whose raw
+/// reward it learns: pre-training does not standardise rewards) and the seed, and of the code;
+/// an implementation must key what it keeps by all of them, or it hands back a learner another
+/// run trained.
 pub trait PretrainingCache: Sync {
-    /// Sub-task `k` of `config`'s task trained with `pretrain` and `seed`, if kept.
+    /// Sub-task `k` of `experiment`'s task trained with `pretrain` and `seed`, if kept.
     fn load(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
     ) -> Option<PretrainedSubtask>;
 
-    /// Keeps `subtask`, just trained as sub-task `k` of `config`'s task with `pretrain` and
-    /// `seed`.
+    /// Keeps `subtask`, just trained as sub-task `k` of `experiment`'s task with `pretrain`
+    /// and `seed`.
     fn save(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
@@ -286,7 +277,7 @@ pub struct NoPretrainingCache;
 impl PretrainingCache for NoPretrainingCache {
     fn load(
         &self,
-        _: &ExperimentConfig,
+        _: &Experiment,
         _: &PretrainConfig,
         _: usize,
         _: u64,
@@ -296,7 +287,7 @@ impl PretrainingCache for NoPretrainingCache {
 
     fn save(
         &self,
-        _: &ExperimentConfig,
+        _: &Experiment,
         _: &PretrainConfig,
         _: usize,
         _: u64,
@@ -309,13 +300,14 @@ impl PretrainingCache for NoPretrainingCache {
 /// keyed by `(pre-training config, sub-task)` and the priors built from them keyed by
 /// `(pre-training config, storage)` ([`Experiment::share_pretraining`]).
 ///
-/// It remembers the task, learner parameters and seed it was computed for, and
-/// [`Experiment::run_shared`] uses it only for a run that matches all three, so a mismatched
-/// one costs time, never a wrong bit.
+/// It remembers the task (its config and the text of any file it names), learner parameters
+/// and seed it was computed for, and [`Experiment::run_shared`] uses it only for a run that
+/// matches all of them, so a mismatched one costs time, never a wrong bit.
 #[derive(Debug, Clone, Default)]
 pub struct SharedPretraining {
-    /// What it was computed for: task, learner parameters and seed (`None`: nothing).
-    basis: Option<(TaskConfig, dql::DoubleQParams, u64)>,
+    /// What it was computed for: task, its file's text, learner parameters and seed (`None`:
+    /// nothing).
+    basis: Option<(TaskConfig, Option<String>, dql::DoubleQParams, u64)>,
     subtasks: Vec<SharedSubtask>,
     priors: Vec<SharedPrior>,
 }
@@ -356,16 +348,19 @@ impl SharedPretraining {
         self.priors.len()
     }
 
-    /// `self` if it was computed for `config`'s task and learner and `seed`, else nothing.
-    fn fits(&self, config: &ExperimentConfig, seed: u64) -> &Self {
+    /// `self` if it was computed for `experiment`'s task and learner and `seed`, else nothing.
+    fn fits(&self, experiment: &Experiment, seed: u64) -> &Self {
         static NONE: SharedPretraining = SharedPretraining {
             basis: None,
             subtasks: Vec::new(),
             priors: Vec::new(),
         };
         match &self.basis {
-            Some((task, learner, at))
-                if *task == config.task && *learner == config.learner && *at == seed =>
+            Some((task, input, learner, at))
+                if *task == experiment.config.task
+                    && input.as_deref() == experiment.task.input_text()
+                    && *learner == experiment.config.learner
+                    && *at == seed =>
             {
                 self
             }
@@ -393,12 +388,12 @@ impl SharedPretraining {
 
     fn compute<E: TaskEnv>(
         prototype: &E,
-        config: &ExperimentConfig,
-        task: &Task,
+        experiment: &Experiment,
         methods: &[&MethodSpec],
         seed: u64,
         cache: &dyn PretrainingCache,
     ) -> Self {
+        let (config, task) = (&experiment.config, &experiment.task);
         // What the valid methods pre-train: (config, sub-task) pairs, and (config, storage)
         // priors, each once, in the order first met.
         let mut trainings: Vec<(PretrainConfig, usize)> = Vec::new();
@@ -437,14 +432,14 @@ impl SharedPretraining {
             .filter_map(|(pretrain, k)| {
                 let names = prototype.subtask_names();
                 let kept = cache
-                    .load(config, &pretrain, k, seed)
+                    .load(experiment, &pretrain, k, seed)
                     .filter(|kept| fits_training(prototype, config, &pretrain, k, &names, kept));
                 let subtask = match kept {
                     Some(kept) => kept,
                     None => {
                         let trained =
                             pretrain_subtask(prototype, k, config.learner, &pretrain, seed).ok()?;
-                        cache.save(config, &pretrain, k, seed, &trained);
+                        cache.save(experiment, &pretrain, k, seed, &trained);
                         trained
                     }
                 };
@@ -456,7 +451,12 @@ impl SharedPretraining {
             })
             .collect();
         let mut shared = Self {
-            basis: Some((config.task.clone(), config.learner, seed)),
+            basis: Some((
+                config.task.clone(),
+                task.input_text().map(str::to_owned),
+                config.learner,
+                seed,
+            )),
             subtasks,
             priors: Vec::new(),
         };
