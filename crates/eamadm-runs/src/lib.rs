@@ -45,6 +45,7 @@
 //! ```
 
 pub mod atomic;
+pub mod frames;
 pub mod gzip;
 pub mod key;
 pub mod no_follow;
