@@ -143,6 +143,11 @@ pub(crate) struct ReproduceArgs {
     /// report then has no sensitivity section and its verdict table says "not run" there).
     #[arg(long, value_name = "WHICH", value_enum, default_value_t)]
     pub(crate) readings: Readings,
+    /// Folder of the pre-trained sub-task learners, a cache shared by every output folder and
+    /// process that names it (content-addressed: safe to share) [default:
+    /// target/pretrained-cache in the workspace]; not inside --out.
+    #[arg(long, value_name = "DIR")]
+    pub(crate) pretrained_cache: Option<PathBuf>,
 }
 
 /// `--readings`: which readings of the paper a plan reruns besides the presets.
@@ -260,6 +265,7 @@ mod tests {
                 wait: false,
                 keep_trajectories: KeepTrajectories::Figures,
                 readings: Readings::All,
+                pretrained_cache: None,
             }
         );
     }
@@ -289,6 +295,8 @@ mod tests {
                 "all",
                 "--readings",
                 "none",
+                "--pretrained-cache",
+                "/tmp/cache",
             ]),
             ReproduceArgs {
                 seeds: Some(4),
@@ -300,6 +308,7 @@ mod tests {
                 wait: true,
                 keep_trajectories: KeepTrajectories::All,
                 readings: Readings::None,
+                pretrained_cache: Some(PathBuf::from("/tmp/cache")),
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command

@@ -123,6 +123,7 @@ pub(crate) fn run_jobs(
     experiments: &[PlannedExperiment],
     jobs: &[Job<'_>],
     store: &RunStore,
+    artefacts: &PretrainedStore,
     keep: KeepTrajectories,
     progress: &Progress,
     warn: &(dyn Fn(&str) + Sync),
@@ -152,7 +153,7 @@ pub(crate) fn run_jobs(
     // stored there once trained. Each record is still the pure function of
     // (config, method, seed) that `Experiment::run` computes.
     let cache = ArtefactCache {
-        artefacts: PretrainedStore::of(store),
+        artefacts: artefacts.clone(),
         warn,
         trained: AtomicUsize::new(0),
         loaded: AtomicUsize::new(0),
@@ -221,6 +222,11 @@ mod tests {
     use crate::experiments::{plan_experiments, shorten};
     use crate::jobs::plan_jobs;
 
+    /// The artefact cache of a test's folder `dir` (beside its output folder).
+    fn cache(dir: &std::path::Path) -> PretrainedStore {
+        PretrainedStore::new(&dir.join("cache"))
+    }
+
     #[test]
     fn resumed_runs_are_skipped_and_equal_fresh_ones() {
         // Task I only, without its readings' experiments.
@@ -239,7 +245,7 @@ mod tests {
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
         let executed =
-            run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+            run_jobs(&planned, &jobs, &open(), &cache(dir.path()), keep, &Progress::hidden(), &quiet).unwrap();
         let counts = executed.counts;
         // One receipt per run computed, and the store reopened with them is the store read in
         // full.
@@ -267,7 +273,7 @@ mod tests {
             }
         );
         let store = open();
-        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden(), &quiet)
+        let again = run_jobs(&planned, &jobs, &store, &cache(dir.path()), keep, &Progress::hidden(), &quiet)
             .unwrap()
             .counts;
         assert_eq!(
@@ -305,11 +311,11 @@ mod tests {
         (planned, methods)
     }
 
-    fn artefact_files(out: &std::path::Path) -> Vec<std::path::PathBuf> {
-        let folder = out.join("runs").join(eamadm_runs::names::PRETRAINED);
-        let mut files: Vec<_> = std::fs::read_dir(folder)
+    fn artefact_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let mut files: Vec<_> = std::fs::read_dir(dir.join("cache"))
             .unwrap()
             .map(|e| e.unwrap().path())
+            .filter(|path| !path.ends_with(eamadm_runs::atomic::WRITERS_LOCK_FILE))
             .collect();
         files.sort();
         files
@@ -330,11 +336,7 @@ mod tests {
         let mut trained = 0;
         let mut loaded = 0;
         for job in &jobs {
-            let counts = run_jobs(
-                &planned,
-                std::slice::from_ref(job),
-                &open(),
-                keep,
+            let counts = run_jobs(&planned, std::slice::from_ref(job), &open(), &cache(dir.path()), keep,
                 &Progress::hidden(),
                 &quiet,
             )
@@ -386,7 +388,7 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(&out, &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+        run_jobs(&planned, &jobs, &open(), &cache(dir.path()), keep, &Progress::hidden(), &quiet).unwrap();
         // Every run stored under its planned key, its description hashing to it.
         let store = open();
         for job in &jobs {
@@ -399,7 +401,7 @@ mod tests {
         replanned[0].experiment = eamadm::Experiment::new(config).unwrap();
         let jobs = plan_jobs(&replanned, &methods).unwrap();
         assert!(jobs.iter().all(|job| !store.has(&job.key, keep)));
-        let counts = run_jobs(&replanned, &jobs, &store, keep, &Progress::hidden(), &quiet)
+        let counts = run_jobs(&replanned, &jobs, &store, &cache(dir.path()), keep, &Progress::hidden(), &quiet)
             .unwrap()
             .counts;
         assert_eq!(counts.pretrained_loaded, 0, "{counts:?}");
@@ -415,11 +417,7 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        let first = run_jobs(
-            &planned,
-            &jobs[..1],
-            &open(),
-            keep,
+        let first = run_jobs(&planned, &jobs[..1], &open(), &cache(dir.path()), keep,
             &Progress::hidden(),
             &quiet,
         )
@@ -431,11 +429,7 @@ mod tests {
         std::fs::write(&files[0], &whole[..whole.len() - 9]).unwrap();
         let warnings = std::sync::Mutex::new(Vec::new());
         let collect = |w: &str| warnings.lock().unwrap().push(w.to_owned());
-        let second = run_jobs(
-            &planned,
-            &jobs[1..],
-            &open(),
-            keep,
+        let second = run_jobs(&planned, &jobs[1..], &open(), &cache(dir.path()), keep,
             &Progress::hidden(),
             &collect,
         )

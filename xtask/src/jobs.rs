@@ -159,6 +159,12 @@ pub(crate) fn plan_arguments(
     if args.readings != crate::cli::Readings::All {
         arguments.extend(["--readings".to_owned(), args.readings.name().to_owned()]);
     }
+    if let Some(cache) = &args.pretrained_cache {
+        arguments.extend([
+            "--pretrained-cache".to_owned(),
+            current_dir.join(cache).display().to_string(),
+        ]);
+    }
     arguments
 }
 
