@@ -21,12 +21,12 @@ use eamadm_runs::{PretrainedStore, RunKey, RunStore};
     clippy::print_stderr,
     reason = "a command-line tool reports warnings on stderr"
 )]
-fn warn_on_stderr(message: &str) {
+pub(crate) fn warn_on_stderr(message: &str) {
     eprintln!("warning: {message}");
 }
 
 /// The checked plan of `args` and its loaded experiments. Touches nothing on disk.
-fn prepare(
+pub(crate) fn prepare(
     args: &ReproduceArgs,
     workspace: &Workspace,
 ) -> Result<(ReproducePlan, Vec<PlannedExperiment>), Failure> {
@@ -331,7 +331,18 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         );
         stores.push(store);
     }
-    // Every run must be there before the output folder is touched.
+    // Every run must be there, and the sample asked for recompute to what is stored, before
+    // the output folder is touched.
+    if let Some(fraction) = args.verify {
+        crate::verify::check_or_fail(
+            &experiments,
+            &jobs,
+            &stores,
+            &PretrainedStore::new(&plan.pretrained_cache),
+            Some(fraction),
+            0,
+        )?;
+    }
     let missing = crate::finish::missing_runs(&experiments, &jobs, &stores, keep);
     if !missing.is_empty() {
         return Err(Failure::failed(crate::finish::FinishError::Missing {
@@ -904,6 +915,7 @@ mod tests {
             &MergeArgs {
                 plan: small("merged"),
                 stores: shards[..2].to_vec(),
+                verify: None,
             },
             &ws,
         )
@@ -920,6 +932,8 @@ mod tests {
             &MergeArgs {
                 plan: small("merged"),
                 stores: shards.clone(),
+                // The merge recomputes a third of the shards' runs and artefacts first.
+                verify: Some(0.3),
             },
             &ws,
         )
@@ -969,6 +983,7 @@ mod tests {
             &MergeArgs {
                 plan: small("merged"),
                 stores: vec!["jobs".into()],
+                verify: None,
             },
             &ws,
         )
@@ -1114,6 +1129,7 @@ mod tests {
                 &MergeArgs {
                     plan: small(&merged),
                     stores: vec![out.into()],
+                    verify: None,
                 },
                 &ws,
             )

@@ -416,6 +416,18 @@ impl<R: io::Read> io::Read for HashingReader<R> {
     }
 }
 
+/// The file of the artefact of `subtask` trained as `description` describes: the bytes
+/// [`PretrainedStore::save`] writes (for `verify`, which compares them with the cache's).
+///
+/// # Errors
+/// If the description or sub-task does not serialise.
+pub fn artefact_file(
+    description: &PretrainingDescription,
+    subtask: &PretrainedSubtask,
+) -> io::Result<Vec<u8>> {
+    artefact_bytes(description, subtask)
+}
+
 /// The compressed file of the artefact.
 fn artefact_bytes(
     description: &PretrainingDescription,

@@ -631,6 +631,42 @@ fn line_bytes(
     Ok(line)
 }
 
+/// The line (without its newline) the store keeps for `record` of run `key` described by
+/// `description` (canonical JSON), compacted under `keep` (for `verify`).
+///
+/// # Errors
+/// [`StoreError::Serialize`] if the record does not serialise.
+pub fn line_for(
+    key: &RunKey,
+    description: &[u8],
+    record: &RunRecord,
+    keep: KeepTrajectories,
+) -> Result<Vec<u8>, StoreError> {
+    let mut line = line_bytes(key, description, &compact(record.clone(), keep), keep)?;
+    line.pop();
+    Ok(line)
+}
+
+/// `line` (one store line, without its newline) with its header's checksum recomputed over
+/// whatever it now holds: what anyone who can write the folder can do, which is why the
+/// checksums detect faults and not forgery. For tests of `verify`.
+///
+/// # Errors
+/// If the line has no header to recompute.
+pub fn with_checksum_recomputed(line: &[u8]) -> Result<Vec<u8>, String> {
+    let mut parts = line.splitn(2, |&b| b == b'\t');
+    let (Some(header), Some(content)) = (parts.next(), parts.next()) else {
+        return Err("not a store line".to_owned());
+    };
+    let mut header: LineHeader =
+        serde_json::from_slice(header).map_err(|e| format!("header: {e}"))?;
+    header.blake3 = header.checksum(content);
+    let mut forged = serde_json::to_vec(&header).map_err(|e| e.to_string())?;
+    forged.push(b'\t');
+    forged.extend_from_slice(content);
+    Ok(forged)
+}
+
 /// A run read back from a store: its description (canonical JSON) and record.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StoredRun {
@@ -1121,6 +1157,13 @@ impl RunStore {
             .is_some_and(|location| location.trajectories.covers(keep))
     }
 
+    /// Whether run `key` is stored (verified when the store was opened), with any
+    /// trajectories.
+    #[must_use]
+    pub fn line_exists(&self, key: &RunKey) -> bool {
+        self.index.contains_key(key)
+    }
+
     /// How many verified runs the store holds.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -1221,6 +1264,25 @@ impl RunStore {
         }))
     }
 
+    /// The stored line of run `key` (without its newline) and the trajectories it keeps,
+    /// checked in full; `Ok(None)` if the store does not hold it. For `verify`, which compares
+    /// it with the line the run's recomputation makes.
+    ///
+    /// # Errors
+    /// [`StoreError::Changed`] if it no longer checks.
+    pub fn line(&self, key: &RunKey) -> Result<Option<(Vec<u8>, KeepTrajectories)>, StoreError> {
+        let Some(location) = self.index.get(key) else {
+            return Ok(None);
+        };
+        let mut reader = self
+            .reader
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut checked = Self::entry_at(&mut reader, location)?;
+        checked.line.pop();
+        Ok(Some((checked.line, checked.header.trajectories)))
+    }
+
     /// Stores a finished run in a file of its own, `runs/loose/<key>.<keep>.run.gz`: written
     /// aside, synced, then renamed into place, so no other process ever sees it half written and
     /// no two processes write the same file. (Two storing the same run write the same bytes.)
@@ -1287,11 +1349,59 @@ impl RunStore {
     /// written rather than read back, and every other file checked in full.
     pub fn pack(
         self,
-        _lock: &crate::output_folder::OutputFolder,
+        lock: &crate::output_folder::OutputFolder,
         sources: &[RunStore],
         wanted: &[RunKey],
         warn: &mut dyn FnMut(&str),
     ) -> Result<Self, StoreError> {
+        self.pack_dropping(lock, sources, wanted, &[], warn)
+    }
+
+    /// The runs of this store that no plan of this code can ask for: stored by another
+    /// `RESULTS_FORMAT` or crate version (their keys hash those, so no key computed now
+    /// matches them). Reads every stored line's description (for `gc`).
+    ///
+    /// # Errors
+    /// [`StoreError`] if a stored line can no longer be read.
+    pub fn stale_runs(&self) -> Result<Vec<RunKey>, StoreError> {
+        #[derive(Deserialize)]
+        struct Versions {
+            results_format: u32,
+            crate_version: String,
+        }
+        let mut stale = Vec::new();
+        for key in self.keys() {
+            let Some((line, _)) = self.line(key)? else {
+                continue;
+            };
+            let description = line.split(|&b| b == b'\t').nth(1).unwrap_or_default();
+            let current = serde_json::from_slice::<Versions>(description).is_ok_and(|v| {
+                v.results_format == crate::RESULTS_FORMAT
+                    && v.crate_version == env!("CARGO_PKG_VERSION")
+            });
+            if !current {
+                stale.push(key.clone());
+            }
+        }
+        Ok(stale)
+    }
+
+    /// [`RunStore::pack`] leaving out the runs `dropped` (for `gc`): their lines are written into
+    /// no bundle, and the files that held them are removed with the others read.
+    ///
+    /// # Errors
+    /// As [`RunStore::pack`].
+    pub fn pack_dropping(
+        mut self,
+        _lock: &crate::output_folder::OutputFolder,
+        sources: &[RunStore],
+        wanted: &[RunKey],
+        dropped: &[RunKey],
+        warn: &mut dyn FnMut(&str),
+    ) -> Result<Self, StoreError> {
+        for key in dropped {
+            self.index.remove(key);
+        }
         let folder = self.folder.clone();
         let write = |path: &Path| {
             let path = path.to_path_buf();

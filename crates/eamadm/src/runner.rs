@@ -184,6 +184,43 @@ impl Experiment {
         }
     }
 
+    /// The pre-trainings the runs of `methods` share, and a [`PretrainingCache`] is asked
+    /// for: each distinct (pre-training config, sub-task) of the valid methods that pre-train
+    /// on the paper's sub-task rewards, in the order first met (what
+    /// [`share_pretraining_with`](Self::share_pretraining_with) loads or trains).
+    #[must_use]
+    pub fn shared_pretrainings(&self, methods: &[&MethodSpec]) -> Vec<(PretrainConfig, usize)> {
+        let mut trainings: Vec<(PretrainConfig, usize)> = Vec::new();
+        let mut need = |pretrain: &PretrainConfig, k: usize| {
+            if !trainings.iter().any(|(p, j)| *j == k && p == pretrain) {
+                trainings.push((*pretrain, k));
+            }
+        };
+        for method in methods {
+            if !self.shares_pretraining(method) {
+                continue;
+            }
+            match &method.method {
+                Method::EaMadm(ea) => {
+                    for k in 0..self.task.subtask_names().len() {
+                        need(&ea.pretrain, k);
+                    }
+                }
+                Method::SubtaskGreedy(alone) => need(&alone.pretrain, alone.subtask),
+                Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {}
+            }
+        }
+        trainings
+    }
+
+    /// Whether `method` is valid here and pre-trains on the paper's sub-task rewards (a
+    /// repaired method pre-trains on other rewards: it shares nothing).
+    fn shares_pretraining(&self, method: &MethodSpec) -> bool {
+        method.validate("method").is_ok()
+            && check_method_fits(&self.task, method, "method").is_ok()
+            && method.method.subtask_repairs() == SubtaskRepairs::PAPER
+    }
+
     /// Every run of the experiment ([`jobs`](Self::jobs)), in parallel on the current rayon
     /// pool, returned in job order. Bit-identical whatever the number of threads.
     ///
@@ -393,38 +430,19 @@ impl SharedPretraining {
         seed: u64,
         cache: &dyn PretrainingCache,
     ) -> Self {
-        let (config, task) = (&experiment.config, &experiment.task);
+        let config = &experiment.config;
         // What the valid methods pre-train: (config, sub-task) pairs, and (config, storage)
         // priors, each once, in the order first met.
-        let mut trainings: Vec<(PretrainConfig, usize)> = Vec::new();
+        let trainings = experiment.shared_pretrainings(methods);
         let mut priors: Vec<(PretrainConfig, Storage)> = Vec::new();
-        let mut need = |pretrain: &PretrainConfig, k: usize| {
-            if !trainings.iter().any(|(p, j)| *j == k && p == pretrain) {
-                trainings.push((*pretrain, k));
-            }
-        };
         for method in methods {
-            if method.validate("method").is_err()
-                || check_method_fits(task, method, "method").is_err()
-                // A repaired method pre-trains on other sub-task rewards: it shares nothing.
-                || method.method.subtask_repairs() != SubtaskRepairs::PAPER
+            if let Method::EaMadm(ea) = &method.method
+                && experiment.shares_pretraining(method)
+                && !priors
+                    .iter()
+                    .any(|(p, s)| *p == ea.pretrain && *s == ea.storage)
             {
-                continue;
-            }
-            match &method.method {
-                Method::EaMadm(ea) => {
-                    for k in 0..prototype.n_subtasks() {
-                        need(&ea.pretrain, k);
-                    }
-                    if !priors
-                        .iter()
-                        .any(|(p, s)| *p == ea.pretrain && *s == ea.storage)
-                    {
-                        priors.push((ea.pretrain, ea.storage));
-                    }
-                }
-                Method::SubtaskGreedy(alone) => need(&alone.pretrain, alone.subtask),
-                Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {}
+                priors.push((ea.pretrain, ea.storage));
             }
         }
         let subtasks: Vec<SharedSubtask> = trainings
@@ -453,7 +471,7 @@ impl SharedPretraining {
         let mut shared = Self {
             basis: Some((
                 config.task.clone(),
-                task.input_text().map(str::to_owned),
+                experiment.task.input_text().map(str::to_owned),
                 config.learner,
                 seed,
             )),
