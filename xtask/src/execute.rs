@@ -244,8 +244,16 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        let executed =
-            run_jobs(&planned, &jobs, &open(), &cache(dir.path()), keep, &Progress::hidden(), &quiet).unwrap();
+        let executed = run_jobs(
+            &planned,
+            &jobs,
+            &open(),
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap();
         let counts = executed.counts;
         // One receipt per run computed, and the store reopened with them is the store read in
         // full.
@@ -273,9 +281,17 @@ mod tests {
             }
         );
         let store = open();
-        let again = run_jobs(&planned, &jobs, &store, &cache(dir.path()), keep, &Progress::hidden(), &quiet)
-            .unwrap()
-            .counts;
+        let again = run_jobs(
+            &planned,
+            &jobs,
+            &store,
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap()
+        .counts;
         assert_eq!(
             again,
             RunCounts {
@@ -336,7 +352,12 @@ mod tests {
         let mut trained = 0;
         let mut loaded = 0;
         for job in &jobs {
-            let counts = run_jobs(&planned, std::slice::from_ref(job), &open(), &cache(dir.path()), keep,
+            let counts = run_jobs(
+                &planned,
+                std::slice::from_ref(job),
+                &open(),
+                &cache(dir.path()),
+                keep,
                 &Progress::hidden(),
                 &quiet,
             )
@@ -388,7 +409,16 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(&out, &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        run_jobs(&planned, &jobs, &open(), &cache(dir.path()), keep, &Progress::hidden(), &quiet).unwrap();
+        run_jobs(
+            &planned,
+            &jobs,
+            &open(),
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap();
         // Every run stored under its planned key, its description hashing to it.
         let store = open();
         for job in &jobs {
@@ -401,9 +431,17 @@ mod tests {
         replanned[0].experiment = eamadm::Experiment::new(config).unwrap();
         let jobs = plan_jobs(&replanned, &methods).unwrap();
         assert!(jobs.iter().all(|job| !store.has(&job.key, keep)));
-        let counts = run_jobs(&replanned, &jobs, &store, &cache(dir.path()), keep, &Progress::hidden(), &quiet)
-            .unwrap()
-            .counts;
+        let counts = run_jobs(
+            &replanned,
+            &jobs,
+            &store,
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap()
+        .counts;
         assert_eq!(counts.pretrained_loaded, 0, "{counts:?}");
         assert!(counts.pretrained > 0);
     }
@@ -417,7 +455,12 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        let first = run_jobs(&planned, &jobs[..1], &open(), &cache(dir.path()), keep,
+        let first = run_jobs(
+            &planned,
+            &jobs[..1],
+            &open(),
+            &cache(dir.path()),
+            keep,
             &Progress::hidden(),
             &quiet,
         )
@@ -429,7 +472,12 @@ mod tests {
         std::fs::write(&files[0], &whole[..whole.len() - 9]).unwrap();
         let warnings = std::sync::Mutex::new(Vec::new());
         let collect = |w: &str| warnings.lock().unwrap().push(w.to_owned());
-        let second = run_jobs(&planned, &jobs[1..], &open(), &cache(dir.path()), keep,
+        let second = run_jobs(
+            &planned,
+            &jobs[1..],
+            &open(),
+            &cache(dir.path()),
+            keep,
             &Progress::hidden(),
             &collect,
         )

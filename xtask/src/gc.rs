@@ -3,7 +3,9 @@
 
 use std::collections::HashSet;
 
-use eamadm_runs::gc::{move_legacy_artefacts, remove_artefacts_except, remove_set_aside_older_than};
+use eamadm_runs::gc::{
+    move_legacy_artefacts, remove_artefacts_except, remove_set_aside_older_than,
+};
 use eamadm_runs::output_folder::OutputFolder;
 use eamadm_runs::verify::artefacts_of;
 use eamadm_runs::{PretrainedStore, RunKey, RunStore};
@@ -20,8 +22,8 @@ pub(crate) fn gc(args: &GcArgs, workspace: &Workspace) -> Result<(), Failure> {
     let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     let folder = OutputFolder::open(&plan.out, args.plan.wait).map_err(Failure::failed)?;
     let cache = PretrainedStore::new(&plan.pretrained_cache);
-    let mut removed =
-        move_legacy_artefacts(folder.root(), &cache, &mut warn_on_stderr).map_err(Failure::failed)?;
+    let mut removed = move_legacy_artefacts(folder.root(), &cache, &mut warn_on_stderr)
+        .map_err(Failure::failed)?;
     let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
     let stale = store.stale_runs().map_err(Failure::failed)?;
     for key in &stale {
@@ -139,8 +141,10 @@ mod tests {
             .write(true)
             .open(aside.join("old.at-0"))
             .unwrap();
-        file.set_modified(std::time::SystemTime::now() - std::time::Duration::from_secs(40 * 86_400))
-            .unwrap();
+        file.set_modified(
+            std::time::SystemTime::now() - std::time::Duration::from_secs(40 * 86_400),
+        )
+        .unwrap();
         std::fs::write(aside.join("new.at-0"), b"y").unwrap();
         let legacy = PretrainedStore::legacy(&out);
         legacy.adopt(&cache, &mut |w| panic!("{w}")).unwrap();
@@ -160,7 +164,12 @@ mod tests {
         assert!(!legacy.folder().exists());
         // Only the artefacts of the plan given stay (Task II's go).
         let after = cache.keys().unwrap();
-        assert!(after.len() < before.len(), "{} of {}", after.len(), before.len());
+        assert!(
+            after.len() < before.len(),
+            "{} of {}",
+            after.len(),
+            before.len()
+        );
         assert!(after.iter().all(|key| before.contains(key)));
         // The plan still resumes whole: nothing it needs was removed.
         run(&["ea-madm"]);

@@ -57,9 +57,9 @@ mod reproduce;
 mod sensitivity_report;
 mod test_all;
 mod text_diff;
-mod verify;
 #[cfg(test)]
 mod tidy;
+mod verify;
 mod wheel;
 
 // Every file goes through the run crate's atomic writes (`crate::atomic` in the modules).

@@ -225,9 +225,9 @@ fn print_lines(out: &mut dyn std::io::Write, lines: &[String]) -> Result<(), Fai
         }
     }
     match out.flush() {
-        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::failed(
-            format!("cannot print the jobs: {error}"),
-        )),
+        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Failure::failed(format!("cannot print the jobs: {error}")))
+        }
         _ => Ok(()),
     }
 }
@@ -1037,7 +1037,8 @@ mod tests {
         // As an earlier version (one gzip member a run) killed mid-append left it: one run
         // whole, one edited, one torn, one never written.
         let line = |i: usize| lines[i].clone();
-        let member = |text: &str| eamadm_runs::gzip::compress(format!("{text}\n").as_bytes()).unwrap();
+        let member =
+            |text: &str| eamadm_runs::gzip::compress(format!("{text}\n").as_bytes()).unwrap();
         let edited = line(1).replacen("\"steps\":", "\"steps\":1", 1);
         let torn = member(&line(2));
         std::fs::write(

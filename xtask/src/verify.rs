@@ -20,7 +20,8 @@ const DEFAULT_SAMPLE: f64 = 0.05;
 pub(crate) fn verify(args: &VerifyArgs, workspace: &Workspace) -> Result<(), Failure> {
     let (plan, experiments) = prepare(&args.plan, workspace)?;
     let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
-    let store = RunStore::open_read_only(&plan.out, &mut warn_on_stderr).map_err(Failure::invalid)?;
+    let store =
+        RunStore::open_read_only(&plan.out, &mut warn_on_stderr).map_err(Failure::invalid)?;
     let fraction = if args.all {
         None
     } else {
@@ -176,7 +177,11 @@ mod tests {
             .enumerate()
             .map(|(i, line)| edit(i, line.to_owned()) + "\n")
             .collect();
-        std::fs::write(path, eamadm_runs::frames::compress(lines.as_bytes()).unwrap()).unwrap();
+        std::fs::write(
+            path,
+            eamadm_runs::frames::compress(lines.as_bytes()).unwrap(),
+        )
+        .unwrap();
     }
 
     /// A record whose numbers were forged (every step count halved) and whose checksum was
@@ -215,7 +220,11 @@ mod tests {
         assert_eq!(store.len(), 4, "the forged line checks");
         let failure = verify_all(&ws).unwrap_err();
         assert_eq!(failure.exit_code, 1);
-        assert!(failure.message.contains("1 of the results"), "{}", failure.message);
+        assert!(
+            failure.message.contains("1 of the results"),
+            "{}",
+            failure.message
+        );
         // Put the true line back; poison an artefact: one sub-task's learner swapped for the
         // same sub-task's of the other seed, its checksum recomputed.
         std::fs::remove_dir_all(ws.root.join("out")).unwrap();
@@ -257,9 +266,7 @@ mod tests {
                         .map(|(description, _, _)| description)
                         .collect::<Vec<_>>()
                 })
-                .find(|candidate| {
-                    eamadm_runs::canonical_json(candidate).unwrap() == description
-                })
+                .find(|candidate| eamadm_runs::canonical_json(candidate).unwrap() == description)
                 .unwrap()
         };
         std::fs::write(
@@ -267,9 +274,16 @@ mod tests {
             eamadm_runs::pretrained::artefact_file(&description, other_seed).unwrap(),
         )
         .unwrap();
-        assert!(cache.load(&description).unwrap().is_some(), "the poisoned artefact checks");
+        assert!(
+            cache.load(&description).unwrap().is_some(),
+            "the poisoned artefact checks"
+        );
         let failure = verify_all(&ws).unwrap_err();
-        assert!(failure.message.contains("1 of the results"), "{}", failure.message);
+        assert!(
+            failure.message.contains("1 of the results"),
+            "{}",
+            failure.message
+        );
     }
 
     #[test]

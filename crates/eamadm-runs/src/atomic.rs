@@ -130,7 +130,9 @@ pub fn remove_stale_temporary_files(
             loop {
                 match lock.try_lock() {
                     Ok(()) => break,
-                    Err(std::fs::TryLockError::WouldBlock) if started.elapsed() < SWEEP_PATIENCE => {
+                    Err(std::fs::TryLockError::WouldBlock)
+                        if started.elapsed() < SWEEP_PATIENCE =>
+                    {
                         std::thread::sleep(std::time::Duration::from_millis(5));
                     }
                     Err(std::fs::TryLockError::WouldBlock) => return Ok(0),
@@ -396,18 +398,30 @@ mod tests {
         let fresh = dir.path().join(".run.gz.Ab12Cd.tmp");
         std::fs::write(&fresh, b"being written").unwrap();
         let started = std::time::Instant::now();
-        assert_eq!(remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(), 0);
-        assert!(started.elapsed() >= SWEEP_PATIENCE, "the sweep waited for the writer");
+        assert_eq!(
+            remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(),
+            0
+        );
+        assert!(
+            started.elapsed() >= SWEEP_PATIENCE,
+            "the sweep waited for the writer"
+        );
         assert!(fresh.exists());
         // Locked by its writer, then released with the shared lock: still skipped while locked.
         let held = crate::no_follow::open_regular(&fresh).unwrap();
         held.try_lock().unwrap();
         drop(shared);
-        assert_eq!(remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(), 0);
+        assert_eq!(
+            remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(),
+            0
+        );
         assert!(fresh.exists());
         // The writer gone (its lock with it): swept.
         drop(held);
-        assert_eq!(remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(), 1);
+        assert_eq!(
+            remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(),
+            1
+        );
         assert!(!fresh.exists());
         // Files written among writers leave only their lock file behind.
         write_atomic_among_writers(&dir.path().join("loose.run.gz"), b"x", &writers).unwrap();

@@ -331,7 +331,10 @@ impl LineReader {
                 decoder,
             });
         }
-        let open = self.open.as_mut().ok_or_else(|| io::Error::other("no frame open"))?;
+        let open = self
+            .open
+            .as_mut()
+            .ok_or_else(|| io::Error::other("no frame open"))?;
         let result = skip(&mut open.decoder, line - open.position)
             .and_then(|()| read_exactly(&mut open.decoder, len));
         match result {
@@ -471,7 +474,9 @@ mod tests {
     #[test]
     fn lines_round_trip_and_frames_close_past_the_content_size() {
         let text: Vec<u8> = (0..40_000)
-            .flat_map(|i| format!("{{\"run\":{i},\"x\":\"{}\"}}\n", "y".repeat(i % 200)).into_bytes())
+            .flat_map(|i| {
+                format!("{{\"run\":{i},\"x\":\"{}\"}}\n", "y".repeat(i % 200)).into_bytes()
+            })
             .collect();
         let bytes = compress(&text).unwrap();
         assert_eq!(decompress(&bytes).unwrap(), text);
@@ -491,16 +496,33 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = Arc::new(dir.path().join("bundle"));
         std::fs::write(&*path, &bytes).unwrap();
-        for (line, &(frame, offset)) in text.split_inclusive(|&b| b == b'\n').zip(&places).step_by(997) {
-            let got = reader.read(&path, frame, offset, line.len() as u64, false).unwrap();
+        for (line, &(frame, offset)) in text
+            .split_inclusive(|&b| b == b'\n')
+            .zip(&places)
+            .step_by(997)
+        {
+            let got = reader
+                .read(&path, frame, offset, line.len() as u64, false)
+                .unwrap();
             assert_eq!(got, line);
-            let again = read_line_at(&bytes[usize::try_from(frame).unwrap()..], offset, line.len() as u64).unwrap();
+            let again = read_line_at(
+                &bytes[usize::try_from(frame).unwrap()..],
+                offset,
+                line.len() as u64,
+            )
+            .unwrap();
             assert_eq!(again, line);
         }
         // A frame's length is what `read_frame` reports.
         let (found, first) = lines(&bytes).unwrap();
-        assert_eq!(Codec::of(&bytes[usize::try_from(first).unwrap()..]), Some(Codec::Zstd));
-        assert_eq!(found[0].bytes.as_deref(), text.split_inclusive(|&b| b == b'\n').next());
+        assert_eq!(
+            Codec::of(&bytes[usize::try_from(first).unwrap()..]),
+            Some(Codec::Zstd)
+        );
+        assert_eq!(
+            found[0].bytes.as_deref(),
+            text.split_inclusive(|&b| b == b'\n').next()
+        );
     }
 
     #[test]
@@ -508,7 +530,15 @@ mod tests {
         // The same bytes on every machine: a change of library version or parameters that
         // changes the output fails here, before it changes anyone's bundles.
         let text: Vec<u8> = (0..2000)
-            .flat_map(|i| format!("{{\"seed\":{i},\"steps\":[{},{},{}]}}\n", i * 7 % 13, i % 5, i / 3).into_bytes())
+            .flat_map(|i| {
+                format!(
+                    "{{\"seed\":{i},\"steps\":[{},{},{}]}}\n",
+                    i * 7 % 13,
+                    i % 5,
+                    i / 3
+                )
+                .into_bytes()
+            })
             .collect();
         let bytes = compress(&text).unwrap();
         assert_eq!(
@@ -528,7 +558,11 @@ mod tests {
         let cut = &member[..member.len() - 3];
         assert!(lines(cut).is_err());
         let no_newline = crate::gzip::compress(b"no newline").unwrap();
-        assert!(lines(&no_newline).unwrap_err().contains("ends inside a line"));
+        assert!(
+            lines(&no_newline)
+                .unwrap_err()
+                .contains("ends inside a line")
+        );
         assert!(lines(b"junk").unwrap_err().contains("not the start"));
         let mut bytes = compress(b"a\nb\n").unwrap();
         let last = bytes.len() - 1;

@@ -43,7 +43,12 @@ pub fn remove_set_aside_older_than(out: &Path, age: Duration) -> Result<Vec<Remo
     let listing = match std::fs::read_dir(&folder) {
         Ok(listing) => listing,
         Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(source) => return Err(StoreError::Read { path: folder, source }),
+        Err(source) => {
+            return Err(StoreError::Read {
+                path: folder,
+                source,
+            });
+        }
     };
     let now = SystemTime::now();
     let mut removed = Vec::new();

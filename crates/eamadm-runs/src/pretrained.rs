@@ -224,12 +224,19 @@ impl PretrainedStore {
     ///
     /// # Errors
     /// [`StoreError::Damaged`] or [`StoreError::Read`].
-    pub fn load_any(&self, key: &RunKey) -> Result<Option<(String, PretrainedSubtask)>, StoreError> {
+    pub fn load_any(
+        &self,
+        key: &RunKey,
+    ) -> Result<Option<(String, PretrainedSubtask)>, StoreError> {
         let path = self.path(key);
         let Some(artefact) = self.read_checked(&path)? else {
             return Ok(None);
         };
-        if blake3::hash(artefact.description.as_bytes()).to_hex().as_str() != key.as_str() {
+        if blake3::hash(artefact.description.as_bytes())
+            .to_hex()
+            .as_str()
+            != key.as_str()
+        {
             return Err(StoreError::Damaged {
                 path,
                 problem: "its description does not hash to its name".to_owned(),
@@ -275,8 +282,13 @@ impl PretrainedStore {
                 )));
             }
             drop(decoder);
-            if !io::BufRead::fill_buf(&mut buffered).map_err(read)?.is_empty() {
-                return Err(damaged("bytes follow the artefact's gzip member".to_owned()));
+            if !io::BufRead::fill_buf(&mut buffered)
+                .map_err(read)?
+                .is_empty()
+            {
+                return Err(damaged(
+                    "bytes follow the artefact's gzip member".to_owned(),
+                ));
             }
             if hasher.finalize() != blake3::Hash::from_bytes(digest) {
                 return Err(damaged(
@@ -300,8 +312,7 @@ impl PretrainedStore {
         if hashing.hasher.finalize() != blake3::Hash::from_bytes(digest) {
             return Err(damaged("the file changed while it was read".to_owned()));
         }
-        let artefact =
-            artefact.map_err(|e| damaged(format!("payload does not decode ({e})")))?;
+        let artefact = artefact.map_err(|e| damaged(format!("payload does not decode ({e})")))?;
         if artefact.format != PRETRAINED_FORMAT {
             return Err(damaged(format!(
                 "format is {}, expected {PRETRAINED_FORMAT}",
@@ -702,7 +713,11 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .filter(|name| name != crate::atomic::WRITERS_LOCK_FILE)
             .collect();
-        assert_eq!(files.len(), 1, "one file, no temporary file left: {files:?}");
+        assert_eq!(
+            files.len(),
+            1,
+            "one file, no temporary file left: {files:?}"
+        );
         assert_eq!(store.load(&description).unwrap(), Some(subtask));
     }
 }

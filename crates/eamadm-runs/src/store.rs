@@ -256,7 +256,6 @@ impl LineHeader {
     }
 }
 
-
 /// What a store file is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum FileKind {
@@ -377,7 +376,10 @@ fn parse_line(bytes: &[u8]) -> Result<Line<'_>, String> {
     // Names read back from stored bytes become file names (the bundle of an experiment):
     // checked by the rule a config's names follow before anything else, so a forged entry can
     // never name a path.
-    for (what, name) in [("experiment", &header.experiment), ("method", &header.method)] {
+    for (what, name) in [
+        ("experiment", &header.experiment),
+        ("method", &header.method),
+    ] {
         if !eamadm::is_safe_slug(name) {
             return Err(format!(
                 "the header's {what} name {name:?} is not a safe name (letters, digits, '-', '_' \
@@ -1017,16 +1019,14 @@ impl RunStore {
             number += 1;
             let mut candidates = Vec::new();
             let mut problem: Option<String> = None;
-            let mut check = |line: FrameLine| {
-                match check_frame_line(path, offset, line) {
-                    Ok(candidate) => {
-                        candidates.push(candidate);
-                        ControlFlow::Continue(())
-                    }
-                    Err(found) => {
-                        problem = Some(found);
-                        ControlFlow::Break(())
-                    }
+            let mut check = |line: FrameLine| match check_frame_line(path, offset, line) {
+                Ok(candidate) => {
+                    candidates.push(candidate);
+                    ControlFlow::Continue(())
+                }
+                Err(found) => {
+                    problem = Some(found);
+                    ControlFlow::Break(())
                 }
             };
             let read = match &whole {
@@ -1083,7 +1083,11 @@ impl RunStore {
                 file: path.to_path_buf(),
                 whole: kind == FileKind::Loose,
                 offset: if kind == FileKind::Loose { 0 } else { offset },
-                len: if kind == FileKind::Loose { end } else { next - offset },
+                len: if kind == FileKind::Loose {
+                    end
+                } else {
+                    next - offset
+                },
             };
             if !already_set_aside(&self.folder, &rejected) {
                 warn(&format!(
@@ -1176,9 +1180,7 @@ impl RunStore {
     #[must_use]
     pub fn keys(&self) -> Vec<&RunKey> {
         let mut keys: Vec<(&RunKey, &Location)> = self.index.iter().collect();
-        keys.sort_by(|(_, a), (_, b)| {
-            (&a.file, a.frame, a.line).cmp(&(&b.file, b.frame, b.line))
-        });
+        keys.sort_by(|(_, a), (_, b)| (&a.file, a.frame, a.line).cmp(&(&b.file, b.frame, b.line)));
         keys.into_iter().map(|(key, _)| key).collect()
     }
 
@@ -1216,11 +1218,8 @@ impl RunStore {
             return Err(changed("the entry is not one whole line".to_owned()));
         }
         let checked = parse_line(&line[..line.len() - 1]).map_err(&changed)?;
-        let (header, description, record) = (
-            checked.header,
-            checked.description.to_vec(),
-            checked.record,
-        );
+        let (header, description, record) =
+            (checked.header, checked.description.to_vec(), checked.record);
         line.shrink_to_fit();
         Ok(CheckedEntry {
             line,
@@ -1463,23 +1462,22 @@ impl RunStore {
             let mut entries = Vec::with_capacity(keys.len());
             for key in &keys {
                 let at = chosen[*key];
-                let (line, key, trajectories, experiment) =
-                    match read_verified(&mut reader, at) {
-                        // The very line verified (or written) earlier: copied as it is.
-                        Some(line) => (line, (*key).clone(), at.trajectories, at.experiment.clone()),
-                        // Changed since (another process's copy of a loose file, or damage):
-                        // checked in full again, and indexed as what it now holds.
-                        None => {
-                            let checked = Self::entry_at(&mut reader, at)?;
-                            let key = RunKey::from_verified_hex(checked.header.key);
-                            (
-                                checked.line,
-                                key,
-                                checked.header.trajectories,
-                                checked.header.experiment,
-                            )
-                        }
-                    };
+                let (line, key, trajectories, experiment) = match read_verified(&mut reader, at) {
+                    // The very line verified (or written) earlier: copied as it is.
+                    Some(line) => (line, (*key).clone(), at.trajectories, at.experiment.clone()),
+                    // Changed since (another process's copy of a loose file, or damage):
+                    // checked in full again, and indexed as what it now holds.
+                    None => {
+                        let checked = Self::entry_at(&mut reader, at)?;
+                        let key = RunKey::from_verified_hex(checked.header.key);
+                        (
+                            checked.line,
+                            key,
+                            checked.header.trajectories,
+                            checked.header.experiment,
+                        )
+                    }
+                };
                 let (frame, offset) = frames.push(&line).map_err(write(&path))?;
                 let location = Location {
                     file: Arc::clone(&shared),
@@ -1552,9 +1550,13 @@ impl RunStore {
         let contents = self.bundles.get(path)?;
         let same = contents.rejected.is_empty()
             && contents.entries.len() == keys.len()
-            && contents.entries.iter().zip(keys).all(|((key, at), wanted)| {
-                key == *wanted && chosen.get(key).is_some_and(|chosen| *chosen == at)
-            })
+            && contents
+                .entries
+                .iter()
+                .zip(keys)
+                .all(|((key, at), wanted)| {
+                    key == *wanted && chosen.get(key).is_some_and(|chosen| *chosen == at)
+                })
             && std::fs::symlink_metadata(path)
                 .is_ok_and(|meta| meta.is_file() && meta.len() == contents.len)
             && contents
@@ -1599,8 +1601,8 @@ impl RunStore {
                     path: rejected.file.clone(),
                     source,
                 };
-                let mut reader = crate::frames::reader_at(&rejected.file, rejected.offset)
-                    .map_err(read)?;
+                let mut reader =
+                    crate::frames::reader_at(&rejected.file, rejected.offset).map_err(read)?;
                 let mut bytes = Vec::new();
                 (&mut reader)
                     .take(rejected.len)
@@ -1844,7 +1846,6 @@ fn frame_reads(path: &Path, at: u64) -> bool {
     })
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1925,8 +1926,13 @@ mod tests {
         runs.iter()
             .map(|run| {
                 let description = canonical_json(&run.1).unwrap();
-                line_bytes(&run.0, description.as_bytes(), &run.2, KeepTrajectories::Figures)
-                    .unwrap()
+                line_bytes(
+                    &run.0,
+                    description.as_bytes(),
+                    &run.2,
+                    KeepTrajectories::Figures,
+                )
+                .unwrap()
             })
             .collect()
     }
@@ -1942,9 +1948,10 @@ mod tests {
     /// `runs` as a bundle of an earlier version in `dir` (`runs/<experiment>.jsonl.gz`, one gzip
     /// member per run); its path.
     fn legacy_bundle(dir: &Path, runs: &[(RunKey, RunDescription, RunRecord)]) -> PathBuf {
-        let path = dir
-            .join("runs")
-            .join(format!("{}.{LEGACY_BUNDLE_EXTENSION}", runs[0].2.experiment));
+        let path = dir.join("runs").join(format!(
+            "{}.{LEGACY_BUNDLE_EXTENSION}",
+            runs[0].2.experiment
+        ));
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, legacy_bytes(&run_lines(runs))).unwrap();
         path
@@ -2366,7 +2373,13 @@ mod tests {
         let mut reader = LineReader::default();
         for location in opened.index.values() {
             let line = reader
-                .read(&location.file, location.frame, location.line, location.len, true)
+                .read(
+                    &location.file,
+                    location.frame,
+                    location.line,
+                    location.len,
+                    true,
+                )
                 .unwrap();
             assert_eq!(blake3::hash(&line), location.digest);
         }
@@ -2494,7 +2507,9 @@ mod tests {
         std::fs::write(&target, b"not ours").unwrap();
         let garbage = dir.path().join("runs/junk.jsonl.gz");
         std::fs::write(&garbage, b"\x1f\x8b garbage, not a member").unwrap();
-        let link = dir.path().join(format!("runs/loose/{}.figures.run.gz", "ab".repeat(32)));
+        let link = dir
+            .path()
+            .join(format!("runs/loose/{}.figures.run.gz", "ab".repeat(32)));
         std::os::unix::fs::symlink(&target, &link).unwrap();
         let (_, warnings) = open(dir.path());
         assert_eq!(warnings.len(), 2, "{warnings:?}");
@@ -2531,7 +2546,13 @@ mod tests {
         let base = tempfile::tempdir().unwrap();
         let dir = base.path().join("deep/out");
         std::fs::create_dir_all(&dir).unwrap();
-        for name in ["../../escaped", "/tmp/eamadm-escaped-35", "runs", ".hidden", "a/b"] {
+        for name in [
+            "../../escaped",
+            "/tmp/eamadm-escaped-35",
+            "runs",
+            ".hidden",
+            "a/b",
+        ] {
             let mut record = runs[0].2.clone();
             record.experiment = name.to_owned();
             let mut description = RunDescription::new(
@@ -2576,7 +2597,9 @@ mod tests {
             .unwrap_err();
         assert!(matches!(error, StoreError::Changed { .. }), "{error}");
         assert!(
-            error.to_string().contains("the file changed while this command ran"),
+            error
+                .to_string()
+                .contains("the file changed while this command ran"),
             "{error}"
         );
         // Nothing was lost: both loose files are still there, no bundle was committed.

@@ -54,7 +54,9 @@ pub fn sample<T>(
     if items.is_empty() {
         return items;
     }
-    let wanted = ((items.len() as f64) * fraction.clamp(0.0, 1.0)).ceil().max(1.0) as usize;
+    let wanted = ((items.len() as f64) * fraction.clamp(0.0, 1.0))
+        .ceil()
+        .max(1.0) as usize;
     let rank = |item: &T| {
         let mut hasher = blake3::Hasher::new();
         hasher.update(&seed.to_le_bytes());
@@ -219,7 +221,9 @@ fn first_difference(stored: &[u8], computed: &[u8]) -> String {
 }
 
 fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    mutex.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    mutex
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// A cache that keeps what is trained and never answers with a stored learner, so everything
@@ -230,7 +234,13 @@ struct Recorder {
 }
 
 impl PretrainingCache for Recorder {
-    fn load(&self, _: &Experiment, _: &PretrainConfig, _: usize, _: u64) -> Option<PretrainedSubtask> {
+    fn load(
+        &self,
+        _: &Experiment,
+        _: &PretrainConfig,
+        _: usize,
+        _: u64,
+    ) -> Option<PretrainedSubtask> {
         None
     }
 

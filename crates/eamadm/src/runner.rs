@@ -322,15 +322,7 @@ impl PretrainingCache for NoPretrainingCache {
         None
     }
 
-    fn save(
-        &self,
-        _: &Experiment,
-        _: &PretrainConfig,
-        _: usize,
-        _: u64,
-        _: &PretrainedSubtask,
-    ) {
-    }
+    fn save(&self, _: &Experiment, _: &PretrainConfig, _: usize, _: u64, _: &PretrainedSubtask) {}
 }
 
 /// Pre-training shared by the runs of one seed of one experiment: trained sub-task learners

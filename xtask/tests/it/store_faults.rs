@@ -205,8 +205,11 @@ fn a_decompression_bomb_in_the_store_costs_a_few_mib() {
     }
     let bomb = bomb.finish().expect("compressed");
     assert!(bomb.len() < 2 << 20, "{}", bomb.len());
-    std::fs::write(loose.join(format!("{}.figures.run.gz", "ab".repeat(32))), bomb)
-        .expect("written");
+    std::fs::write(
+        loose.join(format!("{}.figures.run.gz", "ab".repeat(32))),
+        bomb,
+    )
+    .expect("written");
     let key = keys(&out).remove(0);
     let mut run_job = xtask();
     run_job
