@@ -111,9 +111,9 @@ impl<R: BufRead> BufRead for Counting<'_, R> {
 
 /// A decoder of the one frame at the start of `reader`, which takes exactly that frame's bytes
 /// from it (nothing of the next frame).
-fn frame_decoder<'a, R: BufRead + 'a>(mut reader: R) -> io::Result<Box<dyn Read + Send + 'a>>
+fn frame_decoder<'a, R>(mut reader: R) -> io::Result<Box<dyn Read + Send + 'a>>
 where
-    R: Send,
+    R: BufRead + Send + 'a,
 {
     let head = reader.fill_buf()?;
     let (codec, empty) = (Codec::of(head), head.is_empty());

@@ -1790,34 +1790,8 @@ fn list(folder: &Path) -> io::Result<Vec<(PathBuf, String)>> {
 /// The first byte at or after `from` (before `end`) of `path` (or of its bytes `whole`, when
 /// read whole) where a whole frame reads, or `end`.
 fn next_frame(path: &Path, whole: Option<&[u8]>, from: u64, end: u64) -> u64 {
-    let bytes = match whole {
-        Some(bytes) => bytes,
-        None => {
-            // Read the rest of the file in pieces, looking for a frame's magic.
-            let mut at = from;
-            while at < end {
-                let Ok(mut reader) = crate::frames::reader_at(path, at) else {
-                    return end;
-                };
-                let Ok(buffer) = io::BufRead::fill_buf(&mut reader) else {
-                    return end;
-                };
-                if buffer.is_empty() {
-                    return end;
-                }
-                match buffer.iter().position(|&b| b == 0x1f || b == 0x28) {
-                    Some(skip) => {
-                        let candidate = at + skip as u64;
-                        if frame_reads(path, candidate) {
-                            return candidate;
-                        }
-                        at = candidate + 1;
-                    }
-                    None => at += buffer.len() as u64,
-                }
-            }
-            return end;
-        }
+    let Some(bytes) = whole else {
+        return next_frame_on_disk(path, from, end);
     };
     let mut at = usize::try_from(from).unwrap_or(bytes.len());
     while at < bytes.len() {
@@ -1833,6 +1807,33 @@ fn next_frame(path: &Path, whole: Option<&[u8]>, from: u64, end: u64) -> u64 {
                 at = candidate + 1;
             }
             None => break,
+        }
+    }
+    end
+}
+
+/// [`next_frame`] in a file read in pieces, looking for a frame's magic.
+fn next_frame_on_disk(path: &Path, from: u64, end: u64) -> u64 {
+    let mut at = from;
+    while at < end {
+        let Ok(mut reader) = crate::frames::reader_at(path, at) else {
+            return end;
+        };
+        let Ok(buffer) = io::BufRead::fill_buf(&mut reader) else {
+            return end;
+        };
+        if buffer.is_empty() {
+            return end;
+        }
+        match buffer.iter().position(|&b| b == 0x1f || b == 0x28) {
+            Some(skip) => {
+                let candidate = at + skip as u64;
+                if frame_reads(path, candidate) {
+                    return candidate;
+                }
+                at = candidate + 1;
+            }
+            None => at += buffer.len() as u64,
         }
     }
     end

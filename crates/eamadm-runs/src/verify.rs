@@ -68,7 +68,7 @@ pub fn sample<T>(
         .enumerate()
         .map(|(index, item)| (index, rank(item)))
         .collect();
-    ranked.sort_by(|a, b| a.1.cmp(&b.1));
+    ranked.sort_by_key(|a| a.1);
     let mut chosen: Vec<usize> = ranked.into_iter().take(wanted).map(|(i, _)| i).collect();
     chosen.sort_unstable();
     let mut items: Vec<Option<T>> = items.into_iter().map(Some).collect();
