@@ -30,6 +30,13 @@ pub(crate) enum Command {
     /// Check the run stores of finished shards (or run-job folders) and write the outputs of
     /// the plan (the same options as the sharded runs) as one unsharded run would.
     Merge(MergeArgs),
+    /// Recompute a seeded sample of the plan's stored runs and pre-trained artefacts and
+    /// compare them byte for byte with what is stored (checksums catch faults, not forgery);
+    /// exit 1 on any difference.
+    Verify(VerifyArgs),
+    /// Remove what no plan needs: runs of another results format or version, entries set
+    /// aside long ago, artefacts the plan does not pre-train; print each removal.
+    Gc(GcArgs),
     /// Run every test: `cargo test --workspace`, `regen-fixtures --check`, the Python
     /// package's pytest suite in target/py-venv (made and filled from the package registry when
     /// missing), then `wheel`.
@@ -78,7 +85,7 @@ pub(crate) struct RunJobArgs {
 }
 
 /// Options of `merge`.
-#[derive(Debug, Clone, PartialEq, Eq, Args)]
+#[derive(Debug, Clone, PartialEq, Args)]
 pub(crate) struct MergeArgs {
     /// The plan the stores belong to (the options the shards were run with, without --shard).
     #[command(flatten)]
@@ -86,6 +93,46 @@ pub(crate) struct MergeArgs {
     /// Output folders of the shards (each holding runs/), or runs/ folders themselves.
     #[arg(value_name = "STORE", required = true)]
     pub(crate) stores: Vec<PathBuf>,
+    /// Before merging, recompute this fraction (0 < F ≤ 1, seeded) of the runs and artefacts
+    /// the shards hold, as `verify` does, and merge nothing on any difference.
+    #[arg(long, value_name = "F", value_parser = fraction)]
+    pub(crate) verify: Option<f64>,
+}
+
+/// Options of `verify`.
+#[derive(Debug, Clone, PartialEq, Args)]
+pub(crate) struct VerifyArgs {
+    /// The plan whose runs and artefacts are checked (the options it was run with).
+    #[command(flatten)]
+    pub(crate) plan: ReproduceArgs,
+    /// Check this fraction (0 < F ≤ 1) of the stored runs and of the artefacts [default: 0.05].
+    #[arg(long, value_name = "F", value_parser = fraction, conflicts_with = "all")]
+    pub(crate) sample: Option<f64>,
+    /// Check every stored run and artefact.
+    #[arg(long)]
+    pub(crate) all: bool,
+    /// The seed of the sample (each seed picks another sample).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub(crate) sample_seed: u64,
+}
+
+/// Options of `gc`.
+#[derive(Debug, Clone, PartialEq, Eq, Args)]
+pub(crate) struct GcArgs {
+    /// The plan to keep (the options it was run with): artefacts it does not pre-train go.
+    #[command(flatten)]
+    pub(crate) plan: ReproduceArgs,
+    /// Remove entries set aside (runs/.set-aside/) more than this many days ago.
+    #[arg(long, value_name = "DAYS", default_value_t = 30)]
+    pub(crate) older_than: u64,
+}
+
+/// A fraction in (0, 1].
+fn fraction(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(value) if value > 0.0 && value <= 1.0 => Ok(value),
+        _ => Err(format!("{text:?} is not a fraction in (0, 1], e.g. 0.05")),
+    }
 }
 
 pub(crate) use eamadm_runs::KeepTrajectories;
@@ -143,6 +190,11 @@ pub(crate) struct ReproduceArgs {
     /// report then has no sensitivity section and its verdict table says "not run" there).
     #[arg(long, value_name = "WHICH", value_enum, default_value_t)]
     pub(crate) readings: Readings,
+    /// Folder of the pre-trained sub-task learners, a cache shared by every output folder and
+    /// process that names it (content-addressed: safe to share) [default:
+    /// target/pretrained-cache in the workspace]; not inside --out.
+    #[arg(long, value_name = "DIR")]
+    pub(crate) pretrained_cache: Option<PathBuf>,
 }
 
 /// `--readings`: which readings of the paper a plan reruns besides the presets.
@@ -260,6 +312,7 @@ mod tests {
                 wait: false,
                 keep_trajectories: KeepTrajectories::Figures,
                 readings: Readings::All,
+                pretrained_cache: None,
             }
         );
     }
@@ -289,6 +342,8 @@ mod tests {
                 "all",
                 "--readings",
                 "none",
+                "--pretrained-cache",
+                "/tmp/cache",
             ]),
             ReproduceArgs {
                 seeds: Some(4),
@@ -300,6 +355,7 @@ mod tests {
                 wait: true,
                 keep_trajectories: KeepTrajectories::All,
                 readings: Readings::None,
+                pretrained_cache: Some(PathBuf::from("/tmp/cache")),
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command

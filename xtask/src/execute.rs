@@ -9,7 +9,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use eamadm::{
-    ExperimentConfig, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
+    Experiment, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
 };
 use eamadm_runs::{
     AppendReceipt, KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription,
@@ -76,12 +76,12 @@ struct ArtefactCache<'a> {
 impl PretrainingCache for ArtefactCache<'_> {
     fn load(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
     ) -> Option<PretrainedSubtask> {
-        let description = PretrainingDescription::new(config, pretrain, k, seed);
+        let description = PretrainingDescription::new(experiment, pretrain, k, seed);
         match self.artefacts.load(&description) {
             Ok(Some(subtask)) => {
                 self.loaded.fetch_add(1, Ordering::Relaxed);
@@ -99,14 +99,14 @@ impl PretrainingCache for ArtefactCache<'_> {
 
     fn save(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
         subtask: &PretrainedSubtask,
     ) {
         self.trained.fetch_add(1, Ordering::Relaxed);
-        let description = PretrainingDescription::new(config, pretrain, k, seed);
+        let description = PretrainingDescription::new(experiment, pretrain, k, seed);
         if let Err(error) = self.artefacts.save(&description, subtask) {
             (self.warn)(&format!(
                 "{error}; other processes will pre-train this sub-task themselves"
@@ -123,6 +123,7 @@ pub(crate) fn run_jobs(
     experiments: &[PlannedExperiment],
     jobs: &[Job<'_>],
     store: &RunStore,
+    artefacts: &PretrainedStore,
     keep: KeepTrajectories,
     progress: &Progress,
     warn: &(dyn Fn(&str) + Sync),
@@ -152,7 +153,7 @@ pub(crate) fn run_jobs(
     // stored there once trained. Each record is still the pure function of
     // (config, method, seed) that `Experiment::run` computes.
     let cache = ArtefactCache {
-        artefacts: PretrainedStore::of(store),
+        artefacts: artefacts.clone(),
         warn,
         trained: AtomicUsize::new(0),
         loaded: AtomicUsize::new(0),
@@ -187,7 +188,7 @@ pub(crate) fn run_jobs(
                         })?;
                     let receipt = store.append(
                         &job.key,
-                        &RunDescription::new(planned.config(), job.method, job.seed),
+                        &RunDescription::new(&planned.experiment, job.method, job.seed),
                         &record,
                         keep,
                     )?;
@@ -221,6 +222,11 @@ mod tests {
     use crate::experiments::plan_experiments;
     use crate::jobs::plan_jobs;
 
+    /// The artefact cache of a test's folder `dir` (beside its output folder).
+    fn cache(dir: &std::path::Path) -> PretrainedStore {
+        PretrainedStore::new(&dir.join("cache"))
+    }
+
     #[test]
     fn resumed_runs_are_skipped_and_equal_fresh_ones() {
         // Task I only, without its readings' experiments.
@@ -240,8 +246,16 @@ mod tests {
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
         let quiet = |w: &str| panic!("{w}");
-        let executed =
-            run_jobs(&planned, &jobs, &open(), keep, &Progress::hidden(), &quiet).unwrap();
+        let executed = run_jobs(
+            &planned,
+            &jobs,
+            &open(),
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap();
         let counts = executed.counts;
         // One receipt per run computed, and the store reopened with them is the store read in
         // full.
@@ -269,9 +283,17 @@ mod tests {
             }
         );
         let store = open();
-        let again = run_jobs(&planned, &jobs, &store, keep, &Progress::hidden(), &quiet)
-            .unwrap()
-            .counts;
+        let again = run_jobs(
+            &planned,
+            &jobs,
+            &store,
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap()
+        .counts;
         assert_eq!(
             again,
             RunCounts {
@@ -309,11 +331,11 @@ mod tests {
         (planned, methods)
     }
 
-    fn artefact_files(out: &std::path::Path) -> Vec<std::path::PathBuf> {
-        let folder = out.join("runs").join(eamadm_runs::names::PRETRAINED);
-        let mut files: Vec<_> = std::fs::read_dir(folder)
+    fn artefact_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let mut files: Vec<_> = std::fs::read_dir(dir.join("cache"))
             .unwrap()
             .map(|e| e.unwrap().path())
+            .filter(|path| !path.ends_with(eamadm_runs::atomic::WRITERS_LOCK_FILE))
             .collect();
         files.sort();
         files
@@ -338,6 +360,7 @@ mod tests {
                 &planned,
                 std::slice::from_ref(job),
                 &open(),
+                &cache(dir.path()),
                 keep,
                 &Progress::hidden(),
                 &quiet,
@@ -362,6 +385,71 @@ mod tests {
         }
     }
 
+    /// A `maze_file` config whose map is replaced while its runs are going (an editor saving,
+    /// a sync tool): the runs, their keys and the pre-trained artefacts all belong to the map
+    /// the experiment was loaded from. 9dc06af hashed the file again for every key, so its
+    /// artefacts trained on the old map were stored under the new map's keys (and loaded by a
+    /// later run on the new map), and its runs' descriptions did not hash to their keys.
+    #[test]
+    fn a_map_file_replaced_mid_run_changes_neither_the_runs_nor_their_keys() {
+        let dir = tempfile::tempdir().unwrap();
+        let map = dir.path().join("maze.map");
+        let old_map = eamadm::mazes::Preset::Task1.maze().to_text();
+        std::fs::write(&map, &old_map).unwrap();
+        let (mut planned, methods) = two_ea_madm_methods(1);
+        let mut config = planned[0].config().clone();
+        config.task = eamadm::TaskConfig::MazeFile {
+            path: map.clone(),
+            rewards: eamadm::mazes::Preset::Task1,
+            step_cap: Some(60),
+        };
+        planned[0].experiment = eamadm::Experiment::new(config.clone()).unwrap();
+        let jobs = plan_jobs(&planned, &methods).unwrap();
+        // Another map of the same size: one wall moved.
+        let new_map = old_map.replacen(".#", "#.", 1);
+        assert_ne!(new_map, old_map);
+        std::fs::write(&map, &new_map).unwrap();
+        let out = dir.path().join("out");
+        let keep = KeepTrajectories::Figures;
+        let open = || RunStore::open(&out, &mut |w: &str| panic!("{w}")).unwrap();
+        let quiet = |w: &str| panic!("{w}");
+        run_jobs(
+            &planned,
+            &jobs,
+            &open(),
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap();
+        // Every run stored under its planned key, its description hashing to it.
+        let store = open();
+        for job in &jobs {
+            let stored = store.load(&job.key, keep).unwrap().unwrap();
+            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+        }
+        // A plan loaded now reads the new map: other keys, and no artefact of the old map.
+        let mut replanned = planned.clone();
+        replanned[0].experiment = eamadm::Experiment::new(config).unwrap();
+        let jobs = plan_jobs(&replanned, &methods).unwrap();
+        assert!(jobs.iter().all(|job| !store.has(&job.key, keep)));
+        let counts = run_jobs(
+            &replanned,
+            &jobs,
+            &store,
+            &cache(dir.path()),
+            keep,
+            &Progress::hidden(),
+            &quiet,
+        )
+        .unwrap()
+        .counts;
+        assert_eq!(counts.pretrained_loaded, 0, "{counts:?}");
+        assert!(counts.pretrained > 0);
+    }
+
     #[test]
     fn a_damaged_artefact_is_trained_again_with_a_warning() {
         let (planned, methods) = two_ea_madm_methods(1);
@@ -375,6 +463,7 @@ mod tests {
             &planned,
             &jobs[..1],
             &open(),
+            &cache(dir.path()),
             keep,
             &Progress::hidden(),
             &quiet,
@@ -391,6 +480,7 @@ mod tests {
             &planned,
             &jobs[1..],
             &open(),
+            &cache(dir.path()),
             keep,
             &Progress::hidden(),
             &collect,

@@ -322,6 +322,7 @@ mod tests {
                 wait: false,
                 keep_trajectories: KeepTrajectories::Figures,
                 readings: crate::cli::Readings::All,
+                pretrained_cache: None,
             },
             mode: RunModeArgs::default(),
         };

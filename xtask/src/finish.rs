@@ -35,7 +35,7 @@ pub(crate) const CURVES_FILE: &str = eamadm_runs::names::CURVES;
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Outputs {
-    /// Only the run store (`runs/<experiment>.jsonl.gz`), compacted into job order: a shard's or
+    /// Only the run store (`runs/<experiment>.jsonl.zst`), compacted into job order: a shard's or
     /// `--runs-only`'s output.
     StoreOnly,
     /// The run store, the CSV tables, the figures and `REPORT.md`.

@@ -39,7 +39,7 @@ pub(crate) fn plan_jobs<'a>(
                 continue;
             };
             for seed in config.seed_values() {
-                let key = RunKey::of(&RunDescription::new(config, method, seed))?;
+                let key = RunKey::of(&RunDescription::new(&planned.experiment, method, seed))?;
                 jobs.push(Job {
                     experiment: index,
                     method,
@@ -158,6 +158,12 @@ pub(crate) fn plan_arguments(
     }
     if args.readings != crate::cli::Readings::All {
         arguments.extend(["--readings".to_owned(), args.readings.name().to_owned()]);
+    }
+    if let Some(cache) = &args.pretrained_cache {
+        arguments.extend([
+            "--pretrained-cache".to_owned(),
+            current_dir.join(cache).display().to_string(),
+        ]);
     }
     arguments
 }

@@ -7,6 +7,9 @@
 //! - `cargo xtask run-job --key KEY [plan options]` runs exactly one run into the store.
 //! - `cargo xtask merge --out DIR [plan options] STORE...` checks shards' run stores and writes
 //!   the outputs an unsharded run writes.
+//! - `cargo xtask verify --out DIR [plan options] [--sample F | --all]` recomputes a seeded
+//!   sample of the stored runs and artefacts and compares them byte for byte.
+//! - `cargo xtask gc --out DIR [plan options]` removes what no plan needs.
 //! - `cargo xtask regen-fixtures [--check]` regenerates (or checks) `fixtures/` and the
 //!   README's generated parts (verdicts, answer, figure) from the default run.
 //! - `cargo xtask test` runs the Rust tests, `regen-fixtures --check`, the Python package's
@@ -42,6 +45,7 @@ mod figure_checks;
 mod figures;
 mod finish;
 mod fixtures;
+mod gc;
 mod jobs;
 #[cfg(test)]
 mod markdown;
@@ -55,6 +59,7 @@ mod test_all;
 mod text_diff;
 #[cfg(test)]
 mod tidy;
+mod verify;
 mod wheel;
 
 // Every file goes through the run crate's atomic writes (`crate::atomic` in the modules).
@@ -77,6 +82,8 @@ fn main() -> ExitCode {
         Command::RegenFixtures(args) => fixtures::regen_fixtures(args.check, &workspace),
         Command::RunJob(args) => reproduce::run_job(&args, &workspace),
         Command::Merge(args) => reproduce::merge(&args, &workspace),
+        Command::Verify(args) => verify::verify(&args, &workspace),
+        Command::Gc(args) => gc::gc(&args, &workspace),
         Command::Test => test_all::test_all(&workspace),
         Command::Wheel => wheel::wheel(&workspace),
     };

@@ -56,6 +56,20 @@ pub(crate) enum PlanError {
         /// The workspace's fixtures folder.
         fixtures: PathBuf,
     },
+    /// A `--pretrained-cache` inside the output folder.
+    #[error(
+        "--pretrained-cache {}: the cache must not be inside the output folder {} (it is shared \
+         by output folders and would make the output large); choose another folder or omit \
+         --pretrained-cache for the default target/pretrained-cache",
+        cache.display(),
+        out.display()
+    )]
+    CacheInsideOut {
+        /// The resolved cache folder.
+        cache: PathBuf,
+        /// The resolved output folder.
+        out: PathBuf,
+    },
     /// An `--out` that exists and is not a folder.
     #[error("--out {}: exists and is not a folder", out.display())]
     OutNotAFolder {
@@ -119,6 +133,12 @@ impl Workspace {
             &self.current_dir,
         )
     }
+
+    /// The default cache of pre-trained artefacts, `target/pretrained-cache` under the root
+    /// (beside the default output folder, whatever `CARGO_TARGET_DIR` says).
+    pub(crate) fn default_pretrained_cache(&self) -> PathBuf {
+        self.root.join("target").join("pretrained-cache")
+    }
 }
 
 /// [`Workspace::target_dir`] for the value `variable` of `CARGO_TARGET_DIR`.
@@ -146,6 +166,8 @@ pub(crate) struct ReproducePlan {
     pub(crate) out: PathBuf,
     /// Which readings of the paper are rerun besides the presets.
     pub(crate) readings: Readings,
+    /// The absolute folder of the pre-trained artefacts (outside `out`).
+    pub(crate) pretrained_cache: PathBuf,
 }
 
 impl ReproducePlan {
@@ -212,6 +234,17 @@ impl ReproducePlan {
             });
         }
 
+        let pretrained_cache = match &args.pretrained_cache {
+            None => workspace.default_pretrained_cache(),
+            Some(cache) => lexically_normal(&workspace.current_dir.join(cache)),
+        };
+        if resolve_links(&pretrained_cache).starts_with(resolve_links(&out)) {
+            return Err(PlanError::CacheInsideOut {
+                cache: pretrained_cache,
+                out,
+            });
+        }
+
         Ok(Self {
             tasks,
             methods,
@@ -222,6 +255,7 @@ impl ReproducePlan {
             }),
             quick: args.quick,
             config,
+            pretrained_cache,
             out,
             readings: args.readings,
         })
@@ -388,6 +422,7 @@ mod tests {
             wait: false,
             keep_trajectories: crate::cli::KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
+            pretrained_cache: None,
         }
     }
 

@@ -21,12 +21,12 @@ use eamadm_runs::{PretrainedStore, RunKey, RunStore};
     clippy::print_stderr,
     reason = "a command-line tool reports warnings on stderr"
 )]
-fn warn_on_stderr(message: &str) {
+pub(crate) fn warn_on_stderr(message: &str) {
     eprintln!("warning: {message}");
 }
 
 /// The checked plan of `args` and its loaded experiments. Touches nothing on disk.
-fn prepare(
+pub(crate) fn prepare(
     args: &ReproduceArgs,
     workspace: &Workspace,
 ) -> Result<(ReproducePlan, Vec<PlannedExperiment>), Failure> {
@@ -110,10 +110,10 @@ pub(crate) fn reproduce_paper(
     let (plan, experiments) = prepare(args, workspace)?;
     let mut jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     if command.mode.list_jobs {
-        for line in job_lines(args, &plan, &experiments, &jobs, workspace)? {
-            println!("{line}");
-        }
-        return Ok(());
+        return print_lines(
+            &mut std::io::stdout().lock(),
+            &job_lines(args, &plan, &experiments, &jobs, workspace)?,
+        );
     }
     let planned_runs = jobs.len();
     if let Some(shard) = shard {
@@ -141,10 +141,12 @@ pub(crate) fn reproduce_paper(
     let started = Instant::now();
     let keep = args.keep_trajectories;
     let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    let artefacts = PretrainedStore::new(&plan.pretrained_cache);
     let executed = run_jobs(
         &experiments,
         &jobs,
         &store,
+        &artefacts,
         keep,
         &Progress::for_stdout(),
         &warn_on_stderr,
@@ -192,12 +194,17 @@ pub(crate) fn reproduce_paper(
         )
         .map_err(Failure::failed)?;
     }
+    // Temporary files of artefact writers that are gone (coordinated: writers of other
+    // output folders may be at work in the cache).
+    artefacts
+        .remove_stale_temporary_files()
+        .map_err(Failure::failed)?;
     println!(
         "done in {:.1} s: {} runs ({} resumed from an earlier invocation); {}",
         started.elapsed().as_secs_f64(),
         jobs.len(),
         counts.resumed,
-        describe_pretraining(&counts),
+        describe_pretraining(&counts, &artefacts),
     );
     if reporting {
         println!("report: {}", plan.out.join("REPORT.md").display());
@@ -205,6 +212,24 @@ pub(crate) fn reproduce_paper(
         println!("run store: {}", plan.out.join("runs").display());
     }
     Ok(())
+}
+
+/// Writes `lines` to `out`, one a line; a reader that stops reading (`--list-jobs | head -1`)
+/// ends the listing quietly (exit 0) instead of the panic `println!` raises on a closed pipe.
+fn print_lines(out: &mut dyn std::io::Write, lines: &[String]) -> Result<(), Failure> {
+    for line in lines {
+        match writeln!(out, "{line}") {
+            Ok(()) => {}
+            Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+            Err(error) => return Err(Failure::failed(format!("cannot print the jobs: {error}"))),
+        }
+    }
+    match out.flush() {
+        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Failure::failed(format!("cannot print the jobs: {error}")))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// The `--list-jobs` lines of `jobs`: one JSON object per run.
@@ -249,10 +274,12 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
     };
     let keep = args.plan.keep_trajectories;
     let store = RunStore::open(&plan.out, &mut warn_on_stderr).map_err(Failure::failed)?;
+    let artefacts = PretrainedStore::new(&plan.pretrained_cache);
     let counts = run_jobs(
         &experiments,
         std::slice::from_ref(job),
         &store,
+        &artefacts,
         keep,
         &Progress::hidden(),
         &warn_on_stderr,
@@ -270,19 +297,19 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
             "already stored"
         },
         store.folder().display(),
-        describe_pretraining(&counts),
+        describe_pretraining(&counts, &artefacts),
     );
     Ok(())
 }
 
 /// What a command did about pre-training, for its last line: how many sub-tasks it trained
-/// and how many it loaded from the store's artefacts (`runs/pretrained/`), which another
-/// process, shard or earlier invocation trained.
-fn describe_pretraining(counts: &crate::execute::RunCounts) -> String {
+/// and how many it loaded from the cache of artefacts, which another process, shard or earlier
+/// invocation trained.
+fn describe_pretraining(counts: &crate::execute::RunCounts, cache: &PretrainedStore) -> String {
     format!(
-        "sub-tasks pre-trained: {}, loaded from runs/{}/: {}",
+        "sub-tasks pre-trained: {}, loaded from {}: {}",
         counts.pretrained,
-        eamadm_runs::names::PRETRAINED,
+        cache.folder().display(),
         counts.pretrained_loaded
     )
 }
@@ -304,7 +331,18 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         );
         stores.push(store);
     }
-    // Every run must be there before the output folder is touched.
+    // Every run must be there, and the sample asked for recompute to what is stored, before
+    // the output folder is touched.
+    if let Some(fraction) = args.verify {
+        crate::verify::check_or_fail(
+            &experiments,
+            &jobs,
+            &stores,
+            &PretrainedStore::new(&plan.pretrained_cache),
+            Some(fraction),
+            0,
+        )?;
+    }
     let missing = crate::finish::missing_runs(&experiments, &jobs, &stores, keep);
     if !missing.is_empty() {
         return Err(Failure::failed(crate::finish::FinishError::Missing {
@@ -320,12 +358,13 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
     let own = own
         .pack(&folder, &stores, &keys, &mut warn_on_stderr)
         .map_err(Failure::failed)?;
-    // The shards' pre-trained artefacts too, so the merged folder holds what an unsharded run
-    // leaves and a later plan on it loads rather than pre-trains.
-    let artefacts = PretrainedStore::new(folder.root());
+    // Artefacts a shard of an earlier version kept in its own folder (`runs/pretrained/`)
+    // join the cache, so a later plan loads rather than pre-trains them.
+    let artefacts = PretrainedStore::new(&plan.pretrained_cache);
     for store in &stores {
+        let legacy = PretrainedStore::new(&store.folder().join(eamadm_runs::names::PRETRAINED));
         artefacts
-            .adopt(&PretrainedStore::of(store), &mut warn_on_stderr)
+            .adopt(&legacy, &mut warn_on_stderr)
             .map_err(Failure::failed)?;
     }
     let staging = folder.staging().map_err(Failure::failed)?;
@@ -366,6 +405,7 @@ mod tests {
             wait: false,
             keep_trajectories: KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
+            pretrained_cache: None,
         }
     }
 
@@ -416,35 +456,13 @@ mod tests {
         }
     }
 
-    /// [`assert_same_tree`] for a folder `resumed` that recomputed only some runs of `whole`:
-    /// its pre-trained artefacts (a cache of what this folder trained, `runs/pretrained/`)
-    /// are those its recomputed runs needed, each byte-identical to `whole`'s; every other
-    /// file is the same.
-    fn assert_same_tree_but_fewer_artefacts(whole: &Path, resumed: &Path) {
-        let cache = format!("runs/{}/", eamadm_runs::names::PRETRAINED);
-        let (mut a, mut b) = (tree(whole), tree(resumed));
-        let artefacts: Vec<String> = b
-            .keys()
-            .filter(|k| k.starts_with(&cache))
-            .cloned()
-            .collect();
-        assert!(!artefacts.is_empty(), "the recomputed runs pre-trained");
-        for name in artefacts {
-            assert!(
-                a.get(&name) == b.get(&name),
-                "{name} differs or is not in {whole:?}"
-            );
-            b.remove(&name);
-        }
-        a.retain(|name, _| !name.starts_with(&cache));
-        assert_eq!(
-            a.keys().collect::<Vec<_>>(),
-            b.keys().collect::<Vec<_>>(),
-            "the same files"
-        );
-        for (name, bytes) in &a {
-            assert!(b[name] == *bytes, "{name} differs");
-        }
+    /// The lines of a bundle (any framing), without their newlines.
+    fn bundle_lines(bytes: &[u8]) -> Vec<String> {
+        String::from_utf8(eamadm_runs::frames::decompress(bytes).unwrap())
+            .unwrap()
+            .lines()
+            .map(str::to_owned)
+            .collect()
     }
 
     /// Runs per seed of the readings [`small`] plans on Task I (the readings change no robot
@@ -465,6 +483,7 @@ mod tests {
             wait: false,
             keep_trajectories: KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
+            pretrained_cache: None,
         }
     }
 
@@ -501,7 +520,7 @@ mod tests {
         .unwrap();
         for file in [
             "REPORT.md",
-            "runs/mine.jsonl.gz",
+            "runs/mine.jsonl.zst",
             "mine/curves.csv.gz",
             "mine/trajectories.csv",
             "mine/steps.svg",
@@ -569,7 +588,7 @@ mod tests {
             .unwrap()
             .filter(|e| {
                 let name = e.as_ref().unwrap().file_name();
-                name.to_string_lossy().ends_with(".jsonl.gz")
+                name.to_string_lossy().ends_with(".jsonl.zst")
             })
             .count();
         assert_eq!(bundles, 2);
@@ -646,6 +665,7 @@ mod tests {
             wait: false,
             keep_trajectories: KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
+            pretrained_cache: None,
         };
         reproduce_paper(&command(args, RunModeArgs::default()), &ws).unwrap();
         let out = ws.root.join("out");
@@ -895,6 +915,7 @@ mod tests {
             &MergeArgs {
                 plan: small("merged"),
                 stores: shards[..2].to_vec(),
+                verify: None,
             },
             &ws,
         )
@@ -911,6 +932,8 @@ mod tests {
             &MergeArgs {
                 plan: small("merged"),
                 stores: shards.clone(),
+                // The merge recomputes a third of the shards' runs and artefacts first.
+                verify: Some(0.3),
             },
             &ws,
         )
@@ -960,6 +983,7 @@ mod tests {
             &MergeArgs {
                 plan: small("merged"),
                 stores: vec!["jobs".into()],
+                verify: None,
             },
             &ws,
         )
@@ -1007,19 +1031,22 @@ mod tests {
         reproduce_paper(&command(small("whole"), RunModeArgs::default()), &ws).unwrap();
         let copy = ws.root.join("resumed");
         std::fs::create_dir_all(copy.join("runs")).unwrap();
-        let bundle = std::fs::read(ws.root.join("whole/runs/task1.jsonl.gz")).unwrap();
-        let entries = eamadm_runs::gzip::split_members(&bundle).unwrap();
-        assert_eq!(entries.len(), 4);
-        // As if killed mid-append: one run whole, one edited, one torn, one never written.
-        let line = |i: usize| String::from_utf8(entries[i].1.clone()).unwrap();
+        let bundle = std::fs::read(ws.root.join("whole/runs/task1.jsonl.zst")).unwrap();
+        let lines = bundle_lines(&bundle);
+        assert_eq!(lines.len(), 4);
+        // As an earlier version (one gzip member a run) killed mid-append left it: one run
+        // whole, one edited, one torn, one never written.
+        let line = |i: usize| lines[i].clone();
+        let member =
+            |text: &str| eamadm_runs::gzip::compress(format!("{text}\n").as_bytes()).unwrap();
         let edited = line(1).replacen("\"steps\":", "\"steps\":1", 1);
-        let torn = &entries[2].0[..entries[2].0.len() / 2];
+        let torn = member(&line(2));
         std::fs::write(
             copy.join("runs/task1.jsonl.gz"),
             [
-                entries[0].0,
-                &eamadm_runs::gzip::compress(edited.as_bytes()).unwrap(),
-                torn,
+                member(&line(0)).as_slice(),
+                &member(&edited),
+                &torn[..torn.len() / 2],
             ]
             .concat(),
         )
@@ -1045,7 +1072,9 @@ mod tests {
         let aside = copy.join("runs/.set-aside");
         assert_eq!(std::fs::read_dir(&aside).unwrap().count(), 2);
         std::fs::remove_dir_all(&aside).unwrap();
-        assert_same_tree_but_fewer_artefacts(&ws.root.join("whole"), &copy);
+        // The earlier version's bundle was read, its good run kept, and replaced.
+        assert!(!copy.join("runs/task1.jsonl.gz").exists());
+        assert_same_tree(&ws.root.join("whole"), &copy);
     }
 
     fn shard(k: u64, n: u64) -> RunModeArgs {
@@ -1061,12 +1090,11 @@ mod tests {
         let mut runs = BTreeMap::new();
         for bundle in std::fs::read_dir(out.join("runs")).unwrap() {
             let bundle = bundle.unwrap().path();
-            if !bundle.to_string_lossy().ends_with(".jsonl.gz") {
+            if !bundle.to_string_lossy().ends_with(".jsonl.zst") {
                 continue;
             }
             let bytes = std::fs::read(&bundle).unwrap();
-            for (_, line) in eamadm_runs::gzip::split_members(&bytes).unwrap() {
-                let line = String::from_utf8(line).unwrap();
+            for line in bundle_lines(&bytes) {
                 let header: serde_json::Value =
                     serde_json::from_str(line.split('\t').next().unwrap()).unwrap();
                 let key = header["key"].as_str().unwrap().to_owned();
@@ -1102,6 +1130,7 @@ mod tests {
                 &MergeArgs {
                     plan: small(&merged),
                     stores: vec![out.into()],
+                    verify: None,
                 },
                 &ws,
             )
@@ -1147,7 +1176,7 @@ mod tests {
         let before = stored_runs(&ws.root.join("out"));
         // What a kill during a bundle rewrite leaves: a hidden temporary file, removed by the
         // next holder of the lock (4dc0c45 kept it for ever).
-        let leftover = ws.root.join("out/runs/.task1.jsonl.gz.Ab12Cd.tmp");
+        let leftover = ws.root.join("out/runs/.task1.jsonl.zst.Ab12Cd.tmp");
         std::fs::write(&leftover, b"half a bundle").unwrap();
         let narrow = ReproduceArgs {
             methods: vec!["softmax".to_owned()],
@@ -1216,16 +1245,19 @@ mod tests {
             );
         };
         type Plant<'a> = (&'a str, &'a dyn Fn(&Path));
-        let plant: [Plant<'_>; 8] = [
+        let plant: [Plant<'_>; 10] = [
             ("runs", &|p| symlink(&elsewhere, p).unwrap()),
-            ("runs/task1.jsonl.gz", &|p| {
+            ("runs/task1.jsonl.zst", &|p| {
                 symlink(elsewhere.join("keep.txt"), p).unwrap();
             }),
             ("runs/loose", &|p| symlink(&elsewhere, p).unwrap()),
             ("task1", &|p| symlink(&elsewhere, p).unwrap()),
             (".committed", &|p| symlink(&elsewhere, p).unwrap()),
             (".reproduce-paper.lock", &|p| fifo(p)),
-            ("runs/task1.jsonl.gz", &|p| fifo(p)),
+            ("runs/task1.jsonl.zst", &|p| fifo(p)),
+            // 9dc06af waited for ever on this FIFO, holding the folder's lock.
+            (".outputs", &|p| fifo(p)),
+            ("runs/.writers.lock", &|p| fifo(p)),
             (".reproduce-paper.lock", &|p| {
                 symlink(elsewhere.join("keep.txt"), p).unwrap();
             }),
@@ -1259,7 +1291,7 @@ mod tests {
                 "{path}"
             );
             assert!(
-                result.is_err() || path.ends_with(".jsonl.gz"),
+                result.is_err() || path.ends_with(".jsonl.zst"),
                 "{path}: accepted"
             );
         }

@@ -23,23 +23,125 @@ pub struct AtomicWriteError {
 /// file is removed and `path` is untouched. A process killed mid-write may leave a hidden
 /// `.<name>.*.tmp` file behind; nothing reads those.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), AtomicWriteError> {
-    let mut file = AtomicFile::create(path)?;
+    write_to(AtomicFile::create(path)?, contents)
+}
+
+/// [`write_atomic`] into a folder other processes write and sweep too, coordinated by
+/// `writers` ([`WritersLock`]).
+pub fn write_atomic_among_writers(
+    path: &Path,
+    contents: &[u8],
+    writers: &WritersLock,
+) -> Result<(), AtomicWriteError> {
+    write_to(AtomicFile::create_among_writers(path, writers)?, contents)
+}
+
+fn write_to(mut file: AtomicFile, contents: &[u8]) -> Result<(), AtomicWriteError> {
+    let path = file.path().to_path_buf();
     file.write_all(contents)
-        .map_err(|source| AtomicWriteError {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        .map_err(|source| AtomicWriteError { path, source })?;
     file.commit()
 }
 
+/// The name of the file in a folder of a shared store ([`WritersLock`]).
+pub const WRITERS_LOCK_FILE: &str = ".writers.lock";
+
+/// How a temporary file is never removed under a live writer: writers that other processes
+/// may sweep after (the run store's loose runs, its bundles, the pre-trained artefacts) hold
+/// this file's lock *shared* from before they create their temporary file until they have
+/// locked it, and [`remove_stale_temporary_files`] holds it *exclusively* while it sweeps. So
+/// during a sweep every live writer's temporary file is locked (and skipped), and an unlocked
+/// one belongs to a writer that is gone (its lock went with its process). The file itself is
+/// empty and never removed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WritersLock {
+    path: PathBuf,
+}
+
+impl WritersLock {
+    /// The writers' lock of the temporary files in `folder` (and in the folders a caller
+    /// chooses to coordinate with it), `folder/.writers.lock`.
+    #[must_use]
+    pub fn in_folder(folder: &Path) -> Self {
+        Self {
+            path: folder.join(WRITERS_LOCK_FILE),
+        }
+    }
+
+    /// The lock file.
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The lock file, opened (made if missing) without following a link or waiting on a FIFO.
+    fn open(&self) -> io::Result<std::fs::File> {
+        if let Some(folder) = self.path.parent() {
+            std::fs::create_dir_all(folder)?;
+        }
+        let mut options = std::fs::File::options();
+        options.read(true).write(true).create(true).truncate(false);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt as _;
+            #[cfg(target_os = "linux")]
+            options.custom_flags(0o400_000 | 0o4000);
+            #[cfg(target_os = "macos")]
+            options.custom_flags(0x100 | 0x4);
+        }
+        let file = options.open(&self.path).map_err(|error| {
+            if error.raw_os_error() == Some(40) || error.raw_os_error() == Some(62) {
+                crate::no_follow::refused(&self.path, "a symbolic link")
+            } else {
+                error
+            }
+        })?;
+        if !file.metadata()?.is_file() {
+            return Err(crate::no_follow::refused(&self.path, "a special file"));
+        }
+        Ok(file)
+    }
+}
+
+/// How long a sweep waits for the writers inside their few microseconds between creating and
+/// locking a temporary file before it gives up (and sweeps next time).
+const SWEEP_PATIENCE: std::time::Duration = std::time::Duration::from_secs(2);
+
 /// Removes the temporary files (`.<name>.*.tmp`) that killed writers left in `folder`: those
-/// whose lock can be taken (a live writer holds its temporary file's lock until it renames
-/// it). Returns how many were removed. Links and special files are left alone.
-pub fn remove_stale_temporary_files(folder: &Path) -> io::Result<usize> {
+/// whose lock can be taken. With `writers`, the sweep first holds that lock exclusively (see
+/// [`WritersLock`]), so a temporary file another process has just created and not yet locked
+/// is never taken for a dead writer's; a sweep that cannot get it within two seconds removes
+/// nothing. Without it (a folder only the holder of the output folder's lock writes), an
+/// unlocked temporary file is a dead writer's. Returns how many were removed. Links and
+/// special files are left alone.
+pub fn remove_stale_temporary_files(
+    folder: &Path,
+    writers: Option<&WritersLock>,
+) -> io::Result<usize> {
     let entries = match std::fs::read_dir(folder) {
         Ok(entries) => entries,
         Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(0),
         Err(error) => return Err(error),
+    };
+    let _exclusive = match writers {
+        Some(writers) => {
+            let lock = writers.open()?;
+            let started = std::time::Instant::now();
+            loop {
+                match lock.try_lock() {
+                    Ok(()) => break,
+                    Err(std::fs::TryLockError::WouldBlock)
+                        if started.elapsed() < SWEEP_PATIENCE =>
+                    {
+                        std::thread::sleep(std::time::Duration::from_millis(5));
+                    }
+                    Err(std::fs::TryLockError::WouldBlock) => return Ok(0),
+                    Err(std::fs::TryLockError::Error(error)) => return Err(error),
+                }
+            }
+            Some(lock)
+        }
+        None => None,
     };
     let mut removed = 0;
     for entry in entries {
@@ -59,6 +161,19 @@ pub fn remove_stale_temporary_files(folder: &Path) -> io::Result<usize> {
         }
     }
     Ok(removed)
+}
+
+/// For tests of concurrent writers and sweeps: the milliseconds in the environment variable
+/// `EAMADM_TEST_TEMP_LOCK_DELAY_MS` are slept between making a temporary file and locking it,
+/// stretching the moment a sweep could mistake it for a dead writer's (as a writer delayed by
+/// the scheduler or a tracer would be). Unset, nothing happens.
+fn test_hook_delay() {
+    if let Some(millis) = std::env::var("EAMADM_TEST_TEMP_LOCK_DELAY_MS")
+        .ok()
+        .and_then(|text| text.parse::<u64>().ok())
+    {
+        std::thread::sleep(std::time::Duration::from_millis(millis.min(60_000)));
+    }
 }
 
 /// Flushes a folder's entries (a rename, a new or removed file) to disk, so that a crash right
@@ -83,6 +198,20 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Starts writing `path` (creating its parent folders).
     pub fn create(path: &Path) -> Result<Self, AtomicWriteError> {
+        Self::create_with(path, None)
+    }
+
+    /// [`AtomicFile::create`] in a folder other processes write and sweep too: the temporary
+    /// file is made and locked while `writers` is held shared ([`WritersLock`]), so no sweep
+    /// can take it for a dead writer's.
+    pub fn create_among_writers(
+        path: &Path,
+        writers: &WritersLock,
+    ) -> Result<Self, AtomicWriteError> {
+        Self::create_with(path, Some(writers))
+    }
+
+    fn create_with(path: &Path, writers: Option<&WritersLock>) -> Result<Self, AtomicWriteError> {
         let error = |source| AtomicWriteError {
             path: path.to_path_buf(),
             source,
@@ -114,7 +243,20 @@ impl AtomicFile {
         // default is owner-only).
         #[cfg(unix)]
         builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+        // Held shared from before the temporary file exists until it is locked (dropped at
+        // the end of this function).
+        let _shared = match writers {
+            Some(writers) => {
+                let lock = writers.open().map_err(error)?;
+                lock.lock_shared().map_err(error)?;
+                Some(lock)
+            }
+            None => None,
+        };
         let temp = builder.tempfile_in(folder).map_err(error)?;
+        if writers.is_some() {
+            test_hook_delay();
+        }
         // Locked while being written, so that the next holder of the output folder's lock can
         // tell the temporary file of a killed writer (unlocked) from a live one's.
         temp.as_file().try_lock().map_err(|e| match e {
@@ -235,12 +377,55 @@ mod tests {
         let live = AtomicFile::create(&dir.path().join("live")).unwrap();
         std::fs::write(dir.path().join(".dead.x1.tmp"), b"left by a kill").unwrap();
         std::fs::write(dir.path().join("kept.tmp"), b"not hidden: not ours").unwrap();
-        assert_eq!(remove_stale_temporary_files(dir.path()).unwrap(), 1);
+        assert_eq!(remove_stale_temporary_files(dir.path(), None).unwrap(), 1);
         let names = entries(dir.path());
         assert_eq!(names.len(), 2, "{names:?}");
         assert!(names.iter().any(|n| n.starts_with(".live.")), "{names:?}");
         live.commit().unwrap();
         assert_eq!(entries(dir.path()), vec!["kept.tmp", "live"]);
+    }
+
+    /// A writer between making its temporary file and locking it holds the writers' lock
+    /// shared, so a sweep beside it removes nothing of it (9dc06af's sweep removed any unlocked
+    /// temporary file, a live writer's included: its run was lost); once the writer is gone, the
+    /// file is swept.
+    #[test]
+    fn a_temporary_file_in_its_writers_window_survives_a_sweep() {
+        let dir = tempfile::tempdir().unwrap();
+        let writers = WritersLock::in_folder(dir.path());
+        let shared = writers.open().unwrap();
+        shared.lock_shared().unwrap();
+        let fresh = dir.path().join(".run.gz.Ab12Cd.tmp");
+        std::fs::write(&fresh, b"being written").unwrap();
+        let started = std::time::Instant::now();
+        assert_eq!(
+            remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(),
+            0
+        );
+        assert!(
+            started.elapsed() >= SWEEP_PATIENCE,
+            "the sweep waited for the writer"
+        );
+        assert!(fresh.exists());
+        // Locked by its writer, then released with the shared lock: still skipped while locked.
+        let held = crate::no_follow::open_regular(&fresh).unwrap();
+        held.try_lock().unwrap();
+        drop(shared);
+        assert_eq!(
+            remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(),
+            0
+        );
+        assert!(fresh.exists());
+        // The writer gone (its lock with it): swept.
+        drop(held);
+        assert_eq!(
+            remove_stale_temporary_files(dir.path(), Some(&writers)).unwrap(),
+            1
+        );
+        assert!(!fresh.exists());
+        // Files written among writers leave only their lock file behind.
+        write_atomic_among_writers(&dir.path().join("loose.run.gz"), b"x", &writers).unwrap();
+        assert_eq!(entries(dir.path()), vec![WRITERS_LOCK_FILE, "loose.run.gz"]);
     }
 
     #[cfg(unix)]

@@ -13,8 +13,7 @@
 
 use std::fmt;
 
-use eamadm::config::{DEFAULT_SCENARIO, TaskConfig};
-use eamadm::{ExperimentConfig, MethodSpec};
+use eamadm::{Experiment, ExperimentConfig, MethodSpec};
 use serde::Serialize;
 use serde_json::Value;
 use thiserror::Error;
@@ -43,35 +42,36 @@ pub struct RunDescription {
 }
 
 impl RunDescription {
-    /// The description of running `method` with `seed` in `config`.
-    pub fn new(config: &ExperimentConfig, method: &MethodSpec, seed: u64) -> Self {
+    /// The description of running `method` with `seed` in `experiment`. The hash of a file
+    /// the task names is taken of the bytes the experiment's task was built from
+    /// ([`eamadm::Task::input_text`], read once when the experiment was loaded), never of the
+    /// file as it is now: a file replaced during a run changes neither what the run computes
+    /// nor the key it is stored under (the next invocation, loading the new file, sees new
+    /// keys and computes new runs).
+    pub fn new(experiment: &Experiment, method: &MethodSpec, seed: u64) -> Self {
         let config = ExperimentConfig {
             methods: vec![method.clone()],
             seeds: 1,
             base_seed: 0,
-            ..config.clone()
+            ..experiment.config().clone()
         };
         Self {
             results_format: RESULTS_FORMAT,
             crate_version: env!("CARGO_PKG_VERSION"),
-            task_file_blake3: task_file_digest(&config.task),
+            task_file_blake3: task_input_digest(experiment),
             config,
             seed,
         }
     }
 }
 
-/// The hash of the file `task` reads, if it names one (relative paths resolve as `eamadm`
-/// resolves them: against the current folder). An unreadable file hashes as absent; loading
-/// the task has already failed on it then.
-pub(crate) fn task_file_digest(task: &TaskConfig) -> Option<String> {
-    let path = match task {
-        TaskConfig::MazeFile { path, .. } => path.clone(),
-        TaskConfig::Robot { scenario, .. } if scenario != DEFAULT_SCENARIO => scenario.into(),
-        _ => return None,
-    };
-    let text = eamadm::read_input_file(&path, "task").ok()?;
-    Some(blake3::hash(text.as_bytes()).to_hex().to_string())
+/// The BLAKE3 hash (hex) of the text of the file `experiment`'s task names, as read when its
+/// task was loaded; `None` for a task the config holds whole.
+pub(crate) fn task_input_digest(experiment: &Experiment) -> Option<String> {
+    experiment
+        .task()
+        .input_text()
+        .map(|text| blake3::hash(text.as_bytes()).to_hex().to_string())
 }
 
 /// A run description that cannot be hashed.
@@ -177,7 +177,8 @@ mod tests {
         let config = eamadm::paper::task1();
         let method = config.method("softmax").unwrap().clone();
         let key = |config: &ExperimentConfig, seed| {
-            RunKey::of(&RunDescription::new(config, &method, seed)).unwrap()
+            let experiment = Experiment::new(config.clone()).unwrap();
+            RunKey::of(&RunDescription::new(&experiment, &method, seed)).unwrap()
         };
         let mut fewer = config.clone();
         fewer.seeds = 3;
@@ -190,23 +191,36 @@ mod tests {
     }
 
     #[test]
-    fn the_key_follows_the_content_of_a_task_file() {
+    fn the_key_follows_the_bytes_the_task_was_built_from() {
         let dir = tempfile::tempdir().unwrap();
         let map = dir.path().join("maze.map");
         std::fs::write(&map, "S..\n.#.\n..T\n").unwrap();
         let mut config = eamadm::paper::task1();
-        config.task = TaskConfig::MazeFile {
+        config.task = eamadm::TaskConfig::MazeFile {
             path: map.clone(),
             rewards: eamadm::mazes::Preset::Task1,
             step_cap: None,
         };
         let method = config.methods[1].clone();
-        let key = || RunKey::of(&RunDescription::new(&config, &method, 0)).unwrap();
-        let before = key();
+        let key = |experiment: &Experiment| {
+            RunKey::of(&RunDescription::new(experiment, &method, 0)).unwrap()
+        };
+        let loaded = Experiment::new(config.clone()).unwrap();
+        let before = key(&loaded);
+        // The file replaced after loading (an editor saving, a sync tool): the loaded
+        // experiment's key is still that of the bytes it was built from (9dc06af read the file
+        // again for every key, so a key named the new map while the task ran on the old).
         std::fs::write(&map, "S.#\n...\n..T\n").unwrap();
-        assert_ne!(key(), before);
+        assert_eq!(key(&loaded), before);
+        assert_eq!(
+            RunDescription::new(&loaded, &method, 0).task_file_blake3,
+            Some(blake3::hash(b"S..\n.#.\n..T\n").to_hex().to_string())
+        );
+        // Loading it again reads the new file: another key.
+        assert_ne!(key(&Experiment::new(config).unwrap()), before);
         // The presets carry no file, so their keys do not change with this field.
-        let preset = RunDescription::new(&eamadm::paper::task1(), &method, 0);
+        let preset = Experiment::new(eamadm::paper::task1()).unwrap();
+        let preset = RunDescription::new(&preset, &method, 0);
         assert_eq!(preset.task_file_blake3, None);
         assert!(!canonical_json(&preset).unwrap().contains("task_file"));
     }

@@ -8,12 +8,17 @@
 //! - [`store`]: the [`RunStore`] of `<out>/runs/`, every run checked (key, checksum, record)
 //!   before it is trusted, and bytes checked or written once recognised by their BLAKE3 hash
 //!   rather than parsed again ([`AppendReceipt`]);
-//! - [`pretrained`]: the pre-trained sub-task learners as content-addressed artefacts
-//!   (`<out>/runs/pretrained/`), shared by every process of a sweep;
+//! - [`pretrained`]: the pre-trained sub-task learners as content-addressed artefacts in a
+//!   cache folder outside the output folder, shared by every process of a sweep;
 //! - [`gzip`]: compression whose bytes depend only on the content;
 //! - [`atomic`]: files written aside and renamed into place;
 //! - [`no_follow`]: paths opened without following links, never hanging on a FIFO;
 //! - [`output_folder`]: the folder's lock, its staged set of outputs and their manifest;
+//! - [`frames`]: the compressed frames of the store's files, read streaming against caps;
+//! - [`gc`]: what no plan needs any more (old formats, old set-aside entries, artefacts of
+//!   other plans);
+//! - [`verify`]: stored runs and artefacts recomputed and compared byte for byte, since the
+//!   checksums catch faults, not forgery;
 //! - [`names`]: the name of every file and folder in an output folder (the facade's
 //!   [`eamadm::output_names`], which the reserved experiment names derive from).
 //!
@@ -29,7 +34,7 @@
 //! config.methods.retain(|m| m.label == "epsilon-greedy");
 //! let experiment = eamadm::Experiment::new(config.clone())?;
 //! let method = &config.methods[0];
-//! let description = RunDescription::new(&config, method, 0);
+//! let description = RunDescription::new(&experiment, method, 0);
 //! let key = RunKey::of(&description)?;
 //!
 //! let out = tempfile::tempdir()?;
@@ -45,12 +50,15 @@
 //! ```
 
 pub mod atomic;
+pub mod frames;
+pub mod gc;
 pub mod gzip;
 pub mod key;
 pub mod no_follow;
 pub mod output_folder;
 pub mod pretrained;
 pub mod store;
+pub mod verify;
 
 pub use eamadm::output_names as names;
 pub use key::{RESULTS_FORMAT, RunDescription, RunKey, canonical_json};

@@ -172,13 +172,16 @@ impl OutputFolder {
             self.swap_in()?;
         }
         remove_dir_if_present(&self.root.join(STAGING))?;
-        // Temporary files of writers killed while this folder's outputs were written.
+        // Temporary files of writers killed while this folder's outputs were written: in the
+        // folder itself only the holder of this lock writes, in the run store other processes
+        // do too (coordinated by the store's writers' lock).
         let runs = self.root.join(crate::names::RUNS_FOLDER);
-        for folder in [
-            self.root.clone(),
-            runs.clone(),
-            runs.join(crate::names::LOOSE_RUNS),
-            runs.join(crate::names::PRETRAINED),
+        let writers = crate::atomic::WritersLock::in_folder(&runs);
+        for (folder, coordinated) in [
+            (self.root.clone(), false),
+            (runs.clone(), true),
+            (runs.join(crate::names::LOOSE_RUNS), true),
+            (runs.join(crate::names::PRETRAINED), true),
         ] {
             if crate::no_follow::check_under(
                 &self.root,
@@ -186,9 +189,13 @@ impl OutputFolder {
                 false,
             )
             .is_ok()
+                && folder.is_dir()
             {
-                crate::atomic::remove_stale_temporary_files(&folder)
-                    .map_err(io_error("cannot remove temporary files", &folder))?;
+                crate::atomic::remove_stale_temporary_files(
+                    &folder,
+                    coordinated.then_some(&writers),
+                )
+                .map_err(io_error("cannot remove temporary files", &folder))?;
             }
         }
         Ok(())
@@ -242,24 +249,54 @@ impl OutputFolder {
     }
 }
 
-/// The files a manifest lists (none when it does not exist). Lines that would leave the folder
-/// (absolute, `..`, empty) are ignored: a hand-edited manifest cannot make us delete elsewhere.
+/// The largest manifest read: a set lists a few hundred files.
+const MAX_MANIFEST_BYTES: u64 = 1 << 20;
+
+/// The files a manifest lists (none when it does not exist), opened without following a link
+/// or waiting on a FIFO ([`crate::no_follow`]). A line is a name read back from stored bytes,
+/// so it is a path only if it is an output's: a top-level output file, or `<experiment>/<file>`
+/// with a safe experiment name ([`eamadm::is_safe_slug`], the rule of a config's names) and a
+/// file name of the same characters. Any other line (absolute, `..`, into `runs/`, hidden,
+/// deeper) is ignored: a hand-edited or forged manifest cannot make us delete or move anything
+/// else.
 fn read_manifest(path: &Path) -> Result<Vec<PathBuf>, OutputFolderError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
+    use std::io::Read as _;
+    let file = match crate::no_follow::open_regular(path) {
+        Ok(file) => file,
         Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
         Err(error) => return Err(io_error("cannot read the manifest", path)(error)),
     };
+    let mut bytes = Vec::new();
+    file.take(MAX_MANIFEST_BYTES)
+        .read_to_end(&mut bytes)
+        .map_err(io_error("cannot read the manifest", path))?;
+    let text = String::from_utf8_lossy(&bytes);
     Ok(text
         .lines()
+        .filter(|line| is_output_path(line))
         .map(PathBuf::from)
-        .filter(|file| {
-            !file.as_os_str().is_empty()
-                && file
-                    .components()
-                    .all(|part| matches!(part, std::path::Component::Normal(_)))
-        })
         .collect())
+}
+
+/// Whether `line` of a manifest names an output: a top-level output file (not the run store),
+/// or a file in an experiment's folder (see [`read_manifest`]).
+fn is_output_path(line: &str) -> bool {
+    let file_name = |name: &str| {
+        !name.is_empty()
+            && name.len() <= 128
+            && !name.starts_with('.')
+            && name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+    };
+    match line.split('/').collect::<Vec<_>>().as_slice() {
+        [top] => {
+            *top != crate::names::RUNS_FOLDER
+                && (crate::names::TOP_LEVEL.contains(top) || eamadm::is_safe_slug(top))
+        }
+        [experiment, file] => eamadm::is_safe_slug(experiment) && file_name(file),
+        _ => false,
+    }
 }
 
 /// Every file under `folder` (recursively), as paths relative to it, prefixed with `prefix`.
@@ -448,13 +485,47 @@ mod tests {
     }
 
     #[test]
-    fn a_manifest_cannot_point_outside_the_folder() {
+    fn a_manifest_cannot_point_outside_the_folder_or_into_the_store() {
         let dir = tempfile::tempdir().unwrap();
         let manifest = dir.path().join(MANIFEST);
-        std::fs::write(&manifest, "../escape\n/etc/passwd\n\nok/file.csv\n").unwrap();
+        std::fs::write(
+            &manifest,
+            "../escape\n/etc/passwd\n\nok/file.csv\nruns/task1.jsonl.zst\nruns\n\
+             a/b/c.svg\n.hidden\nx/.lock\nREPORT.md\ntask1/../../x\n",
+        )
+        .unwrap();
         assert_eq!(
             read_manifest(&manifest).unwrap(),
-            [PathBuf::from("ok/file.csv")]
+            [PathBuf::from("ok/file.csv"), PathBuf::from("REPORT.md")]
         );
+    }
+
+    /// A FIFO where the manifest belongs is refused by name (9dc06af opened it to read and
+    /// blocked for ever, holding the folder's lock).
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_at_the_manifest_is_refused_not_waited_on() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        std::fs::create_dir(&out).unwrap();
+        assert!(
+            std::process::Command::new("mkfifo")
+                .arg(out.join(MANIFEST))
+                .status()
+                .unwrap()
+                .success()
+        );
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let folder = OutputFolder::open(&out, false).unwrap();
+            let staging = folder.staging().unwrap();
+            write_atomic(&staging.join("REPORT.md"), b"new").unwrap();
+            let _ = sender.send(folder.commit().map_err(|e| e.to_string()));
+        });
+        let error = receiver
+            .recv_timeout(std::time::Duration::from_secs(30))
+            .expect("the commit returns instead of waiting on the FIFO")
+            .unwrap_err();
+        assert!(error.contains("special file"), "{error}");
     }
 }

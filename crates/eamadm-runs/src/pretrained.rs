@@ -1,6 +1,8 @@
-//! Pre-trained sub-task learners as content-addressed artefacts of the run store,
-//! `<out>/runs/pretrained/<key>.subtask.gz`: computed by whichever process needs one first
-//! (an unsharded plan, a shard, a `run-job`) and loaded by every other, so a sweep split over
+//! Pre-trained sub-task learners as content-addressed artefacts in a cache folder,
+//! `<cache>/<key>.subtask.gz` (`--pretrained-cache`, by default `target/pretrained-cache` of the
+//! workspace: outside every output folder, which it would otherwise double in size;
+//! docs/paper-notes.md §14): computed by whichever process needs one first (an unsharded plan,
+//! a shard, a `run-job`, of any output folder) and loaded by every other, so a sweep split over
 //! processes pre-trains each (task, learner, pre-training config, sub-task, seed) once, as one
 //! process does (Sec. V, Fig. 5, steps 2–3; [`eamadm::Experiment::share_pretraining_with`]).
 //!
@@ -22,16 +24,17 @@
 //! steps). CBOR keeps every `f64` bit for bit; the learner is rebuilt through its checked form.
 //!
 //! An artefact is trusted only when the member decompresses (CRC and length) to at most
-//! [`crate::store::MAX_ENTRY_BYTES`], the digest matches, the payload decodes, and its format
-//! and description equal the ones asked for (so its content hashes to its name). Anything else
-//! is [`StoreError::Damaged`]: the caller warns and trains again, and the new artefact replaces
-//! the bad one. Artefacts are a cache, not results: deleting `runs/pretrained/` loses nothing
-//! but time.
+//! [`crate::store::MAX_ENTRY_BYTES`] (counted streaming, before anything is held), the digest
+//! matches, the payload decodes, and its format and description equal the ones asked for (so
+//! its content hashes to its name). Anything else is [`StoreError::Damaged`]: the caller warns
+//! and trains again, and the new artefact replaces the bad one. Artefacts are a cache, not
+//! results: deleting the cache loses nothing but time. Like the run store's checksums, the
+//! digest detects faults, not forgery: `cargo xtask verify` trains a sample again and
+//! compares.
 //!
-//! Writes go through [`crate::atomic::write_atomic`] (temporary file, sync, rename). Two
-//! processes that train the same sub-task at once write the same bytes, and the last rename
-//! wins. The run store's listing reads only `runs/*.jsonl.gz` and `runs/loose/*.run.gz`, so
-//! artefacts never appear among runs ([`crate::RunStore::keys`], `merge`, `load_runs`).
+//! Writes go through [`crate::atomic::write_atomic_among_writers`] (temporary file, sync,
+//! rename; coordinated with sweeps by the cache's `.writers.lock`). Two processes that train
+//! the same sub-task at once write the same bytes, and the last rename wins.
 //!
 //! The prior built from the learners is not stored: it also depends on the storage config,
 //! and building it costs a small fraction of pre-training.
@@ -41,7 +44,7 @@ use std::path::{Path, PathBuf};
 
 use eamadm::config::TaskConfig;
 use eamadm::dql::DoubleQParams;
-use eamadm::{ExperimentConfig, PretrainConfig, PretrainedSubtask};
+use eamadm::{Experiment, PretrainConfig, PretrainedSubtask};
 use serde::{Deserialize, Serialize};
 
 use crate::key::{RESULTS_FORMAT, RunKey, canonical_json};
@@ -76,16 +79,18 @@ pub struct PretrainingDescription {
 }
 
 impl PretrainingDescription {
-    /// The description of training sub-task `k` of `config`'s task with `pretrain` and
-    /// `seed`, on `config`'s learner parameters.
+    /// The description of training sub-task `k` of `experiment`'s task with `pretrain` and
+    /// `seed`, on its learner parameters; a file the task names is hashed as the experiment
+    /// read it (see [`crate::RunDescription::new`]).
     #[must_use]
-    pub fn new(config: &ExperimentConfig, pretrain: &PretrainConfig, k: usize, seed: u64) -> Self {
+    pub fn new(experiment: &Experiment, pretrain: &PretrainConfig, k: usize, seed: u64) -> Self {
+        let config = experiment.config();
         Self {
             pretrained_format: PRETRAINED_FORMAT,
             results_format: RESULTS_FORMAT,
             crate_version: env!("CARGO_PKG_VERSION"),
             task: config.task.clone(),
-            task_file_blake3: crate::key::task_file_digest(&config.task),
+            task_file_blake3: crate::key::task_input_digest(experiment),
             learner: config.learner,
             pretrain: *pretrain,
             subtask: k as u64,
@@ -113,42 +118,32 @@ struct Artefact {
 /// The ending of an artefact's file name.
 pub const ARTEFACT_EXTENSION: &str = crate::names::PRETRAINED_EXTENSION;
 
-/// The pre-trained artefacts of one output folder, `<out>/runs/pretrained/`.
+/// The pre-trained artefacts of one cache folder (`--pretrained-cache`; outside the output
+/// folder, shared by every output folder and process that names it).
 #[derive(Debug, Clone)]
 pub struct PretrainedStore {
-    /// The folder holding the run store's folder (the output folder).
-    root: PathBuf,
-    /// The artefacts' folder relative to `root` (`runs/pretrained`).
-    relative: PathBuf,
     folder: PathBuf,
 }
 
 impl PretrainedStore {
-    /// The artefacts of the output folder `out` (none yet is fine: nothing is read or made
-    /// until asked).
+    /// The artefacts in the folder `folder` (none yet is fine: nothing is read or made until
+    /// asked). The folder itself may be a link (the user chose it); nothing inside it is
+    /// followed.
     #[must_use]
-    pub fn new(out: &Path) -> Self {
-        let relative = Path::new(crate::names::RUNS_FOLDER).join(crate::names::PRETRAINED);
+    pub fn new(folder: &Path) -> Self {
         Self {
-            root: out.to_path_buf(),
-            folder: out.join(&relative),
-            relative,
+            folder: folder.to_path_buf(),
         }
     }
 
-    /// The artefacts beside the run store `store` (its folder's `pretrained/`, whatever the
-    /// store's folder is named, as `merge` may be given a `runs/` folder itself).
+    /// Where versions before the cache kept the artefacts of an output folder `out`
+    /// (`<out>/runs/pretrained/`): read by `merge` and `gc`, which move them into the cache.
     #[must_use]
-    pub fn of(store: &crate::RunStore) -> Self {
-        let runs = store.folder();
-        let root = runs.parent().unwrap_or(Path::new(".")).to_path_buf();
-        let relative =
-            Path::new(runs.file_name().unwrap_or_default()).join(crate::names::PRETRAINED);
-        Self {
-            folder: runs.join(crate::names::PRETRAINED),
-            root,
-            relative,
-        }
+    pub fn legacy(out: &Path) -> Self {
+        Self::new(
+            &out.join(crate::names::RUNS_FOLDER)
+                .join(crate::names::PRETRAINED),
+        )
     }
 
     /// The folder of the artefacts.
@@ -171,6 +166,35 @@ impl PretrainedStore {
         self.folder.join(format!("{key}.{ARTEFACT_EXTENSION}"))
     }
 
+    /// The keys of the artefacts in the folder (files named `<64 hex digits>.subtask.gz`),
+    /// sorted; none when the folder does not exist.
+    ///
+    /// # Errors
+    /// [`StoreError::Read`] if the folder cannot be listed.
+    pub fn keys(&self) -> Result<Vec<RunKey>, StoreError> {
+        let listing = match std::fs::read_dir(&self.folder) {
+            Ok(listing) => listing,
+            Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+            Err(source) => {
+                return Err(StoreError::Read {
+                    path: self.folder.clone(),
+                    source,
+                });
+            }
+        };
+        let mut keys: Vec<RunKey> = listing
+            .flatten()
+            .filter_map(|entry| {
+                let name = entry.file_name().to_string_lossy().into_owned();
+                let key = name.strip_suffix(&format!(".{ARTEFACT_EXTENSION}"))?;
+                (key.len() == 64 && key.bytes().all(|b| b.is_ascii_hexdigit()))
+                    .then(|| RunKey::from_verified_hex(key.to_owned()))
+            })
+            .collect();
+        keys.sort();
+        Ok(keys)
+    }
+
     /// The trained sub-task `description` describes, if its artefact is stored.
     ///
     /// # Errors
@@ -182,7 +206,7 @@ impl PretrainedStore {
     ) -> Result<Option<PretrainedSubtask>, StoreError> {
         let key = Self::key(description)?;
         let path = self.path(&key);
-        let Some((artefact, _)) = self.read_checked(&path)? else {
+        let Some(artefact) = self.read_checked(&path)? else {
             return Ok(None);
         };
         let expected = canonical_json(description).map_err(|e| StoreError::Key(e.to_string()))?;
@@ -195,62 +219,113 @@ impl PretrainedStore {
         Ok(Some(artefact.subtask))
     }
 
-    /// The artefact at `path` (in this store's folder) and its file's bytes, checked (see
-    /// the module docs) but for the description, which the caller compares; `None` if absent.
-    fn read_checked(&self, path: &Path) -> Result<Option<(Artefact, Vec<u8>)>, StoreError> {
+    /// The artefact `key` checked (see the module docs) and its description, which hashes to
+    /// its key; `None` if absent. For `verify`, which recomputes what the description says.
+    ///
+    /// # Errors
+    /// [`StoreError::Damaged`] or [`StoreError::Read`].
+    pub fn load_any(
+        &self,
+        key: &RunKey,
+    ) -> Result<Option<(String, PretrainedSubtask)>, StoreError> {
+        let path = self.path(key);
+        let Some(artefact) = self.read_checked(&path)? else {
+            return Ok(None);
+        };
+        if blake3::hash(artefact.description.as_bytes())
+            .to_hex()
+            .as_str()
+            != key.as_str()
+        {
+            return Err(StoreError::Damaged {
+                path,
+                problem: "its description does not hash to its name".to_owned(),
+            });
+        }
+        Ok(Some((artefact.description, artefact.subtask)))
+    }
+
+    /// The artefact at `path` (in this store's folder), checked (see the module docs) but for
+    /// the description, which the caller compares; `None` if absent. Read streaming, twice:
+    /// first to count and hash what the member decompresses to (refusing it past the cap, so a
+    /// bomb costs a few KiB of memory), then to decode the payload while hashing it again.
+    fn read_checked(&self, path: &Path) -> Result<Option<Artefact>, StoreError> {
         let read = |source| StoreError::Read {
             path: path.to_path_buf(),
             source,
-        };
-        let relative = self.relative.join(path.file_name().unwrap_or_default());
-        crate::no_follow::check_under(&self.root, &relative, true).map_err(read)?;
-        let mut file = match crate::no_follow::open_regular(path) {
-            Ok(file) => file,
-            Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(None),
-            Err(source) => return Err(read(source)),
         };
         let damaged = |problem: String| StoreError::Damaged {
             path: path.to_path_buf(),
             problem,
         };
-        // Compressed, an artefact is far smaller than the cap on what it decompresses to.
-        let mut bytes = Vec::new();
-        (&mut file)
-            .take(MAX_ENTRY_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(read)?;
-        let mut content = Vec::new();
-        flate2::read::GzDecoder::new(bytes.as_slice())
-            .take(MAX_ENTRY_BYTES + 1)
-            .read_to_end(&mut content)
-            .map_err(|e| damaged(format!("does not decompress ({e})")))?;
-        if content.len() as u64 > MAX_ENTRY_BYTES || bytes.len() as u64 > MAX_ENTRY_BYTES {
-            return Err(damaged(format!(
-                "larger than the cap of {MAX_ENTRY_BYTES} bytes"
-            )));
-        }
-        let Some((digest, payload)) = content.split_first_chunk::<32>() else {
-            return Err(damaged("shorter than its checksum".to_owned()));
+        let name = path.file_name().unwrap_or_default();
+        crate::no_follow::check_under(&self.folder, Path::new(name), true).map_err(read)?;
+        let mut file = match crate::no_follow::open_regular(path) {
+            Ok(file) => file,
+            Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(None),
+            Err(source) => return Err(read(source)),
         };
-        if blake3::hash(payload) != blake3::Hash::from_bytes(*digest) {
-            return Err(damaged(
-                "checksum mismatch: the payload was edited or damaged".to_owned(),
-            ));
+        // First pass: the digest, then the payload counted and hashed, never held.
+        let digest = {
+            let mut buffered = io::BufReader::new(&mut file);
+            let mut decoder = flate2::bufread::GzDecoder::new(&mut buffered);
+            let mut digest = [0_u8; 32];
+            decoder
+                .read_exact(&mut digest)
+                .map_err(|e| damaged(format!("does not decompress to its checksum ({e})")))?;
+            let mut hasher = blake3::Hasher::new();
+            let len = io::copy(&mut (&mut decoder).take(MAX_ENTRY_BYTES + 1), &mut hasher)
+                .map_err(|e| damaged(format!("does not decompress ({e})")))?;
+            if len > MAX_ENTRY_BYTES {
+                return Err(damaged(format!(
+                    "larger than the cap of {MAX_ENTRY_BYTES} bytes"
+                )));
+            }
+            drop(decoder);
+            if !io::BufRead::fill_buf(&mut buffered)
+                .map_err(read)?
+                .is_empty()
+            {
+                return Err(damaged(
+                    "bytes follow the artefact's gzip member".to_owned(),
+                ));
+            }
+            if hasher.finalize() != blake3::Hash::from_bytes(digest) {
+                return Err(damaged(
+                    "checksum mismatch: the payload was edited or damaged".to_owned(),
+                ));
+            }
+            digest
+        };
+        // Second pass: decoded as it streams, hashed again (the file may have been changed in
+        // place meanwhile).
+        io::Seek::seek(&mut file, io::SeekFrom::Start(0)).map_err(read)?;
+        let mut decoder = flate2::bufread::GzDecoder::new(io::BufReader::new(file));
+        let mut skipped = [0_u8; 32];
+        decoder.read_exact(&mut skipped).map_err(read)?;
+        let mut hashing = HashingReader {
+            inner: decoder.take(MAX_ENTRY_BYTES),
+            hasher: blake3::Hasher::new(),
+        };
+        let artefact: Result<Artefact, _> = ciborium::from_reader(&mut hashing);
+        io::copy(&mut hashing, &mut io::sink()).map_err(read)?;
+        if hashing.hasher.finalize() != blake3::Hash::from_bytes(digest) {
+            return Err(damaged("the file changed while it was read".to_owned()));
         }
-        let artefact: Artefact = ciborium::from_reader(payload)
-            .map_err(|e| damaged(format!("payload does not decode ({e})")))?;
+        let artefact = artefact.map_err(|e| damaged(format!("payload does not decode ({e})")))?;
         if artefact.format != PRETRAINED_FORMAT {
             return Err(damaged(format!(
                 "format is {}, expected {PRETRAINED_FORMAT}",
                 artefact.format
             )));
         }
-        Ok(Some((artefact, bytes)))
+        Ok(Some(artefact))
     }
 
-    /// Copies into this store every artefact of `other` it lacks (as `merge` gathers the
-    /// shards' runs), each checked first: its description must hash to its file name. A bad
-    /// one is passed to `warn` and left out. Returns how many were copied.
+    /// Copies into this store every artefact of `other` it lacks (as `merge` and `gc` gather
+    /// the artefacts older versions kept in output folders), each checked first: its
+    /// description must hash to its file name. A bad one is passed to `warn` and left out.
+    /// Returns how many were copied.
     ///
     /// # Errors
     /// [`StoreError::Read`] if `other`'s folder cannot be listed, [`StoreError::Write`] if
@@ -260,60 +335,21 @@ impl PretrainedStore {
         other: &PretrainedStore,
         warn: &mut dyn FnMut(&str),
     ) -> Result<usize, StoreError> {
-        let listing = match std::fs::read_dir(&other.folder) {
-            Ok(listing) => listing,
-            Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(0),
-            Err(source) => {
-                return Err(StoreError::Read {
-                    path: other.folder.clone(),
-                    source,
-                });
-            }
-        };
-        let mut names: Vec<String> = listing
-            .flatten()
-            .map(|entry| entry.file_name().to_string_lossy().into_owned())
-            .filter(|name| {
-                name.strip_suffix(&format!(".{ARTEFACT_EXTENSION}"))
-                    .is_some_and(|key| {
-                        key.len() == 64 && key.bytes().all(|b| b.is_ascii_hexdigit())
-                    })
-            })
-            .collect();
-        names.sort();
         let mut copied = 0;
-        for name in names {
-            let target = self.folder.join(&name);
+        for key in other.keys()? {
+            let target = self.path(&key);
             if target.exists() {
                 continue;
             }
-            let source = other.folder.join(&name);
-            let checked = other.read_checked(&source).and_then(|found| {
-                let key = name.trim_end_matches(&format!(".{ARTEFACT_EXTENSION}"));
-                match found {
-                    Some((artefact, bytes))
-                        if blake3::hash(artefact.description.as_bytes())
-                            .to_hex()
-                            .as_str()
-                            == key =>
-                    {
-                        Ok(Some(bytes))
-                    }
-                    Some(_) => Err(StoreError::Damaged {
-                        path: source.clone(),
-                        problem: "its description does not hash to its name".to_owned(),
-                    }),
-                    None => Ok(None),
-                }
-            });
-            match checked {
-                Ok(Some(bytes)) => {
+            match other.load_any(&key) {
+                Ok(Some((description, subtask))) => {
                     let write = |source| StoreError::Write {
                         path: target.clone(),
                         source,
                     };
-                    crate::no_follow::ensure_folders(&self.root, &self.relative).map_err(write)?;
-                    crate::atomic::write_atomic(&target, &bytes).map_err(|e| write(e.source))?;
+                    let bytes = artefact_bytes_of(&description, &subtask).map_err(write)?;
+                    crate::atomic::write_atomic_among_writers(&target, &bytes, &self.writers())
+                        .map_err(|e| write(e.source))?;
                     copied += 1;
                 }
                 Ok(None) => {}
@@ -321,6 +357,37 @@ impl PretrainedStore {
             }
         }
         Ok(copied)
+    }
+
+    /// Removes the artefact `key` (for `gc`); absent is fine.
+    ///
+    /// # Errors
+    /// [`StoreError::Write`] if it cannot be removed.
+    pub fn remove(&self, key: &RunKey) -> Result<(), StoreError> {
+        let path = self.path(key);
+        match std::fs::remove_file(&path) {
+            Ok(()) => Ok(()),
+            Err(error) if error.kind() == io::ErrorKind::NotFound => Ok(()),
+            Err(source) => Err(StoreError::Write { path, source }),
+        }
+    }
+
+    /// Removes the temporary files of writers that are gone ([`crate::atomic::WritersLock`]);
+    /// returns how many.
+    ///
+    /// # Errors
+    /// [`StoreError::Write`] if the folder cannot be swept.
+    pub fn remove_stale_temporary_files(&self) -> Result<usize, StoreError> {
+        crate::atomic::remove_stale_temporary_files(&self.folder, Some(&self.writers())).map_err(
+            |source| StoreError::Write {
+                path: self.folder.clone(),
+                source,
+            },
+        )
+    }
+
+    fn writers(&self) -> crate::atomic::WritersLock {
+        crate::atomic::WritersLock::in_folder(&self.folder)
     }
 
     /// Stores `subtask`, trained as `description` describes, atomically (see the module
@@ -340,9 +407,36 @@ impl PretrainedStore {
             source,
         };
         let bytes = artefact_bytes(description, subtask).map_err(write)?;
-        crate::no_follow::ensure_folders(&self.root, &self.relative).map_err(write)?;
-        crate::atomic::write_atomic(&path, &bytes).map_err(|e| write(e.source))
+        std::fs::create_dir_all(&self.folder).map_err(write)?;
+        crate::atomic::write_atomic_among_writers(&path, &bytes, &self.writers())
+            .map_err(|e| write(e.source))
     }
+}
+
+/// A reader hashing every byte read through it.
+struct HashingReader<R> {
+    inner: R,
+    hasher: blake3::Hasher,
+}
+
+impl<R: io::Read> io::Read for HashingReader<R> {
+    fn read(&mut self, into: &mut [u8]) -> io::Result<usize> {
+        let read = self.inner.read(into)?;
+        self.hasher.update(&into[..read]);
+        Ok(read)
+    }
+}
+
+/// The file of the artefact of `subtask` trained as `description` describes: the bytes
+/// [`PretrainedStore::save`] writes (for `verify`, which compares them with the cache's).
+///
+/// # Errors
+/// If the description or sub-task does not serialise.
+pub fn artefact_file(
+    description: &PretrainingDescription,
+    subtask: &PretrainedSubtask,
+) -> io::Result<Vec<u8>> {
+    artefact_bytes(description, subtask)
 }
 
 /// The compressed file of the artefact.
@@ -351,11 +445,16 @@ fn artefact_bytes(
     subtask: &PretrainedSubtask,
 ) -> io::Result<Vec<u8>> {
     let description = canonical_json(description).map_err(io::Error::other)?;
+    artefact_bytes_of(&description, subtask)
+}
+
+/// The compressed file of the artefact of `description` (canonical JSON).
+fn artefact_bytes_of(description: &str, subtask: &PretrainedSubtask) -> io::Result<Vec<u8>> {
     let mut content = vec![0; 32];
     ciborium::into_writer(
         &ArtefactRef {
             format: PRETRAINED_FORMAT,
-            description: &description,
+            description,
             subtask,
         },
         &mut content,
@@ -372,7 +471,7 @@ mod tests {
 
     use std::sync::Mutex;
 
-    use eamadm::{Method, PretrainingCache};
+    use eamadm::{ExperimentConfig, Method, PretrainingCache};
 
     /// Task I with its EA-MADM pre-training cut to 3 episodes per sub-task.
     fn config() -> ExperimentConfig {
@@ -401,7 +500,7 @@ mod tests {
     impl PretrainingCache for Capture {
         fn load(
             &self,
-            _: &ExperimentConfig,
+            _: &Experiment,
             _: &PretrainConfig,
             _: usize,
             _: u64,
@@ -411,7 +510,7 @@ mod tests {
 
         fn save(
             &self,
-            _: &ExperimentConfig,
+            _: &Experiment,
             _: &PretrainConfig,
             k: usize,
             _: u64,
@@ -432,7 +531,8 @@ mod tests {
     }
 
     fn described(config: &ExperimentConfig, k: usize, seed: u64) -> PretrainingDescription {
-        PretrainingDescription::new(config, &pretrain(config), k, seed)
+        let experiment = Experiment::new(config.clone()).unwrap();
+        PretrainingDescription::new(&experiment, &pretrain(config), k, seed)
     }
 
     #[test]
@@ -608,8 +708,16 @@ mod tests {
                 });
             }
         });
-        let files: Vec<_> = std::fs::read_dir(store.folder()).unwrap().collect();
-        assert_eq!(files.len(), 1, "one file, no temporary file left");
+        let files: Vec<_> = std::fs::read_dir(store.folder())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|name| name != crate::atomic::WRITERS_LOCK_FILE)
+            .collect();
+        assert_eq!(
+            files.len(),
+            1,
+            "one file, no temporary file left: {files:?}"
+        );
         assert_eq!(store.load(&description).unwrap(), Some(subtask));
     }
 }

@@ -1126,7 +1126,20 @@ pub fn read_input_file(path: &std::path::Path, field: &str) -> Result<String, Co
     if metadata.len() > MAX_INPUT_FILE_BYTES {
         return Err(too_large());
     }
-    let file = std::fs::File::open(path).map_err(fail)?;
+    // Opened without waiting on a FIFO swapped in since the look (`O_NONBLOCK`), and checked
+    // again on the open file.
+    let mut options = std::fs::File::options();
+    options.read(true);
+    #[cfg(target_os = "linux")]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, 0o4000);
+    #[cfg(target_os = "macos")]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, 0x4);
+    let file = options.open(path).map_err(fail)?;
+    if !file.metadata().map_err(fail)?.is_file() {
+        return Err(invalid(
+            "not a regular file (folders, devices and pipes are refused)".to_owned(),
+        ));
+    }
     let mut bytes = Vec::new();
     // The file may have grown since: read one byte past the limit at most.
     file.take(MAX_INPUT_FILE_BYTES + 1)

@@ -8,17 +8,22 @@
 
 /// The run store folder, `<out>/runs/`.
 pub const RUNS_FOLDER: &str = "runs";
-/// The ending of a run store bundle, `runs/<experiment>.jsonl.gz`.
-pub const BUNDLE_EXTENSION: &str = "jsonl.gz";
+/// The ending of a run store bundle, `runs/<experiment>.jsonl.zst` (JSON lines in Zstandard
+/// frames).
+pub const BUNDLE_EXTENSION: &str = "jsonl.zst";
+/// The ending of the bundles of earlier versions, `runs/<experiment>.jsonl.gz` (one gzip member
+/// per line): still read, and replaced by the next pack.
+pub const LEGACY_BUNDLE_EXTENSION: &str = "jsonl.gz";
 /// Inside [`RUNS_FOLDER`], the folder of runs stored one file each before they are packed into
 /// their bundles.
 pub const LOOSE_RUNS: &str = "loose";
 /// The ending of a single run file, `runs/loose/<key>.<trajectories>.run.gz`.
 pub const RUN_FILE_EXTENSION: &str = "run.gz";
-/// Inside [`RUNS_FOLDER`], the folder of pre-trained sub-task learners shared by every run and
-/// process that needs them (content-addressed artefacts, a cache: removing it costs only time).
+/// Inside [`RUNS_FOLDER`], where earlier versions kept the pre-trained sub-task learners (now in
+/// a cache outside the output folder, `--pretrained-cache`): read by `merge` and moved into the
+/// cache by `gc`.
 pub const PRETRAINED: &str = "pretrained";
-/// The ending of a pre-trained artefact, `runs/pretrained/<key>.subtask.gz`.
+/// The ending of a pre-trained artefact, `<cache>/<key>.subtask.gz`.
 pub const PRETRAINED_EXTENSION: &str = "subtask.gz";
 /// The report.
 pub const REPORT: &str = "REPORT.md";

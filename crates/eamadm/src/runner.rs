@@ -115,7 +115,7 @@ impl Experiment {
             .map_err(|error| fail(RunFailure::from(error)))?;
         let optimum = self.task.optimum_steps();
         let repairs = method.method.subtask_repairs();
-        let shared = shared.fits(&self.config, seed);
+        let shared = shared.fits(self, seed);
         match self.task.kind() {
             TaskKind::Maze(env) => {
                 run_on(env.as_ref(), &self.config, method, seed, optimum, shared)
@@ -175,23 +175,50 @@ impl Experiment {
         cache: &dyn PretrainingCache,
     ) -> SharedPretraining {
         match self.task.kind() {
-            TaskKind::Maze(env) => SharedPretraining::compute(
-                env.as_ref(),
-                &self.config,
-                &self.task,
-                methods,
-                seed,
-                cache,
-            ),
-            TaskKind::Robot(env) => SharedPretraining::compute(
-                env.as_ref(),
-                &self.config,
-                &self.task,
-                methods,
-                seed,
-                cache,
-            ),
+            TaskKind::Maze(env) => {
+                SharedPretraining::compute(env.as_ref(), self, methods, seed, cache)
+            }
+            TaskKind::Robot(env) => {
+                SharedPretraining::compute(env.as_ref(), self, methods, seed, cache)
+            }
         }
+    }
+
+    /// The pre-trainings the runs of `methods` share, and a [`PretrainingCache`] is asked
+    /// for: each distinct (pre-training config, sub-task) of the valid methods that pre-train
+    /// on the paper's sub-task rewards, in the order first met (what
+    /// [`share_pretraining_with`](Self::share_pretraining_with) loads or trains).
+    #[must_use]
+    pub fn shared_pretrainings(&self, methods: &[&MethodSpec]) -> Vec<(PretrainConfig, usize)> {
+        let mut trainings: Vec<(PretrainConfig, usize)> = Vec::new();
+        let mut need = |pretrain: &PretrainConfig, k: usize| {
+            if !trainings.iter().any(|(p, j)| *j == k && p == pretrain) {
+                trainings.push((*pretrain, k));
+            }
+        };
+        for method in methods {
+            if !self.shares_pretraining(method) {
+                continue;
+            }
+            match &method.method {
+                Method::EaMadm(ea) => {
+                    for k in 0..self.task.subtask_names().len() {
+                        need(&ea.pretrain, k);
+                    }
+                }
+                Method::SubtaskGreedy(alone) => need(&alone.pretrain, alone.subtask),
+                Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {}
+            }
+        }
+        trainings
+    }
+
+    /// Whether `method` is valid here and pre-trains on the paper's sub-task rewards (a
+    /// repaired method pre-trains on other rewards: it shares nothing).
+    fn shares_pretraining(&self, method: &MethodSpec) -> bool {
+        method.validate("method").is_ok()
+            && check_method_fits(&self.task, method, "method").is_ok()
+            && method.method.subtask_repairs() == SubtaskRepairs::PAPER
     }
 
     /// Every run of the experiment ([`jobs`](Self::jobs)), in parallel on the current rayon
@@ -253,25 +280,26 @@ impl Experiment {
 /// them, and where it puts those it trained: a store that outlives the process.
 ///
 /// A trained sub-task is a pure function of the experiment's task (`config.task`, with the
-/// content of any file it names), its learner parameters (`config.learner`), the pre-training
-/// config, the sub-task `k` (whose raw reward it learns: pre-training does not standardise
-/// rewards) and the seed, and of the code; an implementation must key what it keeps by all of
-/// them, or it hands back a learner another run trained.
+/// content of any file it names: [`Task::input_text`], the bytes the task was built from), its
+/// learner parameters (`config.learner`), the pre-training config, the sub-task `k` (whose raw
+/// reward it learns: pre-training does not standardise rewards) and the seed, and of the code;
+/// an implementation must key what it keeps by all of them, or it hands back a learner another
+/// run trained.
 pub trait PretrainingCache: Sync {
-    /// Sub-task `k` of `config`'s task trained with `pretrain` and `seed`, if kept.
+    /// Sub-task `k` of `experiment`'s task trained with `pretrain` and `seed`, if kept.
     fn load(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
     ) -> Option<PretrainedSubtask>;
 
-    /// Keeps `subtask`, just trained as sub-task `k` of `config`'s task with `pretrain` and
-    /// `seed`.
+    /// Keeps `subtask`, just trained as sub-task `k` of `experiment`'s task with `pretrain`
+    /// and `seed`.
     fn save(
         &self,
-        config: &ExperimentConfig,
+        experiment: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
@@ -286,7 +314,7 @@ pub struct NoPretrainingCache;
 impl PretrainingCache for NoPretrainingCache {
     fn load(
         &self,
-        _: &ExperimentConfig,
+        _: &Experiment,
         _: &PretrainConfig,
         _: usize,
         _: u64,
@@ -294,28 +322,21 @@ impl PretrainingCache for NoPretrainingCache {
         None
     }
 
-    fn save(
-        &self,
-        _: &ExperimentConfig,
-        _: &PretrainConfig,
-        _: usize,
-        _: u64,
-        _: &PretrainedSubtask,
-    ) {
-    }
+    fn save(&self, _: &Experiment, _: &PretrainConfig, _: usize, _: u64, _: &PretrainedSubtask) {}
 }
 
 /// Pre-training shared by the runs of one seed of one experiment: trained sub-task learners
 /// keyed by `(pre-training config, sub-task)` and the priors built from them keyed by
 /// `(pre-training config, storage)` ([`Experiment::share_pretraining`]).
 ///
-/// It remembers the task, learner parameters and seed it was computed for, and
-/// [`Experiment::run_shared`] uses it only for a run that matches all three, so a mismatched
-/// one costs time, never a wrong bit.
+/// It remembers the task (its config and the text of any file it names), learner parameters
+/// and seed it was computed for, and [`Experiment::run_shared`] uses it only for a run that
+/// matches all of them, so a mismatched one costs time, never a wrong bit.
 #[derive(Debug, Clone, Default)]
 pub struct SharedPretraining {
-    /// What it was computed for: task, learner parameters and seed (`None`: nothing).
-    basis: Option<(TaskConfig, dql::DoubleQParams, u64)>,
+    /// What it was computed for: task, its file's text, learner parameters and seed (`None`:
+    /// nothing).
+    basis: Option<(TaskConfig, Option<String>, dql::DoubleQParams, u64)>,
     subtasks: Vec<SharedSubtask>,
     priors: Vec<SharedPrior>,
 }
@@ -356,16 +377,19 @@ impl SharedPretraining {
         self.priors.len()
     }
 
-    /// `self` if it was computed for `config`'s task and learner and `seed`, else nothing.
-    fn fits(&self, config: &ExperimentConfig, seed: u64) -> &Self {
+    /// `self` if it was computed for `experiment`'s task and learner and `seed`, else nothing.
+    fn fits(&self, experiment: &Experiment, seed: u64) -> &Self {
         static NONE: SharedPretraining = SharedPretraining {
             basis: None,
             subtasks: Vec::new(),
             priors: Vec::new(),
         };
         match &self.basis {
-            Some((task, learner, at))
-                if *task == config.task && *learner == config.learner && *at == seed =>
+            Some((task, input, learner, at))
+                if *task == experiment.config.task
+                    && input.as_deref() == experiment.task.input_text()
+                    && *learner == experiment.config.learner
+                    && *at == seed =>
             {
                 self
             }
@@ -393,43 +417,24 @@ impl SharedPretraining {
 
     fn compute<E: TaskEnv>(
         prototype: &E,
-        config: &ExperimentConfig,
-        task: &Task,
+        experiment: &Experiment,
         methods: &[&MethodSpec],
         seed: u64,
         cache: &dyn PretrainingCache,
     ) -> Self {
+        let config = &experiment.config;
         // What the valid methods pre-train: (config, sub-task) pairs, and (config, storage)
         // priors, each once, in the order first met.
-        let mut trainings: Vec<(PretrainConfig, usize)> = Vec::new();
+        let trainings = experiment.shared_pretrainings(methods);
         let mut priors: Vec<(PretrainConfig, Storage)> = Vec::new();
-        let mut need = |pretrain: &PretrainConfig, k: usize| {
-            if !trainings.iter().any(|(p, j)| *j == k && p == pretrain) {
-                trainings.push((*pretrain, k));
-            }
-        };
         for method in methods {
-            if method.validate("method").is_err()
-                || check_method_fits(task, method, "method").is_err()
-                // A repaired method pre-trains on other sub-task rewards: it shares nothing.
-                || method.method.subtask_repairs() != SubtaskRepairs::PAPER
+            if let Method::EaMadm(ea) = &method.method
+                && experiment.shares_pretraining(method)
+                && !priors
+                    .iter()
+                    .any(|(p, s)| *p == ea.pretrain && *s == ea.storage)
             {
-                continue;
-            }
-            match &method.method {
-                Method::EaMadm(ea) => {
-                    for k in 0..prototype.n_subtasks() {
-                        need(&ea.pretrain, k);
-                    }
-                    if !priors
-                        .iter()
-                        .any(|(p, s)| *p == ea.pretrain && *s == ea.storage)
-                    {
-                        priors.push((ea.pretrain, ea.storage));
-                    }
-                }
-                Method::SubtaskGreedy(alone) => need(&alone.pretrain, alone.subtask),
-                Method::EpsilonGreedy { .. } | Method::Softmax { .. } => {}
+                priors.push((ea.pretrain, ea.storage));
             }
         }
         let subtasks: Vec<SharedSubtask> = trainings
@@ -437,14 +442,14 @@ impl SharedPretraining {
             .filter_map(|(pretrain, k)| {
                 let names = prototype.subtask_names();
                 let kept = cache
-                    .load(config, &pretrain, k, seed)
+                    .load(experiment, &pretrain, k, seed)
                     .filter(|kept| fits_training(prototype, config, &pretrain, k, &names, kept));
                 let subtask = match kept {
                     Some(kept) => kept,
                     None => {
                         let trained =
                             pretrain_subtask(prototype, k, config.learner, &pretrain, seed).ok()?;
-                        cache.save(config, &pretrain, k, seed, &trained);
+                        cache.save(experiment, &pretrain, k, seed, &trained);
                         trained
                     }
                 };
@@ -456,7 +461,12 @@ impl SharedPretraining {
             })
             .collect();
         let mut shared = Self {
-            basis: Some((config.task.clone(), config.learner, seed)),
+            basis: Some((
+                config.task.clone(),
+                experiment.task.input_text().map(str::to_owned),
+                config.learner,
+                seed,
+            )),
             subtasks,
             priors: Vec::new(),
         };

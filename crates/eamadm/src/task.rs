@@ -2,6 +2,7 @@
 //! beyond [`dql::Environment`]: collisions, reaching the target, positions, robot metrics.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use dql::{Environment, Step, Trajectory};
 use mazes::{Event, Maze, MazeEnv, Preset};
@@ -16,6 +17,9 @@ pub struct Task {
     kind: TaskKind,
     /// The optimal route's length, computed once at loading.
     optimum_steps: Option<u64>,
+    /// The text of the file the config names (a maze map, a robot scenario), as read once at
+    /// loading: the task was built from exactly these bytes.
+    input: Option<Arc<str>>,
 }
 
 #[derive(Debug, Clone)]
@@ -27,6 +31,12 @@ pub(crate) enum TaskKind {
 impl Task {
     /// Builds the task a config names: generates a preset maze, reads a map file or parses an
     /// inline map, and applies the step cap override.
+    ///
+    /// A file the config names (`task.path`, `task.scenario`) is read once, here, and the task
+    /// is built from those bytes, which [`Task::input_text`] keeps: whoever keys results by
+    /// the file's content (a run store) hashes them rather than reading the file again, so a
+    /// file that changes afterwards changes neither what this task computes nor the keys its
+    /// results are stored under.
     ///
     /// # Errors
     /// [`ConfigError::Read`] for a file that cannot be read, [`ConfigError::Maze`] for a map
@@ -54,7 +64,9 @@ impl Task {
                     field: "task.path".to_owned(),
                     source,
                 })?;
-                Self::from_maze(maze, *rewards, *step_cap, "task.rewards")
+                let mut task = Self::from_maze(maze, *rewards, *step_cap, "task.rewards")?;
+                task.input = Some(Arc::from(text));
+                Ok(task)
             }
             TaskConfig::MazeText {
                 map,
@@ -79,11 +91,14 @@ impl Task {
                     field: "task.scenario".to_owned(),
                     source,
                 };
+                let mut input = None;
                 let mut scenario = if scenario == DEFAULT_SCENARIO {
                     Scenario::default_scenario()
                 } else {
                     let text = read_input_file(Path::new(scenario), "task.scenario")?;
-                    Scenario::from_toml_str(&text).map_err(scenario_error)?
+                    let parsed = Scenario::from_toml_str(&text).map_err(scenario_error)?;
+                    input = Some(Arc::from(text));
+                    parsed
                 };
                 if let Some(cap) = step_cap {
                     scenario.step_cap = *cap;
@@ -111,6 +126,7 @@ impl Task {
                 Ok(Self {
                     kind: TaskKind::Robot(Box::new(env)),
                     optimum_steps,
+                    input,
                 })
             }
         }
@@ -133,7 +149,17 @@ impl Task {
         Ok(Self {
             optimum_steps: u64::try_from(env.maze().shortest_path_len()).ok(),
             kind: TaskKind::Maze(Box::new(env)),
+            input: None,
         })
+    }
+
+    /// The text of the file the task's config names (a maze map with `task.path`, a robot
+    /// scenario with `task.scenario` other than `"default"`), exactly as read when the task was
+    /// loaded and built; `None` for a task the config holds whole (a preset, an inline map,
+    /// the embedded scenario). A run store keys results by the hash of these bytes.
+    #[must_use]
+    pub fn input_text(&self) -> Option<&str> {
+        self.input.as_deref()
     }
 
     pub(crate) fn kind(&self) -> &TaskKind {

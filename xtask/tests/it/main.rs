@@ -6,6 +6,7 @@ use std::path::Path;
 mod concurrent_store;
 mod kill_resume;
 mod slurm;
+mod store_faults;
 
 /// Every file under `folder`: relative path → bytes (the outputs two runs must share).
 pub(crate) fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {

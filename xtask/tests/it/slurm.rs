@@ -1,4 +1,5 @@
-//! The SLURM recipe for real: `scripts/slurm/submit` sends three shards and a dependent merge to
+//! The SLURM recipe for real: `scripts/slurm/submit` sends three shards and a dependent merge
+//! (which first recomputes a fifth of the shards' runs, `merge --verify`) to
 //! a running SLURM cluster (CI starts a single-node one with `.ci/slurm-cluster`), and the merged
 //! output must equal an unsharded run's byte for byte. Without SLURM the test skips, except
 //! under `CI=true`, where SLURM must be there. A skip leaves a note (the test's name and why) in
@@ -123,6 +124,7 @@ fn three_shards_and_a_merge_on_slurm_equal_an_unsharded_run() {
         .env("SHARDS", "3")
         .env("OUT", &out)
         .env("PLAN_ARGS", PLAN_ARGS)
+        .env("VERIFY", "0.2")
         .env("XTASK", xtask));
     let stdout = String::from_utf8_lossy(&submitted.stdout);
     let merge_job = stdout
@@ -154,6 +156,12 @@ fn three_shards_and_a_merge_on_slurm_equal_an_unsharded_run() {
         merged.join("REPORT.md").is_file(),
         "the merge wrote no report; logs:\n{}",
         logs(&out.join("logs"))
+    );
+    // The merge recomputed a sample of the shards' runs and artefacts first (`--verify`).
+    let merge_log = std::fs::read_to_string(out.join("logs/merge.out")).unwrap_or_default();
+    assert!(
+        merge_log.contains("verify: recomputed") && merge_log.contains("; 0 differ"),
+        "{merge_log}"
     );
     for k in 1..=3 {
         assert!(

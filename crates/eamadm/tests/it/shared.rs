@@ -21,7 +21,7 @@ struct MemoryCache {
 impl PretrainingCache for MemoryCache {
     fn load(
         &self,
-        _: &ExperimentConfig,
+        _: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
@@ -36,7 +36,7 @@ impl PretrainingCache for MemoryCache {
 
     fn save(
         &self,
-        _: &ExperimentConfig,
+        _: &Experiment,
         pretrain: &PretrainConfig,
         k: usize,
         seed: u64,
