@@ -324,8 +324,8 @@ pub struct Comparison {
     pub margin: Option<f64>,
     /// False when every paired value of both methods is one and the same number (the metric
     /// sits at a bound for both, e.g. a greedy SD of 0 on every stable-reaching seed): such a
-    /// comparison shows neither a difference nor an equivalence, and takes no part in Holm or
-    /// in the verdict.
+    /// comparison shows neither a difference nor an equivalence: it takes no part in Holm, and
+    /// in the verdict it settles nothing and is not equivalent.
     pub informative: bool,
     /// What it settles.
     pub outcome: Outcome,
@@ -1409,47 +1409,43 @@ pub fn is_equivalent(comparison: &Comparison, alpha: f64) -> bool {
 }
 
 /// The verdict of a judgement whose comparisons and per-seed tests are made (see the module
-/// docs): each informative metric comparison counts with the outcome [`combine`]d with the
-/// per-seed test against the same competitor (C3), and a per-seed test against a competitor
-/// with no informative metric comparison counts by itself.
+/// docs): each metric comparison counts with the outcome [`combine`]d with the per-seed test
+/// against the same competitor (C3), and a per-seed test against a competitor with no metric
+/// comparison counts by itself. An uninformative comparison counts as settling nothing (so a
+/// claim cannot be supported past a tie at a bound) and as not equivalent.
 fn decide(judgement: &mut Judgement, alpha: f64) {
     let comparisons = &judgement.comparisons;
     let tests = &judgement.reaching;
     let test_of = |versus: &str| tests.iter().find(|t| t.versus == versus);
-    let effective: Vec<Option<Outcome>> = comparisons
+    let effective: Vec<Outcome> = comparisons
         .iter()
-        .map(|c| {
-            c.informative.then(|| {
-                test_of(&c.versus).map_or(c.outcome, |t| combine(c.outcome, t.outcome))
-            })
-        })
+        .map(|c| test_of(&c.versus).map_or(c.outcome, |t| combine(c.outcome, t.outcome)))
         .collect();
     let alone: Vec<&ReachingComparison> = tests
         .iter()
-        .filter(|t| {
-            !comparisons
-                .iter()
-                .any(|c| c.informative && c.versus == t.versus)
-        })
+        .filter(|t| !comparisons.iter().any(|c| c.versus == t.versus))
         .collect();
     let all = || {
         effective
             .iter()
-            .flatten()
             .copied()
             .chain(alone.iter().map(|t| t.outcome))
     };
+    // The deciding comparison among those `keep` keeps, the informative ones first.
     let by_p = |pick_max: bool, keep: &dyn Fn(usize, &Comparison) -> bool| {
-        comparisons
-            .iter()
-            .enumerate()
-            .filter(|&(i, c)| c.informative && keep(i, c))
-            .max_by(|(i, a), (j, b)| {
-                let order = a.p_holm.total_cmp(&b.p_holm);
-                // Ties go to the earlier comparison either way.
-                (if pick_max { order } else { order.reverse() }).then(j.cmp(i))
-            })
-            .map(|(i, _)| i)
+        let best = |informative: bool| {
+            comparisons
+                .iter()
+                .enumerate()
+                .filter(|&(i, c)| c.informative == informative && keep(i, c))
+                .max_by(|(i, a), (j, b)| {
+                    let order = a.p_holm.total_cmp(&b.p_holm);
+                    // Ties go to the earlier comparison either way.
+                    (if pick_max { order } else { order.reverse() }).then(j.cmp(i))
+                })
+                .map(|(i, _)| i)
+        };
+        best(true).or_else(|| best(false))
     };
     // The per-seed test that decides when no metric comparison can (ties: the earlier one).
     let test_by_p = |pick_max: bool, outcome: Option<Outcome>| {
@@ -1463,18 +1459,11 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
             })
             .map(|(_, t)| t)
     };
-    let (verdict, deciding, test) = if all().next().is_none() {
-        // Every comparison is uninformative and no per-seed test decides.
-        judgement.reason = "no comparison carries information: every paired value of both \
-                            sides is one and the same number"
-            .to_owned();
-        (Verdict::Inconclusive, None, None)
-    } else if all().any(|o| o == Outcome::FavoursCompetitor) {
+    let (verdict, deciding, test) = if all().any(|o| o == Outcome::FavoursCompetitor) {
         // A metric comparison that favours the competitor by itself shows the numbers;
         // otherwise the per-seed test that does.
         match by_p(false, &|i, c| {
-            effective[i] == Some(Outcome::FavoursCompetitor)
-                && c.outcome == Outcome::FavoursCompetitor
+            effective[i] == Outcome::FavoursCompetitor && c.outcome == Outcome::FavoursCompetitor
         }) {
             Some(i) => (Verdict::Contradicted, Some(i), None),
             None => (
@@ -1511,7 +1500,7 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
             .map(|(i, _)| i);
         (Verdict::Equivalent, weakest, None)
     } else {
-        match by_p(true, &|i, _| effective[i] != Some(Outcome::FavoursMethod)) {
+        match by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod) {
             Some(i) => (Verdict::Inconclusive, Some(i), None),
             None => (
                 Verdict::Inconclusive,
@@ -1964,7 +1953,7 @@ pub const CLAIM_COLUMNS: &[Column] = &[
     Column::new("margin", FieldType::Number, "The metric's equivalence margin on the task (region of practical equivalence), in the metric's unit, derived from the task's rewards and control period (`eamadm::Task::equivalence_margins`; each with its reason in REPORT.md). The paper's mazes: ±2 steps on the step metrics, the shortest detour on a grid; ±2 reward on the return metrics, what that detour costs on Task II (−1 per step) and, where a detour costs nothing (Task I), the smallest difference one step's reward makes (−1 instead of +1). The robot: ±0.8 s on `reach_time` (two 0.4 s control periods); ±1.796 reward/s on `reach_average_reward` (what a 2-step detour takes off the average reward of the planner's 17-step route, 116 over 6.8 s); ±0.008081 s/episode on `retention_decay` (0.8 s over the 99-episode span of 100 reaching episodes).").blank_when("the metric has no margin on the task, or the row is not a comparison"),
     Column::new("p_equivalence", FieldType::Number, "p-value that the mean paired difference lies within ±`margin`: 2 max(p(mean > −margin), p(mean < margin)), two one-sided sign-flip tests each at α/2 — at most α exactly when the 95 % interval lies inside the margin.").blank_when("`margin` is blank, or the row is not a comparison"),
     Column::new("p_equivalence_holm", FieldType::Number, "`p_equivalence` Holm-adjusted across the claim × task × method's informative comparisons; a comparison is equivalent when it is below α.").blank_when("`p_equivalence` is blank, or the comparison is uninformative"),
-    Column::new("informative", FieldType::Boolean, "False when every paired value of both methods is one and the same number (the metric sits at a bound for both, e.g. a greedy SD of 0 on every stable-reaching seed): the comparison shows neither a difference nor an equivalence and takes no part in Holm or the verdict.").blank_when(PAIRED_BLANK),
+    Column::new("informative", FieldType::Boolean, "False when every paired value of both methods is one and the same number (the metric sits at a bound for both, e.g. a greedy SD of 0 on every stable-reaching seed): the comparison shows neither a difference nor an equivalence: it takes no part in Holm, and in the verdict it settles nothing and is not equivalent.").blank_when(PAIRED_BLANK),
     Column::new("exact", FieldType::Boolean, "True when the sign-flip distribution counted all 2ⁿ sign vectors (at most 24 paired seeds, by meet in the middle); false when 100 000 were drawn from a stream of the comparison's own.").blank_when(PAIRED_BLANK),
     Column::new("p_monte_carlo_se", FieldType::Number, "Monte-Carlo standard error √(p(1 − p)/B) of `p_value` when the sign vectors were drawn.").blank_when("the row is not a comparison, or `exact` is true"),
     Column::new("iqm_difference", FieldType::Number, "IQM(method) − IQM(versus) over all seeds with a value (descriptive; the IQM trims a quarter of the seeds at each end, so seeds at the step cap may not count).").blank_when(PAIRED_BLANK),

@@ -330,11 +330,13 @@ fn failure_sentence(
     let names: Vec<String> = collapsed.iter().map(|(seed, _)| seed.to_string()).collect();
     let episodes: Vec<u64> = collapsed.iter().filter_map(|(_, e)| *e).collect();
     let from = match (episodes.iter().min(), episodes.iter().max()) {
+        // `collapse_episode` is the first episode of the non-reaching tail: the run last
+        // reached one episode before it.
         (Some(low), Some(high)) if low == high => {
-            format!("; never reaching again after episode {low}")
+            format!("; never reaching again from episode {low} on")
         }
         (Some(low), Some(high)) => {
-            format!("; never reaching again after episodes {low}–{high}")
+            format!("; never reaching again from episodes {low}–{high} on")
         }
         _ => String::new(),
     };
@@ -554,8 +556,8 @@ mod tests {
         // are equivalent (within the 2-step and 2-reward margins).
         assert!(
             text.contains(
-                " It collapsed on 2 of 8 seeds (3, 5; never reaching again after episodes \
-                 63–65); without those seeds C1 and C2 are equivalent, so the collapses decide \
+                " It collapsed on 2 of 8 seeds (3, 5; never reaching again from episodes \
+                 63–65 on); without those seeds C1 and C2 are equivalent, so the collapses decide \
                  them."
             ),
             "{text}"
@@ -577,7 +579,7 @@ mod tests {
         let text = answer_of(scores(60.0, &[3], 200.0, &[]), Vec::new());
         assert!(
             text.contains(
-                "It collapsed on 1 of 8 seeds (3; never reaching again after episode 63); \
+                "It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on); \
                  without those seeds C1 and C2 are supported, so the collapses decide them."
             ),
             "{text}"
@@ -586,11 +588,40 @@ mod tests {
         let text = answer_of(scores(300.0, &[3], 200.0, &[]), Vec::new());
         assert!(
             text.contains(
-                "It collapsed on 1 of 8 seeds (3; never reaching again after episode 63), \
+                "It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on), \
                  which alone decide no verdict."
             ),
             "{text}"
         );
+    }
+
+    /// Issue 34 item 7: `collapse_episode` is the first episode that no longer reaches, so the
+    /// sentence says "from episode e on", not "after episode e" (one episode late).
+    #[test]
+    fn the_collapse_sentence_names_the_first_episode_that_no_longer_reaches() {
+        let episode = |reached| crate::record::EpisodeRecord {
+            episode: 0,
+            steps: 1,
+            task_return: 0.0,
+            learning_return: 0.0,
+            terminated: reached,
+            truncated: !reached,
+            reached,
+            collisions: 0,
+            env_steps: 1,
+            robot: None,
+        };
+        // Episodes 0–62 reach, 63–199 do not.
+        let episodes: Vec<_> = (0..200).map(|e| episode(e < 63)).collect();
+        let (outcome, collapse) = RunOutcome::of(false, &episodes, 20);
+        assert_eq!((outcome, collapse), (RunOutcome::Collapsed, Some(63)));
+        let mut rows = scores(60.0, &[3], 200.0, &[]);
+        for r in rows.iter_mut().filter(|r| r.method == "ea-madm" && r.seed == 3) {
+            r.collapse_episode = collapse;
+        }
+        let text = answer_of(rows, Vec::new());
+        assert!(text.contains("(3; never reaching again from episode 63 on)"), "{text}");
+        assert!(!text.contains("after episode"), "{text}");
     }
 
     #[test]

@@ -254,8 +254,8 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          {alpha} (its interval then lies beyond the margin on that side), and is \
          **equivalent** when its Holm-adjusted within-margin p is below {alpha}. A comparison \
          in which every paired value of both sides is one and the same number (e.g. greedy SD \
-         0 on every seed) is **uninformative**: listed, but left out of Holm and of the \
-         verdict. The IQM difference (bootstrap interval) and P(EA-MADM better) are \
+         0 on every seed) is **uninformative**: left out of Holm, it settles nothing and is \
+         never equivalent. The IQM difference (bootstrap interval) and P(EA-MADM better) are \
          descriptive. The verdict is **supported** when every comparison favours EA-MADM, \
          **contradicted** when any favours a competitor, **equivalent** when every comparison \
          is equivalent, **inconclusive** otherwise, and **untestable** when no competitor has \
@@ -286,7 +286,7 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          the other side, and is equivalent when the greedy fluctuations are and the same \
          seeds stable-reach on both sides (the per-seed test has no margin). Where the greedy \
          fluctuation is 0 on every stable-reaching seed of both sides it is uninformative, \
-         and C3 then rests on reliability alone. The fair comparison is ε-decreasing, which \
+         and C3 can then be decided only by reliability. The fair comparison is ε-decreasing, which \
          uses EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
          without its exploration. The training curves' SDs (`fluctuation_steps`, \
          `fluctuation_return`) are reported as secondary rows with no verdict. The deciding \
