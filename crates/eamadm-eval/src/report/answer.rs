@@ -551,21 +551,31 @@ mod tests {
 
     #[test]
     fn collapsed_seeds_are_named_and_said_whether_they_decide() {
-        let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
-        // EA-MADM equals the competitors but for the collapsed seeds: without them C1 and C2
+        // (7 paired seeds are the fewest that can show equivalence at the 95 % level against
+        // two competitors: Holm's 2 × 2/2ⁿ must fall below 0.05.)
+        let text = answer_of(scores(100.0, &[3], 200.0, &[]), Vec::new());
+        // EA-MADM equals the competitors but for the collapsed seed: without it C1 and C2
         // are equivalent (within the 2-step and 2-reward margins).
         assert!(
             text.contains(
-                " It collapsed on 2 of 8 seeds (3, 5; never reaching again from episodes \
-                 63–65 on); without those seeds C1 and C2 are equivalent, so the collapses decide \
-                 them."
+                " It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on); \
+                 without those seeds C1 and C2 are equivalent, so the collapses decide them."
             ),
             "{text}"
         );
-        assert!(text.contains("it converges on 6/8 seeds"), "{text}");
+        assert!(text.contains("it converges on 7/8 seeds"), "{text}");
         assert!(sentences(&text) <= 3, "{text}");
+        // Two collapses leave 6 paired seeds: too few to show equivalence, and it says so.
+        let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
+        assert!(
+            text.contains(
+                " It collapsed on 2 of 8 seeds (3, 5; never reaching again from episodes \
+                 63–65 on); the collapses alone do not decide C1 and C2."
+            ),
+            "{text}"
+        );
         // The re-judgement in full stands in the outcomes section.
-        let verdicts = verdicts_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
+        let verdicts = verdicts_of(scores(100.0, &[3], 200.0, &[]), Vec::new());
         let full = collapses_rejudged(&verdicts, "task1", "ea-madm").unwrap();
         assert!(
             full.starts_with(
@@ -584,12 +594,15 @@ mod tests {
             ),
             "{text}"
         );
-        // Collapses that decide nothing: EA-MADM loses with or without them.
+        // Collapses that decide one verdict and not the others: EA-MADM loses C1 and C2 with
+        // or without them; C3 (one Holm family with its stable-reaching tests, 7 pairs without
+        // the collapse) is no longer contradicted without it.
         let text = answer_of(scores(300.0, &[3], 200.0, &[]), Vec::new());
         assert!(
             text.contains(
-                "It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on), \
-                 which alone decide no verdict."
+                "It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on); \
+                 without those seeds C3 is inconclusive, so the collapses decide it, while the \
+                 collapses alone do not decide C1 and C2."
             ),
             "{text}"
         );
@@ -779,7 +792,7 @@ mod tests {
         assert_eq!(c3.verdict, Verdict::Inconclusive);
         assert!(
             c3.deciding_comparison()
-                .is_some_and(|c| c.difference.estimate == 0.0)
+                .is_some_and(|c| c.paired.estimate == 0.0)
         );
         let deciding = super::super::verdicts::deciding_number(c3);
         assert!(

@@ -11,6 +11,7 @@ mod claims;
 mod margins;
 mod monte_carlo;
 mod paired;
+mod paired_mean;
 mod resampling;
 mod sensitivity;
 mod stats;
