@@ -40,9 +40,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::Role;
-use crate::claims::{
-    self, ClaimOptions, ClaimsError, Judgement, STABLE_REACHING, Verdict,
-};
+use crate::claims::{self, ClaimOptions, ClaimsError, Judgement, STABLE_REACHING, Verdict};
 use crate::paper_claims::{CLAIMS, Claim};
 use crate::scores::FinalScore;
 
@@ -424,8 +422,8 @@ pub fn read_csv<R: std::io::Read>(reader: R) -> Result<Vec<SensitivityRow>, Clai
             .ok_or_else(|| bad("change", &raw.change))?;
         let statistic = STATISTICS
             .into_iter()
-        .find(|s| *s == raw.statistic)
-        .ok_or_else(|| bad("statistic", &raw.statistic))?;
+            .find(|s| *s == raw.statistic)
+            .ok_or_else(|| bad("statistic", &raw.statistic))?;
         rows.push(SensitivityRow {
             claim,
             base_verdict: verdict(row, "base_verdict", &raw.base_verdict)?,

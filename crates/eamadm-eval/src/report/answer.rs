@@ -629,11 +629,17 @@ mod tests {
         let (outcome, collapse) = RunOutcome::of(false, &episodes, 20);
         assert_eq!((outcome, collapse), (RunOutcome::Collapsed, Some(63)));
         let mut rows = scores(60.0, &[3], 200.0, &[]);
-        for r in rows.iter_mut().filter(|r| r.method == "ea-madm" && r.seed == 3) {
+        for r in rows
+            .iter_mut()
+            .filter(|r| r.method == "ea-madm" && r.seed == 3)
+        {
             r.collapse_episode = collapse;
         }
         let text = answer_of(rows, Vec::new());
-        assert!(text.contains("(3; never reaching again from episode 63 on)"), "{text}");
+        assert!(
+            text.contains("(3; never reaching again from episode 63 on)"),
+            "{text}"
+        );
         assert!(!text.contains("after episode"), "{text}");
     }
 

@@ -86,10 +86,7 @@ pub struct SignFlipMeans {
 enum Kind {
     /// Every subset, by meet in the middle: the subset sums of each half, sorted, by size;
     /// and the same for the negated differences (the upper interval end).
-    Exact {
-        halves: Halves,
-        negated: Halves,
-    },
+    Exact { halves: Halves, negated: Halves },
     /// `B` random subsets: each one's sum and size, and the non-empty subsets' means sorted.
     Drawn {
         subsets: Vec<(f64, u32)>,
@@ -268,7 +265,10 @@ impl SignFlipMeans {
 
     fn with_kind(differences: &[f64], kind: Kind) -> Result<Self, StatsError> {
         let low = differences.iter().copied().fold(f64::INFINITY, f64::min);
-        let high = differences.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let high = differences
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
         Ok(Self {
             n: differences.len(),
             mean: mean(differences)?,
@@ -495,12 +495,20 @@ fn smallest_mean(halves: &Halves, rank: u64, low: f64, high: f64) -> f64 {
 /// A key whose unsigned order is the order of the finite floats (`−0.0` just below `+0.0`).
 fn order_key(x: f64) -> u64 {
     let bits = x.to_bits();
-    if bits >> 63 == 1 { !bits } else { bits | 1 << 63 }
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    }
 }
 
 /// The float of an [`order_key`].
 fn from_order_key(key: u64) -> f64 {
-    f64::from_bits(if key >> 63 == 1 { key & !(1 << 63) } else { !key })
+    f64::from_bits(if key >> 63 == 1 {
+        key & !(1 << 63)
+    } else {
+        !key
+    })
 }
 
 #[cfg(test)]
@@ -553,7 +561,10 @@ mod tests {
             let (low, high) = exact.interval(confidence).unwrap();
             let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
             assert!(close(low.unwrap(), means[rank - 1]), "{confidence}");
-            assert!(close(high.unwrap(), means[means.len() - rank]), "{confidence}");
+            assert!(
+                close(high.unwrap(), means[means.len() - rank]),
+                "{confidence}"
+            );
         }
         // Five pairs cannot reach 95 %: the smallest one-sided p is 1/32.
         let five = SignFlipMeans::exact(&d[..5]).unwrap();

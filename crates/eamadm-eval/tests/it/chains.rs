@@ -280,7 +280,11 @@ fn check_comparison(actual: &Comparison, expected: &Expected) {
         "{what}"
     );
     close(actual.p_improvement, expected.p_improvement, &what);
-    close(actual.iqm_difference.estimate, expected.iqm_difference, &what);
+    close(
+        actual.iqm_difference.estimate,
+        expected.iqm_difference,
+        &what,
+    );
     close(actual.iqm_difference.low, expected.iqm_ci.0, &what);
     close(actual.iqm_difference.high, expected.iqm_ci.1, &what);
 }
@@ -478,7 +482,10 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             expected.interval.is_some()
         );
         exact(row.p_value.unwrap(), expected.p_value, expected.metric);
-        assert_eq!(row.p_holm.map(f64::to_bits), expected.p_holm.map(f64::to_bits));
+        assert_eq!(
+            row.p_holm.map(f64::to_bits),
+            expected.p_holm.map(f64::to_bits)
+        );
         close(
             row.p_improvement.unwrap(),
             expected.p_improvement,

@@ -284,8 +284,8 @@ fn a_c3_verdict_decided_by_stable_reaching_is_labelled_so() {
     write_csv(&rows, &mut bytes).unwrap();
     let text = String::from_utf8(bytes).unwrap();
     assert!(
-        text.lines()
-            .any(|l| l.starts_with("C3,") && l.contains(",stable_reaching,stable_reaching_share_difference,")),
+        text.lines().any(|l| l.starts_with("C3,")
+            && l.contains(",stable_reaching,stable_reaching_share_difference,")),
         "{text}"
     );
     assert_eq!(read_csv(text.as_bytes()).unwrap(), rows);
