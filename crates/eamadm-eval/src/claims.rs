@@ -425,7 +425,7 @@ pub fn paired_values(
 
 /// The seed of the random sign vectors of one comparison's differences `d` (drawn only beyond
 /// [`EXACT_MAX_PAIRS`](stats::EXACT_MAX_PAIRS) pairs): `base` mixed with the bits of `d`
-/// (FNV-1a, then SplitMix64's finaliser), so that each comparison has a stream of its own and
+/// (FNV-1a, then `SplitMix64`'s finaliser), so that each comparison has a stream of its own and
 /// the same comparison gets the same stream whichever judgement makes it.
 #[must_use]
 pub fn stream_seed(base: u64, d: &[f64]) -> u64 {
@@ -1290,6 +1290,9 @@ fn judge_versus(
     Ok(judgement)
 }
 
+/// The comparisons made and those that could not be.
+type MetricComparisons = (Vec<Comparison>, Vec<Untested>);
+
 /// The comparisons of `method` with each competitor on `metrics` (both sides need 2 or more
 /// seeds with a value, and 2 or more seeds where both have one; the others are listed as
 /// untested), not yet Holm-adjusted ([`adjust`]).
@@ -1303,7 +1306,7 @@ fn metric_comparisons(
     method: &str,
     competitors: &[&str],
     options: &ClaimOptions,
-) -> Result<(Vec<Comparison>, Vec<Untested>), (&'static str, StatsError)> {
+) -> Result<MetricComparisons, (&'static str, StatsError)> {
     let mut comparisons = Vec::new();
     let mut untested = Vec::new();
     for metric in metrics {
@@ -1500,13 +1503,18 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
             .map(|(i, _)| i);
         (Verdict::Equivalent, weakest, None)
     } else {
-        match by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod) {
-            Some(i) => (Verdict::Inconclusive, Some(i), None),
-            None => (
-                Verdict::Inconclusive,
-                None,
-                test_by_p(true, Some(Outcome::Unsettled)).or_else(|| test_by_p(true, None)),
-            ),
+        // The weakest informative comparison that does not favour the method; else the
+        // per-seed test (C3 with uninformative greedy SDs is decided by who reaches stably);
+        // else an uninformative comparison.
+        let pick = by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod);
+        match pick {
+            Some(i) if comparisons[i].informative => (Verdict::Inconclusive, Some(i), None),
+            _ => {
+                match test_by_p(true, Some(Outcome::Unsettled)).or_else(|| test_by_p(true, None)) {
+                    Some(test) => (Verdict::Inconclusive, None, Some(test)),
+                    None => (Verdict::Inconclusive, pick, None),
+                }
+            }
         }
     };
     judgement.verdict = verdict;

@@ -37,11 +37,11 @@ fn close(a: f64, b: f64) {
 struct Reference {
     d: &'static [f64],
     margin: f64,
-    /// p_greater(0), p_less(0), two-sided.
+    /// `p_greater(0)`, `p_less(0)`, two-sided.
     at_zero: [f64; 3],
     /// beyond, within.
     margin_tests: [f64; 2],
-    /// p_greater(−m), p_less(m), p_less(−m), p_greater(m).
+    /// `p_greater(−m)`, `p_less(m)`, `p_less(−m)`, `p_greater(m)`.
     one_sided: [f64; 4],
     interval: Option<(f64, f64)>,
 }
