@@ -216,7 +216,7 @@ pub const STATISTICS: [&str; 4] = [
     "stable_reaching_share_difference",
 ];
 
-/// The `statistic` of a row decided by a per-seed test on `column` ([`REACHED`] or
+/// The `statistic` of a row decided by a per-seed test on `column` ([`REACHED`](claims::REACHED) or
 /// [`STABLE_REACHING`]): the difference of the shares of paired seeds with the property.
 #[must_use]
 pub fn share_difference_statistic(column: &str) -> &'static str {

@@ -10,7 +10,7 @@
 //!   symmetric about 0. The statistic is `T = θ(d)` (mean, median or IQM). Under `H₀` every
 //!   sign vector `s ∈ {−1, +1}ⁿ` is equally likely; for the mean of at most
 //!   [`EXACT_MAX_PAIRS`] differences all are counted by meet in the middle
-//!   ([`SignFlipMeans`](super::SignFlipMeans)), whatever `resamples`; for any statistic with
+//!   ([`SignFlipMeans`]), whatever `resamples`; for any statistic with
 //!   `2ⁿ ≤ resamples` all are enumerated
 //!   and `p_greater = #{s: θ(s·d) ≥ T} / 2ⁿ`, `p_less = #{s: θ(s·d) ≤ T} / 2ⁿ`; otherwise
 //!   `B = resamples` random sign vectors are drawn and each count gets `+1` in numerator and
