@@ -246,7 +246,9 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          where both have a value; every seed counts, so a seed that collapsed to the step cap \
          counts against its method), with the **exact sign-flip 95% interval** (the inversion \
          of the sign-flip test: every one of the 2ⁿ sign vectors counted up to 24 pairs, \
-         {} drawn beyond; no resampling, so no Monte-Carlo error) and two p-values from the \
+         {} drawn beyond; no resampling, so no Monte-Carlo error; it holds the mean with 95% \
+         confidence when the paired differences are symmetric about it, the sign-flip test's \
+         own assumption, which capped, bimodal differences only approach) and two p-values from the \
          same distribution: that the mean lies **beyond the margin** on one side (at most α \
          exactly when the interval does) and that it lies **within** it (two one-sided tests \
          at α/2: the 95% interval inside the margin). The margins are listed below. A \
