@@ -85,10 +85,8 @@ use crate::Role;
 use crate::columns::{Column, FieldType};
 use crate::paper_claims::{self as paper, Claim, ClaimMetric, Direction};
 use crate::scores::{FinalScore, RunOutcome};
-use crate::stats::paired::{differences, paired_difference};
-use crate::stats::{
-    self, Alternative, Bootstrap, Interval, PermutationTest, SignFlipTest, Statistic, StatsError,
-};
+use crate::stats::paired::differences;
+use crate::stats::{self, Bootstrap, Interval, SignFlipTest, Statistic, StatsError};
 
 /// The significance level of the verdict rule.
 pub const ALPHA: f64 = 0.05;
@@ -230,9 +228,11 @@ pub struct ClaimOptions {
     /// Bootstrap of IQM intervals and of differences (the same seed for every call, so each
     /// number is a function of its two samples only).
     pub bootstrap: Bootstrap,
-    /// Permutation test of the IQM difference.
-    pub permutation: PermutationTest,
-    /// Sign-flip test of the paired differences (two-sided and TOST).
+    /// The sign-flip distribution of the mean paired difference, which decides every
+    /// comparison: enumerated up to [`EXACT_MAX_PAIRS`](stats::EXACT_MAX_PAIRS) pairs (then
+    /// `sign_flip` is not used), else `sign_flip.resamples` random sign vectors drawn from a
+    /// stream of their own per comparison: `sign_flip.seed` mixed with the bits of the
+    /// differences ([`stream_seed`]).
     pub sign_flip: SignFlipTest,
     /// Significance level of the verdict rule.
     pub alpha: f64,
@@ -241,13 +241,16 @@ pub struct ClaimOptions {
 }
 
 impl Default for ClaimOptions {
-    /// 10 000 bootstrap resamples at 95 %, 10 000 permutations, seed 0, α = [`ALPHA`], no
-    /// margins (the run's come with its tasks: `ReportContext::margins`).
+    /// 10 000 bootstrap resamples at 95 % (the descriptive IQM intervals), 100 000 sign vectors beyond
+    /// the exact enumeration, seed 0, α = [`ALPHA`], no margins (the run's come with its
+    /// tasks: `ReportContext::margins`).
     fn default() -> Self {
         Self {
             bootstrap: Bootstrap::default(),
-            permutation: PermutationTest::default(),
-            sign_flip: SignFlipTest::default(),
+            sign_flip: SignFlipTest {
+                resamples: 100_000,
+                seed: 0,
+            },
             alpha: ALPHA,
             margins: Margins::new(),
         }
@@ -298,7 +301,9 @@ pub enum Outcome {
     Unsettled,
 }
 
-/// One method under test against one competitor on one metric of a claim.
+/// One method under test against one competitor on one metric of a claim, paired by seed: the
+/// mean paired difference with its exact interval and tests decides ([`PairedComparison`]);
+/// the IQM difference and the probability of improvement describe.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Comparison {
     /// The metric.
@@ -307,45 +312,87 @@ pub struct Comparison {
     pub versus: String,
     /// Seeds with a value: the method's and the competitor's.
     pub n: (usize, usize),
-    /// IQM(method) − IQM(competitor), with its bootstrap interval.
-    pub difference: Interval,
-    /// Two-sided permutation p-value of the IQM difference.
+    /// The deciding comparison, paired by seed (runs of one seed share their random streams).
+    pub paired: PairedComparison,
+    /// The deciding p-value: that the mean paired difference lies beyond the metric's margin on
+    /// one side ([`PairedComparison::p_beyond`]; with no margin, that it is not 0).
     pub p_value: f64,
-    /// The p-value Holm-adjusted across the claim × task × method's comparisons.
+    /// `p_value` Holm-adjusted across the claim × task × method's informative comparisons (and,
+    /// for C3, its per-seed tests: one family); `p_value` itself for an uninformative one.
     pub p_holm: f64,
-    /// Probability that a random seed of the method beats one of the competitor (the metric's
-    /// direction; ties count ½).
-    pub p_improvement: f64,
     /// The metric's equivalence margin on the task ([`Margins`]); `None` when it has none.
     pub margin: Option<f64>,
+    /// False when every paired value of both methods is one and the same number (the metric
+    /// sits at a bound for both, e.g. a greedy SD of 0 on every stable-reaching seed): such a
+    /// comparison shows neither a difference nor an equivalence: it takes no part in Holm, and
+    /// in the verdict it settles nothing and is not equivalent.
+    pub informative: bool,
     /// What it settles.
     pub outcome: Outcome,
-    /// The same comparison paired by seed (runs of one seed share their random streams);
-    /// `None` when fewer than 2 seeds have a value for both methods.
-    pub paired: Option<PairedComparison>,
+    /// IQM(method) − IQM(competitor) over all seeds with a value, with its bootstrap interval:
+    /// descriptive (the IQM trims the seeds at the step cap that the mean counts).
+    pub iqm_difference: Interval,
+    /// Probability that a random seed of the method beats one of the competitor (the metric's
+    /// direction; ties count ½): descriptive.
+    pub p_improvement: f64,
 }
 
-/// The location statistic of paired differences: the mean, so that every seed counts — a seed
-/// that collapsed to the step cap is a difference the IQM would trim away — and so that the
-/// sign-flip TOST can reach p < 0.05 after Holm (with 20 seeds the IQM's smallest sign-flip
-/// p is 21 700 / 2²⁰ ≈ 0.021, which Holm over three competitors lifts above 0.05).
+/// The estimand of every verdict: the mean of the paired differences method − competitor.
+/// Every seed counts — a seed that collapsed to the step cap is a failure of its method, and
+/// robust locations hide it (the IQM trims 25 % of seeds at each end, the Hodges–Lehmann
+/// estimator breaks down at 29 %, and Task II's EA-MADM collapses on 30 %); the mean of
+/// differences is the difference of means, the paper's average curves' estimand; and its
+/// sign-flip distribution is exact and cheap to enumerate ([`stats::SignFlipMeans`]).
 pub const PAIRED_STATISTIC: Statistic = Statistic::Mean;
 
-/// A comparison paired by seed: the seeds where both methods have a value, and the mean of
-/// their differences (method − competitor).
+/// A comparison paired by seed: the seeds where both methods have a value, the mean of their
+/// differences (method − competitor) with the interval and tests of its sign-flip
+/// distribution ([`stats::SignFlipMeans`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PairedComparison {
     /// Seeds paired.
     pub n: usize,
-    /// Mean of the paired differences with its paired-bootstrap interval.
-    pub difference: Interval,
-    /// Two-sided sign-flip p-value of the mean of the paired differences.
+    /// Mean of the paired differences.
+    pub estimate: f64,
+    /// Lower end of its 95 % (1 − α) sign-flip interval; `None` when unbounded (fewer than 6
+    /// pairs: no location can be rejected).
+    pub low: Option<f64>,
+    /// Upper end; `None` when unbounded.
+    pub high: Option<f64>,
+    /// Two-sided sign-flip p-value of a mean paired difference of 0.
     pub p_value: f64,
-    /// TOST p-value that the mean paired difference lies within `±margin` (sign-flip tests;
-    /// the comparison's [`Comparison::margin`]); `None` when there is no margin.
+    /// p-value that the mean lies beyond `±margin` on one side (at most α exactly when the
+    /// interval lies beyond the margin); without a margin, `p_value`.
+    pub p_beyond: f64,
+    /// p-value that the mean lies within `±margin` (at most α exactly when the interval lies
+    /// inside it: two one-sided tests at α/2 each); `None` when there is no margin.
     pub p_equivalence: Option<f64>,
-    /// `p_equivalence` Holm-adjusted across the claim × task × method's comparisons.
+    /// `p_equivalence` Holm-adjusted across the claim × task × method's informative
+    /// comparisons.
     pub p_equivalence_holm: Option<f64>,
+    /// Whether every sign vector was counted (at most
+    /// [`EXACT_MAX_PAIRS`](stats::EXACT_MAX_PAIRS) pairs); else they were drawn.
+    pub exact: bool,
+    /// The Monte-Carlo standard error of `p_beyond` when the sign vectors were drawn.
+    pub p_monte_carlo_se: Option<f64>,
+}
+
+impl PairedComparison {
+    /// Whether the interval lies wholly beyond `±margin` (0 without one) on one side.
+    #[must_use]
+    pub fn lies_beyond(&self, margin: Option<f64>) -> bool {
+        let m = margin.unwrap_or(0.0);
+        self.high.is_some_and(|h| h < -m) || self.low.is_some_and(|l| l > m)
+    }
+
+    /// Whether the interval lies inside `(−margin, margin)`; false without a margin.
+    #[must_use]
+    pub fn lies_within(&self, margin: Option<f64>) -> bool {
+        match (margin, self.low, self.high) {
+            (Some(m), Some(l), Some(h)) => -m < l && h < m,
+            _ => false,
+        }
+    }
 }
 
 /// The values of `column` of `method` and `versus` on `task` on the seeds where both have
@@ -376,8 +423,27 @@ pub fn paired_values(
     pairs.into_iter().map(|(_, x, y)| (x, y)).unzip()
 }
 
+/// The seed of the random sign vectors of one comparison's differences `d` (drawn only beyond
+/// [`EXACT_MAX_PAIRS`](stats::EXACT_MAX_PAIRS) pairs): `base` mixed with the bits of `d`
+/// (FNV-1a, then `SplitMix64`'s finaliser), so that each comparison has a stream of its own and
+/// the same comparison gets the same stream whichever judgement makes it.
+#[must_use]
+pub fn stream_seed(base: u64, d: &[f64]) -> u64 {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for value in d {
+        for byte in value.to_bits().to_le_bytes() {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    let mut z = base ^ hash;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
 /// The paired comparison of `x` and `y` (seed-aligned) with the metric's equivalence
-/// `margin` (TOST only when there is one), or `None` with fewer than 2 pairs.
+/// `margin`, or `None` with fewer than 2 pairs.
 ///
 /// # Errors
 /// A [`StatsError`] for non-finite values.
@@ -391,23 +457,26 @@ pub fn compare_paired(
         return Ok(None);
     }
     let d = differences(x, y)?;
-    let difference = paired_difference(&options.bootstrap, x, y, PAIRED_STATISTIC)?;
-    let p_value = options
-        .sign_flip
-        .p_value(&d, PAIRED_STATISTIC, Alternative::TwoSided)?;
-    let p_equivalence = margin
-        .map(|m| {
-            options
-                .sign_flip
-                .equivalence_p_value(&d, PAIRED_STATISTIC, m)
-        })
-        .transpose()?;
+    let means = stats::SignFlipMeans::new(
+        &d,
+        options.sign_flip.resamples,
+        stream_seed(options.sign_flip.seed, &d),
+    )?;
+    let (low, high) = means.interval(1.0 - options.alpha)?;
+    let p_value = means.p_two_sided(0.0);
+    let p_beyond = means.beyond_margin(margin.unwrap_or(0.0))?;
+    let p_equivalence = margin.map(|m| means.within_margin(m)).transpose()?;
     Ok(Some(PairedComparison {
         n: d.len(),
-        difference,
+        estimate: means.mean(),
+        low,
+        high,
         p_value,
+        p_beyond,
         p_equivalence,
         p_equivalence_holm: p_equivalence,
+        exact: means.is_exact(),
+        p_monte_carlo_se: means.monte_carlo_se(p_beyond),
     }))
 }
 
@@ -607,14 +676,7 @@ pub fn per_seed_tests(
         let raw: Vec<f64> = tests.iter().map(|t| t.p_value).collect();
         for (test, p) in tests.iter_mut().zip(stats::holm(&raw)?) {
             test.p_holm = p;
-            let (wins, losses) = test.discordant;
-            test.outcome = if p >= alpha || wins == losses {
-                Outcome::Unsettled
-            } else if wins > losses {
-                Outcome::FavoursMethod
-            } else {
-                Outcome::FavoursCompetitor
-            };
+            test.outcome = per_seed_outcome(test, alpha);
         }
     }
     Ok(tests)
@@ -1167,10 +1229,13 @@ fn judge_versus(
         judgement.reason = none_run(method, set);
         return Ok(judgement);
     }
-    judgement.secondary = secondary_comparisons(scores, claim, task, method, &competitors, options)
-        .map_err(|(metric, e)| error(metric, e))?;
+    // The secondary metrics' comparisons (their own Holm family); those that cannot be made
+    // are left out.
+    (judgement.secondary, _) =
+        metric_comparisons(scores, claim.secondary, task, method, &competitors, options)
+            .map_err(|(metric, e)| error(metric, e))?;
+    adjust(&mut judgement.secondary, &mut [], options.alpha).map_err(|e| error("(holm)", e))?;
     let per_seed_column = claim.per_seed.unwrap_or(REACHED);
-    let mut raw_p = Vec::new();
     for metric in claim.metrics {
         let (x, seeds) = values(scores, task, method, metric.column);
         if x.len() < 2 {
@@ -1186,8 +1251,6 @@ fn judge_versus(
                     "a reaching episode"
                 }
             );
-            judgement.comparisons.clear();
-            judgement.untested.clear();
             judge_by_reaching(
                 scores,
                 &mut judgement,
@@ -1199,10 +1262,62 @@ fn judge_versus(
             .map_err(|e| error(per_seed_column, e))?;
             return Ok(judgement);
         }
-        for &versus in &competitors {
+    }
+    let (comparisons, untested) =
+        metric_comparisons(scores, claim.metrics, task, method, &competitors, options)
+            .map_err(|(metric, e)| error(metric, e))?;
+    judgement.comparisons = comparisons;
+    judgement.untested = untested;
+    if let Some(column) = claim.per_seed {
+        judgement.reaching =
+            per_seed_tests(scores, task, method, &competitors, column, options.alpha)
+                .map_err(|e| error(column, e))?;
+    }
+    if judgement.comparisons.is_empty() && judgement.reaching.is_empty() {
+        judgement.reason =
+            "no competitor has a value in 2 or more seeds (none reaches the target)".to_owned();
+        return Ok(judgement);
+    }
+    // One Holm family: the informative comparisons of every metric and competitor, and the
+    // per-seed tests (C3).
+    adjust(
+        &mut judgement.comparisons,
+        &mut judgement.reaching,
+        options.alpha,
+    )
+    .map_err(|e| error("(holm)", e))?;
+    decide(&mut judgement, options.alpha);
+    Ok(judgement)
+}
+
+/// The comparisons made and those that could not be.
+type MetricComparisons = (Vec<Comparison>, Vec<Untested>);
+
+/// The comparisons of `method` with each competitor on `metrics` (both sides need 2 or more
+/// seeds with a value, and 2 or more seeds where both have one; the others are listed as
+/// untested), not yet Holm-adjusted ([`adjust`]).
+///
+/// # Errors
+/// The metric and the [`StatsError`] when a statistic fails.
+fn metric_comparisons(
+    scores: &[FinalScore],
+    metrics: &[ClaimMetric],
+    task: &str,
+    method: &str,
+    competitors: &[&str],
+    options: &ClaimOptions,
+) -> Result<MetricComparisons, (&'static str, StatsError)> {
+    let mut comparisons = Vec::new();
+    let mut untested = Vec::new();
+    for metric in metrics {
+        let (x, _) = values(scores, task, method, metric.column);
+        for &versus in competitors {
             let (y, versus_seeds) = values(scores, task, versus, metric.column);
+            if x.len() < 2 {
+                continue;
+            }
             if y.len() < 2 {
-                judgement.untested.push(Untested {
+                untested.push(Untested {
                     metric: metric.column,
                     versus: versus.to_owned(),
                     reason: format!(
@@ -1214,61 +1329,93 @@ fn judge_versus(
                 continue;
             }
             let margin = options.margins.value(task, metric.column);
-            let mut comparison = compare(&x, &y, *metric, versus, margin, options)
-                .map_err(|e| error(metric.column, e))?;
             let (px, py) = paired_values(scores, task, method, versus, metric.column);
-            comparison.paired =
-                compare_paired(&px, &py, margin, options).map_err(|e| error(metric.column, e))?;
-            raw_p.push(comparison.p_value);
-            judgement.comparisons.push(comparison);
+            match compare(&x, &y, (&px, &py), *metric, versus, margin, options)
+                .map_err(|e| (metric.column, e))?
+            {
+                Some(comparison) => comparisons.push(comparison),
+                None => untested.push(Untested {
+                    metric: metric.column,
+                    versus: versus.to_owned(),
+                    reason: format!(
+                        "{} and {} both have a value on {} seed(s) only",
+                        paper::method_title(method),
+                        paper::method_title(versus),
+                        px.len()
+                    ),
+                }),
+            }
         }
     }
-    if let Some(column) = claim.per_seed {
-        judgement.reaching =
-            per_seed_tests(scores, task, method, &competitors, column, options.alpha)
-                .map_err(|e| error(column, e))?;
-    }
-    if judgement.comparisons.is_empty() && judgement.reaching.is_empty() {
-        judgement.reason =
-            "no competitor has a value in 2 or more seeds (none reaches the target)".to_owned();
-        return Ok(judgement);
-    }
-    if judgement.comparisons.is_empty() {
-        // Only the per-seed tests (no competitor has 2 values on a metric) decide.
-        decide(&mut judgement, options.alpha);
-        return Ok(judgement);
-    }
-    let adjusted = stats::holm(&raw_p).map_err(|e| error("(holm)", e))?;
-    for (comparison, p_holm) in judgement.comparisons.iter_mut().zip(adjusted) {
-        comparison.p_holm = p_holm;
-        comparison.outcome = outcome(comparison, options.alpha);
-    }
-    // Equivalence is judged on every comparison at once: Holm across them, and a comparison
-    // without a margin (or without pairs) can never be equivalent.
-    let equivalence_p: Vec<f64> = judgement
-        .comparisons
+    Ok((comparisons, untested))
+}
+
+/// Holm-adjusts one family — the informative `comparisons` and the per-seed `tests` together
+/// — and sets their outcomes at level `alpha`; the equivalence p-values of the informative
+/// comparisons form a family of their own (a comparison without a margin enters it with 1).
+/// An uninformative comparison keeps its raw p-values and settles nothing.
+///
+/// # Errors
+/// A [`StatsError`] from Holm (it cannot fail on p-values).
+fn adjust(
+    comparisons: &mut [Comparison],
+    tests: &mut [ReachingComparison],
+    alpha: f64,
+) -> Result<(), StatsError> {
+    let raw: Vec<f64> = comparisons
         .iter()
-        .map(|c| {
-            c.paired
-                .as_ref()
-                .and_then(|p| p.p_equivalence)
-                .unwrap_or(1.0)
-        })
+        .filter(|c| c.informative)
+        .map(|c| c.p_value)
+        .chain(tests.iter().map(|t| t.p_value))
         .collect();
-    let equivalence_holm = stats::holm(&equivalence_p).map_err(|e| error("(holm)", e))?;
-    for (comparison, p) in judgement.comparisons.iter_mut().zip(equivalence_holm) {
-        if let Some(paired) = comparison.paired.as_mut() {
-            paired.p_equivalence_holm = paired.p_equivalence.map(|_| p);
+    if !raw.is_empty() {
+        let mut adjusted = stats::holm(&raw)?.into_iter();
+        for c in comparisons.iter_mut().filter(|c| c.informative) {
+            c.p_holm = adjusted.next().unwrap_or(1.0);
+        }
+        for t in tests.iter_mut() {
+            t.p_holm = adjusted.next().unwrap_or(1.0);
+            t.outcome = per_seed_outcome(t, alpha);
         }
     }
-    decide(&mut judgement, options.alpha);
-    Ok(judgement)
+    let equivalence: Vec<f64> = comparisons
+        .iter()
+        .filter(|c| c.informative)
+        .map(|c| c.paired.p_equivalence.unwrap_or(1.0))
+        .collect();
+    if !equivalence.is_empty() {
+        let mut adjusted = stats::holm(&equivalence)?.into_iter();
+        for c in comparisons.iter_mut().filter(|c| c.informative) {
+            let p = adjusted.next().unwrap_or(1.0);
+            c.paired.p_equivalence_holm = c.paired.p_equivalence.map(|_| p);
+        }
+    }
+    for c in comparisons.iter_mut() {
+        if !c.informative {
+            c.p_holm = c.p_value;
+            c.paired.p_equivalence_holm = None;
+        }
+        c.outcome = outcome(c, alpha);
+    }
+    Ok(())
+}
+
+/// Whether a comparison is equivalent at level `alpha`: informative, and its Holm-adjusted
+/// equivalence p below `alpha` (its interval lies inside the margin).
+#[must_use]
+pub fn is_equivalent(comparison: &Comparison, alpha: f64) -> bool {
+    comparison.informative
+        && comparison
+            .paired
+            .p_equivalence_holm
+            .is_some_and(|p| p < alpha)
 }
 
 /// The verdict of a judgement whose comparisons and per-seed tests are made (see the module
 /// docs): each metric comparison counts with the outcome [`combine`]d with the per-seed test
 /// against the same competitor (C3), and a per-seed test against a competitor with no metric
-/// comparison counts by itself.
+/// comparison counts by itself. An uninformative comparison counts as settling nothing (so a
+/// claim cannot be supported past a tie at a bound) and as not equivalent.
 fn decide(judgement: &mut Judgement, alpha: f64) {
     let comparisons = &judgement.comparisons;
     let tests = &judgement.reaching;
@@ -1287,17 +1434,21 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
             .copied()
             .chain(alone.iter().map(|t| t.outcome))
     };
+    // The deciding comparison among those `keep` keeps, the informative ones first.
     let by_p = |pick_max: bool, keep: &dyn Fn(usize, &Comparison) -> bool| {
-        comparisons
-            .iter()
-            .enumerate()
-            .filter(|&(i, c)| keep(i, c))
-            .max_by(|(i, a), (j, b)| {
-                let order = a.p_holm.total_cmp(&b.p_holm);
-                // Ties go to the earlier comparison either way.
-                (if pick_max { order } else { order.reverse() }).then(j.cmp(i))
-            })
-            .map(|(i, _)| i)
+        let best = |informative: bool| {
+            comparisons
+                .iter()
+                .enumerate()
+                .filter(|&(i, c)| c.informative == informative && keep(i, c))
+                .max_by(|(i, a), (j, b)| {
+                    let order = a.p_holm.total_cmp(&b.p_holm);
+                    // Ties go to the earlier comparison either way.
+                    (if pick_max { order } else { order.reverse() }).then(j.cmp(i))
+                })
+                .map(|(i, _)| i)
+        };
+        best(true).or_else(|| best(false))
     };
     // The per-seed test that decides when no metric comparison can (ties: the earlier one).
     let test_by_p = |pick_max: bool, outcome: Option<Outcome>| {
@@ -1335,25 +1486,35 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
         }
     } else if alone.is_empty()
         // A per-seed test has no margin: only the same seeds on both sides is equivalence
-        // there ("unsettled" with discordant seeds is absence of evidence, not equivalence).
+        // there ("unsettled" with discordant seeds is absence of evidence, not equivalence);
+        // an uninformative comparison shows no equivalence either.
         && tests.iter().all(|t| t.discordant == (0, 0))
         && !comparisons.is_empty()
-        && comparisons.iter().all(|c| {
-            c.paired
-                .as_ref()
-                .and_then(|p| p.p_equivalence_holm)
-                .is_some_and(|p| p < alpha)
-        })
+        && comparisons.iter().all(|c| is_equivalent(c, alpha))
     {
-        (Verdict::Equivalent, by_p(true, &|_, _| true), None)
+        // The weakest equivalence decides.
+        let weakest = comparisons
+            .iter()
+            .enumerate()
+            .max_by(|(i, a), (j, b)| {
+                let p = |c: &Comparison| c.paired.p_equivalence_holm.unwrap_or(1.0);
+                p(a).total_cmp(&p(b)).then(j.cmp(i))
+            })
+            .map(|(i, _)| i);
+        (Verdict::Equivalent, weakest, None)
     } else {
-        match by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod) {
-            Some(i) => (Verdict::Inconclusive, Some(i), None),
-            None => (
-                Verdict::Inconclusive,
-                None,
-                test_by_p(true, Some(Outcome::Unsettled)).or_else(|| test_by_p(true, None)),
-            ),
+        // The weakest informative comparison that does not favour the method; else the
+        // per-seed test (C3 with uninformative greedy SDs is decided by who reaches stably);
+        // else an uninformative comparison.
+        let pick = by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod);
+        match pick {
+            Some(i) if comparisons[i].informative => (Verdict::Inconclusive, Some(i), None),
+            _ => {
+                match test_by_p(true, Some(Outcome::Unsettled)).or_else(|| test_by_p(true, None)) {
+                    Some(test) => (Verdict::Inconclusive, None, Some(test)),
+                    None => (Verdict::Inconclusive, pick, None),
+                }
+            }
         }
     };
     judgement.verdict = verdict;
@@ -1363,111 +1524,78 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
     }
 }
 
-/// The comparisons of `method` with each competitor on `claim`'s secondary metrics (both
-/// sides need 2 or more seeds with a value; the others are left out), Holm-adjusted among
-/// themselves.
-///
-/// # Errors
-/// The metric and the [`StatsError`] when a statistic fails.
-fn secondary_comparisons(
-    scores: &[FinalScore],
-    claim: &Claim,
-    task: &str,
-    method: &str,
-    competitors: &[&str],
-    options: &ClaimOptions,
-) -> Result<Vec<Comparison>, (&'static str, StatsError)> {
-    let mut comparisons = Vec::new();
-    for metric in claim.secondary {
-        let (x, _) = values(scores, task, method, metric.column);
-        for &versus in competitors {
-            let (y, _) = values(scores, task, versus, metric.column);
-            if x.len() < 2 || y.len() < 2 {
-                continue;
-            }
-            let fail = |e| (metric.column, e);
-            let margin = options.margins.value(task, metric.column);
-            let mut comparison = compare(&x, &y, *metric, versus, margin, options).map_err(fail)?;
-            let (px, py) = paired_values(scores, task, method, versus, metric.column);
-            comparison.paired = compare_paired(&px, &py, margin, options).map_err(fail)?;
-            comparisons.push(comparison);
-        }
-    }
-    let raw: Vec<f64> = comparisons.iter().map(|c| c.p_value).collect();
-    if !raw.is_empty() {
-        let holm = stats::holm(&raw).map_err(|e| ("(holm)", e))?;
-        let equivalence: Vec<f64> = comparisons
-            .iter()
-            .map(|c| {
-                c.paired
-                    .as_ref()
-                    .and_then(|p| p.p_equivalence)
-                    .unwrap_or(1.0)
-            })
-            .collect();
-        let equivalence_holm = stats::holm(&equivalence).map_err(|e| ("(holm)", e))?;
-        for ((c, p), q) in comparisons.iter_mut().zip(holm).zip(equivalence_holm) {
-            c.p_holm = p;
-            c.outcome = outcome(c, options.alpha);
-            if let Some(paired) = c.paired.as_mut() {
-                paired.p_equivalence_holm = paired.p_equivalence.map(|_| q);
-            }
-        }
-    }
-    Ok(comparisons)
-}
-
 /// One comparison of the per-seed values `x` of a method with the values `y` of `versus` on
-/// `metric` with its equivalence `margin` on the task: bootstrap interval of the IQM
-/// difference, permutation p, probability of improvement. `p_holm` is the raw p and the
-/// outcome is judged on it (the caller adjusts).
+/// `metric` with its equivalence `margin` on the task, deciding on the seed-paired values
+/// `pairs` ([`compare_paired`]): `None` with fewer than 2 pairs. The IQM difference with its
+/// bootstrap interval and the probability of improvement (over all of `x` and `y`) describe.
+/// `p_holm` is the raw p and the outcome is judged on it (the caller adjusts).
 ///
 /// # Errors
 /// A [`StatsError`] for empty or non-finite samples.
 pub fn compare(
     x: &[f64],
     y: &[f64],
+    pairs: (&[f64], &[f64]),
     metric: ClaimMetric,
     versus: &str,
     margin: Option<f64>,
     options: &ClaimOptions,
-) -> Result<Comparison, StatsError> {
-    let difference = options.bootstrap.difference(x, y, Statistic::Iqm)?;
-    let p_value = options.permutation.p_value(x, y, Statistic::Iqm)?;
+) -> Result<Option<Comparison>, StatsError> {
+    let (px, py) = pairs;
+    let Some(paired) = compare_paired(px, py, margin, options)? else {
+        return Ok(None);
+    };
+    let iqm_difference = options.bootstrap.difference(x, y, Statistic::Iqm)?;
     let p_improvement = match metric.direction {
         Direction::HigherIsBetter => stats::probability_of_improvement(x, y),
         Direction::LowerIsBetter => stats::probability_of_improvement(y, x),
     }?;
+    let informative = px.iter().chain(py).any(|v| *v != px[0]);
+    let p_value = paired.p_beyond;
     let mut comparison = Comparison {
         metric,
         versus: versus.to_owned(),
         n: (x.len(), y.len()),
-        difference,
+        paired,
         p_value,
         p_holm: p_value,
-        p_improvement,
         margin,
+        informative,
         outcome: Outcome::Unsettled,
-        paired: None,
+        iqm_difference,
+        p_improvement,
     };
     comparison.outcome = outcome(&comparison, options.alpha);
-    Ok(comparison)
+    Ok(Some(comparison))
 }
 
-/// What a comparison settles at level `alpha` (see the module docs).
+/// What a comparison settles at level `alpha` (see the module docs): a side is favoured when
+/// the comparison is informative and its Holm-adjusted p that the mean paired difference lies
+/// beyond the margin is below `alpha` — its interval then lies beyond the margin — on that
+/// side.
 fn outcome(comparison: &Comparison, alpha: f64) -> Outcome {
-    let d = &comparison.difference;
-    // "Favours" needs an effect beyond the metric's equivalence margin as well.
-    let beyond_margin = comparison.margin.is_none_or(|m| d.estimate.abs() > m);
-    let significant = comparison.p_holm < alpha && d.excludes(0.0) && beyond_margin;
-    if !significant {
+    let estimate = comparison.paired.estimate;
+    if !comparison.informative || comparison.p_holm >= alpha {
         Outcome::Unsettled
-    } else if comparison.metric.direction.favours(d.estimate) {
+    } else if comparison.metric.direction.favours(estimate) {
         Outcome::FavoursMethod
-    } else if comparison.metric.direction.favours(-d.estimate) {
+    } else if comparison.metric.direction.favours(-estimate) {
         Outcome::FavoursCompetitor
     } else {
         Outcome::Unsettled
+    }
+}
+
+/// What a per-seed test settles at level `alpha`: the side with the property on more
+/// discordant seeds, when its Holm p is below `alpha`.
+fn per_seed_outcome(test: &ReachingComparison, alpha: f64) -> Outcome {
+    let (wins, losses) = test.discordant;
+    if test.p_holm >= alpha || wins == losses {
+        Outcome::Unsettled
+    } else if wins > losses {
+        Outcome::FavoursMethod
+    } else {
+        Outcome::FavoursCompetitor
     }
 }
 
@@ -1497,16 +1625,18 @@ pub struct ClaimRow {
     pub n: usize,
     /// Seeds with a value of the competitor (empty for a single-method row).
     pub n_versus: Option<usize>,
-    /// IQM over seeds (single-method row) or IQM difference method − competitor; empty when no
-    /// seed has a value.
+    /// IQM over seeds (single-method row), or the mean paired difference method − competitor
+    /// (comparison), or a share difference (per-seed test); empty when no seed has a value.
     pub estimate: Option<f64>,
-    /// Lower end of its bootstrap 95 % interval.
+    /// Lower end of its 95 % interval (bootstrap for an IQM, sign-flip for a mean paired
+    /// difference; empty when unbounded).
     pub ci_low: Option<f64>,
     /// Upper end.
     pub ci_high: Option<f64>,
-    /// Raw permutation p-value (comparisons only).
+    /// The deciding p-value: that the mean paired difference lies beyond the margin
+    /// (comparison), the exact sign test (per-seed test).
     pub p_value: Option<f64>,
-    /// Holm-adjusted p-value (comparisons only).
+    /// Holm-adjusted p-value (empty for an uninformative comparison).
     pub p_holm: Option<f64>,
     /// Probability of improvement (comparisons only).
     pub p_improvement: Option<f64>,
@@ -1515,22 +1645,30 @@ pub struct ClaimRow {
     /// The claim × task × method verdict (rows of a method under test only; empty on the rows
     /// of a secondary metric, which does not decide it).
     pub verdict: Option<Verdict>,
-    /// Seeds paired (both methods have a value; comparisons only).
+    /// Seeds paired (both methods have a value; comparisons and per-seed tests).
     pub paired_n: Option<usize>,
-    /// Mean of the paired differences method − competitor (comparisons only).
-    pub paired_estimate: Option<f64>,
-    /// Lower end of its paired-bootstrap 95 % interval.
-    pub paired_ci_low: Option<f64>,
-    /// Upper end.
-    pub paired_ci_high: Option<f64>,
-    /// Two-sided sign-flip p-value of the mean paired difference.
+    /// Two-sided sign-flip p-value of a mean paired difference of 0 (comparisons only).
     pub paired_p_value: Option<f64>,
     /// The metric's equivalence margin (empty: the metric has none).
     pub margin: Option<f64>,
-    /// TOST p-value of equivalence within `±margin`, and Holm-adjusted.
+    /// p-value that the mean paired difference lies within `±margin`.
     pub p_equivalence: Option<f64>,
-    /// The TOST p-value Holm-adjusted across the claim × task × method's comparisons.
+    /// `p_equivalence` Holm-adjusted across the claim × task × method's comparisons.
     pub p_equivalence_holm: Option<f64>,
+    /// Whether the comparison carries information (comparisons only; see
+    /// [`Comparison::informative`]).
+    pub informative: Option<bool>,
+    /// Whether every sign vector was counted (comparisons only).
+    pub exact: Option<bool>,
+    /// Monte-Carlo standard error of `p_value` when the sign vectors were drawn.
+    pub p_monte_carlo_se: Option<f64>,
+    /// IQM(method) − IQM(competitor) over all seeds with a value (comparisons only;
+    /// descriptive).
+    pub iqm_difference: Option<f64>,
+    /// Lower end of its bootstrap 95 % interval.
+    pub iqm_ci_low: Option<f64>,
+    /// Upper end.
+    pub iqm_ci_high: Option<f64>,
 }
 
 /// The rows of `claims.csv`: per claim and task, first one single-method row per method and
@@ -1632,22 +1770,25 @@ pub fn rows(judgements: &[Judgement], estimates: &[Estimate]) -> Vec<ClaimRow> {
                 versus_set: judgement.versus_set.name(),
                 n: c.n.0,
                 n_versus: Some(c.n.1),
-                estimate: Some(c.difference.estimate),
-                ci_low: Some(c.difference.low),
-                ci_high: Some(c.difference.high),
+                estimate: Some(c.paired.estimate),
+                ci_low: c.paired.low,
+                ci_high: c.paired.high,
                 p_value: Some(c.p_value),
-                p_holm: Some(c.p_holm),
+                p_holm: c.informative.then_some(c.p_holm),
                 p_improvement: Some(c.p_improvement),
                 outcome: Some(c.outcome),
                 verdict: decides.then_some(judgement.verdict),
-                paired_n: c.paired.as_ref().map(|p| p.n),
-                paired_estimate: c.paired.as_ref().map(|p| p.difference.estimate),
-                paired_ci_low: c.paired.as_ref().map(|p| p.difference.low),
-                paired_ci_high: c.paired.as_ref().map(|p| p.difference.high),
-                paired_p_value: c.paired.as_ref().map(|p| p.p_value),
+                paired_n: Some(c.paired.n),
+                paired_p_value: Some(c.paired.p_value),
                 margin: c.margin,
-                p_equivalence: c.paired.as_ref().and_then(|p| p.p_equivalence),
-                p_equivalence_holm: c.paired.as_ref().and_then(|p| p.p_equivalence_holm),
+                p_equivalence: c.paired.p_equivalence,
+                p_equivalence_holm: c.paired.p_equivalence_holm,
+                informative: Some(c.informative),
+                exact: Some(c.paired.exact),
+                p_monte_carlo_se: c.paired.p_monte_carlo_se,
+                iqm_difference: Some(c.iqm_difference.estimate),
+                iqm_ci_low: Some(c.iqm_difference.low),
+                iqm_ci_high: Some(c.iqm_difference.high),
             });
         }
     }
@@ -1677,13 +1818,16 @@ impl ClaimRow {
             outcome: None,
             verdict: None,
             paired_n: None,
-            paired_estimate: None,
-            paired_ci_low: None,
-            paired_ci_high: None,
             paired_p_value: None,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
+            informative: None,
+            exact: None,
+            p_monte_carlo_se: None,
+            iqm_difference: None,
+            iqm_ci_low: None,
+            iqm_ci_high: None,
         }
     }
 }
@@ -1780,9 +1924,8 @@ pub fn outcome_rows(scores: &[FinalScore]) -> Result<Vec<ClaimRow>, ClaimsError>
     Ok(rows)
 }
 
-/// When the paired columns of `claims.csv` are blank.
-const PAIRED_BLANK: &str =
-    "the row is not a comparison, or fewer than 2 seeds have a value for both methods";
+/// When the comparison-only columns of `claims.csv` are blank.
+const PAIRED_BLANK: &str = "the row is not a comparison";
 
 /// The columns of `claims.csv`, in order (the fields of [`ClaimRow`]), each with its type,
 /// unit, meaning and when it is blank: the source of `datapackage.json` and of
@@ -1805,22 +1948,25 @@ pub const CLAIM_COLUMNS: &[Column] = &[
     Column::new("versus_set", FieldType::String, "Which competitors the method is judged against: `paper` (the paper's competitors on the task reward; every method), or `same_rewards` (a repaired robot reading judged a second time against the competitors trained on its own sub-task rewards).").values(&["paper", "same_rewards"]).blank_when("the row carries no verdict: a single-method row of a method not under test on the claim, or an outcome row"),
     Column::new("n", FieldType::Integer, "Seeds with a value of the method (the paired seeds in a reaching test or an outcome comparison).").unit("seeds"),
     Column::new("n_versus", FieldType::Integer, "Seeds with a value of the competitor.").unit("seeds").blank_when("the row is a single-method row"),
-    Column::new("estimate", FieldType::Number, "Single-method row: the interquartile mean (IQM) of the metric over seeds, or for claim `outcome` the share of seeds that converged. Comparison: IQM(method) − IQM(versus). Reaching test: share of paired seeds the method reaches on minus the competitor's. Outcome comparison: (seeds only the method converged on − seeds only `versus` did) / paired seeds. In the metric's unit (a share for `reached` and `converged`).").blank_when("the row is a single-method row and no seed of the method has a value (a C4 metric of a method that never reached the target)"),
-    Column::new("ci_low", FieldType::Number, "Lower end of the estimate's 95 % interval: a bootstrap interval for an IQM or IQM difference, a Wilson interval for a share of converged seeds.").blank_when("the row is a reaching test or an outcome comparison (they carry an exact test instead), or no seed has a value"),
+    Column::new("estimate", FieldType::Number, "Single-method row: the interquartile mean (IQM) of the metric over seeds (descriptive), or for claim `outcome` the share of seeds that converged. Comparison: the mean over paired seeds of the difference method − versus, the estimand that decides the row. Per-seed test (`reached`, `stable_reaching`): share of paired seeds the method has the property on minus the competitor's. Outcome comparison: (seeds only the method converged on − seeds only `versus` did) / paired seeds. In the metric's unit (a share for `reached`, `stable_reaching` and `converged`).").blank_when("the row is a single-method row and no seed of the method has a value (a C4 metric of a method that never reached the target)"),
+    Column::new("ci_low", FieldType::Number, "Lower end of the estimate's 95 % interval: a bootstrap interval for an IQM, a Wilson interval for a share of converged seeds, and for a comparison the exact sign-flip interval of the mean paired difference (the means of all 2ⁿ − 1 non-empty subsets of the paired differences ranked, the one at rank ⌊0.025 · 2ⁿ⌋ from each end: the inversion of the sign-flip test, no resampling; drawn sign vectors beyond 24 pairs, see `exact`).").blank_when("the row is a per-seed test or an outcome comparison (they carry an exact test instead), no seed has a value, or the comparison has fewer than 6 paired seeds (no sign-flip test reaches the 95 % level, so the interval is unbounded)"),
     Column::new("ci_high", FieldType::Number, "Upper end of that interval.").blank_when("as `ci_low`"),
-    Column::new("p_value", FieldType::Number, "Two-sided p-value: a permutation test of the IQM difference for a comparison, the exact sign test on discordant seeds (McNemar's exact test) for a reaching test or an outcome comparison.").blank_when("the row is a single-method row"),
-    Column::new("p_holm", FieldType::Number, "`p_value` Holm-adjusted across the claim × task × method's comparisons (the reaching tests across the competitors).").blank_when("the row is a single-method row or an outcome comparison (not adjusted: outcomes explain, they never enter a verdict)"),
-    Column::new("p_improvement", FieldType::Number, "Probability that a random seed of the method beats one of `versus` in the metric's better direction (ties count ½).").unit("probability").blank_when("the row is not a comparison"),
-    Column::new("outcome", FieldType::String, "What the comparison settles at α = 0.05: `favours_method` or `favours_competitor` needs Holm p < α, an interval excluding 0 and an effect beyond the metric's margin; otherwise `unsettled`.").values(&["favours_method", "favours_competitor", "unsettled"]).blank_when("the row is a single-method row or an outcome comparison"),
+    Column::new("p_value", FieldType::Number, "Comparison: the two-sided sign-flip p-value that the mean paired difference lies beyond ±`margin` on one side, 2 min(p(mean < −margin), p(mean > margin)) — at most α exactly when the 95 % interval lies beyond the margin; without a margin, the two-sided test of 0. Per-seed test or outcome comparison: the exact sign test on discordant seeds (McNemar's exact test).").blank_when("the row is a single-method row"),
+    Column::new("p_holm", FieldType::Number, "`p_value` Holm-adjusted across one family: the claim × task × method's informative comparisons (every metric × competitor) together with its per-seed tests (C3's `stable_reaching`; the `reached` tests of a verdict on reaching form a family of their own, across the competitors).").blank_when("the row is a single-method row, an outcome comparison (not adjusted: outcomes explain, they never enter a verdict), or an uninformative comparison (`informative` false: it takes no part)"),
+    Column::new("p_improvement", FieldType::Number, "Probability that a random seed of the method beats one of `versus` in the metric's better direction (ties count ½); descriptive.").unit("probability").blank_when("the row is not a comparison"),
+    Column::new("outcome", FieldType::String, "What the comparison settles at α = 0.05: `favours_method` or `favours_competitor` when `p_holm` < α (then the 95 % interval lies beyond the margin on that side; per-seed tests: the side with more discordant seeds); otherwise `unsettled` (equivalence is read off `p_equivalence_holm`).").values(&["favours_method", "favours_competitor", "unsettled"]).blank_when("the row is a single-method row or an outcome comparison"),
     Column::new("verdict", FieldType::String, "The verdict on the claim × task × method under test, repeated on each of its rows.").values(&["supported", "contradicted", "equivalent", "inconclusive", "untestable"]).blank_when("the method is not under test on this claim (a competitor's, ablation's or control's single-method row), the row is a secondary metric (C3's training-curve `fluctuation_steps`, `fluctuation_return`), or the row is about outcomes"),
-    Column::new("paired_n", FieldType::Integer, "Seeds where both methods have a value (runs of one seed share their random streams across methods).").unit("seeds").blank_when("the row is a single-method row, or a comparison with fewer than 2 such seeds"),
-    Column::new("paired_estimate", FieldType::Number, "Mean over paired seeds of the difference method − versus, in the metric's unit.").blank_when(PAIRED_BLANK),
-    Column::new("paired_ci_low", FieldType::Number, "Lower end of the paired bootstrap 95 % interval of `paired_estimate`.").blank_when(PAIRED_BLANK),
-    Column::new("paired_ci_high", FieldType::Number, "Upper end of that interval.").blank_when(PAIRED_BLANK),
-    Column::new("paired_p_value", FieldType::Number, "Two-sided sign-flip (paired permutation) p-value of `paired_estimate`.").blank_when(PAIRED_BLANK),
+    Column::new("paired_n", FieldType::Integer, "Seeds where both methods have a value (runs of one seed share their random streams across methods).").unit("seeds").blank_when("the row is a single-method row or an outcome comparison"),
+    Column::new("paired_p_value", FieldType::Number, "Two-sided sign-flip p-value of a mean paired difference of 0 (descriptive: any difference, margin or not).").blank_when(PAIRED_BLANK),
     Column::new("margin", FieldType::Number, "The metric's equivalence margin on the task (region of practical equivalence), in the metric's unit, derived from the task's rewards and control period (`eamadm::Task::equivalence_margins`; each with its reason in REPORT.md). The paper's mazes: ±2 steps on the step metrics, the shortest detour on a grid; ±2 reward on the return metrics, what that detour costs on Task II (−1 per step) and, where a detour costs nothing (Task I), the smallest difference one step's reward makes (−1 instead of +1). The robot: ±0.8 s on `reach_time` (two 0.4 s control periods); ±1.796 reward/s on `reach_average_reward` (what a 2-step detour takes off the average reward of the planner's 17-step route, 116 over 6.8 s); ±0.008081 s/episode on `retention_decay` (0.8 s over the 99-episode span of 100 reaching episodes).").blank_when("the metric has no margin on the task, or the row is not a comparison"),
-    Column::new("p_equivalence", FieldType::Number, "TOST p-value that the mean paired difference lies within ±`margin`.").blank_when("`margin` is blank, or fewer than 2 seeds have a value for both methods"),
-    Column::new("p_equivalence_holm", FieldType::Number, "`p_equivalence` Holm-adjusted across the claim × task × method's comparisons.").blank_when("`p_equivalence` is blank"),
+    Column::new("p_equivalence", FieldType::Number, "p-value that the mean paired difference lies within ±`margin`: 2 max(p(mean > −margin), p(mean < margin)), two one-sided sign-flip tests each at α/2 — at most α exactly when the 95 % interval lies inside the margin.").blank_when("`margin` is blank, or the row is not a comparison"),
+    Column::new("p_equivalence_holm", FieldType::Number, "`p_equivalence` Holm-adjusted across the claim × task × method's informative comparisons; a comparison is equivalent when it is below α.").blank_when("`p_equivalence` is blank, or the comparison is uninformative"),
+    Column::new("informative", FieldType::Boolean, "False when every paired value of both methods is one and the same number (the metric sits at a bound for both, e.g. a greedy SD of 0 on every stable-reaching seed): the comparison shows neither a difference nor an equivalence: it takes no part in Holm, and in the verdict it settles nothing and is not equivalent.").blank_when(PAIRED_BLANK),
+    Column::new("exact", FieldType::Boolean, "True when the sign-flip distribution counted all 2ⁿ sign vectors (at most 24 paired seeds, by meet in the middle); false when 100 000 were drawn from a stream of the comparison's own.").blank_when(PAIRED_BLANK),
+    Column::new("p_monte_carlo_se", FieldType::Number, "Monte-Carlo standard error √(p(1 − p)/B) of `p_value` when the sign vectors were drawn.").blank_when("the row is not a comparison, or `exact` is true"),
+    Column::new("iqm_difference", FieldType::Number, "IQM(method) − IQM(versus) over all seeds with a value (descriptive; the IQM trims a quarter of the seeds at each end, so seeds at the step cap may not count).").blank_when(PAIRED_BLANK),
+    Column::new("iqm_ci_low", FieldType::Number, "Lower end of the bootstrap 95 % interval of `iqm_difference` (the two methods resampled independently).").blank_when(PAIRED_BLANK),
+    Column::new("iqm_ci_high", FieldType::Number, "Upper end of that interval.").blank_when(PAIRED_BLANK),
 ];
 
 /// Writes `claims.csv` (header: the fields of [`ClaimRow`]; empty cells for absent values).
@@ -1896,17 +2042,16 @@ pub fn control_comparisons(
                 return Ok(None);
             }
             let margin = options.margins.value(task, metric.column);
-            let comparison =
-                compare(&x, &y, metric, control, margin, options).map_err(|source| {
-                    ClaimsError::Stats {
-                        claim: String::new(),
-                        task: task.to_owned(),
-                        method: method.to_owned(),
-                        metric: metric.column.to_owned(),
-                        source: Box::new(source),
-                    }
+            let (px, py) = paired_values(scores, task, method, control, metric.column);
+            let comparison = compare(&x, &y, (&px, &py), metric, control, margin, options)
+                .map_err(|source| ClaimsError::Stats {
+                    claim: String::new(),
+                    task: task.to_owned(),
+                    method: method.to_owned(),
+                    metric: metric.column.to_owned(),
+                    source: Box::new(source),
                 })?;
-            Ok(Some(ControlComparison {
+            Ok(comparison.map(|comparison| ControlComparison {
                 task: task.to_owned(),
                 method: method.to_owned(),
                 comparison,

@@ -40,7 +40,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::Role;
-use crate::claims::{self, ClaimOptions, ClaimsError, Judgement, REACHED, Verdict};
+use crate::claims::{self, ClaimOptions, ClaimsError, Judgement, STABLE_REACHING, Verdict};
 use crate::paper_claims::{CLAIMS, Claim};
 use crate::scores::FinalScore;
 
@@ -99,23 +99,24 @@ pub struct SensitivityRow {
     /// The competitor of the comparison that decides the verdict under the reading; empty when
     /// none decides (untestable).
     pub versus: String,
-    /// Its metric (a column of `final-scores.csv`, or `reached` for a verdict on per-seed
-    /// reaching).
+    /// Its metric: a column of `final-scores.csv`, or for a verdict decided by a per-seed test
+    /// that test's column (`reached`, or C3's `stable_reaching`).
     pub metric: String,
-    /// What `estimate` is: `iqm_difference` (IQM(EA-MADM) − IQM(competitor), the verdict
-    /// rule's comparison), `paired_mean_difference` (for an `equivalent` verdict: the mean of
-    /// the seed-paired differences, as the TOST judges it) or `reached_share_difference` (for
-    /// a verdict on per-seed reaching: the share of paired seeds EA-MADM reaches on minus the
-    /// competitor's); empty when nothing decides.
+    /// What `estimate` is: `paired_mean_difference` (the mean over paired seeds of EA-MADM −
+    /// competitor, the verdict rule's estimand), `reached_share_difference` or
+    /// `stable_reaching_share_difference` (for a verdict decided by a per-seed test: the share
+    /// of paired seeds EA-MADM has the property on minus the competitor's); empty when nothing
+    /// decides.
     pub statistic: &'static str,
     /// The deciding comparison's estimate under the reading (see `statistic`).
     pub estimate: Option<f64>,
-    /// Lower end of its bootstrap 95 % interval (empty for `reached`).
+    /// Lower end of its exact sign-flip 95 % interval (empty for a share difference, or when
+    /// unbounded: fewer than 6 pairs).
     pub ci_low: Option<f64>,
-    /// Upper end of its bootstrap 95 % interval (empty for `reached`).
+    /// Upper end (empty as `ci_low`).
     pub ci_high: Option<f64>,
-    /// Its Holm-adjusted p-value: of the two-sided test, or of the TOST for
-    /// `paired_mean_difference`, or of the exact sign test for `reached_share_difference`.
+    /// Its Holm-adjusted p-value: that the mean paired difference lies beyond the margin, or
+    /// within it for an `equivalent` verdict, or the exact sign test for a share difference.
     pub p_holm: Option<f64>,
 }
 
@@ -173,39 +174,56 @@ fn paper_ea_madm<'a>(scores: &'a [FinalScore], task: &str) -> Option<&'a str> {
 }
 
 /// Fills `row`'s deciding cells from `judgement` (the verdict under the reading): its deciding
-/// comparison, or for a verdict on per-seed reaching the strongest reaching test (smallest Holm
-/// p, the first on ties); left empty when nothing decides (untestable).
+/// comparison (the mean paired difference with its exact interval, and the Holm p of the
+/// test that decides: within the margin for an `equivalent` verdict, beyond it otherwise), or
+/// for a verdict on per-seed tests the strongest such test (smallest Holm p, the first on
+/// ties), named by its own column (`reached` or `stable_reaching`); left empty when nothing
+/// decides (untestable).
 fn fill_deciding(row: &mut SensitivityRow, judgement: &Judgement) {
     if let Some(c) = judgement.deciding_comparison() {
         row.versus.clone_from(&c.versus);
         c.metric.column.clone_into(&mut row.metric);
-        let paired = c
-            .paired
-            .as_ref()
-            .filter(|_| judgement.verdict == Verdict::Equivalent);
-        let (statistic, interval, p) = match paired {
-            Some(p) => (
-                "paired_mean_difference",
-                p.difference,
-                p.p_equivalence_holm.unwrap_or(1.0),
-            ),
-            None => ("iqm_difference", c.difference, c.p_holm),
-        };
-        row.statistic = statistic;
-        row.estimate = Some(interval.estimate);
-        row.ci_low = Some(interval.low);
-        row.ci_high = Some(interval.high);
-        row.p_holm = Some(p);
+        row.statistic = PAIRED_MEAN_DIFFERENCE;
+        row.estimate = Some(c.paired.estimate);
+        row.ci_low = c.paired.low;
+        row.ci_high = c.paired.high;
+        row.p_holm = Some(if judgement.verdict == Verdict::Equivalent {
+            c.paired.p_equivalence_holm.unwrap_or(1.0)
+        } else {
+            c.p_holm
+        });
     } else if let Some(t) = judgement
         .reaching
         .iter()
         .reduce(|best, t| if t.p_holm < best.p_holm { t } else { best })
     {
         row.versus.clone_from(&t.versus);
-        REACHED.clone_into(&mut row.metric);
-        row.statistic = "reached_share_difference";
+        t.metric.clone_into(&mut row.metric);
+        row.statistic = share_difference_statistic(t.metric);
         row.estimate = Some(claims::reaching_difference(t));
         row.p_holm = Some(t.p_holm);
+    }
+}
+
+/// The `statistic` of a row decided by a comparison: the mean paired difference.
+pub const PAIRED_MEAN_DIFFERENCE: &str = "paired_mean_difference";
+
+/// Every value of the `statistic` column (empty: nothing decides).
+pub const STATISTICS: [&str; 4] = [
+    "",
+    PAIRED_MEAN_DIFFERENCE,
+    "reached_share_difference",
+    "stable_reaching_share_difference",
+];
+
+/// The `statistic` of a row decided by a per-seed test on `column` ([`REACHED`](claims::REACHED) or
+/// [`STABLE_REACHING`]): the difference of the shares of paired seeds with the property.
+#[must_use]
+pub fn share_difference_statistic(column: &str) -> &'static str {
+    if column == STABLE_REACHING {
+        "stable_reaching_share_difference"
+    } else {
+        "reached_share_difference"
     }
 }
 
@@ -402,15 +420,10 @@ pub fn read_csv<R: std::io::Read>(reader: R) -> Result<Vec<SensitivityRow>, Clai
             .into_iter()
             .find(|c| c.name() == raw.change)
             .ok_or_else(|| bad("change", &raw.change))?;
-        let statistic = [
-            "",
-            "iqm_difference",
-            "paired_mean_difference",
-            "reached_share_difference",
-        ]
-        .into_iter()
-        .find(|s| *s == raw.statistic)
-        .ok_or_else(|| bad("statistic", &raw.statistic))?;
+        let statistic = STATISTICS
+            .into_iter()
+            .find(|s| *s == raw.statistic)
+            .ok_or_else(|| bad("statistic", &raw.statistic))?;
         rows.push(SensitivityRow {
             claim,
             base_verdict: verdict(row, "base_verdict", &raw.base_verdict)?,

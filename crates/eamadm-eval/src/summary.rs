@@ -171,6 +171,72 @@ pub fn mean_band(runs: &[Vec<f64>]) -> Result<Vec<BandPoint>, StatsError> {
     Ok(band.band())
 }
 
+/// One point of a success band ([`success_band`]): the share of (seed, episode) outcomes that
+/// reached the target over a window of episodes, with its Wilson 95 % interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ProportionPoint {
+    /// The window's last episode (0-based).
+    pub episode: usize,
+    /// Outcomes that reached the target.
+    pub successes: u64,
+    /// Outcomes counted: every seed's episodes in the window.
+    pub trials: u64,
+    /// `successes / trials` with its Wilson 95 % interval.
+    pub wilson: crate::stats::Interval,
+}
+
+/// A binary metric over episodes as what it is, a proportion (issue 34 item 7: never the IQM
+/// of 0/1 outcomes, which reads 1 when more than three quarters of the seeds succeed): per
+/// episode `e`, the outcomes of every seed (`runs[seed][episode]`, ragged allowed) over the
+/// trailing `window` episodes `e − window + 1 … e` pooled, with the Wilson 95 % interval
+/// ([`wilson`](crate::stats::wilson)). With `window = 1` the trials are the seeds, which are
+/// independent; a wider window pools episodes of one seed, which are not, so its interval is
+/// narrower than the truth (say so beside a figure that draws it).
+///
+/// ```
+/// use eamadm_eval::summary::success_band;
+///
+/// // Four seeds, two episodes: 3 of 4 reach in the first, all in the second.
+/// let runs = vec![vec![true, true], vec![true, true], vec![false, true], vec![true, true]];
+/// let band = success_band(&runs, 1)?;
+/// assert_eq!((band[0].successes, band[0].trials), (3, 4));
+/// assert_eq!(band[0].wilson.estimate, 0.75); // the IQM of the 0/1 outcomes would be 1
+/// assert_eq!((band[1].successes, band[1].trials), (4, 4));
+/// // Pooled over both episodes: 7 of 8.
+/// assert_eq!(success_band(&runs, 2)?[1].successes, 7);
+/// # Ok::<(), eamadm_eval::summary::StatsError>(())
+/// ```
+///
+/// # Errors
+/// [`StatsError::NoSeeds`] for no curve, [`StatsError::ZeroWindow`] for a window of 0.
+pub fn success_band(runs: &[Vec<bool>], window: usize) -> Result<Vec<ProportionPoint>, StatsError> {
+    if runs.is_empty() {
+        return Err(StatsError::NoSeeds);
+    }
+    if window == 0 {
+        return Err(StatsError::ZeroWindow);
+    }
+    let episodes = runs.iter().map(Vec::len).max().unwrap_or(0);
+    let mut points = Vec::with_capacity(episodes);
+    for episode in 0..episodes {
+        let first = (episode + 1).saturating_sub(window);
+        let (mut successes, mut trials) = (0_u64, 0_u64);
+        for curve in runs {
+            for &reached in curve.iter().take(episode + 1).skip(first) {
+                successes += u64::from(reached);
+                trials += 1;
+            }
+        }
+        points.push(ProportionPoint {
+            episode,
+            successes,
+            trials,
+            wilson: crate::stats::wilson(successes, trials, 0.95)?,
+        });
+    }
+    Ok(points)
+}
+
 /// The per-episode mean band of [`mean_band`], accumulated one seed's curve at a time, so a
 /// caller that reads runs one by one holds three numbers and a count per episode, never the
 /// curves: memory grows with the longest curve, not with the number of seeds.

@@ -330,11 +330,13 @@ fn failure_sentence(
     let names: Vec<String> = collapsed.iter().map(|(seed, _)| seed.to_string()).collect();
     let episodes: Vec<u64> = collapsed.iter().filter_map(|(_, e)| *e).collect();
     let from = match (episodes.iter().min(), episodes.iter().max()) {
+        // `collapse_episode` is the first episode of the non-reaching tail: the run last
+        // reached one episode before it.
         (Some(low), Some(high)) if low == high => {
-            format!("; never reaching again after episode {low}")
+            format!("; never reaching again from episode {low} on")
         }
         (Some(low), Some(high)) => {
-            format!("; never reaching again after episodes {low}–{high}")
+            format!("; never reaching again from episodes {low}–{high} on")
         }
         _ => String::new(),
     };
@@ -549,21 +551,31 @@ mod tests {
 
     #[test]
     fn collapsed_seeds_are_named_and_said_whether_they_decide() {
-        let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
-        // EA-MADM equals the competitors but for the collapsed seeds: without them C1 and C2
+        // (7 paired seeds are the fewest that can show equivalence at the 95 % level against
+        // two competitors: Holm's 2 × 2/2ⁿ must fall below 0.05.)
+        let text = answer_of(scores(100.0, &[3], 200.0, &[]), Vec::new());
+        // EA-MADM equals the competitors but for the collapsed seed: without it C1 and C2
         // are equivalent (within the 2-step and 2-reward margins).
         assert!(
             text.contains(
-                " It collapsed on 2 of 8 seeds (3, 5; never reaching again after episodes \
-                 63–65); without those seeds C1 and C2 are equivalent, so the collapses decide \
-                 them."
+                " It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on); \
+                 without those seeds C1 and C2 are equivalent, so the collapses decide them."
             ),
             "{text}"
         );
-        assert!(text.contains("it converges on 6/8 seeds"), "{text}");
+        assert!(text.contains("it converges on 7/8 seeds"), "{text}");
         assert!(sentences(&text) <= 3, "{text}");
+        // Two collapses leave 6 paired seeds: too few to show equivalence, and it says so.
+        let text = answer_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
+        assert!(
+            text.contains(
+                " It collapsed on 2 of 8 seeds (3, 5; never reaching again from episodes \
+                 63–65 on); the collapses alone do not decide C1 and C2."
+            ),
+            "{text}"
+        );
         // The re-judgement in full stands in the outcomes section.
-        let verdicts = verdicts_of(scores(100.0, &[3, 5], 200.0, &[]), Vec::new());
+        let verdicts = verdicts_of(scores(100.0, &[3], 200.0, &[]), Vec::new());
         let full = collapses_rejudged(&verdicts, "task1", "ea-madm").unwrap();
         assert!(
             full.starts_with(
@@ -577,20 +589,58 @@ mod tests {
         let text = answer_of(scores(60.0, &[3], 200.0, &[]), Vec::new());
         assert!(
             text.contains(
-                "It collapsed on 1 of 8 seeds (3; never reaching again after episode 63); \
+                "It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on); \
                  without those seeds C1 and C2 are supported, so the collapses decide them."
             ),
             "{text}"
         );
-        // Collapses that decide nothing: EA-MADM loses with or without them.
+        // Collapses that decide one verdict and not the others: EA-MADM loses C1 and C2 with
+        // or without them; C3 (one Holm family with its stable-reaching tests, 7 pairs without
+        // the collapse) is no longer contradicted without it.
         let text = answer_of(scores(300.0, &[3], 200.0, &[]), Vec::new());
         assert!(
             text.contains(
-                "It collapsed on 1 of 8 seeds (3; never reaching again after episode 63), \
-                 which alone decide no verdict."
+                "It collapsed on 1 of 8 seeds (3; never reaching again from episode 63 on); \
+                 without those seeds C3 is inconclusive, so the collapses decide it, while the \
+                 collapses alone do not decide C1 and C2."
             ),
             "{text}"
         );
+    }
+
+    /// Issue 34 item 7: `collapse_episode` is the first episode that no longer reaches, so the
+    /// sentence says "from episode e on", not "after episode e" (one episode late).
+    #[test]
+    fn the_collapse_sentence_names_the_first_episode_that_no_longer_reaches() {
+        let episode = |reached| crate::record::EpisodeRecord {
+            episode: 0,
+            steps: 1,
+            task_return: 0.0,
+            learning_return: 0.0,
+            terminated: reached,
+            truncated: !reached,
+            reached,
+            collisions: 0,
+            env_steps: 1,
+            robot: None,
+        };
+        // Episodes 0–62 reach, 63–199 do not.
+        let episodes: Vec<_> = (0..200).map(|e| episode(e < 63)).collect();
+        let (outcome, collapse) = RunOutcome::of(false, &episodes, 20);
+        assert_eq!((outcome, collapse), (RunOutcome::Collapsed, Some(63)));
+        let mut rows = scores(60.0, &[3], 200.0, &[]);
+        for r in rows
+            .iter_mut()
+            .filter(|r| r.method == "ea-madm" && r.seed == 3)
+        {
+            r.collapse_episode = collapse;
+        }
+        let text = answer_of(rows, Vec::new());
+        assert!(
+            text.contains("(3; never reaching again from episode 63 on)"),
+            "{text}"
+        );
+        assert!(!text.contains("after episode"), "{text}");
     }
 
     #[test]
@@ -746,10 +796,10 @@ mod tests {
             .find(|j| j.claim.id == "C3" && j.method == "ea-madm")
             .unwrap();
         assert_eq!(c3.verdict, Verdict::Inconclusive);
-        assert!(
-            c3.deciding_comparison()
-                .is_some_and(|c| c.difference.estimate == 0.0)
-        );
+        // The SD comparisons are uninformative (0 on both sides), so no comparison decides:
+        // the stable-reaching test does (issue 34).
+        assert!(c3.comparisons.iter().all(|c| !c.informative));
+        assert_eq!(c3.deciding, None);
         let deciding = super::super::verdicts::deciding_number(c3);
         assert!(
             deciding.starts_with(

@@ -164,6 +164,23 @@ pub fn interval(i: &Interval) -> String {
     )
 }
 
+/// The mean paired difference of a comparison with its exact sign-flip interval, as
+/// [`interval`] prints an interval; "unbounded" for an interval too few pairs leave open.
+pub fn paired_interval(p: &crate::claims::PairedComparison) -> String {
+    match (p.low, p.high) {
+        (Some(low), Some(high)) => interval(&Interval {
+            estimate: p.estimate,
+            low,
+            high,
+        }),
+        _ => format!(
+            "{} [unbounded: {} pairs]",
+            format_fixed(p.estimate, decimals_for(p.estimate, 3)),
+            p.n
+        ),
+    }
+}
+
 /// A p-value: three decimals, or `< 0.001`.
 pub fn p_value(p: f64) -> String {
     if p < 0.001 {

@@ -693,7 +693,6 @@ pub(crate) mod tests {
     pub(crate) fn options() -> ClaimOptions {
         ClaimOptions {
             bootstrap: crate::stats::Bootstrap::new(2000, 0.95, 0).unwrap(),
-            permutation: crate::stats::PermutationTest::new(2000, 0).unwrap(),
             sign_flip: crate::stats::SignFlipTest::new(2000, 0).unwrap(),
             alpha: 0.05,
             margins: test_margins(),

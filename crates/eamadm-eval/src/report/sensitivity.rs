@@ -45,15 +45,15 @@ fn deciding(row: &SensitivityRow) -> String {
         _ => number(estimate, 2),
     };
     match row.statistic {
-        "paired_mean_difference" => format!(
-            "vs {versus}: paired Δ mean `{}` = {interval}, TOST Holm p {p}",
-            row.metric
-        ),
         "reached_share_difference" => {
             format!("vs {versus}: Δ share of seeds reaching = {interval}, sign test Holm p {p}")
         }
+        "stable_reaching_share_difference" => format!(
+            "vs {versus}: Δ share of stable-reaching seeds (every greedy evaluation of the \
+             second half reaches) = {interval}, sign test Holm p {p}"
+        ),
         _ => format!(
-            "vs {versus}: Δ IQM `{}` = {interval}, Holm p {p}",
+            "vs {versus}: paired Δ mean `{}` = {interval}, Holm p {p}",
             row.metric
         ),
     }

@@ -4,7 +4,8 @@
 use std::fmt::Write as _;
 
 use super::format::{
-    Align, MarkdownTable, format_fixed, interval, list, number, p_value, role_text, share,
+    Align, MarkdownTable, format_fixed, interval, number, p_value, paired_interval, role_text,
+    share,
 };
 use super::{ExperimentFacts, Figures, FinalEpsilon, ReportContext, Verdicts};
 use crate::Role;
@@ -188,61 +189,30 @@ fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts)
     }
     let _ = writeln!(
         text,
-        "EA-MADM against each control (Δ = IQM of EA-MADM − IQM of the control; raw p, not \
-         adjusted, since these comparisons enter no verdict):\n"
+        "EA-MADM against each control, paired by seed (Δ = mean over seeds of EA-MADM − the \
+         control, exact sign-flip 95% interval; p that Δ lies beyond the margin, raw, not \
+         adjusted, since these comparisons enter no verdict; Δ IQM descriptive):\n"
     );
     let mut table = MarkdownTable::new([
         ("control", Align::Left),
         ("metric", Align::Left),
-        ("Δ IQM [95%]", Align::Right),
+        ("Δ mean [95%]", Align::Right),
         ("p", Align::Right),
         ("P(EA-MADM better)", Align::Right),
+        ("Δ IQM [95%]", Align::Right),
     ]);
     for c in &rows {
         let _ = table.push_row([
             format!("`{}`", c.comparison.versus),
             format!("`{}`", c.comparison.metric.column),
-            interval(&c.comparison.difference),
+            paired_interval(&c.comparison.paired),
             p_value(c.comparison.p_value),
             format_fixed(c.comparison.p_improvement, 2),
+            interval(&c.comparison.iqm_difference),
         ]);
     }
     text.push_str(&table.render());
     text.push('\n');
-    let disagreeing: Vec<String> = rows
-        .iter()
-        .filter(|c| {
-            c.comparison.p_value < verdicts.options.alpha && c.comparison.difference.contains(0.0)
-        })
-        .map(|c| {
-            format!(
-                "`{}` on `{}`",
-                c.comparison.versus, c.comparison.metric.column
-            )
-        })
-        .collect();
-    text.push_str(&disagreement_note(
-        &disagreeing,
-        "p",
-        verdicts.options.alpha,
-    ));
-}
-
-/// When a comparison's p is below α while its bootstrap interval holds 0: why, and which of
-/// the two decides. Empty when none does.
-pub(crate) fn disagreement_note(rows: &[String], which_p: &str, alpha: f64) -> String {
-    if rows.is_empty() {
-        return String::new();
-    }
-    format!(
-        "{} {} a {which_p} below {alpha} with an interval that holds 0: the permutation test \
-         asks whether the two samples could be exchanged, the percentile bootstrap how far the \
-         IQM difference can move, and on bimodal samples (seeds at the step cap) they can \
-         disagree. The rule decides by both: a comparison favours a side only when its Holm p \
-         is below {alpha} *and* its interval excludes 0, so such a row settles nothing.\n\n",
-        list(rows),
-        if rows.len() == 1 { "has" } else { "have" }
-    )
 }
 
 fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
@@ -262,17 +232,20 @@ fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
     }
     let _ = writeln!(
         text,
-        "EA-MADM against each competitor (Δ = IQM of EA-MADM − IQM of the competitor):\n"
+        "EA-MADM against each competitor, paired by seed (Δ = mean over seeds of EA-MADM − the \
+         competitor, exact sign-flip 95% interval; p that Δ lies beyond the margin; Δ IQM \
+         descriptive):\n"
     );
     let mut table = MarkdownTable::new([
         ("claim", Align::Left),
         ("metric", Align::Left),
         ("versus", Align::Left),
-        ("Δ IQM [95%]", Align::Right),
+        ("Δ mean [95%]", Align::Right),
         ("p", Align::Right),
         ("Holm p", Align::Right),
         ("P(EA-MADM better)", Align::Right),
         ("settles", Align::Left),
+        ("Δ IQM [95%]", Align::Right),
     ]);
     for j in &judgements {
         for c in &j.comparisons {
@@ -280,15 +253,24 @@ fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
                 j.claim.id.to_owned(),
                 format!("`{}`", c.metric.column),
                 method_title(&c.versus),
-                interval(&c.difference),
+                paired_interval(&c.paired),
                 p_value(c.p_value),
-                p_value(c.p_holm),
+                if c.informative {
+                    p_value(c.p_holm)
+                } else {
+                    "—".to_owned()
+                },
                 format_fixed(c.p_improvement, 2),
                 match c.outcome {
+                    _ if !c.informative => "nothing: one value on both sides".to_owned(),
                     Outcome::FavoursMethod => "EA-MADM better".to_owned(),
                     Outcome::FavoursCompetitor => format!("{} better", method_title(&c.versus)),
+                    Outcome::Unsettled if claims::is_equivalent(c, verdicts.options.alpha) => {
+                        "equivalent".to_owned()
+                    }
                     Outcome::Unsettled => "nothing".to_owned(),
                 },
+                interval(&c.iqm_difference),
             ]);
         }
         for u in &j.untested {
@@ -301,22 +283,12 @@ fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
                 "—".to_owned(),
                 "—".to_owned(),
                 format!("untestable: {}", u.reason),
+                "—".to_owned(),
             ]);
         }
     }
     text.push_str(&table.render());
     text.push('\n');
-    let disagreeing: Vec<String> = judgements
-        .iter()
-        .flat_map(|j| &j.comparisons)
-        .filter(|c| c.p_holm < verdicts.options.alpha && c.difference.contains(0.0))
-        .map(|c| format!("{} on `{}`", method_title(&c.versus), c.metric.column))
-        .collect();
-    text.push_str(&disagreement_note(
-        &disagreeing,
-        "Holm p",
-        verdicts.options.alpha,
-    ));
 }
 
 fn write_distributions(text: &mut String, overviews: &[&MethodOverview]) {
@@ -580,19 +552,6 @@ fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
 mod tests {
     use super::super::tests::overview;
     use super::*;
-
-    #[test]
-    fn the_disagreement_note_appears_only_with_such_rows() {
-        assert_eq!(disagreement_note(&[], "p", 0.05), "");
-        let note = disagreement_note(&["`a` on `final_steps`".to_owned()], "Holm p", 0.05);
-        assert!(
-            note.starts_with(
-                "`a` on `final_steps` has a Holm p below 0.05 with an interval that holds 0"
-            ),
-            "{note}"
-        );
-        assert!(note.contains("so such a row settles nothing"), "{note}");
-    }
 
     #[test]
     fn the_controls_sentence_names_the_controls_that_ran() {

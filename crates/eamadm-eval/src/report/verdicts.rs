@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use super::format::{Align, MarkdownTable, interval, number, p_value, role_text};
+use super::format::{Align, MarkdownTable, number, p_value, paired_interval, role_text};
 use super::strongest::control_family;
 use super::{ReportContext, Verdicts};
 use crate::claims::{self, Comparison, Judgement, ReachingComparison};
@@ -86,18 +86,19 @@ pub(crate) fn deciding_words(judgement: &Judgement, versus: bool) -> String {
         }
     };
     match judgement.deciding_comparison() {
-        Some(c) if judgement.verdict == claims::Verdict::Equivalent => match &c.paired {
-            Some(p) => format!(
-                "vs {}: paired Δ mean `{}` = {} within ±{}, TOST Holm p {}",
-                method_title(&c.versus),
-                c.metric.column,
-                interval(&p.difference),
-                c.margin
-                    .map_or_else(|| "—".to_owned(), super::margins::short_number),
-                p_value(p.p_equivalence_holm.unwrap_or(1.0))
-            ),
-            None => comparison_in_words(c),
-        },
+        Some(c) if judgement.verdict == claims::Verdict::Equivalent => format!(
+            "{}paired Δ mean `{}` = {} within ±{}, equivalence Holm p {}",
+            if versus {
+                format!("vs {}: ", method_title(&c.versus))
+            } else {
+                String::new()
+            },
+            c.metric.column,
+            paired_interval(&c.paired),
+            c.margin
+                .map_or_else(|| "—".to_owned(), super::margins::short_number),
+            p_value(c.paired.p_equivalence_holm.unwrap_or(1.0))
+        ),
         Some(c) => comparison_in_words(c),
         None => judgement.reason.clone(),
     }
@@ -107,12 +108,18 @@ fn comparison_in_words(c: &Comparison) -> String {
     format!("vs {}: {}", method_title(&c.versus), difference_in_words(c))
 }
 
+/// The deciding number of a comparison: the mean paired difference with its exact interval,
+/// and the Holm p that it lies beyond the margin ("≠ 0" without one).
 fn difference_in_words(c: &Comparison) -> String {
     format!(
-        "Δ IQM `{}` = {}, Holm p {}",
+        "paired Δ mean `{}` = {}, Holm p {} (beyond {})",
         c.metric.column,
-        interval(&c.difference),
-        p_value(c.p_holm)
+        paired_interval(&c.paired),
+        p_value(c.p_holm),
+        c.margin.map_or_else(
+            || "0".to_owned(),
+            |m| format!("±{}", super::margins::short_number(m))
+        )
     )
 }
 
@@ -234,19 +241,34 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
         text,
         "\n**The rule.** Each method under test is compared with each of the paper's \
          competitors (the methods with role `paper` that are not EA-MADM) on every metric of \
-         the claim: the difference of interquartile means (IQM) over seeds with a bootstrap \
-         95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
-         when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
-         method. A comparison favours one side when its Holm p is below {alpha}, its interval \
-         excludes 0 and, for a metric with an equivalence margin on the task (the margins \
-         are listed below), the difference exceeds the margin. Runs of one seed share their random streams, so each comparison is also \
-         paired by seed: the mean paired difference with a paired bootstrap interval, a \
-         sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
-         equivalence within the margin (claims.csv: `paired_*`, `p_equivalence`). The \
-         verdict is **supported** when every comparison favours EA-MADM, **contradicted** \
-         when any favours a competitor, **equivalent** when every comparison is equivalent \
-         (Holm-adjusted TOST p below {alpha}), **inconclusive** otherwise, and \
-         **untestable** when no competitor has 2 seeds with a value. A method with fewer than \
+         the claim, **paired by seed** (runs of one seed share their random streams). One \
+         estimand decides: the **mean paired difference** (EA-MADM − competitor over the seeds \
+         where both have a value; every seed counts, so a seed that collapsed to the step cap \
+         counts against its method), with the **exact sign-flip 95% interval** (the inversion \
+         of the sign-flip test: every one of the 2ⁿ sign vectors counted up to 24 pairs, \
+         {} drawn beyond; no resampling, so no Monte-Carlo error; it holds the mean with 95% \
+         confidence when the paired differences are symmetric about it, the sign-flip test's \
+         own assumption, which capped, bimodal differences only approach) and two p-values from the \
+         same distribution: that the mean lies **beyond the margin** on one side (at most α \
+         exactly when the interval does) and that it lies **within** it (two one-sided tests \
+         at α/2: the 95% interval inside the margin). The margins are listed below. A \
+         comparison **favours** a side when its Holm-adjusted beyond-margin p is below \
+         {alpha} (its interval then lies beyond the margin on that side), and is \
+         **equivalent** when its Holm-adjusted within-margin p is below {alpha}. A comparison \
+         in which every paired value of both sides is one and the same number (e.g. greedy SD \
+         0 on every seed) is **uninformative**: left out of Holm, it settles nothing and is \
+         never equivalent. The IQM difference (bootstrap interval) and P(EA-MADM better) are \
+         descriptive. The verdict is **supported** when every comparison favours EA-MADM, \
+         **contradicted** when any favours a competitor, **equivalent** when every comparison \
+         is equivalent, **inconclusive** otherwise, and **untestable** when no competitor has \
+         2 seeds with a value. **Multiplicity**: Holm covers one family per claim × task × \
+         method under test — every metric × competitor of the claim, and for C3 its \
+         stable-reaching tests too — since that family makes the verdict; supported and \
+         equivalent need every member (intersection-union tests, which need no adjustment; \
+         Holm is applied all the same so that each row can be read alone). The verdicts of \
+         different claims, tasks, ablations, controls and readings are separate questions, \
+         each stated with its own family, and are not adjusted across each other. A method \
+         with fewer than \
          2 seeds with a value (it seldom or never reaches the target) is judged on per-seed \
          reaching instead (a seed reaches when its greedy episode or any training episode \
          does): against each competitor the exact paired sign test on the seeds only one of \
@@ -254,25 +276,25 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
          **contradicted** when a competitor reaches on more seeds with a Holm p below \
          {alpha}, **inconclusive** when one reaches on 2 or more seeds but not significantly \
          more, **untestable** when none does (neither reaches), each with the counts \
-         (claims.csv: metric `reached`). **C3** is judged on the greedy policy evaluated \
-         every few training episodes without exploration or learning: a seed is \
-         stable-reaching when each such evaluation in the second half of training reaches the \
-         target, and only those seeds have a greedy fluctuation (`fluctuation_greedy_*`), so a \
-         seed stuck at the step cap counts as a failure, never as stability. Against each \
-         competitor the stable-reaching seeds are compared by the exact paired sign test \
-         (claims.csv: metric `stable_reaching`, Holm across competitors) and the greedy \
-         fluctuation by the rule above; a comparison favours a side when either does and the \
-         other does not favour the other side, and is equivalent when the greedy fluctuations \
-         are and the same seeds stable-reach on both sides (the per-seed test has no margin). \
-         The fair comparison is ε-decreasing, which uses \
-         EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
+         (claims.csv: metric `reached`). **C3** (\"the minimum fluctuation\") is judged on the \
+         greedy policy evaluated every few training episodes without exploration or \
+         learning, and reads as **reliability**: a seed is stable-reaching when each such \
+         evaluation in the second half of training reaches the target, and only those seeds \
+         have a greedy fluctuation (`fluctuation_greedy_*`), so a seed stuck at the step cap \
+         counts as a failure, never as stability. Against each competitor the stable-reaching \
+         seeds are compared by the exact paired sign test (claims.csv: metric \
+         `stable_reaching`) and the greedy fluctuation by the rule above, all in one Holm \
+         family; a comparison favours a side when either does and the other does not favour \
+         the other side, and is equivalent when the greedy fluctuations are and the same \
+         seeds stable-reach on both sides (the per-seed test has no margin). Where the greedy \
+         fluctuation is 0 on every stable-reaching seed of both sides it is uninformative, \
+         and C3 can then be decided only by reliability. The fair comparison is ε-decreasing, which \
+         uses EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
          without its exploration. The training curves' SDs (`fluctuation_steps`, \
          `fluctuation_return`) are reported as secondary rows with no verdict. The deciding \
          number is the weakest comparison of a supported or equivalent claim, the strongest \
          against a contradicted one, and the weakest non-favourable one of an inconclusive \
          one (or the per-seed test when it alone decides).\n",
-        verdicts.options.bootstrap.resamples,
-        verdicts.options.permutation.resamples,
         verdicts.options.sign_flip.resamples,
         alpha = verdicts.options.alpha
     );

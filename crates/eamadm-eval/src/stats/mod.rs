@@ -141,6 +141,7 @@ pub mod hierarchical;
 pub mod location;
 pub mod normal;
 pub mod paired;
+pub mod paired_mean;
 pub mod permutation;
 pub mod proportion;
 mod words;
@@ -151,6 +152,7 @@ pub use distribution::{Distribution, distribution};
 pub use location::{Statistic, iqm, mean, median, sample_sd};
 pub use normal::normal_quantile;
 pub use paired::{Alternative, SignFlipTest, paired_difference, sign_test};
+pub use paired_mean::{EXACT_MAX_PAIRS, SignFlipMeans};
 pub use permutation::PermutationTest;
 pub use proportion::wilson;
 

@@ -8,7 +8,10 @@
 //!
 //! * **Sign-flip test** ([`SignFlipTest::p_value`]) of `H₀`: the differences `dᵢ` are
 //!   symmetric about 0. The statistic is `T = θ(d)` (mean, median or IQM). Under `H₀` every
-//!   sign vector `s ∈ {−1, +1}ⁿ` is equally likely; with `2ⁿ ≤ resamples` all are enumerated
+//!   sign vector `s ∈ {−1, +1}ⁿ` is equally likely; for the mean of at most
+//!   [`EXACT_MAX_PAIRS`] differences all are counted by meet in the middle
+//!   ([`SignFlipMeans`]), whatever `resamples`; for any statistic with
+//!   `2ⁿ ≤ resamples` all are enumerated
 //!   and `p_greater = #{s: θ(s·d) ≥ T} / 2ⁿ`, `p_less = #{s: θ(s·d) ≤ T} / 2ⁿ`; otherwise
 //!   `B = resamples` random sign vectors are drawn and each count gets `+1` in numerator and
 //!   denominator (Phipson & Smyth 2010). Two-sided: `min(1, 2 min(p_less, p_greater))`, as
@@ -33,6 +36,7 @@
 use super::batch::BatchedSubsets;
 use super::counted::CountedSample;
 use super::location::Statistic;
+use super::paired_mean::{EXACT_MAX_PAIRS, SignFlipMeans};
 use super::words::Words;
 use super::{Bootstrap, Interval, StatsError, check_resamples, check_sample, finite};
 
@@ -77,10 +81,20 @@ impl SignFlipTest {
         Ok(Self { resamples, seed })
     }
 
-    /// Whether [`p_value`](Self::p_value) enumerates every sign vector for `n` differences.
+    /// Whether [`p_value`](Self::p_value) enumerates every sign vector for `n` differences of
+    /// any statistic: when `2ⁿ ≤ resamples`. The mean is enumerated up to
+    /// [`EXACT_MAX_PAIRS`] differences whatever `resamples` ([`is_exact_for`](Self::is_exact_for)).
     #[must_use]
     pub fn is_exact(&self, n: usize) -> bool {
         n < 32 && (1_u64 << n) <= u64::from(self.resamples)
+    }
+
+    /// Whether [`p_value`](Self::p_value) enumerates every sign vector for `n` differences and
+    /// `statistic`: the mean up to [`EXACT_MAX_PAIRS`] (counted by meet in the middle,
+    /// [`SignFlipMeans`]), any statistic when [`is_exact`](Self::is_exact).
+    #[must_use]
+    pub fn is_exact_for(&self, n: usize, statistic: Statistic) -> bool {
+        (statistic == Statistic::Mean && n <= EXACT_MAX_PAIRS) || self.is_exact(n)
     }
 
     /// The p-value of the paired differences `differences` (method − competitor, one per seed)
@@ -96,6 +110,14 @@ impl SignFlipTest {
     ) -> Result<f64, StatsError> {
         check_resamples(self.resamples)?;
         check_sample(differences, "differences")?;
+        if statistic == Statistic::Mean && differences.len() <= EXACT_MAX_PAIRS {
+            let means = SignFlipMeans::exact(differences)?;
+            return Ok(match alternative {
+                Alternative::Greater => means.p_greater(0.0),
+                Alternative::Less => means.p_less(0.0),
+                Alternative::TwoSided => means.p_two_sided(0.0),
+            });
+        }
         let observed = statistic.of(differences)?;
         let scale = differences.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         let slack = 1e-12 * scale;

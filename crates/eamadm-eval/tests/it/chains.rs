@@ -1,23 +1,25 @@
 //! Whole claim chains through the public claims API (`claims::judge`, `claims::rows`,
 //! `claims::estimates`, `claims::outcome_rows`) against independent implementations: every
 //! number of a C3 judgement on Task II (EA-MADM against three competitors: the
-//! `stable_reaching` sign tests with Holm over the competitors, the deciding greedy-SD
-//! comparisons and the secondary training-curve comparisons, each family with its own Holm), the
-//! outcome rows (Wilson, sign test), a C4 judgement on the robot decided by per-seed reaching
-//! (sign tests, Holm) and one where every seed reaches (nine metric comparisons, average reward
-//! the one oriented higher-is-better, one Holm family).
+//! `stable_reaching` sign tests and the deciding greedy-SD comparisons in one Holm family, the
+//! secondary training-curve comparisons in their own), the outcome rows (Wilson, sign test), a
+//! C4 judgement on the robot decided by per-seed reaching (sign tests, Holm) and one where every
+//! seed reaches (nine metric comparisons, average reward the one oriented higher-is-better, one
+//! Holm family).
 //!
 //! The expected values were printed by `chains_reference.py` next to this file (Python 3.11.7,
 //! scipy 1.17.1, statsmodels 0.15.0, numpy 2.4.6): `scipy.stats.trim_mean(x, 0.25)`,
-//! `permutation_test` (exact, every split or sign vector), `mannwhitneyu`, `binomtest`,
-//! statsmodels' `multipletests(method="holm")` and `proportion_confint(method="wilson")`. The
-//! inputs have ties (greedy SDs of 0, equal values across methods), a competitor with two values
-//! (n = 2), a per-seed test with no discordant seed, one with as many wins as losses and
-//! one-sided splits. Exact tests' p-values (a count over an enumeration, then Holm) are compared
-//! bit for bit; other values to 1e-12. The bootstrap intervals are pinned too: the script draws
-//! the replicates again (`ChaCha8`, Lemire, as `eamadm_eval::stats` documents) and takes
+//! `permutation_test` (exact, every sign vector) for the deciding mean paired difference's
+//! beyond-margin, within-margin and two-sided p-values, every subset mean listed with numpy
+//! for its interval, `mannwhitneyu`, `binomtest`, statsmodels' `multipletests(method="holm")`
+//! and `proportion_confint(method="wilson")`. The inputs have ties (greedy SDs of 0, equal
+//! values across methods), a competitor with two values (n = 2), a per-seed test with no
+//! discordant seed, one with as many wins as losses and one-sided splits. Exact tests' p-values
+//! (a count over an enumeration, then Holm) are compared bit for bit; other values to 1e-12.
+//! The descriptive IQM bootstrap intervals are pinned too: the script draws the replicates
+//! again (`ChaCha8`, Lemire, as `eamadm_eval::stats` documents) and takes
 //! `numpy.quantile(…, method="linear")` of them. The last test does the same for the default
-//! run's Monte-Carlo paths (20 seeds, 10 000 random splits, sign vectors and resamples).
+//! run's paths (20 seeds: 10 000 random splits and resamples, all 2²⁰ sign vectors).
 
 use eamadm_eval::Role;
 use eamadm_eval::claims::{
@@ -25,7 +27,9 @@ use eamadm_eval::claims::{
 };
 use eamadm_eval::scores::{FinalScore, RunOutcome};
 use eamadm_eval::stats::paired::{differences, paired_difference};
-use eamadm_eval::stats::{Alternative, Bootstrap, PermutationTest, SignFlipTest, Statistic};
+use eamadm_eval::stats::{
+    Alternative, Bootstrap, PermutationTest, SignFlipMeans, SignFlipTest, Statistic,
+};
 
 /// One seed of C3: (`stable_reaching`, `fluctuation_greedy_steps`, `fluctuation_greedy_return`,
 /// `fluctuation_steps`, `fluctuation_return`); a seed that is not stable-reaching has no greedy SD.
@@ -182,7 +186,6 @@ fn options() -> ClaimOptions {
     ClaimOptions {
         margins,
         bootstrap: Bootstrap::new(2_000, 0.95, 7).unwrap(),
-        permutation: PermutationTest::new(20_000, 7).unwrap(),
         sign_flip: SignFlipTest::new(2_000, 7).unwrap(),
         alpha: 0.05,
     }
@@ -210,28 +213,33 @@ struct Expected {
     metric: &'static str,
     versus: &'static str,
     n: (usize, usize),
-    /// `trim_mean(x, 0.25) − trim_mean(y, 0.25)`.
-    estimate: f64,
-    /// Exact `permutation_test(permutation_type="independent")` of |IQM difference|.
-    p_value: f64,
-    /// `multipletests(method="holm")` over the family's `p_value`s.
-    p_holm: f64,
-    /// `mannwhitneyu(y, x).statistic / (n m)` (lower is better).
-    p_improvement: f64,
     paired_n: usize,
-    paired_estimate: f64,
-    /// Exact sign-flip `permutation_test(permutation_type="samples")` of the mean.
+    /// `numpy.mean(d)` of the paired differences.
+    estimate: f64,
+    /// Every non-empty subset's mean of `d` listed with numpy and ranked: the one at rank
+    /// ⌊0.025 · 2ⁿ⌋ from each end (`None`: too few pairs).
+    interval: Option<(f64, f64)>,
+    /// `min(1, 2 min(p_less(−m), p_greater(m)))` of exact sign-flip
+    /// `permutation_test(permutation_type="samples")` p-values (m = 0 without a margin).
+    p_value: f64,
+    /// `multipletests(method="holm")` over the family (the informative comparisons, and C3's
+    /// sign tests); `None` for an uninformative comparison.
+    p_holm: Option<f64>,
+    /// Exact sign-flip two-sided p of the mean.
     paired_p_value: f64,
     margin: Option<f64>,
-    /// TOST: max of the two one-sided exact sign-flip tests.
+    /// `min(1, 2 max(p_greater(−m), p_less(m)))`.
     p_equivalence: Option<f64>,
-    /// Holm over the family's TOST p-values, 1 for a comparison without a margin.
+    /// Holm over the informative comparisons' equivalence p-values (1 without a margin).
     p_equivalence_holm: Option<f64>,
+    informative: bool,
+    /// `mannwhitneyu(y, x).statistic / (n m)` (lower is better).
+    p_improvement: f64,
+    /// `trim_mean(x, 0.25) − trim_mean(y, 0.25)`.
+    iqm_difference: f64,
     /// The IQM difference's percentile interval: the replicates drawn again in Python by the
     /// documented draw order, `numpy.quantile(…, method="linear")` of them.
-    ci: (f64, f64),
-    /// The same for the mean of the paired differences.
-    paired_ci: (f64, f64),
+    iqm_ci: (f64, f64),
 }
 
 fn check_comparison(actual: &Comparison, expected: &Expected) {
@@ -241,18 +249,25 @@ fn check_comparison(actual: &Comparison, expected: &Expected) {
         (expected.metric, expected.versus, expected.n),
         "{what}"
     );
-    close(actual.difference.estimate, expected.estimate, &what);
-    close(actual.difference.low, expected.ci.0, &what);
-    close(actual.difference.high, expected.ci.1, &what);
-    exact(actual.p_value, expected.p_value, &what);
-    exact(actual.p_holm, expected.p_holm, &what);
-    close(actual.p_improvement, expected.p_improvement, &what);
-    let paired = actual.paired.as_ref().unwrap();
+    let paired = &actual.paired;
     assert_eq!(paired.n, expected.paired_n, "{what}");
-    close(paired.difference.estimate, expected.paired_estimate, &what);
-    close(paired.difference.low, expected.paired_ci.0, &what);
-    close(paired.difference.high, expected.paired_ci.1, &what);
+    close(paired.estimate, expected.estimate, &what);
+    match expected.interval {
+        Some((low, high)) => {
+            close(paired.low.unwrap(), low, &what);
+            close(paired.high.unwrap(), high, &what);
+        }
+        None => assert_eq!((paired.low, paired.high), (None, None), "{what}"),
+    }
+    exact(actual.p_value, expected.p_value, &what);
+    exact(paired.p_beyond, expected.p_value, &what);
+    assert_eq!(actual.informative, expected.informative, "{what}");
+    match expected.p_holm {
+        Some(p) => exact(actual.p_holm, p, &what),
+        None => exact(actual.p_holm, actual.p_value, &what),
+    }
     exact(paired.p_value, expected.paired_p_value, &what);
+    assert!(paired.exact, "{what}");
     assert_eq!(actual.margin, expected.margin, "{what}");
     assert_eq!(
         paired.p_equivalence.map(f64::to_bits),
@@ -264,6 +279,14 @@ fn check_comparison(actual: &Comparison, expected: &Expected) {
         expected.p_equivalence_holm.map(f64::to_bits),
         "{what}"
     );
+    close(actual.p_improvement, expected.p_improvement, &what);
+    close(
+        actual.iqm_difference.estimate,
+        expected.iqm_difference,
+        &what,
+    );
+    close(actual.iqm_difference.low, expected.iqm_ci.0, &what);
+    close(actual.iqm_difference.high, expected.iqm_ci.1, &what);
 }
 
 /// (versus, n, reached, discordant, `binomtest` p, Holm p) of a per-seed test.
@@ -299,13 +322,14 @@ fn c3_judgement(scores: &[FinalScore]) -> Judgement {
 fn c3_stable_reaching_sign_tests_and_holm_match_scipy_and_statsmodels() {
     let judgement = c3_judgement(&c3_scores());
     // binomtest(5, 5), binomtest(3, 3), binomtest(1, 2): a one-sided split, another, and as
-    // many wins as losses; multipletests([0.0625, 0.25, 1.0], method="holm").
+    // many wins as losses; Holm in one family with C3's informative greedy-SD comparisons
+    // (issue 34: C3 gets one family), multipletests(…, method="holm").
     check_tests(
         &judgement.reaching,
         claims::STABLE_REACHING,
         &[
-            ("epsilon-greedy", 8, (7, 2), (5, 0), 0.0625, 0.1875),
-            ("epsilon-decreasing", 8, (7, 4), (3, 0), 0.25, 0.5),
+            ("epsilon-greedy", 8, (7, 2), (5, 0), 0.0625, 0.4375),
+            ("epsilon-decreasing", 8, (7, 4), (3, 0), 0.25, 1.0),
             ("softmax", 8, (7, 7), (1, 1), 1.0, 1.0),
         ],
     );
@@ -316,7 +340,7 @@ fn c3_stable_reaching_sign_tests_and_holm_match_scipy_and_statsmodels() {
         .iter()
         .filter(|r| r.metric == claims::STABLE_REACHING)
         .collect();
-    let expected = [(0.625, 0.0625, 0.1875), (0.375, 0.25, 0.5), (0.0, 1.0, 1.0)];
+    let expected = [(0.625, 0.0625, 0.4375), (0.375, 0.25, 1.0), (0.0, 1.0, 1.0)];
     assert_eq!(stable_rows.len(), expected.len());
     for (row, (estimate, p, p_holm)) in stable_rows.iter().zip(expected) {
         close(row.estimate.unwrap(), estimate, &row.versus);
@@ -329,110 +353,116 @@ fn c3_stable_reaching_sign_tests_and_holm_match_scipy_and_statsmodels() {
 #[test]
 fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
     let options = options();
-    assert!(options.permutation.is_exact(8, 8) && options.sign_flip.is_exact(8));
+    assert!(options.sign_flip.is_exact_for(8, Statistic::Mean));
     let judgement = c3_judgement(&c3_scores());
     let expected = [
         Expected {
             metric: "fluctuation_greedy_steps",
             versus: "epsilon-greedy",
             n: (7, 2),
-            estimate: -1.7,
-            p_value: 0.3333333333333333,
-            p_holm: 1.0,
-            p_improvement: 0.7857142857142857,
             paired_n: 2,
-            paired_estimate: -2.5,
+            estimate: -2.5,
+            interval: None,
+            p_value: 1.0,
+            p_holm: Some(1.0),
             paired_p_value: 0.5,
             margin: Some(2.0),
             p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
-            ci: (-3.0, -0.10000000000000009),
-            paired_ci: (-3.0, -2.0),
+            informative: true,
+            p_improvement: 0.7857142857142857,
+            iqm_difference: -1.7,
+            iqm_ci: (-3.0, -0.10000000000000009),
         },
         Expected {
             metric: "fluctuation_greedy_steps",
             versus: "epsilon-decreasing",
             n: (7, 4),
-            estimate: 0.30000000000000004,
-            p_value: 0.6818181818181818,
-            p_holm: 1.0,
-            p_improvement: 0.44642857142857145,
             paired_n: 4,
-            paired_estimate: -0.25,
+            estimate: -0.25,
+            interval: None,
+            p_value: 1.0,
+            p_holm: Some(1.0),
             paired_p_value: 1.0,
             margin: Some(2.0),
-            p_equivalence: Some(0.0625),
-            p_equivalence_holm: Some(0.375),
-            ci: (-1.0, 2.1),
-            paired_ci: (-0.75, 0.0),
+            p_equivalence: Some(0.125),
+            p_equivalence_holm: Some(0.75),
+            informative: true,
+            p_improvement: 0.44642857142857145,
+            iqm_difference: 0.30000000000000004,
+            iqm_ci: (-1.0, 2.1),
         },
         Expected {
             metric: "fluctuation_greedy_steps",
             versus: "softmax",
             n: (7, 7),
-            estimate: -4.7,
-            p_value: 0.0017482517482517483,
-            p_holm: 0.01048951048951049,
-            p_improvement: 0.9693877551020408,
             paired_n: 6,
-            paired_estimate: -4.833333333333333,
+            estimate: -4.833333333333333,
+            interval: Some((-6.0, -4.0)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: Some(2.0),
             p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
-            ci: (-6.4, -2.5000000000000004),
-            paired_ci: (-5.333333333333333, -4.333333333333333),
+            informative: true,
+            p_improvement: 0.9693877551020408,
+            iqm_difference: -4.7,
+            iqm_ci: (-6.4, -2.5000000000000004),
         },
         Expected {
             metric: "fluctuation_greedy_return",
             versus: "epsilon-greedy",
             n: (7, 2),
-            estimate: -1.75,
-            p_value: 0.3611111111111111,
-            p_holm: 1.0,
-            p_improvement: 0.75,
             paired_n: 2,
-            paired_estimate: -2.75,
+            estimate: -2.75,
+            interval: None,
+            p_value: 0.5,
+            p_holm: Some(1.0),
             paired_p_value: 0.5,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-2.8, 0.0),
-            paired_ci: (-3.0, -2.5),
+            informative: true,
+            p_improvement: 0.75,
+            iqm_difference: -1.75,
+            iqm_ci: (-2.8, 0.0),
         },
         Expected {
             metric: "fluctuation_greedy_return",
             versus: "epsilon-decreasing",
             n: (7, 4),
-            estimate: 0.25,
-            p_value: 0.8545454545454545,
-            p_holm: 1.0,
-            p_improvement: 0.5535714285714286,
             paired_n: 4,
-            paired_estimate: -0.375,
+            estimate: -0.375,
+            interval: None,
+            p_value: 0.25,
+            p_holm: Some(1.0),
             paired_p_value: 0.25,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-0.95, 2.0),
-            paired_ci: (-0.5, -0.125),
+            informative: true,
+            p_improvement: 0.5535714285714286,
+            iqm_difference: 0.25,
+            iqm_ci: (-0.95, 2.0),
         },
         Expected {
             metric: "fluctuation_greedy_return",
             versus: "softmax",
             n: (7, 7),
-            estimate: -4.5,
-            p_value: 0.002913752913752914,
-            p_holm: 0.01456876456876457,
-            p_improvement: 0.9591836734693877,
             paired_n: 6,
-            paired_estimate: -4.666666666666667,
+            estimate: -4.666666666666667,
+            interval: Some((-6.0, -4.0)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-6.3, -2.4),
-            paired_ci: (-5.333333333333333, -4.166666666666667),
+            informative: true,
+            p_improvement: 0.9591836734693877,
+            iqm_difference: -4.5,
+            iqm_ci: (-6.3, -2.4),
         },
     ];
     assert_eq!(judgement.comparisons.len(), expected.len());
@@ -447,8 +477,15 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             .find(|r| r.metric == expected.metric && r.versus == expected.versus)
             .unwrap();
         close(row.estimate.unwrap(), expected.estimate, expected.metric);
+        assert_eq!(
+            row.ci_low.zip(row.ci_high).is_some(),
+            expected.interval.is_some()
+        );
         exact(row.p_value.unwrap(), expected.p_value, expected.metric);
-        exact(row.p_holm.unwrap(), expected.p_holm, expected.metric);
+        assert_eq!(
+            row.p_holm.map(f64::to_bits),
+            expected.p_holm.map(f64::to_bits)
+        );
         close(
             row.p_improvement.unwrap(),
             expected.p_improvement,
@@ -464,6 +501,12 @@ fn c3_greedy_sd_comparisons_match_scipy_and_statsmodels() {
             row.p_equivalence_holm.map(f64::to_bits),
             expected.p_equivalence_holm.map(f64::to_bits)
         );
+        assert_eq!(row.informative, Some(expected.informative));
+        close(
+            row.iqm_difference.unwrap(),
+            expected.iqm_difference,
+            expected.metric,
+        );
     }
 }
 
@@ -475,103 +518,109 @@ fn c3_secondary_curve_sd_comparisons_match_scipy_and_statsmodels() {
             metric: "fluctuation_steps",
             versus: "epsilon-greedy",
             n: (8, 8),
-            estimate: -288.75,
-            p_value: 0.0009324009324009324,
-            p_holm: 0.005594405594405594,
-            p_improvement: 0.96875,
             paired_n: 8,
-            paired_estimate: -196.0625,
+            estimate: -196.0625,
+            interval: Some((-297.6666666666667, -41.0)),
+            p_value: 0.0078125,
+            p_holm: Some(0.046875),
             paired_p_value: 0.0078125,
             margin: Some(2.0),
             p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
-            ci: (-295.753125, -94.87187500000002),
-            paired_ci: (-267.328125, -106.74062500000005),
+            informative: true,
+            p_improvement: 0.96875,
+            iqm_difference: -288.75,
+            iqm_ci: (-295.753125, -94.87187500000002),
         },
         Expected {
             metric: "fluctuation_steps",
             versus: "epsilon-decreasing",
             n: (8, 8),
-            estimate: -11.75,
-            p_value: 0.23496503496503496,
-            p_holm: 0.4699300699300699,
-            p_improvement: 0.78125,
             paired_n: 8,
-            paired_estimate: -23.75,
+            estimate: -23.75,
+            interval: Some((-131.33333333333334, 106.25)),
+            p_value: 0.78125,
+            p_holm: Some(1.0),
             paired_p_value: 0.75,
             margin: Some(2.0),
-            p_equivalence: Some(0.61328125),
+            p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
-            ci: (-104.878125, 52.256249999999966),
-            paired_ci: (-100.56406249999999, 57.9562499999999),
+            informative: true,
+            p_improvement: 0.78125,
+            iqm_difference: -11.75,
+            iqm_ci: (-104.878125, 52.256249999999966),
         },
         Expected {
             metric: "fluctuation_steps",
             versus: "softmax",
             n: (8, 8),
-            estimate: -23.5,
-            p_value: 0.004506604506604507,
-            p_holm: 0.018026418026418026,
-            p_improvement: 0.890625,
             paired_n: 8,
-            paired_estimate: -22.375,
+            estimate: -22.375,
+            interval: Some((-144.5, 97.0)),
+            p_value: 0.5078125,
+            p_holm: Some(1.0),
             paired_p_value: 0.5078125,
             margin: Some(2.0),
-            p_equivalence: Some(0.75),
+            p_equivalence: Some(1.0),
             p_equivalence_holm: Some(1.0),
-            ci: (-85.628125, 40.75),
-            paired_ci: (-113.1875, 66.75156249999999),
+            informative: true,
+            p_improvement: 0.890625,
+            iqm_difference: -23.5,
+            iqm_ci: (-85.628125, 40.75),
         },
         Expected {
             metric: "fluctuation_return",
             versus: "epsilon-greedy",
             n: (8, 8),
-            estimate: -279.875,
-            p_value: 0.0009324009324009324,
-            p_holm: 0.005594405594405594,
-            p_improvement: 0.96875,
             paired_n: 8,
-            paired_estimate: -190.3125,
+            estimate: -190.3125,
+            interval: Some((-288.5, -41.0)),
+            p_value: 0.0078125,
+            p_holm: Some(0.046875),
             paired_p_value: 0.0078125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-286.503125, -92.12187500000002),
-            paired_ci: (-259.1328125, -104.97343750000014),
+            informative: true,
+            p_improvement: 0.96875,
+            iqm_difference: -279.875,
+            iqm_ci: (-286.503125, -92.12187500000002),
         },
         Expected {
             metric: "fluctuation_return",
             versus: "epsilon-decreasing",
             n: (8, 8),
-            estimate: -11.25,
-            p_value: 0.23496503496503496,
-            p_holm: 0.4699300699300699,
-            p_improvement: 0.78125,
             paired_n: 8,
-            paired_estimate: -23.0625,
+            estimate: -23.0625,
+            interval: Some((-126.5, 102.0)),
+            p_value: 0.75,
+            p_holm: Some(1.0),
             paired_p_value: 0.75,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-100.64687499999997, 50.13437499999995),
-            paired_ci: (-97.625, 55.81406249999999),
+            informative: true,
+            p_improvement: 0.78125,
+            iqm_difference: -11.25,
+            iqm_ci: (-100.64687499999997, 50.13437499999995),
         },
         Expected {
             metric: "fluctuation_return",
             versus: "softmax",
             n: (8, 8),
-            estimate: -23.125,
-            p_value: 0.004506604506604507,
-            p_holm: 0.018026418026418026,
-            p_improvement: 0.890625,
             paired_n: 8,
-            paired_estimate: -22.1875,
+            estimate: -22.1875,
+            interval: Some((-139.75, 92.75)),
+            p_value: 0.5078125,
+            p_holm: Some(1.0),
             paired_p_value: 0.5078125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-83.0, 38.25),
-            paired_ci: (-109.50156249999999, 63.5625),
+            informative: true,
+            p_improvement: 0.890625,
+            iqm_difference: -23.125,
+            iqm_ci: (-83.0, 38.25),
         },
     ];
     assert_eq!(judgement.secondary.len(), expected.len());
@@ -870,154 +919,163 @@ fn c4_metric_comparisons_when_every_seed_reaches_match_scipy_and_statsmodels() {
             metric: "reach_average_reward",
             versus: "epsilon-greedy",
             n: (6, 6),
-            estimate: 0.14750000000000002,
-            p_value: 0.006493506493506494,
-            p_holm: 0.05194805194805195,
-            p_improvement: 0.9583333333333334,
             paired_n: 6,
-            paired_estimate: 0.145,
+            estimate: 0.145,
+            interval: Some((0.08999999999999997, 0.25999999999999995)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (0.0675, 0.23000000000000004),
-            paired_ci: (0.10666666666666667, 0.19333333333333333),
+            informative: true,
+            p_improvement: 0.9583333333333334,
+            iqm_difference: 0.14750000000000002,
+            iqm_ci: (0.0675, 0.23000000000000004),
         },
         Expected {
             metric: "reach_average_reward",
             versus: "epsilon-decreasing",
             n: (6, 6),
-            estimate: 0.015000000000000013,
-            p_value: 0.7857142857142857,
-            p_holm: 1.0,
-            p_improvement: 0.5972222222222222,
             paired_n: 6,
-            paired_estimate: 0.01833333333333333,
+            estimate: 0.01833333333333333,
+            interval: Some((0.0, 0.039999999999999925)),
+            p_value: 0.0625,
+            p_holm: Some(0.28125),
             paired_p_value: 0.0625,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-0.07000000000000006, 0.1100624999999997),
-            paired_ci: (0.00833333333333334, 0.02833333333333334),
+            informative: true,
+            p_improvement: 0.5972222222222222,
+            iqm_difference: 0.015000000000000013,
+            iqm_ci: (-0.07000000000000006, 0.1100624999999997),
         },
         Expected {
             metric: "reach_average_reward",
             versus: "softmax",
             n: (6, 6),
-            estimate: 0.09250000000000003,
-            p_value: 0.01948051948051948,
-            p_holm: 0.09740259740259741,
-            p_improvement: 0.8888888888888888,
             paired_n: 6,
-            paired_estimate: 0.09833333333333333,
+            estimate: 0.09833333333333333,
+            interval: Some((0.04999999999999999, 0.16999999999999993)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (0.025000000000000022, 0.1750624999999997),
-            paired_ci: (0.07, 0.12999999999999998),
+            informative: true,
+            p_improvement: 0.8888888888888888,
+            iqm_difference: 0.09250000000000003,
+            iqm_ci: (0.025000000000000022, 0.1750624999999997),
         },
         Expected {
             metric: "reach_time",
             versus: "epsilon-greedy",
             n: (6, 6),
-            estimate: -11.625,
-            p_value: 0.006493506493506494,
-            p_holm: 0.05194805194805195,
-            p_improvement: 0.9583333333333334,
             paired_n: 6,
-            paired_estimate: -11.25,
+            estimate: -11.25,
+            interval: Some((-18.0, -5.0)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-16.628124999999994, -5.5),
-            paired_ci: (-14.5, -8.166666666666666),
+            informative: true,
+            p_improvement: 0.9583333333333334,
+            iqm_difference: -11.625,
+            iqm_ci: (-16.628124999999994, -5.5),
         },
         Expected {
             metric: "reach_time",
             versus: "epsilon-decreasing",
             n: (6, 6),
-            estimate: -0.625,
-            p_value: 0.8571428571428571,
-            p_holm: 1.0,
-            p_improvement: 0.5833333333333334,
             paired_n: 6,
-            paired_estimate: -1.0,
+            estimate: -1.0,
+            interval: Some((-2.0, 0.0)),
+            p_value: 0.125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-6.375, 4.875),
-            paired_ci: (-1.5833333333333333, -0.4166666666666667),
+            informative: true,
+            p_improvement: 0.5833333333333334,
+            iqm_difference: -0.625,
+            iqm_ci: (-6.375, 4.875),
         },
         Expected {
             metric: "reach_time",
             versus: "softmax",
             n: (6, 6),
-            estimate: -7.125,
-            p_value: 0.015151515151515152,
-            p_holm: 0.09090909090909091,
-            p_improvement: 0.9166666666666666,
             paired_n: 6,
-            paired_estimate: -7.166666666666667,
+            estimate: -7.166666666666667,
+            interval: Some((-9.5, -5.5)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-12.003124999999994, -2.0),
-            paired_ci: (-8.335416666666664, -6.083333333333333),
+            informative: true,
+            p_improvement: 0.9166666666666666,
+            iqm_difference: -7.125,
+            iqm_ci: (-12.003124999999994, -2.0),
         },
         Expected {
             metric: "retention_decay",
             versus: "epsilon-greedy",
             n: (6, 6),
-            estimate: -0.013750000000000002,
-            p_value: 0.004329004329004329,
-            p_holm: 0.03896103896103896,
-            p_improvement: 0.9722222222222222,
             paired_n: 6,
-            paired_estimate: -0.013333333333333334,
+            estimate: -0.013333333333333334,
+            interval: Some((-0.022000000000000002, -0.002)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-0.02, -0.0065),
-            paired_ci: (-0.0195, -0.006833333333333333),
+            informative: true,
+            p_improvement: 0.9722222222222222,
+            iqm_difference: -0.013750000000000002,
+            iqm_ci: (-0.02, -0.0065),
         },
         Expected {
             metric: "retention_decay",
             versus: "epsilon-decreasing",
             n: (6, 6),
-            estimate: -0.002,
-            p_value: 0.6320346320346321,
-            p_holm: 1.0,
-            p_improvement: 0.5972222222222222,
             paired_n: 6,
-            paired_estimate: -0.0018333333333333337,
+            estimate: -0.0018333333333333337,
+            interval: Some((-0.006000000000000002, 0.0010000000000000009)),
+            p_value: 0.1875,
+            p_holm: Some(0.28125),
             paired_p_value: 0.1875,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-0.009000000000000001, 0.0055),
-            paired_ci: (-0.0036666666666666675, -5.782411586589357e-19),
+            informative: true,
+            p_improvement: 0.5972222222222222,
+            iqm_difference: -0.002,
+            iqm_ci: (-0.009000000000000001, 0.0055),
         },
         Expected {
             metric: "retention_decay",
             versus: "softmax",
             n: (6, 6),
-            estimate: -0.008750000000000003,
-            p_value: 0.01948051948051948,
-            p_holm: 0.09740259740259741,
-            p_improvement: 0.8888888888888888,
             paired_n: 6,
-            paired_estimate: -0.008833333333333334,
+            estimate: -0.008833333333333334,
+            interval: Some((-0.015, -0.005)),
+            p_value: 0.03125,
+            p_holm: Some(0.28125),
             paired_p_value: 0.03125,
             margin: None,
             p_equivalence: None,
             p_equivalence_holm: None,
-            ci: (-0.015000000000000003, -0.002),
-            paired_ci: (-0.012000000000000002, -0.006166666666666667),
+            informative: true,
+            p_improvement: 0.8888888888888888,
+            iqm_difference: -0.008750000000000003,
+            iqm_ci: (-0.015000000000000003, -0.002),
         },
     ];
     assert_eq!(judgement.comparisons.len(), expected.len());
@@ -1057,11 +1115,15 @@ fn the_default_runs_monte_carlo_paths_match_the_redrawn_python() {
         0.10028997100289971,
         "permutation, mean",
     );
+    // Issue 34: the sign-flip test of the mean counts all 2²⁰ sign vectors at 20 pairs
+    // (scipy's `permutation_test(…, n_resamples=inf)` enumerates them too), whatever its
+    // `resamples`: no Monte-Carlo error, no floor at 1/(B + 1).
+    assert!(sign_flip.is_exact_for(20, Statistic::Mean));
     let d = differences(&x, &y).unwrap();
     for (alternative, expected) in [
-        (Alternative::TwoSided, 0.09619038096190381),
-        (Alternative::Greater, 0.952904709529047),
-        (Alternative::Less, 0.048095190480951906),
+        (Alternative::TwoSided, 0.10345458984375),
+        (Alternative::Greater, 0.948974609375),
+        (Alternative::Less, 0.051727294921875),
     ] {
         exact(
             sign_flip.p_value(&d, Statistic::Mean, alternative).unwrap(),
@@ -1073,9 +1135,12 @@ fn the_default_runs_monte_carlo_paths_match_the_redrawn_python() {
         sign_flip
             .equivalence_p_value(&d, Statistic::Mean, 2.0)
             .unwrap(),
-        0.9494050594940506,
+        0.9458827972412109,
         "TOST",
     );
+    let (low, high) = SignFlipMeans::exact(&d).unwrap().interval(0.95).unwrap();
+    close(low.unwrap(), -928.3, "sign-flip interval");
+    close(high.unwrap(), 112.25, "sign-flip interval");
     // numpy.quantile of the redrawn replicates (10 000 of them, 95 %).
     let bootstrap = Bootstrap::default();
     let one = bootstrap.interval(&x, Statistic::Iqm).unwrap();

@@ -370,9 +370,26 @@ def paired(method, versus, column, table=None, index=None):
     return [a for a, _ in pairs], [b for _, b in pairs]
 
 
-def comparisons(metrics, table=None, index=None, higher_is_better=()):
-    """Per metric × competitor (metric-major): the numbers of one `Comparison`, Holm over all.
-    Lower is better unless the metric is in `higher_is_better`."""
+def subset_mean_interval(d, confidence=CONFIDENCE):
+    """The sign-flip interval of the mean: every non-empty subset's mean, ranked, the one at
+    rank floor((1 - confidence) / 2 * 2^n) from each end (None when that rank is 0)."""
+    d = np.asarray(d, dtype=float)
+    n = len(d)
+    masks = np.arange(1, 1 << n, dtype=np.int64)
+    bits = ((masks[:, None] >> np.arange(n)) & 1).astype(float)
+    means = np.sort(bits @ d / bits.sum(axis=1))
+    k = int(np.floor((1 - confidence) / 2 * 2 ** n))
+    if k == 0:
+        return None
+    return (float(means[k - 1]), float(means[len(means) - k]))
+
+
+def comparisons(metrics, table=None, index=None, higher_is_better=(), tests=None):
+    """Per metric × competitor (metric-major): the numbers of one `Comparison`. The deciding
+    p-value is the sign-flip test that the mean paired difference lies beyond the margin (0
+    without one); Holm over the informative comparisons and `tests` (C3's per-seed tests,
+    whose `p_holm` is set here) together. Lower is better unless the metric is in
+    `higher_is_better`."""
     out = []
     x_method = "ea-madm"
     for column in metrics:
@@ -382,38 +399,78 @@ def comparisons(metrics, table=None, index=None, higher_is_better=()):
             if len(x) < 2 or len(y) < 2:
                 continue
             px, py = paired(x_method, versus, column, table, index)
-            d = np.subtract(px, py)
+            if len(px) < 2:
+                continue
+            d = np.subtract(px, py).astype(float)
+            margin = MARGIN.get(column)
+            m = 0.0 if margin is None else margin
+            beyond = min(1.0, 2 * min(flip(d + m, "less"), flip(d - m, "greater")))
             row = {
                 "metric": column,
                 "versus": versus,
                 "n": (len(x), len(y)),
-                "estimate": float(iqm(np.asarray(x, float)) - iqm(np.asarray(y, float))),
-                "p_value": permutation_p(x, y),
+                "paired_n": len(d),
+                "estimate": float(np.mean(d)),
+                "interval": subset_mean_interval(d),
+                "p_value": beyond,
+                "paired_p_value": flip(d, "two-sided"),
+                "margin": margin,
+                "p_equivalence": None if margin is None else min(
+                    1.0, 2 * max(flip(d + m, "greater"), flip(d - m, "less"))),
+                "informative": any(v != px[0] for v in list(px) + list(py)),
                 # P(a seed of the method is better), ties 1/2: U of the better side.
                 "p_improvement": float(
                     stats.mannwhitneyu(x, y).statistic if column in higher_is_better
                     else stats.mannwhitneyu(y, x).statistic
                 ) / (len(x) * len(y)),
-                "paired_n": len(d),
-                "paired_estimate": float(np.mean(d)),
-                "paired_p_value": flip(d, "two-sided"),
-                "margin": MARGIN.get(column),
-                "ci": bootstrap_difference(x, y, iqm, RESAMPLES, CONFIDENCE, SEED),
-                "paired_ci": bootstrap_interval(d, mean, RESAMPLES, CONFIDENCE, SEED),
+                "iqm_difference": float(iqm(np.asarray(x, float)) - iqm(np.asarray(y, float))),
+                "iqm_ci": bootstrap_difference(x, y, iqm, RESAMPLES, CONFIDENCE, SEED),
             }
-            margin = MARGIN.get(column)
-            if margin is not None:
-                row["p_equivalence"] = max(flip(d + margin, "greater"), flip(d - margin, "less"))
-            else:
-                row["p_equivalence"] = None
             out.append(row)
-    for row, p in zip(out, holm([r["p_value"] for r in out])):
-        row["p_holm"] = p
-    # The equivalence family: every comparison, 1 where there is no margin.
-    equivalence = [1.0 if r["p_equivalence"] is None else r["p_equivalence"] for r in out]
-    for row, p in zip(out, holm(equivalence)):
-        row["p_equivalence_holm"] = None if row["p_equivalence"] is None else p
+    informative = [r for r in out if r["informative"]]
+    family = [r["p_value"] for r in informative] + [t["p_value"] for t in (tests or [])]
+    if family:
+        adjusted = holm(family)
+        for row, p in zip(informative + (tests or []), adjusted):
+            row["p_holm"] = p
+    for row in out:
+        if not row["informative"]:
+            row["p_holm"] = None
+    # The equivalence family: the informative comparisons, 1 where there is no margin.
+    equivalence = [1.0 if r["p_equivalence"] is None else r["p_equivalence"] for r in informative]
+    if equivalence:
+        for row, p in zip(informative, holm(equivalence)):
+            row["p_equivalence_holm"] = None if row["p_equivalence"] is None else p
+    for row in out:
+        if not row["informative"]:
+            row["p_equivalence_holm"] = None
     return out
+
+
+def rust(rows):
+    """The comparisons as the `Expected` literals of `chains.rs`."""
+    def opt(v):
+        return "None" if v is None else f"Some({v!r})"
+    for r in rows:
+        interval = "None" if r["interval"] is None else f"Some({r['interval']!r})"
+        print(f"""        Expected {{
+            metric: "{r['metric']}",
+            versus: "{r['versus']}",
+            n: {r['n']!r},
+            paired_n: {r['paired_n']},
+            estimate: {r['estimate']!r},
+            interval: {interval},
+            p_value: {r['p_value']!r},
+            p_holm: {opt(r['p_holm'])},
+            paired_p_value: {r['paired_p_value']!r},
+            margin: {opt(r['margin'])},
+            p_equivalence: {opt(r['p_equivalence'])},
+            p_equivalence_holm: {opt(r['p_equivalence_holm'])},
+            informative: {str(r['informative']).lower()},
+            p_improvement: {r['p_improvement']!r},
+            iqm_difference: {r['iqm_difference']!r},
+            iqm_ci: {r['iqm_ci']!r},
+        }},""")
 
 
 def per_seed_tests(flags, seeds):
@@ -448,10 +505,14 @@ def main():
     check = ChaCha8(7)
     assert [check.next_u32() for _ in range(20)] == FIRST_WORDS_SEED_7
     c3_stable = lambda m: [row[0] for row in C3[m]]  # noqa: E731
-    show("C3 task2: stable_reaching sign tests (Holm over the competitors)",
-         per_seed_tests(c3_stable, 8))
-    show("C3 task2: deciding comparisons (Holm over all six)", comparisons(C3_METRICS))
-    show("C3 task2: secondary comparisons (Holm over all six)", comparisons(C3_SECONDARY))
+    tests = per_seed_tests(c3_stable, 8)
+    deciding = comparisons(C3_METRICS, tests=tests)
+    show("C3 task2: stable_reaching sign tests (Holm in one family with the comparisons)",
+         tests)
+    print("# C3 task2: deciding comparisons (one Holm family with the sign tests)")
+    rust(deciding)
+    print("# C3 task2: secondary comparisons (Holm among themselves)")
+    rust(comparisons(C3_SECONDARY))
 
     print("# C3 task2: single-method IQMs (trim_mean(x, 0.25)), n, bootstrap interval")
     for method in C3:
@@ -476,17 +537,17 @@ def main():
     d = x - y
     print(f"  permutation p, IQM: {permutation_p_monte_carlo(x, y, iqm, 10_000, 0)!r}")
     print(f"  permutation p, mean: {permutation_p_monte_carlo(x, y, mean, 10_000, 0)!r}")
-    print(f"  sign-flip p of the mean (two-sided, greater, less): "
-          f"{sign_flip_monte_carlo(d, 10_000, 0)!r}")
-    tost = max(sign_flip_monte_carlo(d + 2.0, 10_000, 0)[1],
-               sign_flip_monte_carlo(d - 2.0, 10_000, 0)[2])
-    print(f"  TOST, margin 2: {tost!r}")
+    print(f"  sign-flip p of the mean, exact over 2^20 (two-sided, greater, less): "
+          f"{(flip(d, 'two-sided'), flip(d, 'greater'), flip(d, 'less'))!r}")
+    tost = max(flip(d + 2.0, "greater"), flip(d - 2.0, "less"))
+    print(f"  TOST, margin 2 (exact): {tost!r}")
+    print(f"  sign-flip interval of the mean (exact): {subset_mean_interval(d)!r}")
     print(f"  IQM interval of x: {bootstrap_interval(x, iqm, 10_000, 0.95, 0)!r}")
     print(f"  IQM difference interval: {bootstrap_difference(x, y, iqm, 10_000, 0.95, 0)!r}")
     print(f"  paired mean interval: {bootstrap_interval(d, mean, 10_000, 0.95, 0)!r}")
 
-    show("C4 robot, every seed reaching: comparisons (Holm over all nine)",
-         comparisons(C4_METRICS, C4_ALL_REACH, C4_INDEX, {"reach_average_reward"}))
+    print("# C4 robot, every seed reaching: comparisons (Holm over all nine)")
+    rust(comparisons(C4_METRICS, C4_ALL_REACH, C4_INDEX, {"reach_average_reward"}))
 
     c4_reached = lambda m: [s in C4_REACHES[m] for s in range(C4_SEEDS)]  # noqa: E731
     show("C4 robot: reached sign tests (Holm over the competitors)",

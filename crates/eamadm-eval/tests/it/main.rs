@@ -12,6 +12,7 @@ mod hierarchical;
 mod margins;
 mod monte_carlo;
 mod paired;
+mod paired_mean;
 mod resampling;
 mod sensitivity;
 mod stats;

@@ -223,7 +223,7 @@ fn sign_flip_p_value_by_sorting(
         greater += u64::from(t >= observed - slack);
         less += u64::from(t <= observed + slack);
     };
-    let (p_greater, p_less) = if test.is_exact(n) {
+    let (p_greater, p_less) = if test.is_exact_for(n, statistic) {
         let total = 1_u64 << n;
         for signs in 0..total {
             for (i, (f, d)) in flipped.iter_mut().zip(differences).enumerate() {
@@ -272,10 +272,16 @@ proptest! {
 
     /// Counting flips over pre-sorted signed magnitudes gives exactly the p-value of sorting
     /// every flipped sample, bit for bit, exact and Monte Carlo (more than 32 differences
-    /// spans two random words per sign vector).
+    /// spans two random words per sign vector; the mean of up to 24 differences is counted by
+    /// meet in the middle).
     #[test]
     fn sign_flip_equals_the_sorting_implementation_bit_for_bit(
-        d in prop::collection::vec(awkward_difference(), 1..70),
+        // The mean is enumerated up to 24 differences whatever `resamples` (issue 34), and the
+        // oracle enumerates with it: lengths up to 14 keep that quick, beyond 24 both draw.
+        d in prop_oneof![
+            prop::collection::vec(awkward_difference(), 1..15),
+            prop::collection::vec(awkward_difference(), 25..70),
+        ],
         resamples in prop_oneof![Just(64_u32), Just(300_u32)],
         seed in 0_u64..1000,
     ) {

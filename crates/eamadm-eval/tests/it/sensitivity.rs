@@ -10,7 +10,7 @@ use eamadm_eval::sensitivity::{
     Change, ReadingRuns, SENSITIVITY_COLUMNS, read_csv, sensitivity, substitute, survival,
     write_csv,
 };
-use eamadm_eval::stats::{Bootstrap, PermutationTest, SignFlipTest};
+use eamadm_eval::stats::{Bootstrap, SignFlipTest};
 
 fn row(task: &str, method: &str, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {
@@ -67,7 +67,6 @@ fn base() -> Vec<FinalScore> {
 fn options() -> ClaimOptions {
     ClaimOptions {
         bootstrap: Bootstrap::new(2000, 0.95, 7).unwrap(),
-        permutation: PermutationTest::new(2000, 7).unwrap(),
         sign_flip: SignFlipTest::new(2000, 7).unwrap(),
         alpha: 0.05,
         margins: crate::margins::maze_margins(&["task1", "task2"]),
@@ -118,7 +117,7 @@ fn a_reading_that_changes_nothing_holds_everywhere() {
         assert_eq!(row.change, Change::Holds, "{row:?}");
         assert_eq!(row.verdict, row.base_verdict);
         assert_eq!(row.verdict, Verdict::Supported);
-        assert_eq!(row.statistic, "iqm_difference");
+        assert_eq!(row.statistic, "paired_mean_difference");
         assert!(row.estimate.is_some() && row.p_holm.is_some());
     }
     assert!(
@@ -247,4 +246,47 @@ fn sensitivity_csv_has_its_columns_and_rounded_rows() {
         })
         .collect();
     insta::assert_snapshot!(rounded.join("\n"));
+}
+
+/// Issue 34 item 6: a C3 verdict decided by the stable-reaching test is labelled by that
+/// test's own column (`stable_reaching`, `stable_reaching_share_difference`), not as `reached`
+/// (every method may reach in training while only some reach stably).
+#[test]
+fn a_c3_verdict_decided_by_stable_reaching_is_labelled_so() {
+    let mut base = base();
+    // The competitors reach in training on every seed but are never stable-reaching: no
+    // greedy SD of theirs, so only the stable-reaching test decides C3.
+    for r in base.iter_mut().filter(|r| r.method != "ea-madm") {
+        r.stable_reaching = Some(false);
+        r.fluctuation_greedy_steps = None;
+        r.fluctuation_greedy_return = None;
+    }
+    let no_op = ReadingRuns {
+        reading: "no-op".to_owned(),
+        task: "task2".to_owned(),
+        methods: vec!["softmax".to_owned()],
+        scores: base
+            .iter()
+            .filter(|r| r.task == "task2" && r.method == "softmax")
+            .cloned()
+            .collect(),
+    };
+    let rows = sensitivity(&base, &[no_op], &options()).unwrap();
+    let c3 = rows.iter().find(|r| r.claim == "C3").unwrap();
+    assert_eq!(c3.verdict, Verdict::Supported, "{c3:?}");
+    assert_eq!(c3.metric, "stable_reaching");
+    assert_eq!(c3.statistic, "stable_reaching_share_difference");
+    // 12 of 12 seeds against 0 of 12.
+    assert_eq!(c3.estimate, Some(1.0));
+    assert_ne!(c3.metric, "reached");
+    // The CSV names it so and reads back.
+    let mut bytes = Vec::new();
+    write_csv(&rows, &mut bytes).unwrap();
+    let text = String::from_utf8(bytes).unwrap();
+    assert!(
+        text.lines().any(|l| l.starts_with("C3,")
+            && l.contains(",stable_reaching,stable_reaching_share_difference,")),
+        "{text}"
+    );
+    assert_eq!(read_csv(text.as_bytes()).unwrap(), rows);
 }
