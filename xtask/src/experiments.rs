@@ -6,7 +6,7 @@ use std::path::Path;
 
 use eamadm::config::TaskConfig;
 use eamadm::paper::Reading;
-use eamadm::{ConfigError, Experiment, ExperimentConfig, Method, Role};
+use eamadm::{ConfigError, Experiment, ExperimentConfig, Method};
 use thiserror::Error;
 
 use crate::cli::{Readings, Task};
@@ -56,14 +56,6 @@ impl PlannedExperiment {
     /// The config actually run.
     pub(crate) fn config(&self) -> &ExperimentConfig {
         self.experiment.config()
-    }
-
-    /// Whether `label` is one of the paper's methods in this experiment (`role = paper`), as
-    /// opposed to an ablation or a control.
-    pub(crate) fn is_paper_method(&self, label: &str) -> bool {
-        self.config()
-            .method(label)
-            .is_some_and(|spec| spec.role == Role::Paper)
     }
 }
 
@@ -332,8 +324,6 @@ mod tests {
         }
         assert!(planned.iter().all(|p| p.config().seeds == 2));
         assert_eq!(planned[1].title, "Task II");
-        assert!(planned[0].is_paper_method("softmax"));
-        assert!(!planned[0].is_paper_method("ea-madm-table"));
     }
 
     #[test]

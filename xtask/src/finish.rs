@@ -1,6 +1,6 @@
 //! The outputs of a plan, made from run stores as a stream: one run at a time is read (in job
 //! order), written to the CSV tables, added to the
-//! experiment's figures ([`ExperimentFigures`]: per-episode bands), its final scores (one small
+//! experiment's figures ([`eamadm_present::figures::ExperimentFigures`]: per-episode bands), its final scores (one small
 //! row per run, which the verdicts' per-seed bootstrap needs) and the robot's behaviour sums
 //! ([`BehaviourAccumulator`]), then dropped. No run is held past its turn, so memory does not
 //! grow with the number of seeds.
@@ -23,7 +23,7 @@ use crate::claims_report::{ClaimsReportError, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
-use crate::outputs::{ExperimentFigures, OutputError};
+use crate::outputs::{OutputError, experiment_figures, write_figures};
 use eamadm::report::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
 use eamadm_runs::store::{RunStore, StoreError, StoredRun};
@@ -237,7 +237,7 @@ pub(crate) fn write_outputs(
         let mut collected = everything.then(|| {
             let is_robot = matches!(planned.config().task, eamadm::TaskConfig::Robot { .. });
             (
-                ExperimentFigures::new(planned),
+                experiment_figures(planned),
                 is_robot.then(BehaviourAccumulator::default),
             )
         });
@@ -305,7 +305,7 @@ pub(crate) fn write_outputs(
         experiment.reward_readings = eamadm::diagnosis::reward_readings(&planned.experiment);
         experiment.margins = planned.experiment.task().equivalence_margins();
         if let Some((experiment_figures, robot_behaviour)) = collected {
-            experiment.figures = experiment_figures.write(out)?;
+            experiment.figures = write_figures(out, &planned.name, experiment_figures)?;
             if let Some(robot_behaviour) = robot_behaviour {
                 experiment.behaviour = robot_behaviour.finish();
             }

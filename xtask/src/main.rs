@@ -19,7 +19,8 @@
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
 //! configs; [`reproduce`] drives a run: [`jobs`] lists and shards the runs, [`execute`] runs
 //! them (resuming by [`eamadm_runs::key`]'s keys from the [`eamadm_runs::store`], showing [`progress`]), [`finish`]
-//! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
+//! streams the store into the outputs: CSV, figures ([`outputs`], drawn by
+//! [`eamadm_present::figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
 //! and `REPORT.md` (whose text [`eamadm::report`] makes), [`sensitivity_report`] the readings'
 //! `sensitivity.csv`, all staged and swapped into the
@@ -39,7 +40,6 @@ mod execute;
 mod experiments;
 #[cfg(test)]
 mod figure_checks;
-mod figures;
 mod finish;
 mod fixtures;
 mod jobs;

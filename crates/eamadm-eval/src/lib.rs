@@ -17,6 +17,7 @@
 //! | [`paper_claims`] | the paper's claims C1–C4 as data, metric directions, method titles |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4, Fig. 13–15) and the seeds behind each point |
+//! | [`facts`] | what the report and figures know beyond the scores: the paper's tasks, the run's experiments, the readings |
 //! | [`columns`] | every column of `final-scores.csv` and `claims.csv` documented: the data package and its Markdown |
 //! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
@@ -49,6 +50,7 @@
 pub mod behaviour;
 pub mod claims;
 pub mod columns;
+pub mod facts;
 pub mod paper_claims;
 pub mod reaching;
 pub mod record;

@@ -16,7 +16,6 @@
 //! | [`wmr_model`] | the wheeled robot and its scenario (Sec. III, VI.B) |
 //! | [`config`] | experiment configs in TOML |
 //! | [`paper`] | the paper's presets (Table 1 and 2), methods, titles, reported numbers, claims C1–C4 |
-//! | [`theme`] | one colour and dash per method (Okabe–Ito; paper solid, ablations dashed, controls dotted) for every figure |
 //! | [`pretrain`], [`prior`] | sub-task pre-training and the sub-tasks' stored experience (Fig. 5) |
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
@@ -180,8 +179,8 @@ pub use wmr_model;
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
 pub use eamadm_eval::{
-    behaviour, claims, columns, reaching, record, report, results, scores, sensitivity, stats,
-    summary,
+    behaviour, claims, columns, facts, reaching, record, report, results, scores, sensitivity,
+    stats, summary,
 };
 
 pub mod agent;
@@ -198,7 +197,6 @@ mod rng;
 pub mod runner;
 pub mod signal;
 pub mod task;
-pub mod theme;
 
 pub use agent::{EaMadmPolicy, PolicyError};
 // `behaviour` (the function) comes with the module of the same name above.

@@ -1,6 +1,6 @@
 //! SVG line charts of per-episode curves over seeds, drawn with the estimator the tables use:
 //! for each method the **interquartile mean** (IQM) over seeds as a line and the 95 %
-//! percentile-bootstrap interval of that IQM as a translucent band ([`eamadm::stats`], the
+//! percentile-bootstrap interval of that IQM as a translucent band ([`eamadm_eval::stats`], the
 //! functions behind `REPORT.md`'s numbers). A bootstrap interval of a statistic of the seeds'
 //! values lies between the smallest and largest value, so a band can never leave its metric's
 //! range (no negative steps, no success share above 1).
@@ -10,10 +10,10 @@
 //! zoomed panel of the final episodes (so the end of training is readable when the first
 //! episodes span orders of magnitude more), dashed reference lines (the optimum).
 //!
-//! Every method has one look ([`eamadm::theme`]): its colour and dash are the same in every
+//! Every method has one look ([`crate::theme`]): its colour and dash are the same in every
 //! figure. EA-MADM is drawn last, on top. Titles, legends and captions are wrapped to the
 //! canvas with a conservative estimate of the text's width ([`text_width`]), and the figure
-//! checks (`figure_checks`) verify it on every figure of a run.
+//! checks ([`crate::checks`]) verify it on every figure of a run.
 //!
 //! The SVG is written directly (no plotting library): it needs `stroke-dasharray` for the
 //! methods' dashes and carries, for the checks, the data coordinates of each plot
@@ -21,31 +21,36 @@
 //! tenth of a pixel and nothing depends on time or the machine, so equal input gives equal
 //! bytes.
 //!
-//! ```ignore
+//! ```
+//! use eamadm_eval::Role;
+//! use eamadm_present::chart::{LineChart, Series};
+//! use eamadm_present::theme::method_style;
+//!
+//! let style = method_style("ea-madm", Role::Paper);
 //! let mut ea_madm = Series::new("ea-madm", "EA-MADM", style, 5);
-//! for run in ea_madm_runs {
-//!     ea_madm.push(&steps_of(run));
+//! for seed in 0..4 {
+//!     let steps: Vec<f64> = (0..30).map(|e| 200.0 / f64::from(e + 1) + f64::from(seed)).collect();
+//!     ea_madm.push(&steps);
 //! }
-//! LineChart::new("Task I: steps per episode", "episode", "steps per episode")
+//! let svg = LineChart::new("Task I: steps per episode", "episode", "steps per episode")
 //!     .with_smoothing(5)
 //!     .with_series(ea_madm)
 //!     .with_reference_line("BFS optimum = 58", 58.0)
-//!     .write_svg(&out.join("task1/steps.svg"))?;
+//!     .render_svg()?;
+//! assert!(svg.starts_with("<svg") && svg.contains("data-method=\"ea-madm\""));
+//! # Ok::<(), eamadm_present::chart::FigureError>(())
 //! ```
 
 use std::fmt::Write as _;
-use std::path::Path;
 
-use eamadm::stats::{self, Bootstrap, Statistic};
-use eamadm::summary::{self, StatsError};
-use eamadm::theme::MethodStyle;
+use crate::theme::MethodStyle;
+use eamadm_eval::stats::{self, Bootstrap, Statistic};
+use eamadm_eval::summary::{self, StatsError};
 use thiserror::Error;
-
-use crate::atomic::{AtomicWriteError, write_atomic};
 
 /// Bad chart input, or a failure to write it.
 #[derive(Debug, Error)]
-pub(crate) enum FigureError {
+pub enum FigureError {
     /// A chart with no series.
     #[error("chart {title:?} has no series")]
     NoSeries {
@@ -102,20 +107,17 @@ pub(crate) enum FigureError {
         /// Requested width in pixels.
         width: u32,
     },
-    /// Writing the SVG file failed.
-    #[error(transparent)]
-    Write(#[from] AtomicWriteError),
 }
 
 /// Narrowest accepted canvas.
 const MIN_WIDTH: u32 = 600;
 /// Bootstrap resamples of each band point: enough for a figure's 95 % band (its ends move by
 /// well under a line's width between seeds of the bootstrap).
-pub(crate) const FIGURE_RESAMPLES: u32 = 1_000;
+pub const FIGURE_RESAMPLES: u32 = 1_000;
 /// The most episodes per series at which the band is bootstrapped; on longer curves it is
 /// computed every `⌈episodes / MAX_BAND_POINTS⌉` episodes (and at the last) and the caption
 /// says so. The curves are moving averages, so the band changes slowly between those points.
-pub(crate) const MAX_BAND_POINTS: usize = 100;
+pub const MAX_BAND_POINTS: usize = 100;
 /// Seed of the bootstrap of every band point (the episode index is added).
 const BAND_SEED: u64 = 0x0F16_0BAD;
 
@@ -126,13 +128,13 @@ const BAND_SEED: u64 = 0x0F16_0BAD;
 /// and the curves after it are ignored; drawing the series then fails naming it, the seed (its
 /// position among the curves pushed) and the episode. A series that is never drawn never fails.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Series {
+pub struct Series {
     /// The method's label (`data-method` in the SVG, for the checks).
-    pub(crate) method: String,
+    pub method: String,
     /// Legend label, e.g. `"EA-MADM"`.
-    pub(crate) name: String,
+    pub name: String,
     /// The method's colour and dash.
-    pub(crate) style: MethodStyle,
+    pub style: MethodStyle,
     /// Trailing moving-average window each curve is smoothed with (1: none).
     smoothing_window: usize,
     /// Curves pushed, failed ones included.
@@ -144,7 +146,7 @@ pub(crate) struct Series {
     /// The first bad curve's error.
     failure: Option<StatsError>,
     /// Whether the chart draws a thin line per seed.
-    pub(crate) per_seed: bool,
+    pub per_seed: bool,
 }
 
 /// What is drawn of a series: the IQM per episode and band points (episode index, low, high).
@@ -157,7 +159,7 @@ struct Drawn {
 impl Series {
     /// A series without curves of the method labelled `method`, shown as `name`, whose curves
     /// are smoothed over `smoothing_window` episodes (1 = none; it must be its chart's window).
-    pub(crate) fn new(
+    pub fn new(
         method: impl Into<String>,
         name: impl Into<String>,
         style: MethodStyle,
@@ -177,7 +179,7 @@ impl Series {
     }
 
     /// Adds the next seed's curve (`curve[episode]`).
-    pub(crate) fn push(&mut self, curve: &[f64]) {
+    pub fn push(&mut self, curve: &[f64]) {
         let seed = self.pushed;
         self.pushed += 1;
         if self.failure.is_some() {
@@ -202,7 +204,7 @@ impl Series {
     }
 
     /// Counts, per episode, the seed's episodes that hit the step cap (`at_cap[episode]`).
-    pub(crate) fn count_at_cap(&mut self, at_cap: &[bool]) {
+    pub fn count_at_cap(&mut self, at_cap: &[bool]) {
         if self.at_cap.len() < at_cap.len() {
             self.at_cap.resize(at_cap.len(), 0);
         }
@@ -212,13 +214,13 @@ impl Series {
     }
 
     /// Curves pushed so far (seeds), failed ones included.
-    pub(crate) fn seeds(&self) -> usize {
+    pub fn seeds(&self) -> usize {
         self.pushed
     }
 
     /// The IQM over seeds of the last episode of the longest curves (their smoothed value
     /// there), and how many seeds hit the step cap in that episode; `None` without curves.
-    pub(crate) fn final_iqm(&self) -> Option<(f64, u32)> {
+    pub fn final_iqm(&self) -> Option<(f64, u32)> {
         let longest = self.curves_len();
         let values: Vec<f64> = self
             .curves
@@ -234,28 +236,28 @@ impl Series {
     }
 
     /// Per episode (x index from 0), the seeds whose curve has a value there
-    /// ([`eamadm::reaching::seeds_contributing`]); up to the longest curve.
-    pub(crate) fn seeds_per_x(&self) -> Vec<usize> {
+    /// ([`eamadm_eval::reaching::seeds_contributing`]); up to the longest curve.
+    pub fn seeds_per_x(&self) -> Vec<usize> {
         let lengths: Vec<usize> = self.curves.iter().map(Vec::len).collect();
-        eamadm::reaching::seeds_contributing(&lengths)
+        eamadm_eval::reaching::seeds_contributing(&lengths)
     }
 
     /// Episodes of the longest curve.
-    pub(crate) fn curves_len(&self) -> usize {
+    pub fn curves_len(&self) -> usize {
         self.curves.iter().map(Vec::len).max().unwrap_or(0)
     }
 
     /// Seeds behind the series' last point: the curves as long as the longest. Fewer than
     /// [`Self::seeds`] where curves end early (over reaching episodes, a seed that reached
     /// fewer times drops out), so with it a caption can state the range along x.
-    pub(crate) fn seeds_at_end(&self) -> usize {
+    pub fn seeds_at_end(&self) -> usize {
         let longest = self.curves_len();
         self.curves.iter().filter(|c| c.len() == longest).count()
     }
 
     /// Numbers held (for the memory law: one per seed and episode).
     #[cfg(test)]
-    pub(crate) fn held_numbers(&self) -> usize {
+    pub fn held_numbers(&self) -> usize {
         self.curves.iter().map(Vec::len).sum::<usize>() + self.at_cap.len()
     }
 
@@ -303,46 +305,46 @@ impl Series {
 
 /// A dashed horizontal line with a legend label, e.g. `"BFS optimum = 58"` at 58.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct ReferenceLine {
+pub struct ReferenceLine {
     /// Legend label.
-    pub(crate) label: String,
+    pub label: String,
     /// Height in data units.
-    pub(crate) y: f64,
+    pub y: f64,
 }
 
 /// A line chart of per-episode curves over seeds; build it with [`LineChart::new`] and the
-/// `with_*` methods, then call [`LineChart::render_svg`] or [`LineChart::write_svg`].
+/// `with_*` methods, then call [`LineChart::render_svg`].
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct LineChart {
+pub struct LineChart {
     /// Title above the chart (wrapped to the canvas).
-    pub(crate) title: String,
+    pub title: String,
     /// Smaller text under the title (wrapped), e.g. what the figure is the analogue of.
-    pub(crate) subtitle: String,
+    pub subtitle: String,
     /// Label of the x axis (episodes, numbered from 1), with its unit.
-    pub(crate) x_label: String,
+    pub x_label: String,
     /// Label of the y axis, with its unit.
-    pub(crate) y_label: String,
+    pub y_label: String,
     /// The metric's range, `(lowest, highest)` where bounded: the y axis never leaves it and
     /// the checks hold every band inside it.
-    pub(crate) metric_range: (Option<f64>, Option<f64>),
+    pub metric_range: (Option<f64>, Option<f64>),
     /// The series, in legend order (EA-MADM is drawn last whatever its place).
-    pub(crate) series: Vec<Series>,
+    pub series: Vec<Series>,
     /// Dashed horizontal reference lines.
-    pub(crate) reference_lines: Vec<ReferenceLine>,
+    pub reference_lines: Vec<ReferenceLine>,
     /// Trailing moving-average window applied to every seed's curve before the IQM over seeds
     /// ([`summary::moving_average`]); 1 means no smoothing.
-    pub(crate) smoothing_window: usize,
+    pub smoothing_window: usize,
     /// A panel of the seeds at the step cap per episode, titled with this text.
-    pub(crate) cap_panel: Option<String>,
+    pub cap_panel: Option<String>,
     /// A panel zoomed on the final this-many episodes, beside the whole run.
-    pub(crate) final_zoom: Option<usize>,
+    pub final_zoom: Option<usize>,
     /// A panel of the seeds each series' line is the IQM of, per episode, titled with this
     /// text (seeds whose curves are shorter drop out to the right).
-    pub(crate) seed_panel: Option<String>,
+    pub seed_panel: Option<String>,
     /// The x axis's last episode, when fixed (otherwise the longest curve's).
-    pub(crate) x_end: Option<usize>,
+    pub x_end: Option<usize>,
     /// Canvas width in pixels (the height follows from the content).
-    pub(crate) width: u32,
+    pub width: u32,
 }
 
 /// Colour of reference lines (dark grey, dashed) and of secondary text.
@@ -372,7 +374,7 @@ const ZOOM_SHARE: f64 = 0.3;
 /// Conservative estimate of the width in pixels of `text` at `font` px in a sans-serif face:
 /// 0.85 em for capitals and `m`/`w`, 0.65 em for every other character (the `DejaVu Sans` face, the
 /// widest common default, averages about 0.6 em for lower case and digits).
-pub(crate) fn text_width(text: &str, font: f64) -> f64 {
+pub fn text_width(text: &str, font: f64) -> f64 {
     text.chars()
         .map(|c| {
             if c.is_uppercase() || c == 'm' || c == 'w' {
@@ -387,7 +389,7 @@ pub(crate) fn text_width(text: &str, font: f64) -> f64 {
 
 /// Greedy word wrap to lines at most `width` px wide at `font` px (a longer word keeps its
 /// own line).
-pub(crate) fn wrap(text: &str, width: f64, font: f64) -> Vec<String> {
+pub fn wrap(text: &str, width: f64, font: f64) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     for word in text.split_whitespace() {
         match lines.last_mut() {
@@ -445,7 +447,7 @@ fn legend_label(svg: &mut String, text_x: f64, middle: f64, lines: &[String]) ->
 }
 
 /// Escapes text for SVG.
-pub(crate) fn escape(text: &str) -> String {
+pub fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -453,7 +455,7 @@ pub(crate) fn escape(text: &str) -> String {
 }
 
 /// A number rounded to a tenth, as SVG coordinates are written.
-pub(crate) fn px(value: f64) -> String {
+pub fn px(value: f64) -> String {
     let rounded = (value * 10.0).round() / 10.0;
     if rounded == rounded.trunc() {
         format!("{rounded:.0}")
@@ -463,7 +465,7 @@ pub(crate) fn px(value: f64) -> String {
 }
 
 /// A `<text>` element (`anchor`: `start`, `middle` or `end`).
-pub(crate) fn text_element(
+pub fn text_element(
     svg: &mut String,
     (x, y): (f64, f64),
     font: f64,
@@ -482,7 +484,7 @@ pub(crate) fn text_element(
 }
 
 /// Wrapped lines of `text` starting at baseline `y`; returns the `y` below the last line.
-pub(crate) fn wrapped_text(
+pub fn wrapped_text(
     svg: &mut String,
     (x, y): (f64, f64),
     width: f64,
@@ -500,7 +502,7 @@ pub(crate) fn wrapped_text(
 }
 
 /// The SVG attributes of a method's stroke: colour and dash.
-pub(crate) fn stroke_attributes(style: &MethodStyle) -> String {
+pub fn stroke_attributes(style: &MethodStyle) -> String {
     let mut attributes = format!("stroke=\"{}\"", style.colour);
     if let Some(dash) = style.dash.dasharray() {
         let _ = write!(attributes, " stroke-dasharray=\"{dash}\"");
@@ -693,7 +695,7 @@ fn padded_range(
 
 impl LineChart {
     /// An empty 960 px wide chart with no smoothing.
-    pub(crate) fn new(
+    pub fn new(
         title: impl Into<String>,
         x_label: impl Into<String>,
         y_label: impl Into<String>,
@@ -716,13 +718,13 @@ impl LineChart {
     }
 
     /// Adds a series (made with this chart's smoothing window).
-    pub(crate) fn with_series(mut self, series: Series) -> Self {
+    pub fn with_series(mut self, series: Series) -> Self {
         self.series.push(series);
         self
     }
 
     /// Adds a dashed horizontal reference line at height `y`.
-    pub(crate) fn with_reference_line(mut self, label: impl Into<String>, y: f64) -> Self {
+    pub fn with_reference_line(mut self, label: impl Into<String>, y: f64) -> Self {
         self.reference_lines.push(ReferenceLine {
             label: label.into(),
             y,
@@ -731,67 +733,52 @@ impl LineChart {
     }
 
     /// States that every seed's curve is smoothed over `window` episodes.
-    pub(crate) fn with_smoothing(mut self, window: usize) -> Self {
+    pub fn with_smoothing(mut self, window: usize) -> Self {
         self.smoothing_window = window;
         self
     }
 
     /// Sets the subtitle.
-    pub(crate) fn with_subtitle(mut self, subtitle: impl Into<String>) -> Self {
+    pub fn with_subtitle(mut self, subtitle: impl Into<String>) -> Self {
         self.subtitle = subtitle.into();
         self
     }
 
     /// Sets the metric's range.
-    pub(crate) fn with_metric_range(mut self, low: Option<f64>, high: Option<f64>) -> Self {
+    pub fn with_metric_range(mut self, low: Option<f64>, high: Option<f64>) -> Self {
         self.metric_range = (low, high);
         self
     }
 
     /// Adds the panel of seeds at the step cap.
-    pub(crate) fn with_cap_panel(mut self, title: impl Into<String>) -> Self {
+    pub fn with_cap_panel(mut self, title: impl Into<String>) -> Self {
         self.cap_panel = Some(title.into());
         self
     }
 
     /// Adds the panel of the seeds behind each line per episode.
-    pub(crate) fn with_seed_panel(mut self, title: impl Into<String>) -> Self {
+    pub fn with_seed_panel(mut self, title: impl Into<String>) -> Self {
         self.seed_panel = Some(title.into());
         self
     }
 
     /// Fixes the x axis to episodes 1 ..= `episodes` (curves are never longer: the caller
     /// cuts them).
-    pub(crate) fn with_x_end(mut self, episodes: usize) -> Self {
+    pub fn with_x_end(mut self, episodes: usize) -> Self {
         self.x_end = Some(episodes);
         self
     }
 
     /// Adds a panel zoomed on the final `episodes` episodes.
-    pub(crate) fn with_final_zoom(mut self, episodes: usize) -> Self {
+    pub fn with_final_zoom(mut self, episodes: usize) -> Self {
         self.final_zoom = Some(episodes);
         self
     }
 
     /// Sets the canvas width in pixels.
-    #[cfg_attr(
-        not(test),
-        expect(dead_code, reason = "the run's figures use the default width")
-    )]
-    pub(crate) fn with_width(mut self, width: u32) -> Self {
+    pub fn with_width(mut self, width: u32) -> Self {
         self.width = width;
         self
-    }
-
-    /// Renders the chart and writes it to `path` atomically (creating parent folders).
-    #[cfg_attr(
-        not(test),
-        expect(dead_code, reason = "figures are written via outputs")
-    )]
-    pub(crate) fn write_svg(&self, path: &Path) -> Result<(), FigureError> {
-        let svg = self.render_svg()?;
-        write_atomic(path, svg.as_bytes())?;
-        Ok(())
     }
 
     /// Validates the input and computes each series' IQM line and band.
@@ -877,7 +864,7 @@ impl LineChart {
     }
 
     /// Renders the chart as an SVG document.
-    pub(crate) fn render_svg(&self) -> Result<String, FigureError> {
+    pub fn render_svg(&self) -> Result<String, FigureError> {
         let (drawn, stride) = self.drawn()?;
         let width = f64::from(self.width);
         let mut body = String::new();
@@ -1304,8 +1291,8 @@ fn episode(i: usize) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use eamadm::config::Role;
-    use eamadm::theme::method_style;
+    use crate::theme::method_style;
+    use eamadm_eval::Role;
 
     use super::*;
 
@@ -1313,7 +1300,7 @@ mod tests {
     fn series(method: &str, window: usize, runs: &[Vec<f64>]) -> Series {
         let mut series = Series::new(
             method,
-            eamadm::paper::method_title(method),
+            eamadm_eval::paper_claims::method_title(method),
             method_style(method, Role::Paper),
             window,
         );
@@ -1645,17 +1632,5 @@ mod tests {
         assert_eq!(tick_step(0.05, 5.0), 0.01);
         assert_eq!(tick_decimals(0.01), 2);
         assert_eq!(tick_decimals(500.0), 0);
-    }
-
-    #[test]
-    fn write_svg_writes_the_rendered_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("task1/steps.svg");
-        let chart = tiny_chart(1);
-        chart.write_svg(&path).unwrap();
-        assert_eq!(
-            std::fs::read_to_string(&path).unwrap(),
-            chart.render_svg().unwrap()
-        );
     }
 }
