@@ -1,12 +1,14 @@
 //! `REPORT.md`, `final-scores.csv` and `claims.csv`: the files of a run's verdicts. Their text
-//! is made by [`eamadm::report`] (pure, tested there); this module only writes it, atomically.
+//! is made by [`eamadm_present::report`] (pure, tested there); this module only writes it, atomically.
 
 use std::path::Path;
 
 use eamadm::claims::ClaimsError;
+use eamadm::facts::ReportContext;
 use eamadm::output_names as names;
-use eamadm::report::{self, ReportContext, ReportError, Verdicts};
 use eamadm::scores::ScoresError;
+use eamadm::verdicts::Verdicts;
+use eamadm_present::report::{self, ReportError};
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};

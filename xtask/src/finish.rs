@@ -24,7 +24,7 @@ use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
 use crate::outputs::{OutputError, experiment_figures, write_figures};
-use eamadm::report::Verdicts;
+use eamadm::verdicts::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
 use eamadm_runs::store::{RunStore, StoreError, StoredRun};
 

@@ -22,7 +22,7 @@
 //! streams the store into the outputs: CSV, figures ([`outputs`], drawn by
 //! [`eamadm_present::figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
-//! and `REPORT.md` (whose text [`eamadm::report`] makes), [`sensitivity_report`] the readings'
+//! and `REPORT.md` (whose text [`eamadm_present::report`] makes), [`sensitivity_report`] the readings'
 //! `sensitivity.csv`, all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with

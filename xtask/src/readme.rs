@@ -8,14 +8,14 @@
 //!   paragraph per task, exactly as the run's `REPORT.md` opens ([`readme_answer`]);
 //! - [`FIGURE`]: the run's `task1/steps.svg`, byte for byte.
 //!
-//! The text is made by [`eamadm::report`]; this module reads the run's files and splices.
+//! The text is made by [`eamadm_present::report`]; this module reads the run's files and splices.
 //!
 //! The default run is made by this very binary (`reproduce-paper --out <temporary folder>`), so
 //! the README always shows what the code computes now.
 
 use std::path::Path;
 
-use eamadm::report::{readme_answer, readme_verdicts};
+use eamadm_present::report::{readme_answer, readme_verdicts};
 
 /// The README, relative to the workspace root.
 pub(crate) const README: &str = "README.md";

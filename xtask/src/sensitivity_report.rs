@@ -1,6 +1,6 @@
 //! The readings of the paper in a run's outputs: the plan printout's line and
 //! `sensitivity.csv` (issue 20 item 4). The rows are computed by `eamadm::sensitivity` and the
-//! report's section on them is written by `eamadm::report`; this module only writes files.
+//! report's section on them is written by `eamadm_present::report`; this module only writes files.
 
 use std::path::Path;
 

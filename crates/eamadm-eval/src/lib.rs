@@ -1,7 +1,7 @@
 //! The evaluation of EA-MADM runs: statistics over seeds, per-seed final scores, the paper's
 //! claims tested with a verdict each, the methods' behaviour, and the tidy tables that hold
 //! them. Pure: run records in ([`RunRecord`], the output of `eamadm`'s runner), numbers,
-//! verdicts and text out; no file is opened here (writers take any [`std::io::Write`]).
+//! verdicts and findings out; no file is opened here (writers take any [`std::io::Write`]).
 //!
 //! It depends on no crate of the workspace: the run record types ([`record`]), a method's
 //! [`Role`] and the paper's claims as data ([`paper_claims`]) live here, and `eamadm`
@@ -22,6 +22,8 @@
 //! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
+//! | [`verdicts`] | every verdict of a run: against the competitors, the strongest control, without collapses, under the readings |
+//! | [`rounding`] | numbers as text, rounded to the digits they support |
 //!
 //! The paper's equations this crate evaluates against: the claims of Sec. VI.A (Fig. 7, 8,
 //! 10, 11: steps and cumulative reward per episode, their fluctuation) and Sec. VI.B (Fig.
@@ -54,13 +56,14 @@ pub mod facts;
 pub mod paper_claims;
 pub mod reaching;
 pub mod record;
-pub mod report;
 pub mod results;
 mod role;
+pub mod rounding;
 pub mod scores;
 pub mod sensitivity;
 pub mod stats;
 pub mod summary;
+pub mod verdicts;
 
 pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use record::{

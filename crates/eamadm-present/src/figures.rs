@@ -1015,7 +1015,7 @@ fn heading(body: &mut String, width: f64, title: &str, subtitle: &str) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use eamadm_eval::report::not_drawn_sentence;
+    use crate::report::not_drawn_sentence;
     use eamadm_eval::{RobotEpisodeMetrics, TrajectoryRecord};
 
     /// The tiny maze of these tests: 4 × 3 tiles, one obstacle.

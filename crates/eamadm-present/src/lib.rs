@@ -42,4 +42,5 @@
 pub mod chart;
 pub mod checks;
 pub mod figures;
+pub mod report;
 pub mod theme;

@@ -1,4 +1,4 @@
-//! `REPORT.md` from Python, made by the text the main job writes (`eamadm::report`), never
+//! `REPORT.md` from Python, made by the text the main job writes (`eamadm_present::report`), never
 //! re-derived here: for an output folder, from its `final-scores.csv` and `report-context.toml`
 //! (the report's context, figures and robot behaviour included, as the main job wrote it); for
 //! runs of [`run_config`](crate::experiment::run_config), from the scores and facts computed
@@ -6,10 +6,11 @@
 
 use std::path::{Path, PathBuf};
 
+use eamadm::facts::{ExperimentFacts, ReportContext};
 use eamadm::output_names::{FINAL_SCORES, REPORT, REPORT_CONTEXT, SENSITIVITY};
 use eamadm::paper::PaperTask;
-use eamadm::report::{ExperimentFacts, Verdicts};
 use eamadm::scores::FinalScore;
+use eamadm::verdicts::Verdicts;
 use eamadm::{BehaviourAccumulator, Experiment, RunRecord, TaskConfig};
 use pyo3::prelude::*;
 
@@ -171,7 +172,7 @@ pub(crate) fn report_of_runs(
 /// The report, `claims.csv` and `final-scores.csv` of `scores` in `context`, as the main job
 /// writes them (the verdicts judged with the context's margins, as the main job's).
 fn render(
-    context: &eamadm::report::ReportContext,
+    context: &ReportContext,
     scores: Vec<FinalScore>,
     sensitivity: Vec<eamadm::sensitivity::SensitivityRow>,
     argument: &str,
@@ -181,7 +182,7 @@ fn render(
     let verdicts = Verdicts::compute(scores, &options)
         .map_err(|e| error(&e))?
         .with_sensitivity(sensitivity);
-    let report = eamadm::report::render(context, &verdicts).map_err(|e| error(&e))?;
+    let report = eamadm_present::report::render(context, &verdicts).map_err(|e| error(&e))?;
     let claims = verdicts.claims_csv().map_err(|e| error(&e))?;
     let scores = verdicts.scores_csv().map_err(|e| error(&e))?;
     Ok((report, claims, scores))

@@ -179,8 +179,8 @@ pub use wmr_model;
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
 pub use eamadm_eval::{
-    behaviour, claims, columns, facts, reaching, record, report, results, scores, sensitivity,
-    stats, summary,
+    behaviour, claims, columns, facts, reaching, record, results, rounding, scores, sensitivity,
+    stats, summary, verdicts,
 };
 
 pub mod agent;

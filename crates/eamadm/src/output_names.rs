@@ -33,7 +33,7 @@ pub const DATA_PACKAGE: &str = "datapackage.json";
 /// one row per claim × task × reading, holds or flips.
 pub const SENSITIVITY: &str = "sensitivity.csv";
 /// What `REPORT.md` was rendered from beyond `final-scores.csv` (the run's
-/// `eamadm_eval::report::ReportContext` as TOML, whose floats read back exactly: tasks, experiments, figures with their
+/// `eamadm_eval::facts::ReportContext` as TOML, whose floats read back exactly: tasks, experiments, figures with their
 /// captions, the robot's behaviour), so the report can be rendered again from the folder
 /// alone, byte for byte (the Python package's `eamadm.report(dir)` does).
 pub const REPORT_CONTEXT: &str = "report-context.toml";

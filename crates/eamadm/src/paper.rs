@@ -26,10 +26,10 @@ use reward_std::Standardisation;
 use serde::Serialize;
 use wmr_model::{Action, SubtaskRepairs};
 
-use crate::output_names;
-use crate::report::{
+use crate::facts::{
     ExperimentFacts, Figures, FinalEpsilon, PaperTaskFacts, ReadingFacts, ReportContext,
 };
+use crate::output_names;
 
 use ea_tree::EaTreeConfig;
 
@@ -126,7 +126,7 @@ impl PaperTask {
 
 /// What `REPORT.md` needs to know about the paper's tasks and the robot (titles, the numbers
 /// the paper reports, the robot's action names, the output tables' file names) for
-/// [`report::render`](crate::report::render), with no experiment yet: the caller adds one
+/// `eamadm_present::report::render`, with no experiment yet: the caller adds one
 /// [`experiment_facts`] per experiment run, with its figures and behaviour.
 #[must_use]
 pub fn report_context(quick: bool) -> ReportContext {

@@ -7,10 +7,10 @@ use super::format::{
     Align, MarkdownTable, format_fixed, interval, list, number, p_value, role_text, share,
 };
 use super::{ExperimentFacts, Figures, FinalEpsilon, ReportContext, Verdicts};
-use crate::Role;
-use crate::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
-use crate::paper_claims::method_title;
-use crate::scores::FinalScore;
+use eamadm_eval::Role;
+use eamadm_eval::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
+use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::scores::FinalScore;
 
 pub(crate) fn estimate_cell(verdicts: &Verdicts, task: &str, method: &str, metric: &str) -> String {
     match verdicts.estimate(task, method, metric) {
@@ -500,7 +500,8 @@ fn controls_run(overviews: &[&MethodOverview]) -> String {
         overviews
             .iter()
             .filter(|o| {
-                o.role == Role::Control && super::strongest::control_family(&o.method) == Some(name)
+                o.role == Role::Control
+                    && eamadm_eval::verdicts::control_family(&o.method) == Some(name)
             })
             .map(|o| format!("`{}`", o.method))
             .collect()

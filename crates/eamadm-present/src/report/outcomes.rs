@@ -7,11 +7,11 @@ use std::fmt::Write as _;
 
 use super::Verdicts;
 use super::format::{Align, MarkdownTable, format_fixed, p_value};
-use crate::Role;
-use crate::claims::{self, SUBTASK_ALONE};
-use crate::paper_claims::method_title;
-use crate::scores::{FinalScore, RunOutcome};
-use crate::stats;
+use eamadm_eval::Role;
+use eamadm_eval::claims::{self, SUBTASK_ALONE};
+use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::scores::{FinalScore, RunOutcome};
+use eamadm_eval::stats;
 
 /// The outcomes of `method`'s seeds on `task`, by seed.
 pub(crate) fn outcomes(scores: &[FinalScore], task: &str, method: &str) -> Vec<(u64, RunOutcome)> {
@@ -79,7 +79,7 @@ fn count_cell(seeds: &[(u64, RunOutcome)], outcome: RunOutcome) -> String {
 
 /// The collapsed seeds of `method` as `seed 14 (ep. 64), seed 16 (ep. 122)`, or `—`.
 pub(crate) fn collapsed_list(scores: &[FinalScore], task: &str, method: &str) -> String {
-    let seeds = super::strongest::collapsed_seeds(scores, task, method);
+    let seeds = eamadm_eval::verdicts::collapsed_seeds(scores, task, method);
     if seeds.is_empty() {
         return "—".to_owned();
     }

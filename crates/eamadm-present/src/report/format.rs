@@ -3,9 +3,9 @@
 
 use thiserror::Error;
 
-use crate::Role;
-use crate::claims::Share;
-use crate::stats::Interval;
+use eamadm_eval::Role;
+use eamadm_eval::claims::Share;
+use eamadm_eval::stats::Interval;
 
 /// A table row of the wrong length.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -114,26 +114,7 @@ impl MarkdownTable {
     }
 }
 
-/// Most decimals any number in the report gets.
-const MAX_DECIMALS: i32 = 6;
-
-/// Formats `value` with `decimals` decimals, never printing a negative zero.
-pub fn format_fixed(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
-        _ => text,
-    }
-}
-
-/// Decimals that show `value` to `significant` significant digits (none for large values).
-pub fn decimals_for(value: f64, significant: i32) -> usize {
-    if value == 0.0 || !value.is_finite() {
-        return 0;
-    }
-    let magnitude = value.abs().log10().floor() as i32;
-    (significant - 1 - magnitude).clamp(0, MAX_DECIMALS) as usize
-}
+pub use eamadm_eval::rounding::{decimals_for, format_fixed};
 
 /// A number to three significant digits (no decimals from 100 up).
 pub fn number(value: f64) -> String {

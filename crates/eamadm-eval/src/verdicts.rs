@@ -1,6 +1,8 @@
-//! EA-MADM judged against the strongest control, and against the competitors without its
-//! collapsed seeds: the two readings of the verdicts the answer and the verdict table give
-//! beside the verdict against the paper's competitors.
+//! The verdicts a run's per-seed scores give: each claim × task × method under test against
+//! the paper's competitors ([`claims`]), the paper's EA-MADM against the strongest control of
+//! each claim × task and again without the seeds it collapsed on, and whether each verdict
+//! survives the readings of the paper ([`crate::sensitivity`]). [`Verdicts`] holds them with
+//! the scores they were judged on; [`crate::findings`] states what they say.
 //!
 //! The **strongest control** of a claim on a task is the control (role `control`, not an
 //! EA-MADM variant) with the best IQM of the claim's deciding metric there: the metric of the
@@ -8,16 +10,129 @@
 //! first metric. EA-MADM is judged against it alone by the very rule of the verdicts
 //! ([`claims::judge_against_competitors`]).
 
-use std::fmt::Write as _;
-
-use super::Verdicts;
-use super::answer::{converged, converged_count, rank};
-use super::format::{format_fixed, list, number};
-use super::verdicts::deciding_number;
 use crate::Role;
-use crate::claims::{self, ClaimOptions, ClaimsError, Estimate, Judgement};
+use crate::claims::{
+    self, ClaimOptions, ClaimsError, ControlComparison, Estimate, Judgement, MethodOverview,
+};
 use crate::paper_claims::{Claim, Direction};
-use crate::scores::{FinalScore, RunOutcome};
+use crate::scores::{self, FinalScore, RunOutcome, ScoresError};
+
+/// Everything the report states: the per-seed scores and what [`claims`] computes from them.
+#[derive(Debug, Clone)]
+pub struct Verdicts {
+    /// One row per task, method and seed.
+    pub scores: Vec<FinalScore>,
+    /// One per claim × task × method under test.
+    pub judgements: Vec<Judgement>,
+    /// IQM with interval per task × method × claim metric.
+    pub estimates: Vec<Estimate>,
+    /// Success shares, distributions and step budgets per task × method.
+    pub overviews: Vec<MethodOverview>,
+    /// The paper's EA-MADM against each control.
+    pub controls: Vec<ControlComparison>,
+    /// The paper's EA-MADM judged against the strongest control of each claim × task.
+    pub against_strongest: Vec<ControlVerdict>,
+    /// The paper's EA-MADM judged again without the seeds it collapsed on (see
+    /// [`without_collapses`]).
+    pub without_collapses: Vec<Judgement>,
+    /// Whether each claim × task's verdict survives every reading of the paper the
+    /// sensitivity runs try; empty when none was run (the table then says "not run").
+    pub survives_readings: Vec<SurvivesReadings>,
+    /// The settings the comparisons were made with.
+    pub options: ClaimOptions,
+    /// The paper's EA-MADM judged again under each reading of the paper (filled by the caller
+    /// when readings ran: [`crate::sensitivity::sensitivity`]; empty otherwise).
+    pub sensitivity: Vec<crate::sensitivity::SensitivityRow>,
+}
+
+/// Whether the paper EA-MADM's verdict on a claim × task holds under every alternative
+/// reading of the paper that was run.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SurvivesReadings {
+    /// `C1` … `C4`.
+    pub claim: String,
+    /// The task.
+    pub task: String,
+    /// True when no reading flips the verdict.
+    pub holds: bool,
+}
+
+impl Verdicts {
+    /// These verdicts with the rows of the readings of the paper (`sensitivity.csv`) and,
+    /// from them, whether each claim × task survives every reading (the verdict table's
+    /// column).
+    #[must_use]
+    pub fn with_sensitivity(mut self, rows: Vec<crate::sensitivity::SensitivityRow>) -> Self {
+        self.survives_readings = crate::sensitivity::survival(&rows)
+            .into_iter()
+            .map(|s| SurvivesReadings {
+                claim: s.claim.to_owned(),
+                task: s.task,
+                holds: s.survives,
+            })
+            .collect();
+        self.sensitivity = rows;
+        self
+    }
+
+    /// Judges the claims on `scores`.
+    pub fn compute(scores: Vec<FinalScore>, options: &ClaimOptions) -> Result<Self, ClaimsError> {
+        let judgements = claims::judge(&scores, options)?;
+        let estimates = claims::estimates(&scores, options)?;
+        Ok(Self {
+            against_strongest: against_strongest_controls(
+                &scores,
+                &judgements,
+                &estimates,
+                options,
+            )?,
+            without_collapses: without_collapses(&scores, &judgements, options)?,
+            survives_readings: Vec::new(),
+            judgements,
+            estimates,
+            overviews: claims::overview(&scores)?,
+            controls: claims::control_comparisons(&scores, options)?,
+            scores,
+            options: options.clone(),
+            sensitivity: Vec::new(),
+        })
+    }
+
+    /// The IQM estimate of `metric` for `method` on `task`, if one was computed.
+    #[must_use]
+    pub fn estimate(&self, task: &str, method: &str, metric: &str) -> Option<&Estimate> {
+        self.estimates
+            .iter()
+            .find(|e| e.task == task && e.method == method && e.metric == metric)
+    }
+
+    /// The paper's EA-MADM on `task`: the first method under test with role `paper`.
+    #[must_use]
+    pub fn paper_ea_madm(&self, task: &str) -> Option<&str> {
+        claims::methods(&self.scores, task)
+            .into_iter()
+            .find(|&(_, role, kind)| role == Role::Paper && claims::is_under_test(kind))
+            .map(|(method, _, _)| method)
+    }
+}
+
+impl Verdicts {
+    /// `final-scores.csv`: one row per task, method and seed.
+    pub fn scores_csv(&self) -> Result<String, ScoresError> {
+        let mut bytes = Vec::new();
+        scores::write_csv(&self.scores, &mut bytes)?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+
+    /// `claims.csv`: every estimate and comparison, and each method's outcome rows.
+    pub fn claims_csv(&self) -> Result<String, ClaimsError> {
+        let mut bytes = Vec::new();
+        let mut rows = claims::rows(&self.judgements, &self.estimates);
+        rows.extend(claims::outcome_rows(&self.scores)?);
+        claims::write_csv(&rows, &mut bytes)?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+}
 
 /// EA-MADM's verdict on a claim × task against the strongest control there.
 #[derive(Debug, Clone, PartialEq)]
@@ -192,120 +307,4 @@ pub fn without_collapses(
         )?);
     }
     Ok(out)
-}
-
-/// Mean environment steps per run of `method` on `task`, in thousands (`599 k`).
-fn env_steps(verdicts: &Verdicts, task: &str, method: &str) -> Option<String> {
-    verdicts
-        .overviews
-        .iter()
-        .find(|o| o.task == task && o.method == method)
-        .map(|o| format!("{} k", format_fixed(o.env_steps_total / 1000.0, 0)))
-}
-
-/// The paper EA-MADM against the strongest control of each claim on `task`, a sentence per
-/// control: the control's IQM of the deciding metric against EA-MADM's, the seeds each
-/// converges on, the environment steps per run, and the verdict against it by the same rule
-/// with its deciding number; then whether a better metric comes without converging more, and
-/// which verdicts against the paper's competitors it overturns.
-pub(crate) fn strongest_sentences(verdicts: &Verdicts, task: &str) -> Vec<String> {
-    let Some(ea) = verdicts.paper_ea_madm(task) else {
-        return Vec::new();
-    };
-    let mut by_control: Vec<(&str, Vec<&ControlVerdict>)> = Vec::new();
-    for c in verdicts
-        .against_strongest
-        .iter()
-        .filter(|c| c.judgement.task == task && c.judgement.method == ea)
-    {
-        match by_control.iter_mut().find(|(name, _)| *name == c.control) {
-            Some((_, group)) => group.push(c),
-            None => by_control.push((c.control.as_str(), vec![c])),
-        }
-    }
-    let mut sentences = Vec::new();
-    for (control, group) in by_control {
-        let Some(first) = group.first() else {
-            continue;
-        };
-        let claims_of: Vec<String> = group
-            .iter()
-            .map(|c| c.judgement.claim.id.to_owned())
-            .collect();
-        let own_iqm = verdicts
-            .estimate(task, ea, first.metric)
-            .and_then(|e| e.iqm.as_ref())
-            .map_or_else(
-                || "none (no seed has a value)".to_owned(),
-                |i| number(i.estimate),
-            );
-        let steps = match (
-            env_steps(verdicts, task, control),
-            env_steps(verdicts, task, ea),
-        ) {
-            (Some(theirs), Some(ours)) => {
-                format!(", {theirs} environment steps per run against {ours}")
-            }
-            _ => String::new(),
-        };
-        let against: Vec<String> = group
-            .iter()
-            .map(|c| {
-                format!(
-                    "{} {} ({})",
-                    c.judgement.claim.id,
-                    c.judgement.verdict.name(),
-                    deciding_number(&c.judgement)
-                )
-            })
-            .collect();
-        let mut text = format!(
-            "The strongest control on {} is `{control}` ({}): IQM `{}` {} against EA-MADM's \
-             {own_iqm}, converged on {} seeds against {}{steps}; judged against it by the same \
-             rule, EA-MADM's {} {}.",
-            list(&claims_of),
-            control_family(control).unwrap_or("control"),
-            first.metric,
-            number(first.control_iqm),
-            converged(verdicts, task, control),
-            converged(verdicts, task, ea),
-            if against.len() == 1 {
-                "verdict is"
-            } else {
-                "verdicts are"
-            },
-            list(&against)
-        );
-        if converged_count(verdicts, task, control).0 < converged_count(verdicts, task, ea).0 {
-            let _ = write!(
-                text,
-                " It converges on fewer seeds than EA-MADM, so its better `{}` does not come \
-                 from reaching the target better.",
-                first.metric
-            );
-        }
-        let overturned: Vec<String> = group
-            .iter()
-            .filter(|c| {
-                verdicts.judgements.iter().any(|b| {
-                    b.task == task
-                        && b.method == ea
-                        && b.claim.id == c.judgement.claim.id
-                        && rank(c.judgement.verdict) < rank(b.verdict)
-                })
-            })
-            .map(|c| c.judgement.claim.id.to_owned())
-            .collect();
-        if !overturned.is_empty() {
-            let _ = write!(
-                text,
-                " So on {} the verdict against the paper's competitors does not hold against \
-                 a {} control.",
-                list(&overturned),
-                control_family(control).unwrap_or("")
-            );
-        }
-        sentences.push(text);
-    }
-    sentences
 }

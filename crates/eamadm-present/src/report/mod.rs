@@ -24,7 +24,7 @@
 //! # Example
 //!
 //! ```
-//! use eamadm_eval::report::format::{Align, MarkdownTable};
+//! use eamadm_present::report::format::{Align, MarkdownTable};
 //!
 //! let mut table = MarkdownTable::new([("method", Align::Left), ("final steps", Align::Right)]);
 //! table.push_row(["EA-MADM", "80.1 ± 3.5"])?;
@@ -32,18 +32,16 @@
 //!     table.render(),
 //!     "| method  | final steps |\n| :------ | ----------: |\n| EA-MADM |  80.1 ± 3.5 |\n"
 //! );
-//! # Ok::<(), eamadm_eval::report::format::RowLengthError>(())
+//! # Ok::<(), eamadm_present::report::format::RowLengthError>(())
 //! ```
 
 use std::fmt::Write as _;
 
 use thiserror::Error;
 
-use crate::Role;
-use crate::claims::{
-    self, ClaimOptions, ClaimsError, ControlComparison, Estimate, Judgement, MethodOverview,
-};
-use crate::scores::{self, FinalScore, ScoresError};
+use eamadm_eval::claims::{ClaimOptions, ClaimsError};
+use eamadm_eval::scores::{self, ScoresError};
+pub use eamadm_eval::verdicts::{ControlVerdict, SurvivesReadings, Verdicts};
 
 mod answer;
 pub mod format;
@@ -57,12 +55,11 @@ pub mod strongest;
 mod task;
 mod verdicts;
 
-pub use crate::facts::{
+pub use answer::readme_answer;
+pub use eamadm_eval::facts::{
     ExperimentFacts, Figures, FinalEpsilon, NotDrawn, PaperTaskFacts, Play, ReadingFacts,
     ReportContext, RewardReading, SubtaskReference,
 };
-pub use answer::readme_answer;
-pub use strongest::ControlVerdict;
 pub use verdicts::readme_verdicts;
 
 /// Making the report's text failed.
@@ -91,120 +88,6 @@ pub fn not_drawn_sentence(not_drawn: &[NotDrawn]) -> String {
         first.methods.join(", "),
         whats.join("; ")
     )
-}
-
-/// Everything the report states: the per-seed scores and what [`claims`] computes from them.
-#[derive(Debug, Clone)]
-pub struct Verdicts {
-    /// One row per task, method and seed.
-    pub scores: Vec<FinalScore>,
-    /// One per claim × task × method under test.
-    pub judgements: Vec<Judgement>,
-    /// IQM with interval per task × method × claim metric.
-    pub estimates: Vec<Estimate>,
-    /// Success shares, distributions and step budgets per task × method.
-    pub overviews: Vec<MethodOverview>,
-    /// The paper's EA-MADM against each control.
-    pub controls: Vec<ControlComparison>,
-    /// The paper's EA-MADM judged against the strongest control of each claim × task.
-    pub against_strongest: Vec<ControlVerdict>,
-    /// The paper's EA-MADM judged again without the seeds it collapsed on (see
-    /// [`strongest::without_collapses`]).
-    pub without_collapses: Vec<Judgement>,
-    /// Whether each claim × task's verdict survives every reading of the paper the
-    /// sensitivity runs try; empty when none was run (the table then says "not run").
-    pub survives_readings: Vec<SurvivesReadings>,
-    /// The settings the comparisons were made with.
-    pub options: ClaimOptions,
-    /// The paper's EA-MADM judged again under each reading of the paper (filled by the caller
-    /// when readings ran: [`crate::sensitivity::sensitivity`]; empty otherwise).
-    pub sensitivity: Vec<crate::sensitivity::SensitivityRow>,
-}
-
-/// Whether the paper EA-MADM's verdict on a claim × task holds under every alternative
-/// reading of the paper that was run.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SurvivesReadings {
-    /// `C1` … `C4`.
-    pub claim: String,
-    /// The task.
-    pub task: String,
-    /// True when no reading flips the verdict.
-    pub holds: bool,
-}
-
-impl Verdicts {
-    /// These verdicts with the rows of the readings of the paper (`sensitivity.csv`) and,
-    /// from them, whether each claim × task survives every reading (the verdict table's
-    /// column).
-    #[must_use]
-    pub fn with_sensitivity(mut self, rows: Vec<crate::sensitivity::SensitivityRow>) -> Self {
-        self.survives_readings = crate::sensitivity::survival(&rows)
-            .into_iter()
-            .map(|s| SurvivesReadings {
-                claim: s.claim.to_owned(),
-                task: s.task,
-                holds: s.survives,
-            })
-            .collect();
-        self.sensitivity = rows;
-        self
-    }
-
-    /// Judges the claims on `scores`.
-    pub fn compute(scores: Vec<FinalScore>, options: &ClaimOptions) -> Result<Self, ClaimsError> {
-        let judgements = claims::judge(&scores, options)?;
-        let estimates = claims::estimates(&scores, options)?;
-        Ok(Self {
-            against_strongest: strongest::against_strongest_controls(
-                &scores,
-                &judgements,
-                &estimates,
-                options,
-            )?,
-            without_collapses: strongest::without_collapses(&scores, &judgements, options)?,
-            survives_readings: Vec::new(),
-            judgements,
-            estimates,
-            overviews: claims::overview(&scores)?,
-            controls: claims::control_comparisons(&scores, options)?,
-            scores,
-            options: options.clone(),
-            sensitivity: Vec::new(),
-        })
-    }
-
-    pub(crate) fn estimate(&self, task: &str, method: &str, metric: &str) -> Option<&Estimate> {
-        self.estimates
-            .iter()
-            .find(|e| e.task == task && e.method == method && e.metric == metric)
-    }
-
-    /// The paper's EA-MADM on `task`: the first method under test with role `paper`.
-    pub(crate) fn paper_ea_madm(&self, task: &str) -> Option<&str> {
-        claims::methods(&self.scores, task)
-            .into_iter()
-            .find(|&(_, role, kind)| role == Role::Paper && claims::is_under_test(kind))
-            .map(|(method, _, _)| method)
-    }
-}
-
-impl Verdicts {
-    /// `final-scores.csv`: one row per task, method and seed.
-    pub fn scores_csv(&self) -> Result<String, ScoresError> {
-        let mut bytes = Vec::new();
-        scores::write_csv(&self.scores, &mut bytes)?;
-        Ok(String::from_utf8_lossy(&bytes).into_owned())
-    }
-
-    /// `claims.csv`: every estimate and comparison, and each method's outcome rows.
-    pub fn claims_csv(&self) -> Result<String, ClaimsError> {
-        let mut bytes = Vec::new();
-        let mut rows = claims::rows(&self.judgements, &self.estimates);
-        rows.extend(claims::outcome_rows(&self.scores)?);
-        claims::write_csv(&rows, &mut bytes)?;
-        Ok(String::from_utf8_lossy(&bytes).into_owned())
-    }
 }
 
 /// `REPORT.md`: the answer (a paragraph per task, when EA-MADM has verdicts), the verdicts,
@@ -291,8 +174,10 @@ pub(crate) mod tests {
     use super::task::training_versus_greedy;
     use super::verdicts::deciding_number;
     use super::*;
-    use crate::claims::{Share, Verdict};
-    use crate::paper_claims::ReportedNumbers;
+    use eamadm_eval::Role;
+    use eamadm_eval::claims::{self, MethodOverview, Share, Verdict};
+    use eamadm_eval::paper_claims::ReportedNumbers;
+    use eamadm_eval::scores::FinalScore;
 
     /// The paper's tasks as `eamadm::paper::report_context` states them, and no experiment.
     pub(crate) fn context() -> ReportContext {
@@ -368,7 +253,7 @@ pub(crate) mod tests {
             success_rate: 1.0,
             greedy_reached: true,
             greedy_steps: 80,
-            outcome: crate::scores::RunOutcome::Converged,
+            outcome: eamadm_eval::scores::RunOutcome::Converged,
             collapse_episode: None,
             fluctuation_steps: steps / 10.0,
             fluctuation_return: steps / 10.0,
@@ -418,9 +303,9 @@ pub(crate) mod tests {
 
     pub(crate) fn options() -> ClaimOptions {
         ClaimOptions {
-            bootstrap: crate::stats::Bootstrap::new(2000, 0.95, 0).unwrap(),
-            permutation: crate::stats::PermutationTest::new(2000, 0).unwrap(),
-            sign_flip: crate::stats::SignFlipTest::new(2000, 0).unwrap(),
+            bootstrap: eamadm_eval::stats::Bootstrap::new(2000, 0.95, 0).unwrap(),
+            permutation: eamadm_eval::stats::PermutationTest::new(2000, 0).unwrap(),
+            sign_flip: eamadm_eval::stats::SignFlipTest::new(2000, 0).unwrap(),
             alpha: 0.05,
             margins: test_margins(),
         }
@@ -594,7 +479,7 @@ pub(crate) mod tests {
         let share = |(s, t): (u64, u64)| Share {
             successes: s,
             trials: t,
-            wilson: crate::stats::wilson(s, t, 0.95).unwrap(),
+            wilson: eamadm_eval::stats::wilson(s, t, 0.95).unwrap(),
         };
         MethodOverview {
             task: "task2".into(),
@@ -606,7 +491,7 @@ pub(crate) mod tests {
             greedy_success: share(greedy),
             greedy_at_cap: at_cap,
             step_cap: Some(2000),
-            final_steps: crate::stats::distribution(&[1.0, 2.0], None).unwrap(),
+            final_steps: eamadm_eval::stats::distribution(&[1.0, 2.0], None).unwrap(),
             reaching_seeds: 0,
             env_steps_total: 1.0,
             pretrain_env_steps: 0.0,

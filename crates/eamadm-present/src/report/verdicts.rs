@@ -4,10 +4,10 @@
 use std::fmt::Write as _;
 
 use super::format::{Align, MarkdownTable, interval, number, p_value, role_text};
-use super::strongest::control_family;
 use super::{ReportContext, Verdicts};
-use crate::claims::{self, Comparison, Judgement, ReachingComparison};
-use crate::paper_claims::{CLAIMS, method_title};
+use eamadm_eval::claims::{self, Comparison, Judgement, ReachingComparison};
+use eamadm_eval::paper_claims::{CLAIMS, method_title};
+use eamadm_eval::verdicts::control_family;
 
 /// The number that decides `judgement`'s verdict, in words with the competitor it is against.
 pub(crate) fn deciding_number(judgement: &Judgement) -> String {

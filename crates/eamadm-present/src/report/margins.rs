@@ -5,9 +5,9 @@ use std::fmt::Write as _;
 
 use super::format::{decimals_for, format_fixed};
 use super::{ReportContext, Verdicts};
-use crate::claims;
-use crate::paper_claims::CLAIMS;
-use crate::scores;
+use eamadm_eval::claims;
+use eamadm_eval::paper_claims::CLAIMS;
+use eamadm_eval::scores;
 
 /// The margins list under the rule: per task of the run a claim is judged on (in run
 /// order), one line per margin and reason with the metrics sharing it; or a sentence that

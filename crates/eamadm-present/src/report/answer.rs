@@ -11,12 +11,12 @@ use std::fmt::Write as _;
 
 use super::format::list;
 use super::outcomes::outcomes;
-use super::strongest::control_family;
 use super::verdicts::VERDICTS_HEADING;
 use super::{ControlVerdict, ReportContext, Verdicts};
-use crate::claims::{self, Judgement, Verdict};
-use crate::scores::RunOutcome;
-use crate::sensitivity::Change;
+use eamadm_eval::claims::{self, Judgement, Verdict};
+use eamadm_eval::scores::RunOutcome;
+use eamadm_eval::sensitivity::Change;
+use eamadm_eval::verdicts::control_family;
 
 /// The heading of the answer in `REPORT.md`.
 pub(crate) const ANSWER_HEADING: &str = "## The answer";
@@ -316,7 +316,7 @@ fn failure_sentence(
     ea: &str,
     judgements: &[&Judgement],
 ) -> Option<String> {
-    let collapsed = super::strongest::collapsed_seeds(&verdicts.scores, task, ea);
+    let collapsed = eamadm_eval::verdicts::collapsed_seeds(&verdicts.scores, task, ea);
     if collapsed.is_empty() {
         let never = outcomes(&verdicts.scores, task, ea)
             .iter()
@@ -434,8 +434,8 @@ mod tests {
     use super::super::tests::{context, options, row};
     use super::super::{SurvivesReadings, render};
     use super::*;
-    use crate::Role;
-    use crate::scores::FinalScore;
+    use eamadm_eval::Role;
+    use eamadm_eval::scores::FinalScore;
 
     /// Task I, 8 seeds: EA-MADM at `ea` steps, collapsing on the seeds in `collapses`; two
     /// competitors at 100 + seed; `subtask0-alone` at EA-MADM's steps, converging on every

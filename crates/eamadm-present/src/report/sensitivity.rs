@@ -1,13 +1,13 @@
 //! The report's section "Sensitivity to the readings of the paper" (issue 20 item 4): each
-//! verdict judged again under the other readings of the paper ([`crate::sensitivity`]), laid
+//! verdict judged again under the other readings of the paper ([`eamadm_eval::sensitivity`]), laid
 //! out; the readings' descriptions come in as data ([`ReadingFacts`](super::ReadingFacts)).
 
 use std::fmt::Write as _;
 
 use super::ReportContext;
 use super::format::{Align, MarkdownTable, decimals_for, format_fixed};
-use crate::paper_claims::method_title;
-use crate::sensitivity::{self, SensitivityRow};
+use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::sensitivity::{self, SensitivityRow};
 
 /// A number with `significant` digits (none after the point from 10^significant up).
 fn number(value: f64, significant: i32) -> String {

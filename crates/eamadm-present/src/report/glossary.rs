@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use super::Verdicts;
-use crate::scores;
+use eamadm_eval::scores;
 
 /// The glossary section. Its numbers (final window, resamples) come from the run's
 /// settings, so it cannot drift from the rule it defines.

@@ -12,11 +12,11 @@ use std::fmt::Write as _;
 use super::format::{Align, MarkdownTable, format_fixed, interval, number, p_value};
 use super::task::estimate_cell;
 use super::{ExperimentFacts, Play, RewardReading, SubtaskReference, Verdicts};
-use crate::Role;
-use crate::behaviour::MethodBehaviour;
-use crate::claims::{Judgement, MethodOverview, Verdict};
-use crate::paper_claims::method_title;
-use crate::stats::Interval;
+use eamadm_eval::Role;
+use eamadm_eval::behaviour::MethodBehaviour;
+use eamadm_eval::claims::{Judgement, MethodOverview, Verdict};
+use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::stats::Interval;
 
 pub(crate) fn write_robot(
     text: &mut String,
@@ -440,8 +440,8 @@ fn share_of(count: u64, total: u64) -> f64 {
 }
 
 /// Appends the behaviour section of a robot experiment to `text`: its methods' behaviour
-/// (`experiment.behaviour`, from [`behaviour()`](crate::behaviour()) or a
-/// [`BehaviourAccumulator`](crate::BehaviourAccumulator) fed its runs), how their episodes end,
+/// (`experiment.behaviour`, from [`behaviour()`](eamadm_eval::behaviour()) or a
+/// [`BehaviourAccumulator`](eamadm_eval::BehaviourAccumulator) fed its runs), how their episodes end,
 /// EA-MADM's sub-tasks, and the diagnosis of the sub-task rewards (`experiment.reward_readings`);
 /// `action_names` in the order of the action shares.
 pub(crate) fn write_robot_behaviour(
@@ -755,8 +755,8 @@ fn write_subtasks(
 
 #[cfg(test)]
 mod tests {
-    use crate::stats::wilson;
-    use crate::{Endings, SubtaskBehaviour};
+    use eamadm_eval::stats::wilson;
+    use eamadm_eval::{Endings, SubtaskBehaviour};
 
     use super::*;
 
