@@ -318,7 +318,8 @@ pub(crate) fn write_outputs(
         let mut context = eamadm::paper::report_context(quick);
         context.experiments = facts;
         let options = context.claim_options().map_err(ClaimsReportError::from)?;
-        let mut verdicts = Verdicts::compute(scores, &options).map_err(ClaimsReportError::from)?;
+        let mut verdicts =
+            Verdicts::compute(scores, &options, &context).map_err(ClaimsReportError::from)?;
         let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);

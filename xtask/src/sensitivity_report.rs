@@ -205,7 +205,7 @@ mod tests {
         // Task I: C1–C3 under each of the five readings that change Task I.
         assert_eq!(csv.lines().count(), 1 + 3 * 5, "{csv}");
         assert!(csv.starts_with("claim,task,reading,method,base_verdict,verdict,change"));
-        assert!(report.contains("## Sensitivity to the readings of the paper"));
+        assert!(report.contains("### Sensitivity to the readings of the paper"));
         assert!(report.contains("`pretrain-double`"));
         assert_eq!((csv, report), run(2));
     }

@@ -255,7 +255,7 @@ impl Default for ClaimOptions {
 }
 
 /// The verdict on one claim × task × method under test.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
     /// Every testable comparison favours the method under test.

@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Role;
 use crate::behaviour::MethodBehaviour;
 use crate::claims::{self, ClaimOptions, ClaimsError};
 use crate::paper_claims::ReportedNumbers;
@@ -33,8 +34,32 @@ pub struct ReportContext {
     /// The experiments of this run, in run order.
     pub experiments: Vec<ExperimentFacts>,
     /// The readings of the paper whose verdicts the report may judge again (the
-    /// [`Verdicts::sensitivity`] rows name them), in the order the report lists them.
+    /// [`Verdicts::sensitivity`](crate::verdicts::Verdicts::sensitivity) rows name them), in
+    /// the order the report lists them.
     pub readings: Vec<ReadingFacts>,
+    /// How this reproduction differs from the paper where the difference could change a
+    /// verdict (`eamadm::paper::deviations`), in the order the report's first screen lists
+    /// them.
+    #[serde(default)]
+    pub deviations: Vec<DeviationFacts>,
+}
+
+/// One way this reproduction differs from the paper that could change a verdict.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeviationFacts {
+    /// What differs, in a few words (`The mazes`).
+    pub what: String,
+    /// What the paper gives and what we do instead, in one or two sentences.
+    pub ours: String,
+    /// Where `docs/paper-notes.md` records the decision (`§7`).
+    pub notes: String,
+    /// The tasks it concerns (names); empty for every task.
+    pub tasks: Vec<String>,
+    /// The readings of the paper that rerun the other choice (their verdicts say whether it
+    /// matters).
+    pub readings: Vec<String>,
+    /// The ablations or controls that run the other choice.
+    pub methods: Vec<String>,
 }
 
 /// One reading of the paper as the report describes it (`eamadm::paper::Reading`).
@@ -92,6 +117,66 @@ pub struct ExperimentFacts {
     /// existed, which then judges nothing equivalent.
     #[serde(default)]
     pub margins: Vec<claims::Margin>,
+    /// Each method as its config states it (label, role, kind, what a control matches), in
+    /// config order: what the verdicts and the text know of a method beyond its scores, so
+    /// that nothing is read off a label. Empty in a context written before it existed (no
+    /// control is then known by its family).
+    #[serde(default)]
+    pub methods: Vec<MethodFacts>,
+    /// The paper's figures this experiment's figures are the analogues of.
+    #[serde(default)]
+    pub paper_figures: PaperFigures,
+    /// The first seed: the runs' seeds are `base_seed .. base_seed + seeds`.
+    #[serde(default)]
+    pub base_seed: u64,
+}
+
+impl ExperimentFacts {
+    /// The facts of the method labelled `label`, if the experiment has it.
+    #[must_use]
+    pub fn method(&self, label: &str) -> Option<&MethodFacts> {
+        self.methods.iter().find(|m| m.label == label)
+    }
+}
+
+/// One method of an experiment as its config states it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MethodFacts {
+    /// Its label.
+    pub label: String,
+    /// Why it is in the experiment.
+    pub role: Role,
+    /// Its kind (`ea_madm`, `epsilon_greedy`, `softmax`, `subtask_greedy`).
+    pub kind: String,
+    /// What a control gives the competitors or takes from EA-MADM, from its config (`signal`,
+    /// `warmup_env_steps`, `kind = "subtask_greedy"`); `None` for every other method.
+    #[serde(default)]
+    pub control: Option<ControlFamily>,
+    /// An EA-MADM that keeps its sub-tasks' experience in trees: the state threshold τₛ.
+    #[serde(default)]
+    pub tree_threshold: Option<f64>,
+}
+
+/// What a control is, by its config: the controls that explain a verdict (the paper does not
+/// run them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ControlFamily {
+    /// A competitor learning from the reward information EA-MADM's sub-tasks get (`signal =
+    /// "standardised"` or `"subtask_sum"`) instead of the task reward.
+    RewardMatched,
+    /// A competitor that first trains on the task for EA-MADM's pre-training budget
+    /// (`warmup_env_steps`).
+    BudgetMatched,
+    /// One pre-trained sub-task acting alone, without the MADM step (`kind =
+    /// "subtask_greedy"`).
+    SubtaskAlone {
+        /// Which sub-task (0-based).
+        subtask: usize,
+        /// Whether it keeps learning during the source task's episodes (frozen otherwise, as
+        /// EA-MADM's prior experience is).
+        learns: bool,
+    },
 }
 
 /// The exploring rate ε of one method over the final window of training (its schedule's
@@ -243,22 +328,35 @@ pub struct PaperFigures {
     pub trajectories: Option<String>,
 }
 
-/// A figure that is not written because it would be empty axes (no method it draws has a
-/// value to plot).
+/// A figure that is not written because it would show nothing: empty axes (no method it
+/// draws has a value to plot) or lines that are all 0.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct NotDrawn {
     /// The file it would have been.
     pub file: String,
     /// What it would have shown, e.g. `reaching time over reaching episodes (Fig. 14)`.
     pub what: String,
-    /// Why it is empty: the methods it draws (titles), none of which has a reaching episode.
-    pub methods: Vec<String>,
+    /// Why it shows nothing, as a clause: e.g. `none of EA-MADM, softmax reached the target
+    /// in any training episode of any seed`.
+    pub why: String,
 }
 
 impl ReportContext {
     /// The paper's task named `name`, if it is one.
     pub fn paper_task(&self, name: &str) -> Option<&PaperTaskFacts> {
         self.paper_tasks.iter().find(|t| t.name == name)
+    }
+
+    /// The experiment named `name`, if the run has it.
+    #[must_use]
+    pub fn experiment(&self, name: &str) -> Option<&ExperimentFacts> {
+        self.experiments.iter().find(|e| e.name == name)
+    }
+
+    /// The facts of the method labelled `label` on `task`, if the run states them.
+    #[must_use]
+    pub fn method(&self, task: &str, label: &str) -> Option<&MethodFacts> {
+        self.experiment(task)?.method(label)
     }
 
     /// The title of `task`: the experiment's, else the paper task's, else its name.

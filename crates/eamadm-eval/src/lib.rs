@@ -22,6 +22,7 @@
 //! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
+//! | [`findings`] | what the report states, as data (`findings.json`): verdicts, deciding comparisons, strongest controls, collapses, equalities, the diagnosis |
 //! | [`verdicts`] | every verdict of a run: against the competitors, the strongest control, without collapses, under the readings |
 //! | [`rounding`] | numbers as text, rounded to the digits they support |
 //!
@@ -53,6 +54,7 @@ pub mod behaviour;
 pub mod claims;
 pub mod columns;
 pub mod facts;
+pub mod findings;
 pub mod paper_claims;
 pub mod reaching;
 pub mod record;

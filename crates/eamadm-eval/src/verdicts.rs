@@ -14,6 +14,7 @@ use crate::Role;
 use crate::claims::{
     self, ClaimOptions, ClaimsError, ControlComparison, Estimate, Judgement, MethodOverview,
 };
+use crate::facts::ReportContext;
 use crate::paper_claims::{Claim, Direction};
 use crate::scores::{self, FinalScore, RunOutcome, ScoresError};
 
@@ -75,8 +76,16 @@ impl Verdicts {
         self
     }
 
-    /// Judges the claims on `scores`.
-    pub fn compute(scores: Vec<FinalScore>, options: &ClaimOptions) -> Result<Self, ClaimsError> {
+    /// Judges the claims on `scores` with `options`; `context` tells which methods are the
+    /// controls that can be the strongest (by their configs, [`ReportContext::method`]).
+    ///
+    /// # Errors
+    /// [`ClaimsError`] when a statistic fails.
+    pub fn compute(
+        scores: Vec<FinalScore>,
+        options: &ClaimOptions,
+        context: &ReportContext,
+    ) -> Result<Self, ClaimsError> {
         let judgements = claims::judge(&scores, options)?;
         let estimates = claims::estimates(&scores, options)?;
         Ok(Self {
@@ -85,6 +94,7 @@ impl Verdicts {
                 &judgements,
                 &estimates,
                 options,
+                context,
             )?,
             without_collapses: without_collapses(&scores, &judgements, options)?,
             survives_readings: Vec::new(),
@@ -147,23 +157,6 @@ pub struct ControlVerdict {
     pub judgement: Judgement,
 }
 
-/// What kind of control `label` is, by the facade's naming of the controls
-/// (`eamadm::paper::controls`): `*-shaped*` learn from EA-MADM's shaped sub-task rewards
-/// (standardised, summed or repaired), `*-budget` get EA-MADM's pre-training steps as warm-up,
-/// `subtask*-alone*` are one pre-trained sub-task acting alone (frozen or learning).
-#[must_use]
-pub fn control_family(label: &str) -> Option<&'static str> {
-    if label.contains("-shaped") {
-        Some("reward-matched")
-    } else if label.ends_with("-budget") {
-        Some("budget-matched")
-    } else if label.starts_with("subtask") && label.contains("-alone") {
-        Some("sub-task alone")
-    } else {
-        None
-    }
-}
-
 /// The claim's deciding metric in `judgement`: the deciding comparison's, else the first.
 fn deciding_metric(claim: &Claim, judgement: &Judgement) -> &'static str {
     judgement
@@ -172,7 +165,8 @@ fn deciding_metric(claim: &Claim, judgement: &Judgement) -> &'static str {
 }
 
 /// The control of `task` with the best IQM of `metric` (the earlier one on a tie), with that
-/// IQM.
+/// IQM: among the methods with role `control` that `context` knows as a reward-matched,
+/// budget-matched or sub-task-alone control (from their configs).
 #[must_use]
 pub fn strongest_control<'a>(
     scores: &'a [FinalScore],
@@ -180,11 +174,14 @@ pub fn strongest_control<'a>(
     task: &str,
     metric: &str,
     direction: Direction,
+    context: &ReportContext,
 ) -> Option<(&'a str, f64)> {
     let mut best: Option<(&str, f64)> = None;
     for (method, role, kind) in claims::methods(scores, task) {
-        if role != Role::Control || claims::is_under_test(kind) || control_family(method).is_none()
-        {
+        let is_control = context
+            .method(task, method)
+            .is_some_and(|m| m.control.is_some());
+        if role != Role::Control || claims::is_under_test(kind) || !is_control {
             continue;
         }
         let Some(value) = estimates
@@ -219,6 +216,7 @@ pub fn against_strongest_controls(
     judgements: &[Judgement],
     estimates: &[Estimate],
     options: &ClaimOptions,
+    context: &ReportContext,
 ) -> Result<Vec<ControlVerdict>, ClaimsError> {
     let mut out = Vec::new();
     for judgement in judgements.iter().filter(|j| j.role == Role::Paper) {
@@ -229,9 +227,14 @@ pub fn against_strongest_controls(
             .iter()
             .find(|m| m.column == metric)
             .map_or(Direction::LowerIsBetter, |m| m.direction);
-        let Some((control, control_iqm)) =
-            strongest_control(scores, estimates, &judgement.task, metric, direction)
-        else {
+        let Some((control, control_iqm)) = strongest_control(
+            scores,
+            estimates,
+            &judgement.task,
+            metric,
+            direction,
+            context,
+        ) else {
             continue;
         };
         let against = claims::judge_against_competitors(

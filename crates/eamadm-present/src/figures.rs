@@ -371,7 +371,14 @@ impl ExperimentFigures {
             .map(|(_, chart)| NotDrawn {
                 file: chart.file.to_owned(),
                 what: format!("{} over reaching episodes ({})", chart.what, chart.figure),
-                methods: shown.iter().map(|m| method_title(&m.method)).collect(),
+                why: format!(
+                    "none of {} reached the target in any training episode of any seed",
+                    shown
+                        .iter()
+                        .map(|m| method_title(&m.method))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             })
             .collect()
     }

@@ -179,10 +179,11 @@ fn render(
 ) -> PyResult<(String, String, String)> {
     let error = |error: &dyn std::fmt::Display| value_error(argument, error);
     let options = context.claim_options().map_err(|e| error(&e))?;
-    let verdicts = Verdicts::compute(scores, &options)
+    let verdicts = Verdicts::compute(scores, &options, context)
         .map_err(|e| error(&e))?
         .with_sensitivity(sensitivity);
-    let report = eamadm_present::report::render(context, &verdicts).map_err(|e| error(&e))?;
+    let findings = eamadm::findings::Findings::of(context, &verdicts);
+    let report = eamadm_present::report::render(context, &verdicts, &findings);
     let claims = verdicts.claims_csv().map_err(|e| error(&e))?;
     let scores = verdicts.scores_csv().map_err(|e| error(&e))?;
     Ok((report, claims, scores))

@@ -30,6 +30,7 @@
 //! | [`data_package`], [`columns`] | `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its type, unit and meaning |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
 //! | [`margins`] | each task's equivalence margins, derived from its rewards and control period |
+//! | [`report_facts`] | what a run's report needs of an experiment (its facts and final scores), gathered run by run |
 //!
 //! # A first experiment
 //!
@@ -179,8 +180,8 @@ pub use wmr_model;
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
 pub use eamadm_eval::{
-    behaviour, claims, columns, facts, reaching, record, results, rounding, scores, sensitivity,
-    stats, summary, verdicts,
+    behaviour, claims, columns, facts, findings, reaching, record, results, rounding, scores,
+    sensitivity, stats, summary, verdicts,
 };
 
 pub mod agent;
@@ -193,6 +194,7 @@ pub mod output_names;
 pub mod paper;
 pub mod pretrain;
 pub mod prior;
+pub mod report_facts;
 mod rng;
 pub mod runner;
 pub mod signal;
@@ -216,6 +218,7 @@ pub use record::{
     AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,
     TrajectoryRecord,
 };
+pub use report_facts::ReportFacts;
 pub use runner::{
     Experiment, NoPretrainingCache, PretrainingCache, SharedPretraining, run, run_all,
 };

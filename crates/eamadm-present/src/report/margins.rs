@@ -59,16 +59,16 @@ pub(crate) fn write_margins(text: &mut String, context: &ReportContext, verdicts
     if lines.is_empty() {
         let _ = writeln!(
             text,
-            "**The margins.** No task of this run defines an equivalence margin, so no \
+            "### The margins\n\nNo task of this run defines an equivalence margin, so no \
              comparison can be judged equivalent and \"favours\" needs no effect size.\n"
         );
         return;
     }
     let _ = writeln!(
         text,
-        "**The margins** (regions of practical equivalence: a difference within ± the margin is \
-         no difference in practice), derived from each task's rewards and control period \
-         before any run was judged (docs/paper-notes.md §10.1a):\n"
+        "### The margins\n\nThe regions of practical equivalence (a difference within ± the \
+         margin is no difference in practice), derived from each task's rewards and control \
+         period before any run was judged (docs/paper-notes.md §10.1a):\n"
     );
     for line in lines {
         let _ = writeln!(text, "{line}");

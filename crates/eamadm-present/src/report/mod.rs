@@ -1,24 +1,31 @@
-//! The text of `REPORT.md` and of the README's generated blocks: the verdicts on the paper's
-//! claims first, then per task the numbers behind them. Pure: it returns text and never
-//! touches a file; `xtask` gathers the inputs ([`ReportContext`], [`Verdicts`]) and writes.
+//! The text of `REPORT.md` and of the README's generated blocks. Pure: it returns text and
+//! never touches a file; `xtask` (and the Python package) gather the inputs
+//! ([`ReportContext`], [`Verdicts`], [`Findings`]) and write.
 //!
-//! Every number comes from [`scores`] and [`claims`]; this
-//! module only lays them out, and every sentence that states a result is chosen by the numbers
-//! (tests flip the numbers and watch the sentence flip). The text is a pure function of the
-//! scores and the context (no paths, dates or timings), so an interrupted and resumed run
-//! writes the same bytes as an uninterrupted one.
+//! Every statement comes from the [`Findings`] (what the report states, as data, also
+//! written as `findings.json`) and every number of a table from [`Verdicts`]; this module only
+//! lays them out. The text is a pure function of the scores and the context (no paths, dates
+//! or timings), so an interrupted and resumed run writes the same bytes as an uninterrupted
+//! one.
 //!
-//! What the text needs to know about the workspace's tasks and methods (task titles, the
-//! paper's reported numbers, the robot's action names, the figures written) comes in as plain
-//! data in [`ReportContext`]; `eamadm::paper::report_context` fills it from the presets.
+//! The report's first screen (its first 50 lines) holds per task the answer, with the one
+//! cause the findings name, and every way this reproduction differs from the paper that could
+//! change a verdict; then the verdicts, a section per task, the paper's numbers, and an
+//! appendix (the rule, the margins, the readings, how the scores are made, the glossary).
+//! Tables show a method that scores as an earlier one on every seed once, and the readings'
+//! verdicts that hold in one line.
 //!
 //! | file | what it writes |
 //! |---|---|
 //! | [`format`](mod@format) | Markdown tables and numbers, intervals, p-values, shares |
-//! | `answer` | the answer paragraph `REPORT.md` opens with and the README states |
-//! | `verdicts` | the verdict table, the claims, the rule, the ablations' verdicts |
+//! | `words` | a method's name, a control's family, a deciding comparison in words |
+//! | `answer` | the first screen: the answer per task and the deviations from the paper |
+//! | `verdicts` | the verdict table, the claims, the ablations' verdicts, the rule |
+//! | `strongest` | the strongest control's sentences of a task section |
+//! | `outcomes` | how each run ended, the paired tests on converging, the controls' facts |
 //! | `task` | per task: scores, controls, comparisons, distributions, explanations, figures |
 //! | `robot` | the robot's C4 metrics and its methods' behaviour |
+//! | `sensitivity`, `margins`, `glossary` | the appendix's readings, margins and terms |
 //! | `paper_numbers` | the paper's numbers beside ours |
 //!
 //! # Example
@@ -40,7 +47,9 @@ use std::fmt::Write as _;
 use thiserror::Error;
 
 use eamadm_eval::claims::{ClaimOptions, ClaimsError};
+pub use eamadm_eval::findings::Findings;
 use eamadm_eval::scores::{self, ScoresError};
+use eamadm_eval::sensitivity::SensitivityRow;
 pub use eamadm_eval::verdicts::{ControlVerdict, SurvivesReadings, Verdicts};
 
 mod answer;
@@ -51,9 +60,10 @@ mod outcomes;
 mod paper_numbers;
 mod robot;
 mod sensitivity;
-pub mod strongest;
+mod strongest;
 mod task;
 mod verdicts;
+mod words;
 
 pub use answer::readme_answer;
 pub use eamadm_eval::facts::{
@@ -82,65 +92,86 @@ pub fn not_drawn_sentence(not_drawn: &[NotDrawn]) -> String {
         return String::new();
     };
     let whats: Vec<&str> = not_drawn.iter().map(|n| n.what.as_str()).collect();
-    format!(
-        "Not drawn, since none of {} reached the target in any training episode of any seed: \
-         {}.",
-        first.methods.join(", "),
-        whats.join("; ")
-    )
+    format!("Not drawn, since {}: {}.", first.why, whats.join("; "))
 }
 
-/// `REPORT.md`: the answer (a paragraph per task, when EA-MADM has verdicts), the verdicts,
-/// how the scores are made, the glossary, a section per experiment of `context` and the
-/// paper's numbers.
-pub fn render(context: &ReportContext, verdicts: &Verdicts) -> Result<String, ReportError> {
-    Ok(render_body(context, verdicts))
-}
-
-/// `REPORT.md` from the text of a run's `final-scores.csv`: the verdicts are judged again
-/// with `options` (the run's are [`ReportContext::claim_options`]), so with the run's context this is
-/// the run's `REPORT.md` byte for byte. What the Python package's `eamadm.report(dir)` calls.
-pub fn render_from_csv(
-    context: &ReportContext,
-    scores_csv: &str,
-    options: &ClaimOptions,
-) -> Result<String, ReportError> {
-    let scores = scores::read_csv(scores_csv.as_bytes())?;
-    render(context, &Verdicts::compute(scores, options)?)
-}
-
-/// `REPORT.md`.
-fn render_body(context: &ReportContext, verdicts: &Verdicts) -> String {
+/// `REPORT.md` of `verdicts` in `context`, stating `findings` (which
+/// [`Findings::of`]`(context, verdicts)` computes): the first screen (the answer per task and
+/// the deviations from the paper), the verdicts, a section per experiment of `context`, the
+/// paper's numbers and the appendix.
+#[must_use]
+pub fn render(context: &ReportContext, verdicts: &Verdicts, findings: &Findings) -> String {
     let mut text = String::from("# EA-MADM reproduction report\n\n");
     let _ = writeln!(
         text,
-        "Made by `cargo xtask reproduce-paper`{}. Do not edit: rerun the command. The per-seed \
-         scores are in [final-scores.csv](final-scores.csv), every estimate and comparison in \
-         [claims.csv](claims.csv).\n",
+        "Made by `cargo xtask reproduce-paper`{}. Do not edit: rerun the command. Per-seed \
+         scores: [final-scores.csv](final-scores.csv); every estimate and comparison: \
+         [claims.csv](claims.csv); what this report states, as data: \
+         [findings.json](findings.json).\n",
         if context.quick {
             " --quick (a smoke run: few seeds and episodes; these numbers mean little)"
         } else {
             ""
         }
     );
-    if let Some(answer) = answer::answer(context, verdicts) {
+    if let Some(answer) = answer::answer(findings) {
         let _ = writeln!(text, "{}\n\n{answer}\n", answer::ANSWER_HEADING);
     }
-    verdicts::write_verdicts(&mut text, context, verdicts);
+    if let Some(deviations) = answer::deviations(context, findings) {
+        let _ = writeln!(text, "{}\n\n{deviations}", answer::DEVIATIONS_HEADING);
+    }
+    let titles: Vec<String> = context
+        .paper_tasks
+        .iter()
+        .map(|t| t.title.clone())
+        .collect();
+    verdicts::write_verdicts(&mut text, &titles, findings);
+    for experiment in &context.experiments {
+        task::write_task(
+            &mut text,
+            context,
+            experiment,
+            verdicts,
+            findings.task(&experiment.name),
+        );
+    }
+    paper_numbers::write_paper_numbers(&mut text, context, verdicts);
+    let _ = writeln!(
+        text,
+        "## Appendix\n\nHow the verdicts are judged, the readings of the paper tried, how \
+         the scores are made, and the words this report uses.\n"
+    );
+    verdicts::write_rule(&mut text, verdicts);
+    margins::write_margins(&mut text, context, verdicts);
     sensitivity::write_sensitivity(&mut text, context, &verdicts.sensitivity);
     write_method(&mut text, verdicts);
     glossary::write_glossary(&mut text, verdicts);
-    for experiment in &context.experiments {
-        task::write_task(&mut text, context, experiment, verdicts);
-    }
-    paper_numbers::write_paper_numbers(&mut text, context, verdicts);
     text
+}
+
+/// `REPORT.md` and its findings from the text of a run's `final-scores.csv` (and the rows of
+/// its `sensitivity.csv`): the verdicts are judged again with `options` (the run's are
+/// [`ReportContext::claim_options`]), so with the run's context this is the run's
+/// `REPORT.md` byte for byte. What the Python package's `eamadm.report(dir)` calls.
+///
+/// # Errors
+/// [`ReportError`] when the scores cannot be read or a statistic fails.
+pub fn render_from_csv(
+    context: &ReportContext,
+    scores_csv: &str,
+    sensitivity: Vec<SensitivityRow>,
+    options: &ClaimOptions,
+) -> Result<(String, Findings), ReportError> {
+    let scores = scores::read_csv(scores_csv.as_bytes())?;
+    let verdicts = Verdicts::compute(scores, options, context)?.with_sensitivity(sensitivity);
+    let findings = Findings::of(context, &verdicts);
+    Ok((render(context, &verdicts, &findings), findings))
 }
 
 fn write_method(text: &mut String, verdicts: &Verdicts) {
     let _ = writeln!(
         text,
-        "## How the scores are made\n\n\
+        "### How the scores are made\n\n\
          - **Final** steps and return: per seed the mean over the last {} training episodes; \
          tables show the IQM over seeds with its bootstrap 95% interval.\n\
          - **Fluctuation** (C3, secondary; C3 is judged on the greedy evaluations, see the \
@@ -153,7 +184,7 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
          per second), mean time to reach, and the least-squares slope of retention time over \
          the reaching-episode index (`retention_decay`, seconds per reaching episode; more \
          negative falls faster). A seed with no reaching episode has no C4 value; a method \
-         whose seeds never reach is shown as \"never reaches\" and is never ranked.\n\
+         whose seeds never reach is named as such and is never ranked.\n\
          - **Success**: final-window training episodes that reached the target, pooled over \
          seeds, with a Wilson 95% interval (episodes of one seed are not independent, so it is \
          too narrow); **greedy reached**: seeds whose greedy episode after training reached \
@@ -172,14 +203,70 @@ fn write_method(text: &mut String, verdicts: &Verdicts) {
 pub(crate) mod tests {
     use super::robot::robot_ranking;
     use super::task::training_versus_greedy;
-    use super::verdicts::deciding_number;
     use super::*;
     use eamadm_eval::Role;
     use eamadm_eval::claims::{self, MethodOverview, Share, Verdict};
+    use eamadm_eval::facts::{ControlFamily, DeviationFacts, MethodFacts, PaperFigures};
     use eamadm_eval::paper_claims::ReportedNumbers;
-    use eamadm_eval::scores::FinalScore;
+    use eamadm_eval::scores::{FinalScore, RunOutcome};
 
-    /// The paper's tasks as `eamadm::paper::report_context` states them, and no experiment.
+    /// The facts of a method of these tests: label, role, kind and control family.
+    pub(crate) fn method(
+        label: &str,
+        role: Role,
+        kind: &str,
+        control: Option<ControlFamily>,
+    ) -> MethodFacts {
+        MethodFacts {
+            label: label.to_owned(),
+            role,
+            kind: kind.to_owned(),
+            control,
+            tree_threshold: None,
+        }
+    }
+
+    /// An experiment of these tests with the methods of [`scores`], by their configs.
+    pub(crate) fn experiment(name: &str, title: &str) -> ExperimentFacts {
+        ExperimentFacts {
+            name: name.to_owned(),
+            title: title.to_owned(),
+            episodes: 200,
+            seeds: 8,
+            gamma: 0.95,
+            figures: Figures::default(),
+            behaviour: Vec::new(),
+            reward_readings: Vec::new(),
+            final_epsilon: Vec::new(),
+            margins: Vec::new(),
+            methods: vec![
+                method("ea-madm", Role::Paper, "ea_madm", None),
+                method("epsilon-greedy", Role::Paper, "epsilon_greedy", None),
+                method("softmax", Role::Paper, "softmax", None),
+                method(
+                    "subtask0-alone",
+                    Role::Control,
+                    "subtask_greedy",
+                    Some(ControlFamily::SubtaskAlone {
+                        subtask: 0,
+                        learns: false,
+                    }),
+                ),
+                method(
+                    "softmax-shaped",
+                    Role::Control,
+                    "softmax",
+                    Some(ControlFamily::RewardMatched),
+                ),
+                method("ea-madm-table", Role::Ablation, "ea_madm", None),
+            ],
+            paper_figures: PaperFigures::default(),
+            base_seed: 0,
+        }
+    }
+
+    /// The paper's tasks as `eamadm::paper::report_context` states them, one deviation, and
+    /// Task I's experiment.
     pub(crate) fn context() -> ReportContext {
         let task =
             |name: &str, title: &str, in_sentence: &str, robot: bool, reported| PaperTaskFacts {
@@ -213,13 +300,6 @@ pub(crate) mod tests {
                     }),
                 ),
                 task("robot", "Robot", "the robot", true, None),
-                task(
-                    "robot-paper-state",
-                    "Robot (paper's state)",
-                    "Robot (paper's state)",
-                    true,
-                    None,
-                ),
             ],
             preset_seeds: 20,
             action_names: ["forward", "left", "right", "back", "stop"]
@@ -227,8 +307,26 @@ pub(crate) mod tests {
                 .to_vec(),
             curves_file: "curves.csv.gz".to_owned(),
             trajectories_file: "trajectories.csv".to_owned(),
-            experiments: Vec::new(),
+            experiments: vec![experiment("task1", "Task I")],
             readings: Vec::new(),
+            deviations: vec![
+                DeviationFacts {
+                    what: "Generated mazes".to_owned(),
+                    ours: "ours are generated".to_owned(),
+                    notes: "§7".to_owned(),
+                    tasks: vec!["task1".to_owned()],
+                    readings: Vec::new(),
+                    methods: Vec::new(),
+                },
+                DeviationFacts {
+                    what: "Reward standardisation".to_owned(),
+                    ours: "a running one".to_owned(),
+                    notes: "§3".to_owned(),
+                    tasks: Vec::new(),
+                    readings: vec!["gamma-0.99".to_owned()],
+                    methods: vec!["ea-madm-literal".to_owned()],
+                },
+            ],
         }
     }
 
@@ -253,7 +351,7 @@ pub(crate) mod tests {
             success_rate: 1.0,
             greedy_reached: true,
             greedy_steps: 80,
-            outcome: eamadm_eval::scores::RunOutcome::Converged,
+            outcome: RunOutcome::Converged,
             collapse_episode: None,
             fluctuation_steps: steps / 10.0,
             fluctuation_return: steps / 10.0,
@@ -273,29 +371,29 @@ pub(crate) mod tests {
         }
     }
 
-    /// Task I with EA-MADM at `ea` steps and two competitors at 100 + seed noise.
-    fn scores(ea: f64) -> Vec<FinalScore> {
+    /// Task I with EA-MADM at `ea` steps (collapsing on `collapses`), two competitors at 100
+    /// and 101 plus seed noise, the sub-task alone as EA-MADM, the reward-matched control at
+    /// `shaped` and the table ablation as EA-MADM.
+    pub(crate) fn scores(ea: f64, collapses: &[u64], shaped: f64) -> Vec<FinalScore> {
         let mut rows = Vec::new();
-        for seed in 0..8 {
-            let noise = seed as f64;
-            rows.push(row(
-                "task1",
-                "ea-madm",
-                Role::Paper,
-                "ea_madm",
-                seed,
-                ea + noise,
-            ));
-        }
-        for method in ["epsilon-greedy", "softmax"] {
+        for (method, kind, role, base) in [
+            ("ea-madm", "ea_madm", Role::Paper, ea),
+            ("epsilon-greedy", "epsilon_greedy", Role::Paper, 100.0),
+            ("softmax", "softmax", Role::Paper, 101.0),
+            ("subtask0-alone", "subtask_greedy", Role::Control, ea),
+            ("softmax-shaped", "softmax", Role::Control, shaped),
+            ("ea-madm-table", "ea_madm", Role::Ablation, ea),
+        ] {
             for seed in 0..8 {
-                let noise = seed as f64;
-                let kind = if method == "softmax" {
-                    "softmax"
-                } else {
-                    "epsilon_greedy"
-                };
-                rows.push(row("task1", method, Role::Paper, kind, seed, 100.0 + noise));
+                let mut r = row("task1", method, role, kind, seed, base + seed as f64);
+                if kind == "ea_madm" && collapses.contains(&seed) {
+                    r.outcome = RunOutcome::Collapsed;
+                    r.collapse_episode = Some(60 + seed);
+                    r.greedy_reached = false;
+                    r.final_steps = 2000.0;
+                    r.final_return = -2000.0;
+                }
+                rows.push(r);
             }
         }
         rows
@@ -327,78 +425,88 @@ pub(crate) mod tests {
         margins
     }
 
-    fn verdict_row(report: &str, claim: &str) -> String {
-        report
-            .lines()
-            .find(|l| l.starts_with(&format!("| {claim} ")))
-            .unwrap()
-            .to_owned()
+    /// The verdicts and findings of `scores` in [`context`].
+    pub(crate) fn judged(scores: Vec<FinalScore>) -> (Verdicts, Findings) {
+        let verdicts = Verdicts::compute(scores, &options(), &context()).unwrap();
+        let findings = Findings::of(&context(), &verdicts);
+        (verdicts, findings)
+    }
+
+    fn report_of(scores: Vec<FinalScore>) -> String {
+        let (verdicts, findings) = judged(scores);
+        render(&context(), &verdicts, &findings)
+    }
+
+    /// The report's first screen: its lines before the verdicts.
+    fn first_screen(report: &str) -> String {
+        report[..report.find(verdicts::VERDICTS_HEADING).unwrap()].to_owned()
     }
 
     #[test]
-    fn the_report_opens_with_the_answer_that_the_readme_states() {
-        let verdicts = Verdicts::compute(scores(60.0), &options()).unwrap();
-        let report = render_body(&context(), &verdicts);
-        let answer = readme_answer(&report).unwrap();
-        assert!(
-            answer.starts_with("**Task I.** EA-MADM beats the paper's competitors"),
-            "{answer}"
-        );
-        // The first screen: the answer to a task is a few lines of a 100-column terminal.
-        for paragraph in answer.split("\n\n") {
-            assert!(paragraph.len() < 700, "{paragraph}");
+    fn the_first_screen_holds_each_answer_and_every_deviation_in_50_lines() {
+        let report = report_of(scores(60.0, &[3], 10.0));
+        let screen: Vec<&str> = report.lines().take(50).collect();
+        let screen = screen.join("\n");
+        assert!(screen.contains("## The answer\n\n**Task I.** "), "{screen}");
+        assert!(screen.contains(answer::DEVIATIONS_HEADING), "{screen}");
+        for what in ["Generated mazes", "Reward standardisation"] {
+            assert!(screen.contains(&format!("- **{what}**")), "{screen}");
         }
-        // The first screen: title, intro, the answer, then the verdicts.
-        let heading = report.find("## The answer").unwrap();
-        assert!(heading < report.find("## Verdicts on the paper's claims").unwrap());
-        assert!(report[..heading].lines().count() < 5, "{report}");
+        assert!(first_screen(&report).lines().count() <= 50, "{report}");
+        // The README states the answer of the first screen.
+        let (_, findings) = judged(scores(60.0, &[3], 10.0));
+        assert!(report.contains(&readme_answer(&findings).unwrap()));
         // Without EA-MADM's verdicts (a config of one's own) there is no answer.
-        let other: Vec<FinalScore> = scores(60.0)
+        let other: Vec<FinalScore> = scores(60.0, &[], 150.0)
             .into_iter()
-            .map(|mut r| {
-                if r.method == "ea-madm" {
-                    r.kind = "softmax".to_owned();
-                }
-                r
-            })
+            .filter(|r| r.kind != "ea_madm")
             .collect();
-        let report = render_body(&context(), &Verdicts::compute(other, &options()).unwrap());
+        let report = report_of(other);
         assert!(!report.contains("## The answer"), "{report}");
-        assert!(readme_answer(&report).is_err());
+        assert!(readme_answer(&Findings::default()).is_err());
     }
 
+    /// The first screen as a reader sees it: a reward-matched control that overturns the
+    /// verdicts, a collapse that decides nothing, the readings not run.
     #[test]
-    fn the_verdict_sentence_follows_the_numbers() {
-        let better = Verdicts::compute(scores(60.0), &options()).unwrap();
-        let report = render_body(&context(), &better);
-        assert!(!report.contains("control, not in the paper"), "{report}");
+    fn the_first_screen_reads_as_pinned() {
+        insta::assert_snapshot!(first_screen(&report_of(scores(60.0, &[3], 10.0))));
+    }
+
+    /// The README's verdict block, and the variants' table with the identical ablation left
+    /// out by name.
+    #[test]
+    fn the_verdict_tables_read_as_pinned() {
+        let (_, findings) = judged(scores(60.0, &[3], 10.0));
+        insta::assert_snapshot!(readme_verdicts(&findings).unwrap());
+        let report = report_of(scores(60.0, &[3], 10.0));
         assert!(
-            verdict_row(&report, "C1").contains("**supported**"),
+            report.contains(
+                "Not listed, since they score exactly as another method on every seed and so \
+                 get its verdicts: on Task I: `ea-madm-table` (as EA-MADM, 8 of 8 seeds)."
+            ),
             "{report}"
         );
-        // C2 is higher return: EA-MADM's return is −steps, so it is supported too.
-        assert!(
-            verdict_row(&report, "C2").contains("**supported**"),
-            "{report}"
-        );
-        let worse = Verdicts::compute(scores(140.0), &options()).unwrap();
-        let report = render_body(&context(), &worse);
-        assert!(
-            verdict_row(&report, "C1").contains("**contradicted**"),
-            "{report}"
-        );
-        // Identical per seed: equivalent within the 2-step margin on steps and the 2-reward
-        // margin on return; without margins neither can be.
-        let same = Verdicts::compute(scores(100.0), &options()).unwrap();
-        let report = render_body(&context(), &same);
-        assert!(
-            verdict_row(&report, "C1").contains("**equivalent**"),
-            "{report}"
-        );
-        assert!(
-            verdict_row(&report, "C2").contains("**equivalent**"),
-            "{report}"
-        );
+        assert!(!report.contains("| ea-madm-table "), "{report}");
+    }
+
+    /// The verdict cells follow the numbers, and the margins decide equivalence.
+    #[test]
+    fn the_verdict_cell_follows_the_numbers() {
+        let verdict_of = |report: &str, claim: &str| -> String {
+            let row = report
+                .lines()
+                .find(|l| l.starts_with(&format!("| {claim} ")))
+                .unwrap();
+            row.split('|').nth(3).unwrap().trim().to_owned()
+        };
+        let report = report_of(scores(60.0, &[], 150.0));
+        assert_eq!(verdict_of(&report, "C1"), "**supported**");
+        assert_eq!(verdict_of(&report, "C2"), "**supported**");
+        let report = report_of(scores(140.0, &[], 150.0));
+        assert_eq!(verdict_of(&report, "C1"), "**contradicted**");
+        let report = report_of(scores(100.0, &[], 150.0));
+        assert_eq!(verdict_of(&report, "C1"), "**equivalent**");
         assert!(
             report.contains(
                 "- Task I, `final_return`: ±2 reward, the shortest detour, for `final_return`."
@@ -409,66 +517,31 @@ pub(crate) mod tests {
             margins: claims::Margins::new(),
             ..options()
         };
-        let report = render_body(
-            &context(),
-            &Verdicts::compute(scores(100.0), &no_margins).unwrap(),
-        );
-        for claim in ["C1", "C2"] {
-            assert!(
-                verdict_row(&report, claim).contains("**inconclusive**"),
-                "{report}"
-            );
-        }
+        let verdicts =
+            Verdicts::compute(scores(100.0, &[], 150.0), &no_margins, &context()).unwrap();
+        let report = render(&context(), &verdicts, &Findings::of(&context(), &verdicts));
+        assert_eq!(verdict_of(&report, "C1"), "**inconclusive**");
         assert!(
             report.contains("No task of this run defines an equivalence margin"),
             "{report}"
         );
-        assert!(report.starts_with("# EA-MADM reproduction report"));
-        // A control is judged nowhere but shown as one, with EA-MADM against it.
-        let mut with_control = scores(60.0);
-        for seed in 0..8 {
-            let noise = seed as f64;
-            with_control.push(row(
-                "task1",
-                "softmax-shaped",
-                Role::Control,
-                "softmax",
-                seed,
-                50.0 + noise,
-            ));
-        }
-        let verdicts = Verdicts::compute(with_control, &options()).unwrap();
-        assert!(verdicts.judgements.iter().all(|j| j.method == "ea-madm"));
+        // The appendix comes after the task sections.
+        assert!(report.find("## Task I").unwrap() < report.find("## Appendix").unwrap());
+        assert!(report.find("## Appendix").unwrap() < report.find("### The rule").unwrap());
+    }
+
+    /// A method that scores as an earlier one on every seed is one row of the tables.
+    #[test]
+    fn identical_methods_are_one_row() {
+        let report = report_of(scores(60.0, &[], 150.0));
+        let section = &report[report.find("## Task I (`task1`)").unwrap()..];
+        assert!(!section.contains("| ea-madm-table "), "{section}");
         assert!(
-            verdicts
-                .judgements
-                .iter()
-                .flat_map(|j| &j.comparisons)
-                .all(|c| c.versus != "softmax-shaped")
+            section.contains(
+                "`subtask0-alone` and `ea-madm-table` score exactly as EA-MADM on all 8 seeds"
+            ),
+            "{section}"
         );
-        let mut planned = context();
-        planned.experiments.push(ExperimentFacts {
-            name: "task1".to_owned(),
-            title: "Task I".to_owned(),
-            episodes: 200,
-            seeds: 8,
-            gamma: 0.95,
-            figures: Figures::default(),
-            behaviour: Vec::new(),
-            reward_readings: Vec::new(),
-            final_epsilon: Vec::new(),
-            margins: Vec::new(),
-        });
-        let report = render_body(&planned, &verdicts);
-        assert!(
-            report.contains("### Controls (control, not in the paper)"),
-            "{report}"
-        );
-        assert!(
-            report.contains("| `softmax-shaped` | `final_steps`"),
-            "{report}"
-        );
-        assert!(report.find("## Verdicts").unwrap() < report.find("## How the scores").unwrap());
     }
 
     pub(crate) fn overview(
@@ -551,7 +624,7 @@ pub(crate) mod tests {
                 rows.push(r);
             }
         }
-        let none = Verdicts::compute(rows.clone(), &options()).unwrap();
+        let none = Verdicts::compute(rows.clone(), &options(), &context()).unwrap();
         let overviews: Vec<&MethodOverview> = none.overviews.iter().collect();
         let sentence = robot_ranking("robot", &overviews, &none);
         assert!(sentence.starts_with("No method reaches"), "{sentence}");
@@ -577,7 +650,7 @@ pub(crate) mod tests {
             r.reaching_episodes = 3;
             r.reach_average_reward = Some(1.0 + r.seed as f64);
         }
-        let some = Verdicts::compute(rows, &options()).unwrap();
+        let some = Verdicts::compute(rows, &options(), &context()).unwrap();
         let overviews: Vec<&MethodOverview> = some.overviews.iter().collect();
         let sentence = robot_ranking("robot", &overviews, &some);
         assert!(sentence.starts_with("Only softmax reaches"), "{sentence}");
@@ -594,25 +667,24 @@ pub(crate) mod tests {
             .find(|j| j.claim.id == "C4" && j.method == "ea-madm")
             .unwrap();
         assert_eq!(c4.verdict, Verdict::Inconclusive);
+        let finding = eamadm_eval::findings::verdict_finding(c4);
         assert_eq!(
-            deciding_number(c4),
-            "EA-MADM reaches on 0/4 seeds, softmax on 4/4; exact paired sign test, Holm p \
-             0.125; EA-MADM has a `reach_average_reward` value in 0 of 4 seeds (it needs a \
-             reaching episode)"
+            words::deciding_or_reason(finding.deciding.as_ref(), &finding.reason, "ea-madm", true),
+            "EA-MADM reaches on 0/4 seeds, softmax on 4/4; exact paired sign test, Holm p 0.125"
         );
     }
 
     #[test]
     fn the_report_from_final_scores_csv_is_the_reports_bytes() {
-        let verdicts = Verdicts::compute(scores(60.0), &options()).unwrap();
-        let report = render(&context(), &verdicts).unwrap();
-        assert!(report.contains("## The answer\n\n**Task I.** "), "{report}");
+        let (verdicts, findings) = judged(scores(60.0, &[3], 10.0));
+        let report = render(&context(), &verdicts, &findings);
         let scores_csv = verdicts.scores_csv().unwrap();
         assert_eq!(
-            render_from_csv(&context(), &scores_csv, &options()).unwrap(),
-            report
+            render_from_csv(&context(), &scores_csv, Vec::new(), &options()).unwrap(),
+            (report, findings)
         );
-        let error = render_from_csv(&context(), "task,method\ntask1\n", &options()).unwrap_err();
+        let error = render_from_csv(&context(), "task,method\ntask1\n", Vec::new(), &options())
+            .unwrap_err();
         assert!(
             error.to_string().starts_with("final-scores.csv: "),
             "{error}"

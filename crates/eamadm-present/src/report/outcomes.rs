@@ -1,68 +1,22 @@
 //! Per task: how each run ended (converged, collapsed, …) with the collapsed seeds and the
-//! exact paired tests, and the facts about the controls that explain the verdicts: which
-//! EA-MADM variants equal a sub-task alone seed for seed, where the pre-training budget goes,
-//! and why the maze's τ sweep cannot exercise aggregation.
+//! exact paired tests on converging, and the facts about the controls that explain the
+//! verdicts: EA-MADM paired with its strongest sub-task alone, the verdicts judged again
+//! without the collapses, which EA-MADM variants end as a sub-task alone seed for seed (all
+//! from the findings), where the pre-training budget goes, and why the maze's τ sweep cannot
+//! exercise aggregation (from the methods' configs).
 
 use std::fmt::Write as _;
 
-use super::Verdicts;
-use super::format::{Align, MarkdownTable, format_fixed, p_value};
 use eamadm_eval::Role;
-use eamadm_eval::claims::{self, SUBTASK_ALONE};
-use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::claims;
+use eamadm_eval::facts::{ControlFamily, ReportContext};
+use eamadm_eval::findings::{self, TaskFindings, converged, outcomes};
 use eamadm_eval::scores::{FinalScore, RunOutcome};
 use eamadm_eval::stats;
+use eamadm_eval::verdicts::{Verdicts, collapsed_seeds};
 
-/// The outcomes of `method`'s seeds on `task`, by seed.
-pub(crate) fn outcomes(scores: &[FinalScore], task: &str, method: &str) -> Vec<(u64, RunOutcome)> {
-    let mut seeds: Vec<(u64, RunOutcome)> = scores
-        .iter()
-        .filter(|s| s.task == task && s.method == method)
-        .map(|s| (s.seed, s.outcome))
-        .collect();
-    seeds.sort_unstable();
-    seeds
-}
-
-/// Paired by seed: (seeds where `method` converged and `versus` did not, the reverse), and the
-/// seeds of the first kind on which `method` collapsed.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct Discordant {
-    /// Seeds both ran.
-    pub(crate) paired: usize,
-    /// Seeds only `method` converged on.
-    pub(crate) only_method: u64,
-    /// Seeds only `versus` converged on.
-    pub(crate) only_versus: u64,
-    /// Seeds `versus` converged on while `method` collapsed.
-    pub(crate) method_collapsed: u64,
-}
-
-pub(crate) fn discordant(
-    scores: &[FinalScore],
-    task: &str,
-    method: &str,
-    versus: &str,
-) -> Discordant {
-    let mine = outcomes(scores, task, method);
-    let theirs = outcomes(scores, task, versus);
-    let mut d = Discordant {
-        paired: 0,
-        only_method: 0,
-        only_versus: 0,
-        method_collapsed: 0,
-    };
-    for &(seed, a) in &mine {
-        if let Some(&(_, b)) = theirs.iter().find(|(s, _)| *s == seed) {
-            d.paired += 1;
-            let (ca, cb) = (a == RunOutcome::Converged, b == RunOutcome::Converged);
-            d.only_method += u64::from(ca && !cb);
-            d.only_versus += u64::from(cb && !ca);
-            d.method_collapsed += u64::from(cb && a == RunOutcome::Collapsed);
-        }
-    }
-    d
-}
+use super::format::{Align, MarkdownTable, format_fixed, list, p_value};
+use super::words::name;
 
 fn count_cell(seeds: &[(u64, RunOutcome)], outcome: RunOutcome) -> String {
     let hits = seeds.iter().filter(|(_, o)| *o == outcome).count() as u64;
@@ -77,9 +31,9 @@ fn count_cell(seeds: &[(u64, RunOutcome)], outcome: RunOutcome) -> String {
     }
 }
 
-/// The collapsed seeds of `method` as `seed 14 (ep. 64), seed 16 (ep. 122)`, or `—`.
-pub(crate) fn collapsed_list(scores: &[FinalScore], task: &str, method: &str) -> String {
-    let seeds = eamadm_eval::verdicts::collapsed_seeds(scores, task, method);
+/// The collapsed seeds of `method` as `14 (ep. 64), 16 (ep. 122)`, or `—`.
+fn collapsed_list(scores: &[FinalScore], task: &str, method: &str) -> String {
+    let seeds = collapsed_seeds(scores, task, method);
     if seeds.is_empty() {
         return "—".to_owned();
     }
@@ -93,17 +47,50 @@ pub(crate) fn collapsed_list(scores: &[FinalScore], task: &str, method: &str) ->
         .join(", ")
 }
 
+/// Paired by seed: seeds both ran, only `method` converged, only `versus` converged, and of
+/// those `method` collapsed on.
+fn discordant(
+    scores: &[FinalScore],
+    task: &str,
+    method: &str,
+    versus: &str,
+) -> (usize, u64, u64, u64) {
+    let theirs = outcomes(scores, task, versus);
+    let (mut paired, mut only_method, mut only_versus, mut collapsed) = (0, 0, 0, 0);
+    for (seed, a) in outcomes(scores, task, method) {
+        if let Some(&(_, b)) = theirs.iter().find(|(s, _)| *s == seed) {
+            paired += 1;
+            let (ca, cb) = (a == RunOutcome::Converged, b == RunOutcome::Converged);
+            only_method += u64::from(ca && !cb);
+            only_versus += u64::from(cb && !ca);
+            collapsed += u64::from(cb && a == RunOutcome::Collapsed);
+        }
+    }
+    (paired, only_method, only_versus, collapsed)
+}
+
 /// The per-seed outcome section of `task`: a table of the paper's methods, the EA-MADM
-/// variants and [`SUBTASK_ALONE`] with outcome counts (Wilson 95 % intervals) and collapsed
-/// seeds, then EA-MADM's exact paired tests on converging against each competitor and
-/// [`SUBTASK_ALONE`].
-pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts) {
+/// variants and the strongest frozen sub-task alone with outcome counts (Wilson 95 %
+/// intervals) and collapsed seeds (a method that scores as an earlier one on every seed is
+/// left out with a sentence), then EA-MADM's exact paired tests on converging against each
+/// competitor and that sub-task alone, and the findings' sentences on them.
+pub(crate) fn write_outcomes(
+    text: &mut String,
+    task: &str,
+    context: &ReportContext,
+    verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
+) {
     let scores = &verdicts.scores;
-    let methods: Vec<(&str, Role, &str)> = claims::methods(scores, task)
+    let alone = findings::strongest_subtask_alone(context, scores, task);
+    let identical =
+        |method: &str| found.and_then(|f| f.identical.iter().find(|i| i.method == method));
+    let methods: Vec<&str> = claims::methods(scores, task)
         .into_iter()
         .filter(|&(m, role, kind)| {
-            role == Role::Paper || claims::is_under_test(kind) || m == SUBTASK_ALONE
+            role == Role::Paper || claims::is_under_test(kind) || Some(m) == alone
         })
+        .map(|(m, _, _)| m)
         .collect();
     if methods.is_empty() {
         return;
@@ -121,10 +108,15 @@ pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts)
         ("never reached", Align::Right),
         ("collapsed seeds (episode)", Align::Left),
     ]);
-    for &(method, _, _) in &methods {
+    let mut same: Vec<String> = Vec::new();
+    for &method in &methods {
+        if let Some(i) = identical(method) {
+            same.push(format!("`{}` as {}", i.method, name(&i.same_as)));
+            continue;
+        }
         let seeds = outcomes(scores, task, method);
         let _ = table.push_row([
-            method_title(method),
+            eamadm_eval::paper_claims::method_title(method),
             count_cell(&seeds, RunOutcome::Converged),
             count_cell(&seeds, RunOutcome::Collapsed),
             count_cell(&seeds, RunOutcome::ReachesWhileLearning),
@@ -134,13 +126,20 @@ pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts)
     }
     text.push_str(&table.render());
     text.push('\n');
+    if !same.is_empty() {
+        let _ = writeln!(
+            text,
+            "Not listed, since every seed ends as that method's: {}.\n",
+            list(&same)
+        );
+    }
 
     let Some(ea) = verdicts.paper_ea_madm(task) else {
         return;
     };
     let versus: Vec<&str> = claims::methods(scores, task)
         .into_iter()
-        .filter(|&(m, role, kind)| claims::is_competitor(role, kind) || m == SUBTASK_ALONE)
+        .filter(|&(m, role, kind)| claims::is_competitor(role, kind) || Some(m) == alone)
         .map(|(m, _, _)| m)
         .collect();
     if versus.is_empty() {
@@ -148,9 +147,9 @@ pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts)
     }
     let _ = writeln!(
         text,
-        "EA-MADM against each competitor and `{SUBTASK_ALONE}` on converging, paired by seed \
-         (exact sign test on the seeds only one of the two converged on, McNemar's exact test; \
-         raw p):\n"
+        "EA-MADM against each competitor{} on converging, paired by seed (exact sign test on \
+         the seeds only one of the two converged on, McNemar's exact test; raw p):\n",
+        alone.map_or_else(String::new, |a| format!(" and `{a}`"))
     );
     let mut table = MarkdownTable::new([
         ("versus", Align::Left),
@@ -161,259 +160,110 @@ pub(crate) fn write_outcomes(text: &mut String, task: &str, verdicts: &Verdicts)
         ("p", Align::Right),
     ]);
     for other in versus {
-        let d = discordant(scores, task, ea, other);
+        let (paired, only_method, only_versus, collapsed) = discordant(scores, task, ea, other);
         let _ = table.push_row([
-            method_title(other),
-            d.paired.to_string(),
-            d.only_method.to_string(),
-            d.only_versus.to_string(),
-            d.method_collapsed.to_string(),
-            p_value(stats::sign_test(d.only_method, d.only_versus)),
+            eamadm_eval::paper_claims::method_title(other),
+            paired.to_string(),
+            only_method.to_string(),
+            only_versus.to_string(),
+            collapsed.to_string(),
+            p_value(stats::sign_test(only_method, only_versus)),
         ]);
     }
     text.push_str(&table.render());
     text.push('\n');
-    for sentence in subtask_pairing(scores, task, ea)
-        .into_iter()
-        .chain(collapses_rejudged(verdicts, task, ea))
-    {
-        let _ = writeln!(text, "{sentence}\n");
+    if let Some(found) = found {
+        for sentence in subtask_pairing(found)
+            .into_iter()
+            .chain(collapses_rejudged(found))
+        {
+            let _ = writeln!(text, "{sentence}\n");
+        }
     }
 }
 
-/// EA-MADM paired by seed with [`SUBTASK_ALONE`] on converging, in words: where one converges
-/// and the other does not, or that they converge on the same seeds (none: neither converges);
-/// `None` when the sub-task alone was not run.
-pub(crate) fn subtask_pairing(scores: &[FinalScore], task: &str, ea: &str) -> Option<String> {
-    let d = discordant(scores, task, ea, SUBTASK_ALONE);
-    if d.paired == 0 {
-        return None;
-    }
-    if d.only_method == 0 && d.only_versus == 0 {
-        let both = outcomes(scores, task, ea)
-            .iter()
-            .filter(|(_, o)| *o == RunOutcome::Converged)
-            .count();
-        return Some(if both == 0 {
+/// EA-MADM paired by seed with its strongest frozen sub-task alone on converging, in words.
+pub(crate) fn subtask_pairing(found: &TaskFindings) -> Option<String> {
+    let p = found.subtask_pairing.as_ref()?;
+    let control = &p.control;
+    if p.only_method == 0 && p.only_control == 0 {
+        return Some(if p.both == 0 {
             format!(
-                "Neither EA-MADM nor `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone) \
+                "Neither EA-MADM nor `{control}` (its pre-trained sub-task acting alone) \
                  converges on any of the {} paired seeds.",
-                d.paired
+                p.paired
             )
         } else {
             format!(
-                "EA-MADM and `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone) converge \
-                 on the same {both} of {} paired seeds.",
-                d.paired
+                "EA-MADM and `{control}` (its pre-trained sub-task acting alone) converge on \
+                 the same {} of {} paired seeds.",
+                p.both, p.paired
             )
         });
     }
-    let reverse = if d.only_method == 0 {
+    let reverse = if p.only_method == 0 {
         "never the reverse".to_owned()
     } else {
-        format!("the reverse on {}", d.only_method)
+        format!("the reverse on {}", p.only_method)
     };
     Some(format!(
-        "Paired by seed with `{SUBTASK_ALONE}` (its pre-trained sub-task acting alone), EA-MADM \
-         fails to converge on {} of {} seeds where the sub-task alone converges ({} of them \
+        "Paired by seed with `{control}` (its pre-trained sub-task acting alone), EA-MADM fails \
+         to converge on {} of {} seeds where the sub-task alone converges ({} of them \
          collapsed), {reverse}.",
-        d.only_versus, d.paired, d.method_collapsed
+        p.only_control, p.paired, p.method_collapsed
     ))
 }
 
-/// The paper EA-MADM's verdicts judged again without its collapsed seeds (left out of every
-/// method), in words: which would be better, which not; `None` when none was judged again.
-pub(crate) fn collapses_rejudged(verdicts: &Verdicts, task: &str, ea: &str) -> Option<String> {
-    let again: Vec<&claims::Judgement> = verdicts
-        .without_collapses
-        .iter()
-        .filter(|j| j.task == task && j.method == ea)
-        .collect();
-    if again.is_empty() {
+/// EA-MADM's verdicts judged again without its collapsed seeds, in words.
+pub(crate) fn collapses_rejudged(found: &TaskFindings) -> Option<String> {
+    let collapses = found.collapses.as_ref()?;
+    if collapses.rejudged.is_empty() {
         return None;
     }
-    let words: Vec<String> = again
+    let words: Vec<String> = collapses
+        .rejudged
         .iter()
-        .map(|j| {
-            let before = verdicts
-                .judgements
-                .iter()
-                .find(|b| b.task == task && b.method == ea && b.claim.id == j.claim.id)
-                .map_or("—", |b| b.verdict.name());
-            format!("{} {} (was {before})", j.claim.id, j.verdict.name())
-        })
+        .map(|r| format!("{} {} (was {})", r.claim, r.now.name(), r.was.name()))
         .collect();
     Some(format!(
         "Judged again without EA-MADM's collapsed seeds (left out of every method, so still \
          paired; a diagnosis, never a verdict): {}.",
-        super::format::list(&words)
+        list(&words)
     ))
 }
 
-/// `subtaskN-alone`: one pre-trained sub-task acting alone with frozen values, the same
-/// learner as in the EA-MADM run of the seed (the `-learning` variants keep learning).
-fn is_frozen_subtask_alone(label: &str) -> bool {
-    label
-        .strip_prefix("subtask")
-        .and_then(|rest| rest.strip_suffix("-alone"))
-        .is_some_and(|n| n.parse::<usize>().is_ok())
-}
-
-/// A method as a sentence names it: the paper's methods by title, others by label in code.
-fn label(method: &str) -> String {
-    let title = method_title(method);
-    if title == method {
-        format!("`{method}`")
-    } else {
-        title
-    }
-}
-
-/// Whether two runs of one seed end the same: final-window steps and return, the greedy
-/// episode and the outcome (the training curves before may differ, e.g. a collapse episode).
-fn same_scores(a: &FinalScore, b: &FinalScore) -> bool {
-    a.seed == b.seed
-        && a.final_steps == b.final_steps
-        && a.final_return == b.final_return
-        && a.greedy_steps == b.greedy_steps
-        && a.outcome == b.outcome
-}
-
-/// The parts of two runs of one seed that end the same ([`same_scores`]) which still differ,
-/// named as a sentence names them; empty when the runs are the same all through (every score
-/// but the environment steps, which count each method's own pre-training).
-fn differing_parts(a: &FinalScore, b: &FinalScore) -> Vec<&'static str> {
-    let mut parts = Vec::new();
-    if a.fluctuation_steps != b.fluctuation_steps || a.fluctuation_return != b.fluctuation_return {
-        parts.push("the training curve's SD");
-    }
-    if a.collapse_episode != b.collapse_episode || a.reaching_episodes != b.reaching_episodes {
-        parts.push("the collapse episode or the count of reaching episodes");
-    }
-    if a.greedy_evaluations != b.greedy_evaluations
-        || a.stable_reaching != b.stable_reaching
-        || a.fluctuation_greedy_steps != b.fluctuation_greedy_steps
-        || a.fluctuation_greedy_return != b.fluctuation_greedy_return
-    {
-        parts.push("the greedy evaluations");
-    }
-    if a.success_rate != b.success_rate {
-        parts.push("the final-window success");
-    }
-    if a.reach_average_reward != b.reach_average_reward
-        || a.reach_time != b.reach_time
-        || a.reach_retention_time != b.reach_retention_time
-        || a.retention_decay != b.retention_decay
-    {
-        parts.push("the robot's reaching scores");
-    }
-    parts
-}
-
-/// How far two methods' runs agree seed for seed.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct Equality {
-    /// Seeds both ran.
-    pub(crate) both: usize,
-    /// Seeds on which the two end the same ([`same_scores`]).
-    pub(crate) end_same: usize,
-    /// Of those, seeds on which they are the same all through ([`differing_parts`] empty).
-    pub(crate) all_through: usize,
-    /// Of those that end the same, on how many seeds each part still differs, in the order of
-    /// [`differing_parts`].
-    pub(crate) differing: Vec<(&'static str, usize)>,
-}
-
-/// How far `method` and `other` agree seed for seed on `task`.
-pub(crate) fn equality(scores: &[FinalScore], task: &str, method: &str, other: &str) -> Equality {
-    let rows = |m: &str| -> Vec<&FinalScore> {
-        scores
-            .iter()
-            .filter(|s| s.task == task && s.method == m)
-            .collect()
-    };
-    let theirs = rows(other);
-    let mut eq = Equality {
-        both: 0,
-        end_same: 0,
-        all_through: 0,
-        differing: Vec::new(),
-    };
-    for a in rows(method) {
-        let Some(b) = theirs.iter().find(|b| b.seed == a.seed) else {
-            continue;
-        };
-        eq.both += 1;
-        if !same_scores(a, b) {
-            continue;
-        }
-        eq.end_same += 1;
-        let parts = differing_parts(a, b);
-        eq.all_through += usize::from(parts.is_empty());
-        for part in parts {
-            match eq.differing.iter_mut().find(|(p, _)| *p == part) {
-                Some((_, n)) => *n += 1,
-                None => eq.differing.push((part, 1)),
-            }
-        }
-    }
-    eq
-}
-
-/// Seeds on which `method` and `other` end the same, and the seeds both ran.
-pub(crate) fn equal_seeds(
-    scores: &[FinalScore],
-    task: &str,
-    method: &str,
-    other: &str,
-) -> (usize, usize) {
-    let eq = equality(scores, task, method, other);
-    (eq.end_same, eq.both)
-}
-
-/// Which EA-MADM variants end as a sub-task alone seed for seed, on how many seeds, and on how
-/// many of those they are the same all through (with what still differs): pairs that end the
-/// same on at least half the seeds, in one sentence.
-pub(crate) fn equalities_with_subtasks(task: &str, verdicts: &Verdicts) -> Option<String> {
-    let scores = &verdicts.scores;
-    let methods = claims::methods(scores, task);
-    let mut pairs = Vec::new();
-    for &(method, _, kind) in &methods {
-        if !claims::is_under_test(kind) {
-            continue;
-        }
-        for &(other, role, _) in &methods {
-            if role != Role::Control || !is_frozen_subtask_alone(other) {
-                continue;
-            }
-            let eq = equality(scores, task, method, other);
-            if eq.both > 0 && 2 * eq.end_same >= eq.both {
-                let differing: Vec<String> = eq
-                    .differing
-                    .iter()
-                    .map(|(part, n)| format!("{part} on {n}"))
-                    .collect();
-                pairs.push(format!(
-                    "{} = `{other}` on {}/{}, all through on {}{}",
-                    label(method),
-                    eq.end_same,
-                    eq.both,
-                    eq.all_through,
-                    if differing.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" (still differing: {})", differing.join(", "))
-                    }
-                ));
-            }
-        }
-    }
+/// Which EA-MADM variants end as a sub-task alone seed for seed, in one sentence.
+pub(crate) fn equalities(found: &TaskFindings) -> Option<String> {
+    let pairs: Vec<String> = found
+        .equalities
+        .iter()
+        .map(|eq| {
+            let differing: Vec<String> = eq
+                .differing
+                .iter()
+                .map(|(part, n)| format!("{part} on {n}"))
+                .collect();
+            format!(
+                "{} = `{}` on {}/{}, all through on {}{}",
+                name(&eq.method),
+                eq.other,
+                eq.end_same,
+                eq.both,
+                eq.all_through,
+                if differing.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (still differing: {})", differing.join(", "))
+                }
+            )
+        })
+        .collect();
     (!pairs.is_empty()).then(|| {
         format!(
             "Seed for seed, these EA-MADM variants end exactly as a sub-task alone (the same \
              final-window steps and return, greedy episode and outcome), and on some of those \
              seeds run the same all through (every score but the environment steps, which \
-             count each method's own pre-training): {}. On the seeds they end alike the \
+             count each method's own pre-training): {}. On the seeds they end alike, the \
              sub-task's own experience, without the MADM step, ends where EA-MADM does; the \
              way there (the training curve, a collapse episode) may differ (pairs that end \
              alike on fewer than half the seeds are not listed).",
@@ -422,16 +272,72 @@ pub(crate) fn equalities_with_subtasks(task: &str, verdicts: &Verdicts) -> Optio
     })
 }
 
-/// Where EA-MADM's pre-training steps go: each sub-task's share, read off the `subtaskN-alone`
-/// controls (each pre-trains its sub-task exactly as the EA-MADM run of the same seed), stated
-/// only when their pre-training steps add up to EA-MADM's on every seed.
-pub(crate) fn pretraining_shares(task: &str, verdicts: &Verdicts) -> Option<String> {
+/// Methods whose per-seed scores equal an earlier method's on every seed, in one sentence.
+pub(crate) fn identical(found: &TaskFindings) -> Option<String> {
+    let mut groups: Vec<(&str, Vec<String>, usize)> = Vec::new();
+    for i in &found.identical {
+        match groups
+            .iter_mut()
+            .find(|(same_as, _, _)| *same_as == i.same_as)
+        {
+            Some((_, methods, _)) => methods.push(format!("`{}`", i.method)),
+            None => groups.push((&i.same_as, vec![format!("`{}`", i.method)], i.seeds)),
+        }
+    }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|(same_as, methods, seeds)| {
+            format!(
+                "{} {} exactly as {} on all {seeds} seeds",
+                list(methods),
+                if methods.len() == 1 {
+                    "scores"
+                } else {
+                    "score"
+                },
+                name(same_as)
+            )
+        })
+        .collect();
+    (!parts.is_empty()).then(|| {
+        format!(
+            "{}: whatever differs between them changes no score here, and the tables show \
+             each such group once.",
+            super::words::capitalised(&list(&parts))
+        )
+    })
+}
+
+/// The frozen sub-task-alone controls of `task` with their sub-task, from their configs.
+fn frozen_alone<'a>(context: &'a ReportContext, task: &str) -> Vec<&'a str> {
+    context.experiment(task).map_or_else(Vec::new, |e| {
+        e.methods
+            .iter()
+            .filter(|m| {
+                m.role == Role::Control
+                    && matches!(
+                        m.control,
+                        Some(ControlFamily::SubtaskAlone { learns: false, .. })
+                    )
+            })
+            .map(|m| m.label.as_str())
+            .collect()
+    })
+}
+
+/// Where EA-MADM's pre-training steps go: each sub-task's share, read off the frozen
+/// sub-task-alone controls (each pre-trains its sub-task exactly as the EA-MADM run of the
+/// same seed), stated only when their pre-training steps add up to EA-MADM's on every seed.
+pub(crate) fn pretraining_shares(
+    task: &str,
+    context: &ReportContext,
+    verdicts: &Verdicts,
+) -> Option<String> {
     let scores = &verdicts.scores;
     let ea = verdicts.paper_ea_madm(task)?;
-    let alone: Vec<&str> = claims::methods(scores, task)
+    let alone: Vec<&str> = frozen_alone(context, task)
         .into_iter()
-        .filter(|&(m, role, _)| role == Role::Control && is_frozen_subtask_alone(m))
-        .map(|(m, _, _)| m)
+        .filter(|m| !outcomes(scores, task, m).is_empty())
         .collect();
     if alone.is_empty() {
         return None;
@@ -466,51 +372,66 @@ pub(crate) fn pretraining_shares(task: &str, verdicts: &Verdicts) -> Option<Stri
         .iter()
         .zip(&totals)
         .map(|(m, &t)| {
-            let converged = outcomes(scores, task, m)
-                .iter()
-                .filter(|(_, o)| *o == RunOutcome::Converged)
-                .count();
+            let c = converged(scores, task, m);
             format!(
-                "{}% to the sub-task of `{m}` (which alone converges on {converged}/{} seeds)",
+                "{}% to the sub-task of `{m}` (which alone converges on {}/{} seeds)",
                 format_fixed(100.0 * t as f64 / all as f64, 0),
+                c.hits,
                 ea_rows.len()
             )
         })
         .collect();
     Some(format!(
         "Of EA-MADM's sub-task pre-training steps (summed over seeds) {}.",
-        super::format::list(&parts)
+        list(&parts)
     ))
 }
 
 /// The τ sweep on a maze: a state is the token set of its column and row, so two states'
 /// Jaccard similarity is 0, 1/3 or 1; a threshold above 1/3 merges no two states and one at or
-/// below merges whole rows or columns. Stated with how the `ea-madm-tau*` controls came out.
-pub(crate) fn tau_caveat(task: &str, verdicts: &Verdicts) -> Option<String> {
+/// below merges whole rows or columns. Stated with how the EA-MADM controls with a tree
+/// threshold below 1 (from their configs) came out.
+pub(crate) fn tau_caveat(
+    task: &str,
+    context: &ReportContext,
+    verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
+) -> Option<String> {
     let scores = &verdicts.scores;
     let ea = verdicts.paper_ea_madm(task)?;
     let mut parts = Vec::new();
-    for (method, _, kind) in claims::methods(scores, task) {
-        let Some(tau) = method
-            .strip_prefix("ea-madm-tau")
-            .and_then(|t| t.parse::<f64>().ok())
-        else {
+    for method in &context.experiment(task)?.methods {
+        let Some(tau) = method.tree_threshold.filter(|t| *t < 1.0) else {
             continue;
         };
-        if !claims::is_under_test(kind) {
+        if method.role != Role::Control || !claims::is_under_test(&method.kind) {
             continue;
         }
-        let (equal, both) = equal_seeds(scores, task, method, ea);
-        let converged = outcomes(scores, task, method)
-            .iter()
-            .filter(|(_, o)| *o == RunOutcome::Converged)
-            .count();
+        let label = method.label.as_str();
+        let seeds = outcomes(scores, task, label).len();
+        if seeds == 0 {
+            continue;
+        }
+        let equal = findings::equality(scores, task, label, ea).end_same;
+        let same_as_ea = found.is_some_and(|f| {
+            f.identical
+                .iter()
+                .any(|i| i.method == label && i.same_as == ea)
+        });
         parts.push(if tau > 1.0 / 3.0 {
-            format!("τ = {tau} (above 1/3, exact) equals EA-MADM on {equal}/{both} seeds")
+            format!(
+                "τ = {tau} (above 1/3, exact) ends as EA-MADM on {equal}/{seeds} seeds{}",
+                if same_as_ea {
+                    " and scores as it on every one"
+                } else {
+                    ""
+                }
+            )
         } else {
             format!(
                 "τ = {tau} (at or below 1/3, it merges whole rows or columns) converges on \
-                 {converged}/{both} seeds"
+                 {}/{seeds} seeds",
+                converged(scores, task, label).hits
             )
         });
     }
@@ -519,193 +440,7 @@ pub(crate) fn tau_caveat(task: &str, verdicts: &Verdicts) -> Option<String> {
             "The τ sweep cannot exercise aggregation on a maze: a state is the token set of its \
              column and row, so two states' Jaccard similarity takes only the values 0, 1/3 and \
              1, and no threshold merges a few similar states. Here {}.",
-            super::format::list(&parts)
+            list(&parts)
         )
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::tests::{options, row};
-    use super::*;
-
-    fn verdicts(scores: Vec<FinalScore>) -> Verdicts {
-        Verdicts {
-            scores,
-            judgements: Vec::new(),
-            estimates: Vec::new(),
-            overviews: Vec::new(),
-            controls: Vec::new(),
-            against_strongest: Vec::new(),
-            without_collapses: Vec::new(),
-            survives_readings: Vec::new(),
-            options: options(),
-            sensitivity: Vec::new(),
-        }
-    }
-
-    /// EA-MADM and its two sub-tasks alone on 4 seeds: sub-task 0 pre-trains `p0` steps,
-    /// sub-task 1 `p1`, EA-MADM `p0 + p1 + extra`.
-    fn pretraining(p0: u64, p1: u64, extra: u64) -> Vec<FinalScore> {
-        let mut rows = Vec::new();
-        for seed in 0..4 {
-            let mut ea = row("task1", "ea-madm", Role::Paper, "ea_madm", seed, 60.0);
-            ea.pretrain_env_steps = p0 + p1 + extra;
-            rows.push(ea);
-            let mut a = row(
-                "task1",
-                "subtask0-alone",
-                Role::Control,
-                "subtask_greedy",
-                seed,
-                60.0,
-            );
-            a.pretrain_env_steps = p0;
-            rows.push(a);
-            let mut b = row(
-                "task1",
-                "subtask1-alone",
-                Role::Control,
-                "subtask_greedy",
-                seed,
-                2000.0,
-            );
-            b.pretrain_env_steps = p1;
-            b.outcome = RunOutcome::NeverReached;
-            rows.push(b);
-        }
-        rows
-    }
-
-    #[test]
-    fn pretraining_shares_are_stated_only_when_the_sub_tasks_add_up() {
-        let text = pretraining_shares("task1", &verdicts(pretraining(50, 950, 0))).unwrap();
-        assert_eq!(
-            text,
-            "Of EA-MADM's sub-task pre-training steps (summed over seeds) 5% to the sub-task of \
-             `subtask0-alone` (which alone converges on 4/4 seeds) and 95% to the sub-task of \
-             `subtask1-alone` (which alone converges on 0/4 seeds)."
-        );
-        assert_eq!(
-            pretraining_shares("task1", &verdicts(pretraining(50, 950, 1))),
-            None
-        );
-    }
-
-    #[test]
-    fn equalities_count_the_seeds_a_variant_equals_a_sub_task_alone() {
-        let mut rows = pretraining(50, 950, 0);
-        for seed in 0..4 {
-            let mut u = row(
-                "task1",
-                "ea-madm-uniform",
-                Role::Ablation,
-                "ea_madm",
-                seed,
-                60.0,
-            );
-            if seed == 3 {
-                u.final_steps = 61.0;
-            }
-            // Ends the same, but the way there differs.
-            if seed == 0 {
-                u.fluctuation_steps += 1.0;
-                u.collapse_episode = Some(7);
-            }
-            rows.push(u);
-            rows.push(row(
-                "task1",
-                "ea-madm-distance",
-                Role::Ablation,
-                "ea_madm",
-                seed,
-                70.0 + seed as f64,
-            ));
-        }
-        let text = equalities_with_subtasks("task1", &verdicts(rows)).unwrap();
-        assert!(
-            text.contains(
-                ": EA-MADM = `subtask0-alone` on 4/4, all through on 4; `ea-madm-uniform` = \
-                 `subtask0-alone` on 3/4, all through on 2 (still differing: the training \
-                 curve's SD on 1, the collapse episode or the count of reaching episodes on 1)."
-            ),
-            "{text}"
-        );
-        assert!(!text.contains("distance"), "{text}");
-        let none = pretraining(50, 950, 0)
-            .into_iter()
-            .filter(|r| r.method != "subtask0-alone")
-            .collect();
-        assert_eq!(equalities_with_subtasks("task1", &verdicts(none)), None);
-    }
-
-    #[test]
-    fn the_tau_caveat_names_exact_and_merging_thresholds() {
-        let mut rows = Vec::new();
-        for seed in 0..4 {
-            rows.push(row("task1", "ea-madm", Role::Paper, "ea_madm", seed, 60.0));
-            rows.push(row(
-                "task1",
-                "ea-madm-tau0.5",
-                Role::Control,
-                "ea_madm",
-                seed,
-                60.0,
-            ));
-            let mut low = row(
-                "task1",
-                "ea-madm-tau0.33",
-                Role::Control,
-                "ea_madm",
-                seed,
-                2000.0,
-            );
-            if seed > 0 {
-                low.outcome = RunOutcome::Collapsed;
-            }
-            rows.push(low);
-        }
-        let text = tau_caveat("task1", &verdicts(rows.clone())).unwrap();
-        assert!(
-            text.contains("takes only the values 0, 1/3 and 1"),
-            "{text}"
-        );
-        assert!(
-            text.ends_with(
-                "Here τ = 0.5 (above 1/3, exact) equals EA-MADM on 4/4 seeds and τ = 0.33 (at \
-                 or below 1/3, it merges whole rows or columns) converges on 1/4 seeds."
-            ),
-            "{text}"
-        );
-        rows.retain(|r| !r.method.starts_with("ea-madm-tau"));
-        assert_eq!(tau_caveat("task1", &verdicts(rows)), None);
-    }
-
-    #[test]
-    fn the_outcome_tables_count_collapses_and_pair_with_the_sub_task() {
-        let mut rows = pretraining(50, 950, 0);
-        rows.retain(|r| r.method != "subtask1-alone");
-        for seed in 0..4 {
-            rows.push(row("task1", "softmax", Role::Paper, "softmax", seed, 60.0));
-        }
-        for r in rows
-            .iter_mut()
-            .filter(|r| r.method == "ea-madm" && r.seed == 2)
-        {
-            r.outcome = RunOutcome::Collapsed;
-            r.collapse_episode = Some(122);
-        }
-        let mut text = String::new();
-        write_outcomes(&mut text, "task1", &verdicts(rows));
-        let ea = text.lines().find(|l| l.starts_with("| EA-MADM")).unwrap();
-        assert!(ea.contains(" 3/4 [30, 95]% | 1/4 [5, 70]% "), "{ea}");
-        assert!(ea.contains("| 2 (ep. 122) "), "{ea}");
-        // The paired table comes second.
-        let alone = text
-            .lines()
-            .rfind(|l| l.starts_with("| subtask0-alone"))
-            .unwrap();
-        let cells: Vec<&str> = alone.split('|').map(str::trim).collect();
-        assert_eq!(&cells[2..7], ["4", "0", "1", "1", "1.000"], "{alone}");
-    }
 }

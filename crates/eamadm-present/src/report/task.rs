@@ -9,8 +9,9 @@ use super::format::{
 use super::{ExperimentFacts, Figures, FinalEpsilon, ReportContext, Verdicts};
 use eamadm_eval::Role;
 use eamadm_eval::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
+use eamadm_eval::facts::ControlFamily;
+use eamadm_eval::findings::TaskFindings;
 use eamadm_eval::paper_claims::method_title;
-use eamadm_eval::scores::FinalScore;
 
 pub(crate) fn estimate_cell(verdicts: &Verdicts, task: &str, method: &str, metric: &str) -> String {
     match verdicts.estimate(task, method, metric) {
@@ -25,8 +26,13 @@ pub(crate) fn write_task(
     context: &ReportContext,
     experiment: &ExperimentFacts,
     verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
 ) {
     let task = experiment.name.as_str();
+    // A method that scores as an earlier one on every seed is one row: its group's.
+    let shown = |o: &&&MethodOverview| {
+        found.is_none_or(|f| !f.identical.iter().any(|i| i.method == o.method))
+    };
     let _ = writeln!(text, "## {} (`{task}`)\n", experiment.title);
     let overviews: Vec<&MethodOverview> = verdicts
         .overviews
@@ -76,7 +82,11 @@ pub(crate) fn write_task(
         ]
     };
     let mut table = MarkdownTable::new(columns);
-    for o in overviews.iter().filter(|o| o.role != Role::Control) {
+    for o in overviews
+        .iter()
+        .filter(|o| o.role != Role::Control)
+        .filter(|o| shown(o))
+    {
         let _ = table.push_row(row(o));
     }
     let _ = writeln!(
@@ -90,6 +100,7 @@ pub(crate) fn write_task(
     let controls: Vec<&&MethodOverview> = overviews
         .iter()
         .filter(|o| o.role == Role::Control)
+        .filter(|o| shown(o))
         .collect();
     if !controls.is_empty() {
         let _ = writeln!(
@@ -104,28 +115,39 @@ pub(crate) fn write_task(
         }
         text.push_str(&table.render());
         text.push('\n');
-        write_control_comparisons(text, task, verdicts);
-        for sentence in super::strongest::strongest_sentences(verdicts, task) {
+        write_control_comparisons(text, task, verdicts, found);
+        for sentence in found
+            .map(super::strongest::strongest_sentences)
+            .unwrap_or_default()
+        {
             let _ = writeln!(text, "{sentence}\n");
         }
     }
 
     write_comparisons(text, task, verdicts);
-    write_distributions(text, &overviews);
-    super::outcomes::write_outcomes(text, task, verdicts);
+    let distinct: Vec<&MethodOverview> = overviews.iter().filter(|o| shown(o)).copied().collect();
+    write_distributions(text, &distinct);
+    super::outcomes::write_outcomes(text, task, context, verdicts, found);
     let robot = context.paper_task(task).is_some_and(|t| t.robot)
         || verdicts
             .scores
             .iter()
             .any(|s| s.task == task && s.reach_time.is_some());
-    for sentence in explanations(experiment, robot, &overviews, verdicts) {
+    for sentence in explanations(context, experiment, robot, &overviews, verdicts, found) {
         let _ = writeln!(text, "- {sentence}");
     }
     text.push('\n');
     if robot {
-        super::robot::write_robot(text, experiment, &overviews, verdicts);
+        super::robot::write_robot(text, experiment, &overviews, verdicts, found);
     }
-    super::robot::write_robot_behaviour(text, experiment, &overviews, &context.action_names);
+    super::robot::write_robot_behaviour(
+        text,
+        experiment,
+        &overviews,
+        &context.action_names,
+        verdicts.paper_ea_madm(task),
+        found,
+    );
     if !experiment.figures.files.is_empty() {
         text.push_str(&gallery(task, &experiment.figures));
         let _ = writeln!(
@@ -177,11 +199,20 @@ pub(crate) fn gallery(task: &str, figures: &Figures) -> String {
     text
 }
 
-fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
+fn write_control_comparisons(
+    text: &mut String,
+    task: &str,
+    verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
+) {
+    // A control that scores as an earlier method on every seed is compared as that one.
     let rows: Vec<&ControlComparison> = verdicts
         .controls
         .iter()
         .filter(|c| c.task == task)
+        .filter(|c| {
+            found.is_none_or(|f| !f.identical.iter().any(|i| i.method == c.comparison.versus))
+        })
         .collect();
     if rows.is_empty() {
         return;
@@ -359,10 +390,12 @@ fn write_distributions(text: &mut String, overviews: &[&MethodOverview]) {
 
 /// Sentences on numbers that need explaining, each chosen by the numbers.
 fn explanations(
+    context: &ReportContext,
     experiment: &ExperimentFacts,
     robot: bool,
     overviews: &[&MethodOverview],
     verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
 ) -> Vec<String> {
     let task = experiment.name.as_str();
     let mut sentences = Vec::new();
@@ -375,15 +408,15 @@ fn explanations(
             sentences.push(sentence);
         }
     }
-    if let Some(sentence) = step_budget(overviews) {
+    if let Some(sentence) = step_budget(experiment, overviews) {
         sentences.push(sentence);
     }
-    sentences.extend(super::outcomes::pretraining_shares(task, verdicts));
-    sentences.extend(identical_methods(task, verdicts));
-    sentences.extend(super::outcomes::equalities_with_subtasks(task, verdicts));
+    sentences.extend(super::outcomes::pretraining_shares(task, context, verdicts));
+    sentences.extend(found.and_then(super::outcomes::identical));
+    sentences.extend(found.and_then(super::outcomes::equalities));
     if !robot {
         // A robot state has more features than a maze cell's column and row.
-        sentences.extend(super::outcomes::tau_caveat(task, verdicts));
+        sentences.extend(super::outcomes::tau_caveat(task, context, verdicts, found));
     }
     sentences
 }
@@ -466,7 +499,7 @@ fn scientific(value: f64) -> String {
 }
 
 /// The step budgets of EA-MADM and the competitors, when they differ.
-fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
+fn step_budget(experiment: &ExperimentFacts, overviews: &[&MethodOverview]) -> Option<String> {
     let ea = overviews
         .iter()
         .find(|o| o.role == Role::Paper && claims::is_under_test(&o.kind))?;
@@ -489,24 +522,29 @@ fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
         format_fixed(ea.pretrain_env_steps, 0),
         format_fixed(most, 0),
         format_fixed(ea.env_steps_total / most, 1),
-        controls_run(overviews)
+        controls_run(experiment, overviews)
     ))
 }
 
 /// Which of the controls that give the competitors EA-MADM's budget or reward information
 /// ran, in words.
-fn controls_run(overviews: &[&MethodOverview]) -> String {
-    let family = |name: &str| -> Vec<String> {
+fn controls_run(experiment: &ExperimentFacts, overviews: &[&MethodOverview]) -> String {
+    let family = |family: ControlFamily| -> Vec<String> {
         overviews
             .iter()
             .filter(|o| {
                 o.role == Role::Control
-                    && eamadm_eval::verdicts::control_family(&o.method) == Some(name)
+                    && experiment
+                        .method(&o.method)
+                        .is_some_and(|m| m.control == Some(family))
             })
             .map(|o| format!("`{}`", o.method))
             .collect()
     };
-    let (budget, reward) = (family("budget-matched"), family("reward-matched"));
+    let (budget, reward) = (
+        family(ControlFamily::BudgetMatched),
+        family(ControlFamily::RewardMatched),
+    );
     match (budget.is_empty(), reward.is_empty()) {
         (true, true) => "No control with an equal budget or equal reward information was run \
                          here, so whether either closes the gap is not tested."
@@ -528,53 +566,6 @@ fn controls_run(overviews: &[&MethodOverview]) -> String {
             super::format::list(&reward)
         ),
     }
-}
-
-/// Methods whose per-seed scores equal the paper's EA-MADM's exactly.
-fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
-    let ea = verdicts.paper_ea_madm(task)?;
-    let rows_of = |method: &str| -> Vec<&FinalScore> {
-        verdicts
-            .scores
-            .iter()
-            .filter(|s| s.task == task && s.method == method)
-            .collect()
-    };
-    let reference = rows_of(ea);
-    let same_numbers = |a: &FinalScore, b: &FinalScore| {
-        a.seed == b.seed
-            && a.final_steps == b.final_steps
-            && a.final_return == b.final_return
-            && a.fluctuation_steps == b.fluctuation_steps
-            && a.fluctuation_return == b.fluctuation_return
-            && a.env_steps_total == b.env_steps_total
-            && a.greedy_steps == b.greedy_steps
-    };
-    let same: Vec<String> = claims::methods(&verdicts.scores, task)
-        .into_iter()
-        .filter(|&(method, _, _)| method != ea)
-        .filter(|&(method, _, _)| {
-            let rows = rows_of(method);
-            rows.len() == reference.len()
-                && rows.iter().zip(&reference).all(|(a, b)| same_numbers(a, b))
-        })
-        .map(|(method, _, _)| format!("`{method}`"))
-        .collect();
-    (!same.is_empty()).then(|| {
-        format!(
-            "{} {} exactly EA-MADM's per-seed scores: {} sub-task experience answers every \
-             lookup as EA-MADM's exact tree does (a table, or a tree whose thresholds merge no \
-             two states), so {} not exercise the tree's aggregation.",
-            same.join(", "),
-            if same.len() == 1 { "gives" } else { "give" },
-            if same.len() == 1 { "its" } else { "their" },
-            if same.len() == 1 {
-                "it does"
-            } else {
-                "they do"
-            },
-        )
-    })
 }
 
 #[cfg(test)]
@@ -603,7 +594,24 @@ mod tests {
             o.role = Role::Control;
             o
         };
-        let (budget, shaped) = (control("softmax-budget"), control("softmax-shaped"));
+        // Their families come from their configs, whatever their labels.
+        let (budget, shaped) = (control("softmax-budget"), control("my-shaped-control"));
+        let mut facts = super::super::tests::experiment("task2", "Task II");
+        facts.methods = vec![
+            super::super::tests::method(
+                "softmax-budget",
+                Role::Control,
+                "softmax",
+                Some(ControlFamily::BudgetMatched),
+            ),
+            super::super::tests::method(
+                "my-shaped-control",
+                Role::Control,
+                "softmax",
+                Some(ControlFamily::RewardMatched),
+            ),
+        ];
+        let controls_run = |overviews: &[&MethodOverview]| controls_run(&facts, overviews);
         assert!(controls_run(&[]).starts_with("No control with an equal budget"));
         assert!(controls_run(&[&budget]).starts_with(
             "The budget-matched controls (`softmax-budget`) give the competitors the same \
@@ -613,8 +621,8 @@ mod tests {
         assert_eq!(
             controls_run(&[&budget, &shaped]),
             "The budget-matched controls (`softmax-budget`) give the competitors the same \
-             steps, the reward-matched ones (`softmax-shaped`) the same reward information (the \
-             controls table above)."
+             steps, the reward-matched ones (`my-shaped-control`) the same reward information \
+             (the controls table above)."
         );
     }
 }

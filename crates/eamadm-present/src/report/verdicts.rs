@@ -1,164 +1,58 @@
-//! The verdict table, the claims, the rule they are judged by, and the verdicts of EA-MADM's
-//! ablations and variants; the README's verdict block is the same table.
+//! The verdict table (the README's verdict block is the same table), the claims, the verdicts
+//! of EA-MADM's ablations and variants (methods that score as another on every seed listed
+//! once, rows that say the same merged), and the rule they are judged by (the appendix's).
 
 use std::fmt::Write as _;
 
-use super::format::{Align, MarkdownTable, interval, number, p_value, role_text};
-use super::{ReportContext, Verdicts};
-use eamadm_eval::claims::{self, Comparison, Judgement, ReachingComparison};
-use eamadm_eval::paper_claims::{CLAIMS, method_title};
-use eamadm_eval::verdicts::control_family;
+use eamadm_eval::findings::{Findings, TaskFindings, VariantVerdict};
+use eamadm_eval::paper_claims::CLAIMS;
+use eamadm_eval::verdicts::Verdicts;
 
-/// The number that decides `judgement`'s verdict, in words with the competitor it is against.
-pub(crate) fn deciding_number(judgement: &Judgement) -> String {
-    deciding_words(judgement, true)
-}
+use super::format::{Align, MarkdownTable, list, number, role_text};
+use super::words::{self, deciding_or_reason};
 
-/// [`deciding_number`] for the verdict table: a verdict decided on per-seed reaching states the
-/// test alone (why the claim's metrics could not be compared is in the rule below the table
-/// and in the task's section).
-fn table_deciding_number(judgement: &Judgement) -> String {
-    match (judgement.deciding, reason_test(judgement)) {
-        (None, Some(test)) => claims::per_seed_reason(&judgement.method, test),
-        _ => deciding_number(judgement),
-    }
-}
-
-/// The per-seed test (C3: stable-reaching) against the deciding comparison's competitor, when
-/// it came nearer to settling than that comparison (a smaller Holm p): an inconclusive C3
-/// whose greedy SDs are all 0 is decided by who reaches stably, not by the 0 [0, 0].
-fn deciding_per_seed_test(judgement: &Judgement) -> Option<&ReachingComparison> {
-    let c = judgement.deciding_comparison()?;
-    (judgement.verdict == claims::Verdict::Inconclusive)
-        .then(|| {
-            judgement
-                .reaching
-                .iter()
-                .find(|t| t.versus == c.versus && t.p_holm < c.p_holm)
-        })
-        .flatten()
-}
-
-/// The per-seed test a verdict without a deciding comparison is decided by: the one its
-/// reason states.
-fn reason_test(judgement: &Judgement) -> Option<&ReachingComparison> {
-    judgement.reaching.iter().find(|t| {
-        judgement
-            .reason
-            .starts_with(&claims::per_seed_reason(&judgement.method, t))
-    })
-}
-
-/// A per-seed test without the names (a column that names both sides already): "reaches on
-/// 0/20 seeds against 20/20; exact paired sign test, Holm p < 0.001".
-fn per_seed_short(test: &ReachingComparison) -> String {
-    format!(
-        "{} on {}/{n} seeds against {}/{n}; exact paired sign test, Holm p {}",
-        claims::per_seed_words(test.metric),
-        test.reached.0,
-        test.reached.1,
-        p_value(test.p_holm),
-        n = test.n
-    )
-}
-
-/// [`deciding_number`]; without `versus` (a column that names the one competitor already),
-/// a metric comparison leaves out "vs <competitor>: ".
-pub(crate) fn deciding_words(judgement: &Judgement, versus: bool) -> String {
-    if let Some(test) = deciding_per_seed_test(judgement) {
-        return if versus {
-            claims::per_seed_reason(&judgement.method, test)
-        } else {
-            per_seed_short(test)
-        };
-    }
-    if !versus
-        && judgement.deciding.is_none()
-        && let Some(test) = reason_test(judgement)
-    {
-        return per_seed_short(test);
-    }
-    let comparison_in_words = |c: &Comparison| {
-        if versus {
-            comparison_in_words(c)
-        } else {
-            difference_in_words(c)
-        }
-    };
-    match judgement.deciding_comparison() {
-        Some(c) if judgement.verdict == claims::Verdict::Equivalent => match &c.paired {
-            Some(p) => format!(
-                "vs {}: paired Δ mean `{}` = {} within ±{}, TOST Holm p {}",
-                method_title(&c.versus),
-                c.metric.column,
-                interval(&p.difference),
-                c.margin
-                    .map_or_else(|| "—".to_owned(), super::margins::short_number),
-                p_value(p.p_equivalence_holm.unwrap_or(1.0))
-            ),
-            None => comparison_in_words(c),
-        },
-        Some(c) => comparison_in_words(c),
-        None => judgement.reason.clone(),
-    }
-}
-
-fn comparison_in_words(c: &Comparison) -> String {
-    format!("vs {}: {}", method_title(&c.versus), difference_in_words(c))
-}
-
-fn difference_in_words(c: &Comparison) -> String {
-    format!(
-        "Δ IQM `{}` = {}, Holm p {}",
-        c.metric.column,
-        interval(&c.difference),
-        p_value(c.p_holm)
-    )
-}
-
-/// The strongest control of a claim × task with its kind, and EA-MADM's verdict against it
+/// The strongest control of a claim on a task with its kind, and EA-MADM's verdict against it
 /// with the number that decides it; "none run" when the task has no control.
-fn strongest_cells(verdicts: &Verdicts, claim: &str, task: &str) -> (String, String) {
-    verdicts
-        .against_strongest
+fn strongest_cells(task: &TaskFindings, claim: &str) -> (String, String) {
+    task.strongest
         .iter()
-        .find(|c| c.judgement.claim.id == claim && c.judgement.task == task)
+        .find(|s| s.claim == claim)
         .map_or_else(
             || ("none run".to_owned(), "—".to_owned()),
-            |c| {
+            |s| {
                 (
                     format!(
                         "`{}` ({}; IQM `{}` {})",
-                        c.control,
-                        control_family(&c.control).unwrap_or("control"),
-                        c.metric,
-                        number(c.control_iqm)
+                        s.control,
+                        words::family(s.family),
+                        s.metric,
+                        number(s.control_iqm)
                     ),
                     format!(
                         "{}: {}",
-                        c.judgement.verdict.name(),
-                        deciding_words(&c.judgement, false)
+                        s.verdict.name(),
+                        deciding_or_reason(s.deciding.as_ref(), &s.reason, &task.method, false)
                     ),
                 )
             },
         )
 }
 
-/// Whether the claim × task's verdict survives every reading of the paper run by the
-/// sensitivity runs: `yes`, `no`, or `not run` when none was run.
-fn survives_cell(verdicts: &Verdicts, claim: &str, task: &str) -> String {
-    verdicts
-        .survives_readings
-        .iter()
-        .find(|s| s.claim == claim && s.task == task)
-        .map_or_else(
-            || "not run".to_owned(),
-            |s| if s.holds { "yes" } else { "no" }.to_owned(),
-        )
+/// Whether the claim × task's verdict survives every reading of the paper run: `yes`, `no`,
+/// or `not run` when none was run.
+fn survives_cell(task: &TaskFindings, claim: &str) -> &'static str {
+    match &task.readings {
+        None => "not run",
+        Some(r) if r.flips.iter().any(|(c, _)| c == claim) => "no",
+        Some(r) if r.holds.iter().any(|(c, _)| c == claim) => "yes",
+        Some(_) => "not run",
+    }
 }
 
-pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdicts: &Verdicts) {
-    let _ = writeln!(text, "## Verdicts on the paper's claims\n");
+/// The verdict table: per claim and task, EA-MADM's verdict against the paper's competitors
+/// with its deciding number, the strongest control and the verdict against it, and whether
+/// it survives the readings; `None` without findings.
+fn verdict_table(findings: &Findings) -> Option<String> {
     let mut table = MarkdownTable::new([
         ("claim", Align::Left),
         ("task", Align::Left),
@@ -168,53 +62,73 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
         ("verdict vs the strongest control", Align::Left),
         ("survives the readings", Align::Left),
     ]);
+    let mut rows = 0;
     for claim in &CLAIMS {
-        for task in claims::tasks(&verdicts.scores) {
-            if !claim.tasks.contains(&task) {
+        for task in &findings.tasks {
+            let Some(v) = task.verdicts.iter().find(|v| v.claim == claim.id) else {
                 continue;
-            }
-            let paper_method = verdicts.paper_ea_madm(task);
-            let judgement = verdicts.judgements.iter().find(|j| {
-                j.claim.id == claim.id && j.task == task && Some(j.method.as_str()) == paper_method
-            });
-            let (verdict, number) = judgement.map_or_else(
-                || ("not run".to_owned(), "EA-MADM was not run".to_owned()),
-                |j| {
-                    (
-                        format!("**{}**", j.verdict.name()),
-                        table_deciding_number(j),
-                    )
-                },
-            );
-            let (control, control_verdict) = strongest_cells(verdicts, claim.id, task);
+            };
+            let (control, control_verdict) = strongest_cells(task, claim.id);
             let _ = table.push_row([
                 claim.id.to_owned(),
-                context.task_title(task),
-                verdict,
-                number,
+                task.title.clone(),
+                format!("**{}**", v.verdict.name()),
+                deciding_or_reason(v.deciding.as_ref(), &v.reason, &task.method, true),
                 control,
                 control_verdict,
-                survives_cell(verdicts, claim.id, task),
+                survives_cell(task, claim.id).to_owned(),
             ]);
+            rows += 1;
         }
     }
-    if verdicts.judgements.is_empty() {
+    (rows > 0).then(|| table.render())
+}
+
+/// One line per claim: its id, words and place in the paper.
+fn claims_lines() -> String {
+    let mut text = String::new();
+    for claim in &CLAIMS {
         let _ = writeln!(
             text,
-            "None of the paper's claims is made on the tasks of this run (the claims are about \
-             {}).\n",
-            context
-                .paper_tasks
-                .iter()
-                .map(|t| t.title.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
+            "- **{}**: {}. {}.",
+            claim.id, claim.words, claim.location
         );
-    } else {
-        text.push_str(&table.render());
-        text.push('\n');
     }
-    let _ = writeln!(text, "The claims:\n");
+    text
+}
+
+/// The README's verdict block: the verdict table, then one line per claim.
+///
+/// # Errors
+/// A message when the findings hold no verdict (the README states the default run's).
+pub fn readme_verdicts(findings: &Findings) -> Result<String, String> {
+    let table = verdict_table(findings)
+        .ok_or_else(|| "the findings hold no verdict on the paper's claims".to_owned())?;
+    Ok(format!("{table}\n{}", claims_lines()))
+}
+
+/// The verdicts section: the table, the claims with the metrics that test them, and the
+/// variants' verdicts.
+pub(crate) fn write_verdicts(text: &mut String, titles: &[String], findings: &Findings) {
+    let _ = writeln!(text, "{VERDICTS_HEADING}\n");
+    match verdict_table(findings) {
+        Some(table) => {
+            text.push_str(&table);
+            text.push('\n');
+        }
+        None => {
+            let _ = writeln!(
+                text,
+                "None of the paper's claims is made on the tasks of this run, or the paper's \
+                 EA-MADM was not run on them (the claims are about {}).\n",
+                list(titles)
+            );
+        }
+    }
+    let _ = writeln!(
+        text,
+        "The claims (each judged by the rule in the appendix):\n"
+    );
     for claim in &CLAIMS {
         let metrics: Vec<String> = claim
             .metrics
@@ -230,117 +144,160 @@ pub(crate) fn write_verdicts(text: &mut String, context: &ReportContext, verdict
             metrics.join(", ")
         );
     }
+    text.push('\n');
+    write_variants(text, findings);
+}
+
+/// A variant's row: who is judged against whom, the verdict and what decides it (the method
+/// said as "it", so that rows differing only in the method merge).
+fn variant_cells(variant: &VariantVerdict) -> (String, String) {
+    let v = &variant.verdict;
+    (
+        v.verdict.name().to_owned(),
+        deciding_or_reason(v.deciding.as_ref(), &v.reason, "it", true)
+            .replace(&format!("{} ", variant.method), "it "),
+    )
+}
+
+/// The verdicts of EA-MADM's ablations and variants: one row per claim × task × verdict ×
+/// deciding number, listing every method it holds for; a method that scores as another on
+/// every seed is left out with a sentence.
+fn write_variants(text: &mut String, findings: &Findings) {
+    if findings.tasks.iter().all(|t| t.variants.is_empty()) {
+        return;
+    }
     let _ = writeln!(
         text,
-        "\n**The rule.** Each method under test is compared with each of the paper's \
-         competitors (the methods with role `paper` that are not EA-MADM) on every metric of \
-         the claim: the difference of interquartile means (IQM) over seeds with a bootstrap \
-         95% interval ({} resamples), a two-sided permutation p-value ({} permutations, exact \
-         when fewer splits exist), Holm-adjusted across all comparisons of that claim, task and \
-         method. A comparison favours one side when its Holm p is below {alpha}, its interval \
-         excludes 0 and, for a metric with an equivalence margin on the task (the margins \
-         are listed below), the difference exceeds the margin. Runs of one seed share their random streams, so each comparison is also \
-         paired by seed: the mean paired difference with a paired bootstrap interval, a \
-         sign-flip p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of \
-         equivalence within the margin (claims.csv: `paired_*`, `p_equivalence`). The \
-         verdict is **supported** when every comparison favours EA-MADM, **contradicted** \
-         when any favours a competitor, **equivalent** when every comparison is equivalent \
-         (Holm-adjusted TOST p below {alpha}), **inconclusive** otherwise, and \
-         **untestable** when no competitor has 2 seeds with a value. A method with fewer than \
-         2 seeds with a value (it seldom or never reaches the target) is judged on per-seed \
-         reaching instead (a seed reaches when its greedy episode or any training episode \
-         does): against each competitor the exact paired sign test on the seeds only one of \
-         the two reaches on (McNemar), Holm-adjusted across the competitors; \
-         **contradicted** when a competitor reaches on more seeds with a Holm p below \
-         {alpha}, **inconclusive** when one reaches on 2 or more seeds but not significantly \
-         more, **untestable** when none does (neither reaches), each with the counts \
-         (claims.csv: metric `reached`). **C3** is judged on the greedy policy evaluated \
-         every few training episodes without exploration or learning: a seed is \
-         stable-reaching when each such evaluation in the second half of training reaches the \
-         target, and only those seeds have a greedy fluctuation (`fluctuation_greedy_*`), so a \
-         seed stuck at the step cap counts as a failure, never as stability. Against each \
-         competitor the stable-reaching seeds are compared by the exact paired sign test \
-         (claims.csv: metric `stable_reaching`, Holm across competitors) and the greedy \
-         fluctuation by the rule above; a comparison favours a side when either does and the \
-         other does not favour the other side, and is equivalent when the greedy fluctuations \
-         are and the same seeds stable-reach on both sides (the per-seed test has no margin). \
-         The fair comparison is ε-decreasing, which uses \
-         EA-MADM's ε schedule; a fixed-ε method (ε-greedy) enters on its greedy policy, \
-         without its exploration. The training curves' SDs (`fluctuation_steps`, \
-         `fluctuation_return`) are reported as secondary rows with no verdict. The deciding \
-         number is the weakest comparison of a supported or equivalent claim, the strongest \
-         against a contradicted one, and the weakest non-favourable one of an inconclusive \
-         one (or the per-seed test when it alone decides).\n",
+        "### The same claims for EA-MADM's ablations and variants\n\n\
+         Each is judged against the paper's competitors by the same rule (controls are marked: \
+         they are not in the paper); a repaired robot reading is judged a second time against \
+         the competitors trained on its own sub-task rewards (claims.csv: `versus_set`). Rows \
+         that say the same for several methods are one row.\n"
+    );
+    let mut table = MarkdownTable::new([
+        ("claim", Align::Left),
+        ("task", Align::Left),
+        ("methods", Align::Left),
+        ("role", Align::Left),
+        ("verdict", Align::Left),
+        ("the number that decides it", Align::Left),
+    ]);
+    let mut left_out: Vec<String> = Vec::new();
+    for claim in &CLAIMS {
+        for task in &findings.tasks {
+            // (role, verdict, deciding) → methods, in first-appearance order.
+            let mut rows: Vec<(String, String, String, Vec<String>)> = Vec::new();
+            for variant in task.variants.iter().filter(|v| v.verdict.claim == claim.id) {
+                let same = task.identical.iter().find(|i| i.method == variant.method);
+                if variant.versus_set == "paper" && same.is_some() {
+                    continue;
+                }
+                let role = role_text(variant.role).to_owned();
+                let (verdict, deciding) = variant_cells(variant);
+                let label = format!("`{}`", variant.method);
+                match rows
+                    .iter_mut()
+                    .find(|(r, v, d, _)| *r == role && *v == verdict && *d == deciding)
+                {
+                    Some((_, _, _, methods)) => methods.push(label),
+                    None => rows.push((role, verdict, deciding, vec![label])),
+                }
+            }
+            for (role, verdict, deciding, methods) in rows {
+                let _ = table.push_row([
+                    claim.id.to_owned(),
+                    task.title.clone(),
+                    methods.join(", "),
+                    role,
+                    verdict,
+                    deciding,
+                ]);
+            }
+        }
+    }
+    for task in &findings.tasks {
+        let same: Vec<String> = task
+            .identical
+            .iter()
+            .filter(|i| task.variants.iter().any(|v| v.method == i.method))
+            .map(|i| {
+                format!(
+                    "`{}` (as {}, {} of {} seeds)",
+                    i.method,
+                    words::name(&i.same_as),
+                    i.seeds,
+                    i.seeds
+                )
+            })
+            .collect();
+        if !same.is_empty() {
+            left_out.push(format!("on {}: {}", task.title, list(&same)));
+        }
+    }
+    text.push_str(&table.render());
+    text.push('\n');
+    if !left_out.is_empty() {
+        let _ = writeln!(
+            text,
+            "Not listed, since they score exactly as another method on every seed and so get \
+             its verdicts: {}.\n",
+            left_out.join("; ")
+        );
+    }
+}
+
+/// The rule the verdicts are judged by, as a list (the appendix).
+pub(crate) fn write_rule(text: &mut String, verdicts: &Verdicts) {
+    let alpha = verdicts.options.alpha;
+    let _ = writeln!(
+        text,
+        "### The rule\n\n\
+         - Each method under test is compared with each of the paper's competitors (the \
+         methods with role `paper` that are not EA-MADM) on every metric of the claim.\n\
+         - A comparison is the difference of interquartile means (IQM) over seeds, with a \
+         bootstrap 95% interval ({} resamples) and a two-sided permutation p-value ({} \
+         permutations, exact when fewer splits exist), Holm-adjusted across all comparisons \
+         of that claim, task and method.\n\
+         - A comparison favours one side when its Holm p is below {alpha}, its interval \
+         excludes 0 and, where the task defines an equivalence margin for the metric (listed \
+         below), the difference exceeds the margin.\n\
+         - Runs of one seed share their random streams, so each comparison is also paired by \
+         seed: the mean paired difference with a paired bootstrap interval, a sign-flip \
+         p-value ({} sign vectors, exact when fewer exist) and a TOST p-value of equivalence \
+         within the margin (claims.csv: `paired_*`, `p_equivalence`).\n\
+         - The verdict is **supported** when every comparison favours EA-MADM, \
+         **contradicted** when any favours a competitor, **equivalent** when every comparison \
+         is equivalent (Holm-adjusted TOST p below {alpha}), **inconclusive** otherwise, and \
+         **untestable** when no competitor has 2 seeds with a value.\n\
+         - A method with fewer than 2 seeds with a value (it seldom or never reaches the \
+         target) is judged on per-seed reaching instead: a seed reaches when its greedy \
+         episode or any training episode does. Against each competitor the exact paired sign \
+         test on the seeds only one of the two reaches on (McNemar), Holm-adjusted across the \
+         competitors, decides: **contradicted** when a competitor reaches on more seeds with \
+         a Holm p below {alpha}, **inconclusive** when one reaches on 2 or more seeds but not \
+         significantly more, **untestable** when none does (claims.csv: metric `reached`).\n\
+         - **C3** is judged on the greedy policy, evaluated every few training episodes \
+         without exploration or learning. A seed is stable-reaching when each such evaluation \
+         in the second half of training reaches the target, and only those seeds have a \
+         greedy fluctuation (`fluctuation_greedy_*`), so a seed stuck at the step cap counts \
+         as a failure, never as stability. Against each competitor the stable-reaching seeds \
+         are compared by the exact paired sign test (claims.csv: metric `stable_reaching`, \
+         Holm across competitors) and the greedy fluctuation by the rule above; the \
+         comparison favours a side when either favours it and the other does not favour the \
+         other side, and is equivalent when the greedy fluctuations are and the same seeds \
+         stable-reach on both sides.\n\
+         - The fair comparison is ε-decreasing, which uses EA-MADM's ε schedule; a fixed-ε \
+         method (ε-greedy) enters C3 on its greedy policy, without its exploration. The \
+         training curves' SDs (`fluctuation_steps`, `fluctuation_return`) are secondary rows \
+         with no verdict.\n\
+         - The deciding number is the weakest comparison of a supported or equivalent claim, \
+         the strongest against a contradicted one, and the weakest non-favourable one of an \
+         inconclusive one (or the per-seed test when it comes nearer to settling it).\n",
         verdicts.options.bootstrap.resamples,
         verdicts.options.permutation.resamples,
         verdicts.options.sign_flip.resamples,
-        alpha = verdicts.options.alpha
     );
-    super::margins::write_margins(text, context, verdicts);
-
-    let variants: Vec<&Judgement> = verdicts
-        .judgements
-        .iter()
-        .filter(|j| Some(j.method.as_str()) != verdicts.paper_ea_madm(&j.task))
-        .collect();
-    if !variants.is_empty() {
-        let _ = writeln!(
-            text,
-            "### The same claims for EA-MADM's ablations and variants\n\n\
-             Each is judged against the paper's competitors by the same rule (controls are \
-             marked: they are not in the paper); a repaired robot reading is judged a second \
-             time against the competitors trained on its own sub-task rewards, and its reason \
-             then opens with those rewards (claims.csv: `versus_set`).\n"
-        );
-        let mut table = MarkdownTable::new([
-            ("claim", Align::Left),
-            ("task", Align::Left),
-            ("method", Align::Left),
-            ("role", Align::Left),
-            ("verdict", Align::Left),
-            ("the number that decides it", Align::Left),
-        ]);
-        for j in variants {
-            let _ = table.push_row([
-                j.claim.id.to_owned(),
-                context.task_title(&j.task),
-                format!("`{}`", j.method),
-                role_text(j.role).to_owned(),
-                j.verdict.name().to_owned(),
-                deciding_number(j),
-            ]);
-        }
-        text.push_str(&table.render());
-        text.push('\n');
-    }
 }
 
 /// The heading in `REPORT.md` above the verdict table.
 pub(crate) const VERDICTS_HEADING: &str = "## Verdicts on the paper's claims";
-
-/// The README's verdict block: the verdict table of `report` (the lines of its first table
-/// under the verdicts heading), then one line per claim.
-pub fn readme_verdicts(report: &str) -> Result<String, String> {
-    let after = report
-        .split_once(VERDICTS_HEADING)
-        .map(|(_, rest)| rest)
-        .ok_or_else(|| format!("REPORT.md has no `{VERDICTS_HEADING}` section"))?;
-    let table: Vec<&str> = after
-        .lines()
-        .skip_while(|line| !line.starts_with('|'))
-        .take_while(|line| line.starts_with('|'))
-        .collect();
-    if table.len() < 3 {
-        return Err("REPORT.md's verdict section has no table".to_owned());
-    }
-    let mut text = table.join("\n");
-    text.push_str("\n\n");
-    for claim in &CLAIMS {
-        let _ = writeln!(
-            text,
-            "- **{}**: {}. {}.",
-            claim.id, claim.words, claim.location
-        );
-    }
-    Ok(text)
-}
