@@ -5,8 +5,7 @@
 
 use std::path::Path;
 
-use eamadm::facts::{Figures, PaperFigures};
-use eamadm::paper::PaperTask;
+use eamadm::facts::{ExperimentFacts, Figures};
 use eamadm::results;
 use eamadm_present::chart::FigureError;
 use eamadm_present::figures::{Arena, ExperimentFigures, FigurePlan};
@@ -35,42 +34,15 @@ pub(crate) enum OutputError {
     Write(#[from] AtomicWriteError),
 }
 
-/// A collector of the figures of `planned`, without runs.
-pub(crate) fn experiment_figures(planned: &PlannedExperiment) -> ExperimentFigures {
+/// A collector of the figures of `planned` (whose report facts are `facts`), without runs.
+pub(crate) fn experiment_figures(
+    planned: &PlannedExperiment,
+    facts: &ExperimentFacts,
+) -> ExperimentFigures {
     let task = planned.experiment.task();
-    let arena = task
-        .maze()
-        .map(|maze| Arena::Maze(maze.clone()))
-        .or_else(|| {
-            task.scenario()
-                .map(|scenario| Arena::Robot(Box::new(scenario.clone())))
-        });
-    let figure = |number: &str| Some(format!("Fig. {number}"));
-    let analogues = match PaperTask::from_name(&planned.name) {
-        Some(PaperTask::Task1) => PaperFigures {
-            trajectories: figure("6"),
-            steps: figure("7"),
-            task_return: figure("8"),
-        },
-        Some(PaperTask::Task2) => PaperFigures {
-            trajectories: figure("9"),
-            steps: figure("10"),
-            task_return: figure("11"),
-        },
-        _ => PaperFigures::default(),
-    };
-    ExperimentFigures::new(FigurePlan {
-        name: planned.name.clone(),
-        title: planned.title.clone(),
-        analogues,
-        methods: planned
-            .config()
-            .methods
-            .iter()
-            .map(|spec| (spec.label.clone(), spec.role))
-            .collect(),
-        arena,
-    })
+    let mut plan = FigurePlan::new(facts, Arena::from_parts(task.maze(), task.scenario()));
+    plan.title.clone_from(&planned.title);
+    ExperimentFigures::new(plan)
 }
 
 /// Draws the figures of `figures` and writes them under `<out>/<name>/`; returns their file

@@ -7,7 +7,7 @@
 
 use std::fmt::Write as _;
 
-use eamadm_eval::facts::{Figures, NotDrawn, PaperFigures};
+use eamadm_eval::facts::{ExperimentFacts, Figures, NotDrawn, PaperFigures};
 use eamadm_eval::paper_claims::method_title;
 use eamadm_eval::reaching::{ReachingMetric, reaching_curve};
 use eamadm_eval::scores::REACHING_EPISODES;
@@ -31,6 +31,18 @@ pub enum Arena {
     Robot(Box<wmr_model::Scenario>),
 }
 
+impl Arena {
+    /// The arena of a task: its maze, or its robot scenario (`None` for neither).
+    #[must_use]
+    pub fn from_parts(
+        maze: Option<&mazes::Maze>,
+        scenario: Option<&wmr_model::Scenario>,
+    ) -> Option<Self> {
+        maze.map(|maze| Self::Maze(maze.clone()))
+            .or_else(|| scenario.map(|scenario| Self::Robot(Box::new(scenario.clone()))))
+    }
+}
+
 /// What the figures of one experiment need beside its runs: its folder name and title, the
 /// paper's figures it is the analogue of, its methods with their roles (config order), and the
 /// arena its paths are drawn on.
@@ -49,6 +61,23 @@ pub struct FigurePlan {
 }
 
 impl FigurePlan {
+    /// The plan of the experiment `facts` states (its name, title, methods with their roles
+    /// and the paper's figures), drawing its paths on `arena`.
+    #[must_use]
+    pub fn new(facts: &ExperimentFacts, arena: Option<Arena>) -> Self {
+        Self {
+            name: facts.name.clone(),
+            title: facts.title.clone(),
+            analogues: facts.paper_figures.clone(),
+            methods: facts
+                .methods
+                .iter()
+                .map(|m| (m.label.clone(), m.role))
+                .collect(),
+            arena,
+        }
+    }
+
     /// The role of the method labelled `label` (a method the plan does not name is taken as
     /// one of the paper's).
     fn role(&self, label: &str) -> Role {

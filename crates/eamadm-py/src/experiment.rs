@@ -142,7 +142,7 @@ pub(crate) fn run_config<'py>(
     result.set_item("final_scores", final_scores_csv(&records, &experiment)?)?;
     result.set_item(
         "report_input",
-        crate::report::report_input(&experiment, &records, seeds.len())?,
+        crate::report::report_input(&experiment, &records)?,
     )?;
     Ok(result)
 }

@@ -8,39 +8,23 @@ use std::path::{Path, PathBuf};
 
 use eamadm::facts::{ExperimentFacts, ReportContext};
 use eamadm::output_names::{FINAL_SCORES, REPORT, REPORT_CONTEXT, SENSITIVITY};
-use eamadm::paper::PaperTask;
 use eamadm::scores::FinalScore;
 use eamadm::verdicts::Verdicts;
-use eamadm::{BehaviourAccumulator, Experiment, RunRecord, TaskConfig};
+use eamadm::{Experiment, RunRecord};
 use pyo3::prelude::*;
 
 use crate::error::value_error;
 
 /// What a report needs of one experiment's runs, as text Python carries opaquely: the
-/// experiment's facts (TOML) and its runs' `final-scores.csv` rows.
+/// experiment's facts (TOML) and its runs' `final-scores.csv` rows, both made by
+/// [`Experiment::report_facts`], the main job's own builder (the robot's reward diagnosis
+/// included).
 pub(crate) fn report_input(
     experiment: &Experiment,
     records: &[RunRecord],
-    seeds: usize,
 ) -> PyResult<(String, String)> {
-    let config = experiment.config();
-    let title = PaperTask::from_name(&config.name)
-        .map_or_else(|| config.name.clone(), |task| task.title().to_owned());
-    let mut facts = eamadm::paper::experiment_facts(&config.name, &title, config);
-    facts.margins = experiment.task().equivalence_margins();
-    // The seeds actually run (`seeds=` may differ from the config's count).
-    facts.seeds = u32::try_from(seeds).map_err(|error| value_error("seeds", error))?;
-    if matches!(config.task, TaskConfig::Robot { .. }) {
-        let mut behaviour = BehaviourAccumulator::default();
-        for record in records {
-            behaviour.push(record);
-        }
-        facts.behaviour = behaviour.finish();
-    }
-    let scores = records
-        .iter()
-        .map(|record| eamadm::scores::final_score_of(record, experiment))
-        .collect::<Result<Vec<FinalScore>, _>>()
+    let (facts, scores) = experiment
+        .report_facts(records)
         .map_err(|error| value_error("config", error))?;
     let mut scores_csv = Vec::new();
     eamadm::scores::write_csv(&scores, &mut scores_csv)

@@ -58,6 +58,17 @@ def test_report_of_runs_has_no_figure_links():
     assert report.scores_csv.count("\ntask1,") == 4
 
 
+def test_report_of_robot_runs_has_the_reward_diagnosis():
+    # The facts of a report of runs are gathered by the main job's own builder, so a robot's
+    # report explains with its sub-task rewards why EA-MADM does not reach (it used to lack
+    # the diagnosis).
+    config = eamadm.paper_config("robot", as_dict=True)
+    results = eamadm.run(config, episodes=3, seeds=1, methods=["ea-madm", "softmax"])
+    report = eamadm.report(results)
+    assert "The diagnosis: each sub-task's reward definition values" in report.markdown
+    assert "paper (Eq. 6–8)" in report.markdown
+
+
 def test_report_errors_name_the_argument(tmp_path):
     with pytest.raises(ValueError, match="^dir: .*no REPORT.md or final-scores.csv"):
         eamadm.report(tmp_path)

@@ -70,6 +70,13 @@ impl<'a> ReportFacts<'a> {
         }
     }
 
+    /// The facts so far: the experiment's (its methods, the paper's figures, …), without the
+    /// runs' behaviour.
+    #[must_use]
+    pub fn facts(&self) -> &ExperimentFacts {
+        &self.facts
+    }
+
     /// Adds one run: its final scores and, on the robot, its behaviour.
     pub fn push(&mut self, record: &RunRecord) {
         if let Some(behaviour) = &mut self.behaviour {
@@ -120,5 +127,48 @@ impl Experiment {
             facts.push(record);
         }
         facts.finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{Experiment, Method, paper};
+
+    /// The robot's report facts carry its reward diagnosis and behaviour, whoever gathers
+    /// them (the Python package's reports lacked the diagnosis when it gathered its own), and
+    /// the one-call form equals the run-by-run one.
+    #[test]
+    fn the_robots_facts_carry_the_reward_diagnosis_and_behaviour() {
+        let mut config = paper::robot();
+        config
+            .methods
+            .retain(|spec| ["ea-madm", "softmax"].contains(&spec.label.as_str()));
+        config.seeds = 1;
+        config.episodes = 2;
+        config.trajectories.episodes.clear();
+        for spec in &mut config.methods {
+            if let Method::EaMadm(ea) = &mut spec.method {
+                ea.pretrain.episodes = 2;
+            }
+        }
+        let experiment = Experiment::new(config).unwrap();
+        let records = experiment.run_all().unwrap();
+        let (facts, scores) = experiment.report_facts(&records).unwrap();
+        assert!(!facts.reward_readings.is_empty());
+        assert!(
+            facts.reward_readings[0]
+                .methods
+                .iter()
+                .any(|m| m == "ea-madm")
+        );
+        assert_eq!(facts.behaviour.len(), 2);
+        assert!(!facts.margins.is_empty());
+        assert_eq!((facts.seeds, scores.len()), (1, 2));
+        assert_eq!(facts.title, "Robot");
+        let mut gathered = super::ReportFacts::new(&experiment, "robot");
+        for record in &records {
+            gathered.push(record);
+        }
+        assert_eq!(gathered.finish().unwrap(), (facts, scores));
     }
 }
