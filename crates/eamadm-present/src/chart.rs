@@ -147,6 +147,27 @@ pub struct Series {
     failure: Option<StatsError>,
     /// Whether the chart draws a thin line per seed.
     pub per_seed: bool,
+    /// Whether the curves are 0/1 outcomes (reached the target or not): the line is then the
+    /// share pooled over seeds and the smoothing window, with its Wilson 95 % interval as the
+    /// band, never an IQM of 0s and 1s (which reads 0 while a quarter of the seeds succeed).
+    pub share: bool,
+    /// Whether it is drawn last, on top of the others (the paper's EA-MADM).
+    pub on_top: bool,
+    /// Per seed noted, the episode from which its run never reached the target again, if it
+    /// collapsed ([`Series::note_collapse`]); the collapse strip draws them.
+    collapses: Vec<Option<u64>>,
+    /// The methods of the series that draw exactly as this one and are drawn as it
+    /// (`data-also` in the SVG).
+    also: Vec<String>,
+}
+
+/// What a plot draws of the series: each one's line and band, the draw order, and each one's
+/// stroke width in that plot.
+#[derive(Clone, Copy)]
+struct Lines<'a> {
+    drawn: &'a [Drawn],
+    order: &'a [usize],
+    widths: &'a [f64],
 }
 
 /// What is drawn of a series: the IQM per episode and band points (episode index, low, high).
@@ -175,7 +196,60 @@ impl Series {
             at_cap: Vec::new(),
             failure: None,
             per_seed: false,
+            share: false,
+            on_top: false,
+            collapses: Vec::new(),
+            also: Vec::new(),
         }
+    }
+
+    /// Notes the next seed's run outcome for the collapse strip: the episode from which it
+    /// never reached the target again when it collapsed, else `None`.
+    pub fn note_collapse(&mut self, episode: Option<u64>) {
+        self.collapses.push(episode);
+    }
+
+    /// The episodes the noted seeds collapsed from, in seed order, and the seeds noted.
+    #[must_use]
+    pub fn collapses(&self) -> (Vec<u64>, usize) {
+        (
+            self.collapses.iter().flatten().copied().collect(),
+            self.collapses.len(),
+        )
+    }
+
+    /// Whether every value of every curve is 0 (a chart of such series shows nothing).
+    #[must_use]
+    pub fn all_zero(&self) -> bool {
+        self.failure.is_none() && self.curves.iter().flatten().all(|v| *v == 0.0)
+    }
+
+    /// Whether `other` draws exactly what this series draws: the same curves, seeds at the
+    /// cap, collapses and estimator (then one line stands for both).
+    #[must_use]
+    pub fn draws_as(&self, other: &Self) -> bool {
+        self.failure.is_none()
+            && other.failure.is_none()
+            && self.curves == other.curves
+            && self.at_cap == other.at_cap
+            && self.collapses == other.collapses
+            && self.share == other.share
+            && self.smoothing_window == other.smoothing_window
+    }
+
+    /// The pooled share at episode index `episode` of 0/1 curves smoothed over the window:
+    /// (successes, trials) over the seeds with a value there.
+    fn pooled(&self, episode: usize) -> (u64, u64) {
+        let count = (episode + 1).min(self.smoothing_window.max(1)) as f64;
+        self.curves.iter().filter_map(|c| c.get(episode)).fold(
+            (0, 0),
+            |(successes, trials), value| {
+                (
+                    successes + (value * count).round() as u64,
+                    trials + count as u64,
+                )
+            },
+        )
     }
 
     /// Adds the next seed's curve (`curve[episode]`).
@@ -216,6 +290,15 @@ impl Series {
     /// Curves pushed so far (seeds), failed ones included.
     pub fn seeds(&self) -> usize {
         self.pushed
+    }
+
+    /// The pooled share at the last episode of the longest curves, with its successes and
+    /// trials (a [`share`](Self::share) series); `None` without curves.
+    #[must_use]
+    pub fn final_share(&self) -> Option<(f64, u64, u64)> {
+        let last = self.curves_len().checked_sub(1)?;
+        let (successes, trials) = self.pooled(last);
+        (trials > 0).then(|| (successes as f64 / trials as f64, successes, trials))
     }
 
     /// The IQM over seeds of the last episode of the longest curves (their smoothed value
@@ -282,6 +365,13 @@ impl Series {
                 episode: episode + 1,
                 source,
             };
+            if self.share {
+                let (successes, trials) = self.pooled(episode);
+                let interval = stats::wilson(successes, trials, 0.95).map_err(band_error)?;
+                line.push(interval.estimate);
+                band.push((episode, interval.low, interval.high));
+                continue;
+            }
             line.push(stats::iqm(&values).map_err(band_error)?);
             if episode % stride == 0 || episode + 1 == longest {
                 let bootstrap = Bootstrap::new(FIGURE_RESAMPLES, 0.95, BAND_SEED + episode as u64)
@@ -343,6 +433,10 @@ pub struct LineChart {
     pub seed_panel: Option<String>,
     /// The x axis's last episode, when fixed (otherwise the longest curve's).
     pub x_end: Option<usize>,
+    /// A strip under the plot marking, per series, the episode each collapsed seed never
+    /// reached the target again from ([`Series::note_collapse`]), so that collapses are seen
+    /// in every figure, not averaged away.
+    pub collapse_strip: bool,
     /// Canvas width in pixels (the height follows from the content).
     pub width: u32,
 }
@@ -501,6 +595,15 @@ pub fn wrapped_text(
     y
 }
 
+/// ` data-also="m2 m3"`: the methods a merged series also draws (empty when none).
+fn also_attribute(series: &Series) -> String {
+    if series.also.is_empty() {
+        String::new()
+    } else {
+        format!(" data-also=\"{}\"", escape(&series.also.join(" ")))
+    }
+}
+
 /// The SVG attributes of a method's stroke: colour and dash.
 pub fn stroke_attributes(style: &MethodStyle) -> String {
     let mut attributes = format!("stroke=\"{}\"", style.colour);
@@ -605,10 +708,7 @@ impl Frame {
             px(self.right - self.left),
             px(self.bottom - self.top)
         );
-        let y_step = tick_step(self.y.1 - self.y.0, 5.0);
-        let y_decimals = tick_decimals(y_step);
-        let mut tick = (self.y.0 / y_step).ceil() * y_step;
-        while tick <= self.y.1 + y_step * 1e-9 {
+        for (tick, label) in y_ticks(self.y) {
             let (_, y) = self.at(self.x.0, tick);
             let _ = writeln!(
                 svg,
@@ -618,7 +718,6 @@ impl Frame {
                 px(self.right),
                 px(y)
             );
-            let label = format!("{:.*}", y_decimals, if tick == 0.0 { 0.0 } else { tick });
             text_element(
                 svg,
                 (self.left - 5.0, y + TICK_FONT * 0.35),
@@ -627,7 +726,6 @@ impl Frame {
                 "#333333",
                 &label,
             );
-            tick += y_step;
         }
         let width = self.right - self.left;
         let x_step = tick_step(self.x.1 - self.x.0, (width / 90.0).clamp(2.0, 10.0)).max(1.0);
@@ -647,9 +745,61 @@ impl Frame {
     }
 }
 
-/// A y-axis label, rotated, centred on the frame's height.
-fn y_label(svg: &mut String, frame: &Frame, label: &str) {
-    let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+/// The y tick labels of a range, with their values (as [`Frame::open`] draws them).
+fn y_ticks(y: (f64, f64)) -> Vec<(f64, String)> {
+    let step = tick_step(y.1 - y.0, 5.0);
+    let decimals = tick_decimals(step);
+    let mut ticks = Vec::new();
+    let mut tick = (y.0 / step).ceil() * step;
+    while tick <= y.1 + step * 1e-9 {
+        let label = format!("{:.*}", decimals, if tick == 0.0 { 0.0 } else { tick });
+        ticks.push((tick, label));
+        tick += step;
+    }
+    ticks
+}
+
+/// The width of the widest y tick label of a range.
+fn widest_tick(y: (f64, f64)) -> f64 {
+    y_ticks(y)
+        .iter()
+        .map(|(_, label)| text_width(label, TICK_FONT))
+        .fold(0.0, f64::max)
+}
+
+/// Each series' stroke width, so that a line lying under a later one stays visible around
+/// it: 2 px, and 2 px wider than the widest later line it runs along (within 1.5 px of it, in
+/// a plot of height [`PLOT_HEIGHT`] over `y`) on at least a tenth of its episodes from `from`
+/// on. Each panel has its own: lines apart in the zoomed panel are drawn thin there.
+fn line_widths(drawn: &[Drawn], order: &[usize], y: (f64, f64), from: usize) -> Vec<f64> {
+    let close = 1.5 / PLOT_HEIGHT * (y.1 - y.0);
+    let mut widths = vec![2.0; drawn.len()];
+    for (position, &i) in order.iter().enumerate().rev() {
+        let line = drawn[i].line.get(from..).unwrap_or(&[]);
+        let under = order[position + 1..]
+            .iter()
+            .filter(|&&j| {
+                let other = drawn[j].line.get(from..).unwrap_or(&[]);
+                let common = line.len().min(other.len());
+                let near = line
+                    .iter()
+                    .zip(other)
+                    .filter(|(a, b)| (*a - *b).abs() <= close)
+                    .count();
+                common > 0 && near * 10 >= common
+            })
+            .map(|&j| widths[j])
+            .fold(0.0, f64::max);
+        if under > 0.0 {
+            widths[i] = (under + 2.0).min(8.0);
+        }
+    }
+    widths
+}
+
+/// A y-axis label, rotated, centred on the frame's height, `room` pixels left of the frame.
+fn y_label(svg: &mut String, frame: &Frame, label: &str, room: f64) {
+    let x = frame.left - room + AXIS_FONT;
     let y = (frame.top + frame.bottom) / 2.0;
     let _ = writeln!(
         svg,
@@ -713,6 +863,7 @@ impl LineChart {
             final_zoom: None,
             seed_panel: None,
             x_end: None,
+            collapse_strip: false,
             width: 960,
         }
     }
@@ -772,6 +923,13 @@ impl LineChart {
     /// Adds a panel zoomed on the final `episodes` episodes.
     pub fn with_final_zoom(mut self, episodes: usize) -> Self {
         self.final_zoom = Some(episodes);
+        self
+    }
+
+    /// Adds the strip of collapsed seeds under the plot.
+    #[must_use]
+    pub fn with_collapse_strip(mut self) -> Self {
+        self.collapse_strip = true;
         self
     }
 
@@ -852,11 +1010,20 @@ impl LineChart {
         } else {
             String::new()
         };
-        let mut notes = vec![format!(
-            "Line: interquartile mean (IQM) over {over} of {smoothing}, as in the tables. \
-             Band: 95% percentile bootstrap interval of the IQM ({FIGURE_RESAMPLES} \
-             resamples{band_points})."
-        )];
+        let mut notes = vec![if self.series.iter().all(|s| s.share) {
+            format!(
+                "Line: the share of episodes that reached the target, pooled over {over} and \
+                 each seed's last {} episodes. Band: its Wilson 95% interval (the episodes of \
+                 one seed are not independent, so it is too narrow).",
+                self.smoothing_window
+            )
+        } else {
+            format!(
+                "Line: interquartile mean (IQM) over {over} of {smoothing}, as in the tables. \
+                 Band: 95% percentile bootstrap interval of the IQM ({FIGURE_RESAMPLES} \
+                 resamples{band_points})."
+            )
+        }];
         if self.series.iter().any(|s| s.per_seed) {
             notes.push("Thin lines: one per seed.".to_owned());
         }
@@ -865,6 +1032,42 @@ impl LineChart {
 
     /// Renders the chart as an SVG document.
     pub fn render_svg(&self) -> Result<String, FigureError> {
+        let merged = self.merged();
+        if merged.series.len() < self.series.len() {
+            return merged.render_merged();
+        }
+        self.render_merged()
+    }
+
+    /// This chart with series that draw exactly the same thing ([`Series::draws_as`]) as
+    /// one: the first, named with all of their names (`EA-MADM = ea-madm-table`) and listing
+    /// the others' methods in `also`.
+    fn merged(&self) -> Self {
+        let mut merged = Self {
+            series: Vec::new(),
+            ..self.clone()
+        };
+        for series in &self.series {
+            match merged.series.iter_mut().find(|m| m.draws_as(series)) {
+                Some(first) => {
+                    first.name = format!("{} = {}", first.name, series.name);
+                    first.also.push(series.method.clone());
+                    first.on_top |= series.on_top;
+                }
+                None => merged.series.push(series.clone()),
+            }
+        }
+        merged
+    }
+
+    /// Whether every series is 0 everywhere: the chart would show nothing but flat lines.
+    #[must_use]
+    pub fn shows_nothing(&self) -> bool {
+        !self.series.is_empty() && self.series.iter().all(Series::all_zero)
+    }
+
+    /// Renders the chart (its series merged already).
+    fn render_merged(&self) -> Result<String, FigureError> {
         let (drawn, stride) = self.drawn()?;
         let width = f64::from(self.width);
         let mut body = String::new();
@@ -891,24 +1094,16 @@ impl LineChart {
                 &self.subtitle,
             );
         }
-        let plot_top = y + 26.0;
-        let plot_left = PAD + Y_AXIS_ROOM;
-        let plot_right = width - LEGEND_WIDTH - PAD;
         let longest = drawn.iter().map(|d| d.line.len()).max().unwrap_or(1);
         let x_range = (1.0, (self.x_end.unwrap_or(longest) as f64).max(2.0));
 
-        // The draw order: EA-MADM last, on top.
+        // The draw order: the series on top (EA-MADM) last.
         let mut order: Vec<usize> = (0..self.series.len()).collect();
-        order.sort_by_key(|&i| self.series[i].method == "ea-madm");
+        order.sort_by_key(|&i| self.series[i].on_top);
 
         let zoom = self
             .final_zoom
             .filter(|&episodes| episodes >= 2 && longest > 2 * episodes);
-        let main_right = if zoom.is_some() {
-            plot_right - (plot_right - plot_left) * ZOOM_SHARE
-        } else {
-            plot_right
-        };
         let values_in = |from: usize| {
             let lines = drawn
                 .iter()
@@ -927,19 +1122,52 @@ impl LineChart {
             .filter(|s| s.per_seed)
             .flat_map(|s| s.curves.iter().flatten().copied());
         let references = self.reference_lines.iter().map(|l| l.y);
+        let main_y = padded_range(
+            values_in(0).chain(seed_values).chain(references),
+            self.metric_range,
+        );
+        // Room left of the plot for the widest tick label and the rotated axis label.
+        let axis_room = Y_AXIS_ROOM.max(widest_tick(main_y) + 5.0 + 1.3 * AXIS_FONT + 8.0);
+        let plot_left = PAD + axis_room;
+        let plot_right = width - LEGEND_WIDTH - PAD;
+        let main_right = if zoom.is_some() {
+            plot_right - (plot_right - plot_left) * ZOOM_SHARE
+        } else {
+            plot_right
+        };
+        // The zoomed panel: its range, the room for its ticks, its title wrapped to its width.
+        let zoomed_panel = zoom.map(|episodes| {
+            let from = longest - episodes;
+            let references = self.reference_lines.iter().map(|l| l.y);
+            let y = padded_range(values_in(from).chain(references), self.metric_range);
+            let left = main_right + (Y_AXIS_ROOM - 6.0).max(widest_tick(y) + 14.0);
+            let title = wrap(
+                &format!("last {episodes} episodes"),
+                plot_right - left,
+                SUBTITLE_FONT,
+            );
+            (from, y, left, title)
+        });
+        let title_lines = zoomed_panel
+            .as_ref()
+            .map_or(1, |(.., title)| title.len().max(1));
+        let plot_top = y + 26.0 + (title_lines - 1) as f64 * SUBTITLE_FONT * 1.25;
         let main = Frame {
             left: plot_left,
             right: main_right,
             top: plot_top,
             bottom: plot_top + PLOT_HEIGHT,
             x: x_range,
-            y: padded_range(
-                values_in(0).chain(seed_values).chain(references),
-                self.metric_range,
-            ),
+            y: main_y,
         };
-        self.draw_plot(&mut body, &main, &drawn, &order, 0, true);
-        y_label(&mut body, &main, &self.y_label);
+        let widths = line_widths(&drawn, &order, main.y, 0);
+        let lines = Lines {
+            drawn: &drawn,
+            order: &order,
+            widths: &widths,
+        };
+        self.draw_plot(&mut body, &main, &lines, 0, true);
+        y_label(&mut body, &main, &self.y_label, axis_room);
         let mut bottom = main.bottom + X_AXIS_ROOM;
         text_element(
             &mut body,
@@ -952,25 +1180,35 @@ impl LineChart {
             "#222222",
             &self.x_label,
         );
-        if let Some(episodes) = zoom {
-            let from = longest - episodes;
-            let references = self.reference_lines.iter().map(|l| l.y);
+        if let Some((from, y, left, title)) = zoomed_panel {
             let zoomed = Frame {
-                left: main_right + Y_AXIS_ROOM - 6.0,
+                left,
                 right: plot_right,
                 x: ((from + 1) as f64, longest as f64),
-                y: padded_range(values_in(from).chain(references), self.metric_range),
+                y,
                 ..main
             };
-            self.draw_plot(&mut body, &zoomed, &drawn, &order, from, false);
-            text_element(
-                &mut body,
-                ((zoomed.left + zoomed.right) / 2.0, zoomed.top - 5.0),
-                SUBTITLE_FONT,
-                "middle",
-                NOTE_COLOUR,
-                &format!("final {episodes} episodes, zoomed"),
-            );
+            let widths = line_widths(&drawn, &order, zoomed.y, from);
+            let lines = Lines {
+                drawn: &drawn,
+                order: &order,
+                widths: &widths,
+            };
+            self.draw_plot(&mut body, &zoomed, &lines, from, false);
+            let lines = title.len();
+            for (index, line) in title.iter().enumerate() {
+                text_element(
+                    &mut body,
+                    (
+                        (zoomed.left + zoomed.right) / 2.0,
+                        zoomed.top - 5.0 - (lines - 1 - index) as f64 * SUBTITLE_FONT * 1.25,
+                    ),
+                    SUBTITLE_FONT,
+                    "middle",
+                    NOTE_COLOUR,
+                    line,
+                );
+            }
             text_element(
                 &mut body,
                 (
@@ -984,10 +1222,13 @@ impl LineChart {
             );
         }
         if let Some(title) = &self.cap_panel {
-            bottom = self.draw_cap_panel(&mut body, title, &main, bottom);
+            bottom = self.draw_cap_panel(&mut body, title, &main, bottom, axis_room);
         }
         if let Some(title) = &self.seed_panel {
-            bottom = self.draw_seed_panel(&mut body, title, &main, bottom);
+            bottom = self.draw_seed_panel(&mut body, title, &main, bottom, axis_room);
+        }
+        if self.collapse_strip {
+            bottom = self.draw_collapse_strip(&mut body, &main, bottom);
         }
         let legend_bottom = self.draw_legend(&mut body, plot_right + PAD, plot_top);
         let mut caption_y = bottom.max(legend_bottom) + 4.0;
@@ -1022,11 +1263,15 @@ impl LineChart {
         &self,
         svg: &mut String,
         frame: &Frame,
-        drawn: &[Drawn],
-        order: &[usize],
+        lines: &Lines<'_>,
         from: usize,
         per_seed: bool,
     ) {
+        let Lines {
+            drawn,
+            order,
+            widths,
+        } = *lines;
         frame.open(svg, "plot", self.metric_range);
         for &i in order {
             let (series, d) = (&self.series[i], &drawn[i]);
@@ -1081,13 +1326,14 @@ impl LineChart {
         }
         for &i in order {
             let (series, d) = (&self.series[i], &drawn[i]);
-            let width = if series.method == "ea-madm" { 2.6 } else { 2.0 };
             let _ = writeln!(
                 svg,
-                "<polyline class=\"line\" data-method=\"{}\" fill=\"none\" {} stroke-width=\"{width}\" \
+                "<polyline class=\"line\" data-method=\"{}\"{} fill=\"none\" {} stroke-width=\"{}\" \
                  points=\"{}\"/>",
                 escape(&series.method),
+                also_attribute(series),
                 stroke_attributes(&series.style),
+                px(widths[i]),
                 frame.points(
                     d.line
                         .iter()
@@ -1101,7 +1347,14 @@ impl LineChart {
     }
 
     /// The panel of seeds at the step cap per episode under `main`; returns its bottom.
-    fn draw_cap_panel(&self, svg: &mut String, title: &str, main: &Frame, top: f64) -> f64 {
+    fn draw_cap_panel(
+        &self,
+        svg: &mut String,
+        title: &str,
+        main: &Frame,
+        top: f64,
+        room: f64,
+    ) -> f64 {
         let capped: Vec<&Series> = self
             .series
             .iter()
@@ -1136,7 +1389,7 @@ impl LineChart {
         };
         frame.open(svg, "plot cap", (Some(0.0), Some(most as f64)));
         let mut order: Vec<&&Series> = capped.iter().collect();
-        order.sort_by_key(|s| s.method == "ea-madm");
+        order.sort_by_key(|s| s.on_top);
         for series in order {
             let points = series
                 .at_cap
@@ -1154,7 +1407,7 @@ impl LineChart {
         }
         svg.push_str("</g>\n");
         let y = (frame.top + frame.bottom) / 2.0;
-        let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+        let x = frame.left - room + AXIS_FONT;
         let _ = writeln!(
             svg,
             "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
@@ -1171,7 +1424,14 @@ impl LineChart {
     /// The panel under `main` of the seeds each line is the IQM of, per episode: a step line
     /// per series ([`Series::seeds_per_x`]), so a jump of a line where seeds drop out is seen
     /// with its cause; returns its bottom.
-    fn draw_seed_panel(&self, svg: &mut String, title: &str, main: &Frame, top: f64) -> f64 {
+    fn draw_seed_panel(
+        &self,
+        svg: &mut String,
+        title: &str,
+        main: &Frame,
+        top: f64,
+        room: f64,
+    ) -> f64 {
         let most = self
             .series
             .iter()
@@ -1196,7 +1456,7 @@ impl LineChart {
         };
         frame.open(svg, "plot seeds", (Some(0.0), Some(most as f64)));
         let mut order: Vec<&Series> = self.series.iter().collect();
-        order.sort_by_key(|s| s.method == "ea-madm");
+        order.sort_by_key(|s| s.on_top);
         for series in order {
             let counts = series.seeds_per_x();
             // A step line: the count holds until the episode where it falls.
@@ -1225,7 +1485,7 @@ impl LineChart {
         }
         svg.push_str("</g>\n");
         let y = (frame.top + frame.bottom) / 2.0;
-        let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+        let x = frame.left - room + AXIS_FONT;
         let _ = writeln!(
             svg,
             "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
@@ -1237,6 +1497,90 @@ impl LineChart {
             px(y)
         );
         frame.bottom + TICK_FONT + 10.0
+    }
+
+    /// The strip under `main` of the seeds that collapsed: a row per series with a seed's
+    /// mark at the episode it never reached the target again from, and the count; one line
+    /// when no seed of any series collapsed. Returns its bottom.
+    fn draw_collapse_strip(&self, svg: &mut String, main: &Frame, top: f64) -> f64 {
+        let label_y = top + SUBTITLE_FONT + 2.0;
+        let rows: Vec<(&Series, Vec<u64>, usize)> = self
+            .series
+            .iter()
+            .map(|s| {
+                let (episodes, seeds) = s.collapses();
+                (s, episodes, seeds)
+            })
+            .collect();
+        if rows.iter().all(|(_, episodes, _)| episodes.is_empty()) {
+            text_element(
+                svg,
+                (main.left, label_y),
+                SUBTITLE_FONT,
+                "start",
+                NOTE_COLOUR,
+                "collapsed seeds (reached the target, then never again): none",
+            );
+            return label_y + 8.0;
+        }
+        text_element(
+            svg,
+            (main.left, label_y),
+            SUBTITLE_FONT,
+            "start",
+            NOTE_COLOUR,
+            "collapsed seeds: a mark at the episode each never reached the target again from",
+        );
+        let row_height = 14.0;
+        let frame = Frame {
+            top: label_y + 8.0,
+            bottom: label_y + 8.0 + row_height * rows.len() as f64,
+            y: (0.0, rows.len() as f64),
+            ..*main
+        };
+        let _ = writeln!(
+            svg,
+            "<g class=\"collapses\" data-left=\"{}\" data-right=\"{}\" data-x0=\"{}\" \
+             data-x1=\"{}\">",
+            frame.left, frame.right, frame.x.0, frame.x.1
+        );
+        for (row, (series, episodes, seeds)) in rows.iter().enumerate() {
+            let middle = frame.top + row_height * (row as f64 + 0.5);
+            // The row in the series' colour and dash, so the legend names it.
+            let _ = writeln!(
+                svg,
+                "<line class=\"strip\" data-method=\"{}\" x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" \
+                 {} stroke-width=\"1\" stroke-opacity=\"0.6\"/>",
+                escape(&series.method),
+                px(frame.left),
+                px(middle),
+                px(frame.right),
+                px(middle),
+                stroke_attributes(&series.style)
+            );
+            for &episode in episodes {
+                let (x, _) = frame.at(episode as f64 + 1.0, 0.0);
+                let _ = writeln!(
+                    svg,
+                    "<circle class=\"collapse\" data-method=\"{}\" data-episode=\"{episode}\" \
+                     cx=\"{}\" cy=\"{}\" r=\"3.5\" fill=\"{}\"/>",
+                    escape(&series.method),
+                    px(x.clamp(frame.left, frame.right)),
+                    px(middle),
+                    series.style.colour
+                );
+            }
+            text_element(
+                svg,
+                (frame.left - 5.0, middle + TICK_FONT * 0.35),
+                TICK_FONT,
+                "end",
+                "#333333",
+                &format!("{}/{seeds}", episodes.len()),
+            );
+        }
+        svg.push_str("</g>\n");
+        frame.bottom + 8.0
     }
 
     /// The legend in its own column at `x`, from `top`; returns its bottom.
@@ -1307,6 +1651,8 @@ mod tests {
         for curve in runs {
             series.push(curve);
         }
+        // EA-MADM is the series on top, as the figures draw it.
+        series.on_top = method == "ea-madm";
         series
     }
 
@@ -1349,7 +1695,7 @@ mod tests {
         }
         assert_eq!(svg.matches("class=\"band\"").count(), 2, "{svg}");
         assert!(svg.contains(
-            "class=\"line\" data-method=\"ea-madm\" fill=\"none\" stroke=\"#0072B2\" stroke-width=\"2.6\""
+            "class=\"line\" data-method=\"ea-madm\" fill=\"none\" stroke=\"#0072B2\" stroke-width=\"2\""
         ));
         // EA-MADM is drawn last although it is listed first.
         let ea = svg.find("class=\"line\" data-method=\"ea-madm\"").unwrap();
@@ -1511,7 +1857,11 @@ mod tests {
             .render_svg()
             .unwrap();
         assert!(svg.contains("class=\"plot cap\""));
-        assert!(svg.contains("final 10 episodes, zoomed"));
+        // The zoomed panel's title wraps to its width.
+        assert!(
+            svg.contains(">last 10</text>") && svg.contains(">episodes</text>"),
+            "{svg}"
+        );
         assert_eq!(svg.matches("<g class=\"plot").count(), 3);
     }
 
@@ -1632,5 +1982,67 @@ mod tests {
         assert_eq!(tick_step(0.05, 5.0), 0.01);
         assert_eq!(tick_decimals(0.01), 2);
         assert_eq!(tick_decimals(500.0), 0);
+    }
+
+    /// Series that draw the same are one line named by all of them; a line under another is
+    /// drawn wider; a share of 0/1 outcomes is the pooled share with its Wilson band; the
+    /// collapse strip marks each collapsed seed.
+    #[test]
+    fn identical_series_are_one_line_and_hidden_lines_stay_visible() {
+        let curves = [vec![10.0; 30], vec![12.0; 30]];
+        let mut ea = series("ea-madm", 1, &curves);
+        let mut table = series("ea-madm-table", 1, &curves);
+        ea.note_collapse(Some(20));
+        ea.note_collapse(None);
+        table.note_collapse(Some(20));
+        table.note_collapse(None);
+        let other = series("softmax", 1, &[vec![10.5; 30], vec![11.5; 30]]);
+        let svg = LineChart::new("t", "episode", "steps")
+            .with_series(ea)
+            .with_series(other)
+            .with_series(table)
+            .with_collapse_strip()
+            .render_svg()
+            .unwrap();
+        // The legend names both (wrapped to its column).
+        assert!(
+            svg.contains(">EA-MADM =</text>") && svg.contains(">ea-madm-table</text>"),
+            "{svg}"
+        );
+        assert!(svg.contains("data-method=\"ea-madm\" data-also=\"ea-madm-table\""));
+        assert!(!svg.contains("class=\"line\" data-method=\"ea-madm-table\""));
+        // softmax runs along EA-MADM's line, under it: wider.
+        assert!(svg.contains(
+            "class=\"line\" data-method=\"softmax\" fill=\"none\" stroke=\"#CC79A7\" stroke-width=\"4\""
+        ));
+        assert_eq!(svg.matches("class=\"collapse\"").count(), 1, "{svg}");
+        assert!(svg.contains(">1/2<"), "{svg}");
+
+        // Success of 4 seeds: 1 reaches in every episode, 3 never: the IQM would be 0.
+        let mut success = series(
+            "softmax",
+            1,
+            &[vec![1.0; 5], vec![0.0; 5], vec![0.0; 5], vec![0.0; 5]],
+        );
+        success.share = true;
+        assert_eq!(success.final_share(), Some((0.25, 1, 4)));
+        let chart = LineChart::new("s", "episode", "share").with_series(success.clone());
+        let (drawn, _) = chart.drawn().unwrap();
+        assert_eq!(drawn[0].line, vec![0.25; 5]);
+        let wilson = eamadm_eval::stats::wilson(1, 4, 0.95).unwrap();
+        assert_eq!(drawn[0].band[0], (0, wilson.low, wilson.high));
+        assert!(chart.render_svg().unwrap().contains("pooled over 4 seeds"));
+        // All zero: the chart shows nothing.
+        let zero = series("softmax", 1, &[vec![0.0; 5]]);
+        assert!(
+            LineChart::new("z", "episode", "share")
+                .with_series(zero)
+                .shows_nothing()
+        );
+        assert!(
+            !LineChart::new("s", "episode", "share")
+                .with_series(success)
+                .shows_nothing()
+        );
     }
 }

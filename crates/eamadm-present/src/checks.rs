@@ -1,7 +1,8 @@
 //! Checks a reader's trust in the figures rests on, run on every SVG an output folder holds
 //! (xtask's test runs them on the default `--quick` run's): every text's box lies inside the
-//! canvas, every band inside its metric's range, no two methods of one figure share colour and
-//! dash, and a method has one colour in every figure.
+//! canvas and overlaps no other text (a title on a tick label), every band lies inside its
+//! metric's range, no two methods of one figure share a colour, and a method has one colour in
+//! every figure of its experiment (its folder).
 //!
 //! SVGs are parsed with `roxmltree`. A text's box is estimated conservatively from its font
 //! size and characters ([`crate::chart::text_width`]), anchored as `text-anchor` says,
@@ -38,7 +39,7 @@ fn inherited<'a>(node: roxmltree::Node<'a, '_>, name: &str) -> Option<&'a str> {
 /// method's colour can be compared between figures.
 pub fn check_figures(figures: &[(String, String)]) -> Vec<Problem> {
     let mut problems = Vec::new();
-    // method → (colour, first figure drawing it)
+    // folder/method → (colour, first figure drawing it)
     let mut colours: BTreeMap<String, (String, String)> = BTreeMap::new();
     for (name, text) in figures {
         let document = match roxmltree::Document::parse(text) {
@@ -108,6 +109,8 @@ fn check_texts(
     height: f64,
     problems: &mut Vec<Problem>,
 ) {
+    // Each text's ink box on the canvas: x0, x1, y0, y1.
+    let mut boxes: Vec<(String, (f64, f64, f64, f64))> = Vec::new();
     for text in root.descendants().filter(|n| n.has_tag_name("text")) {
         let content: String = text
             .descendants()
@@ -158,6 +161,32 @@ fn check_texts(
                 "{name}: text {content:?} spans x {x0:.0}..{x1:.0}, y {y0:.0}..{y1:.0}, \
                  outside the {width}×{height} canvas"
             ));
+        }
+        // For overlaps, the glyphs' own extent: cap height above the baseline, descenders
+        // below (the canvas check above keeps a full em of room).
+        let inset = 0.25 * font * place.scale;
+        let descent = 0.1 * font * place.scale;
+        let ink = if text
+            .attribute("transform")
+            .is_some_and(|t| t.starts_with("rotate(-90"))
+        {
+            (x0 + inset, x1 - descent, y0, y1)
+        } else {
+            (x0, x1, y0 + inset, y1 - descent)
+        };
+        boxes.push((content.to_owned(), ink));
+    }
+    // No two texts overlap: a title on a tick label, a label on another.
+    for (i, (a, (ax0, ax1, ay0, ay1))) in boxes.iter().enumerate() {
+        for (b, (bx0, bx1, by0, by1)) in &boxes[i + 1..] {
+            let across = ax0.max(*bx0) < ax1.min(*bx1) - 0.5;
+            let along = ay0.max(*by0) < ay1.min(*by1) - 0.5;
+            if across && along {
+                problems.push(format!(
+                    "{name}: text {a:?} overlaps text {b:?} (x {ax0:.0}..{ax1:.0}, y \
+                     {ay0:.0}..{ay1:.0} against x {bx0:.0}..{bx1:.0}, y {by0:.0}..{by1:.0})"
+                ));
+            }
         }
     }
 }
@@ -222,7 +251,7 @@ fn check_looks(
         n.attribute("data-method").is_some()
             && matches!(
                 n.attribute("class"),
-                Some("line" | "sample" | "path" | "seed" | "band")
+                Some("line" | "sample" | "path" | "seed" | "band" | "strip" | "collapse")
             )
     });
     for node in drawn {
@@ -237,17 +266,21 @@ fn check_looks(
             .unwrap_or("solid")
             .to_owned();
         let class = node.attribute("class").unwrap_or("");
-        match colours.get(&method) {
+        // A method keeps its colour in every figure of its experiment (its folder).
+        let folder = name.rsplit_once('/').map_or("", |(folder, _)| folder);
+        let key = format!("{folder}/{method}");
+        match colours.get(&key) {
             Some((known, figure)) if *known != colour => problems.push(format!(
                 "{name}: {method} is drawn in {colour} but in {known} in {figure}"
             )),
             Some(_) => {}
             None => {
-                colours.insert(method.clone(), (colour.clone(), name.to_owned()));
+                colours.insert(key, (colour.clone(), name.to_owned()));
             }
         }
-        // Seeds and bands carry the colour only; the dash is the line's and the sample's.
-        if matches!(class, "seed" | "band") {
+        // Seeds, bands and collapse marks carry the colour only; the dash is the line's, the
+        // sample's and the strip's.
+        if matches!(class, "seed" | "band" | "collapse") {
             continue;
         }
         match looks.get(&method) {
@@ -260,11 +293,13 @@ fn check_looks(
             }
         }
     }
-    let mut by_look: BTreeMap<&(String, String), &String> = BTreeMap::new();
-    for (method, look) in &looks {
-        if let Some(other) = by_look.insert(look, method) {
+    // One colour per method in a figure: a reader tells methods apart by colour first, the
+    // dash is the second channel.
+    let mut by_colour: BTreeMap<&String, &String> = BTreeMap::new();
+    for (method, (colour, _)) in &looks {
+        if let Some(other) = by_colour.insert(colour, method) {
             problems.push(format!(
-                "{name}: {other} and {method} share colour and dash {look:?}"
+                "{name}: {other} and {method} share colour {colour}"
             ));
         }
     }
@@ -316,6 +351,23 @@ mod tests {
     }
 
     #[test]
+    fn a_text_over_another_fails() {
+        let text = |x: u32, y: u32, words: &str| {
+            format!("<text x=\"{x}\" y=\"{y}\" font-size=\"12\">{words}</text>")
+        };
+        // Two lines of a wrapped title, 15 px apart: no overlap.
+        let lines = svg(&(text(10, 50, "a title") + &text(10, 65, "wrapped")));
+        assert!(problems(&[("a.svg", lines)]).is_empty());
+        // A title over a tick label.
+        let over = svg(&(text(10, 50, "final 40 episodes") + &text(40, 53, "2000")));
+        let found = problems(&[("a.svg", over)]);
+        assert!(
+            found[0].contains("text \"final 40 episodes\" overlaps text \"2000\""),
+            "{found:?}"
+        );
+    }
+
+    #[test]
     fn a_band_outside_its_metric_fails() {
         // Plot: pixels 10 (top) to 110 (bottom) show values 0 to 100.
         let plot = |points: &str| {
@@ -340,19 +392,25 @@ mod tests {
                 dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""))
             )
         };
-        let distinct = svg(&(line("a", "#0072B2", None) + &line("b", "#0072B2", Some("2 4"))));
+        let distinct = svg(&(line("a", "#0072B2", None) + &line("b", "#D55E00", Some("2 4"))));
         assert!(problems(&[("one.svg", distinct.clone())]).is_empty());
-        let shared = svg(&(line("a", "#0072B2", None) + &line("b", "#0072b2", None)));
+        // One colour per method in a figure: another dash does not tell them apart enough.
+        let shared = svg(&(line("a", "#0072B2", None) + &line("b", "#0072b2", Some("2 4"))));
         let found = problems(&[("one.svg", shared)]);
         assert!(
-            found[0].contains("a and b share colour and dash"),
+            found[0].contains("a and b share colour #0072B2"),
             "{found:?}"
         );
         let other = svg(&line("a", "#D55E00", None));
-        let found = problems(&[("one.svg", distinct), ("two.svg", other)]);
+        let found = problems(&[
+            ("x/one.svg", distinct.clone()),
+            ("x/two.svg", other.clone()),
+        ]);
         assert_eq!(
             found,
-            ["two.svg: a is drawn in #D55E00 but in #0072B2 in one.svg"]
+            ["x/two.svg: a is drawn in #D55E00 but in #0072B2 in x/one.svg"]
         );
+        // Another experiment's figures may colour it otherwise.
+        assert!(problems(&[("x/one.svg", distinct), ("y/two.svg", other)]).is_empty());
     }
 }

@@ -10,14 +10,15 @@ use std::fmt::Write as _;
 use eamadm_eval::facts::{ExperimentFacts, Figures, NotDrawn, PaperFigures};
 use eamadm_eval::paper_claims::method_title;
 use eamadm_eval::reaching::{ReachingMetric, reaching_curve};
-use eamadm_eval::scores::REACHING_EPISODES;
+use eamadm_eval::scores::{FINAL_WINDOW, REACHING_EPISODES, RunOutcome};
 use eamadm_eval::{EpisodeRecord, Role, RunRecord, TrajectoryRecord};
 use mazes::{Pos, SvgOptions, SvgTrajectory};
 
 use crate::chart::{
     FigureError, LineChart, Series, escape, px, stroke_attributes, wrap, wrapped_text,
 };
-use crate::theme::method_style;
+use crate::theme::{Dash, MethodStyle, assign, method_style};
+use std::collections::BTreeMap;
 
 /// Episodes of the trailing moving average drawn in the per-episode figures.
 pub const FIGURE_SMOOTHING: usize = 5;
@@ -58,6 +59,9 @@ pub struct FigurePlan {
     pub methods: Vec<(String, Role)>,
     /// Where the greedy paths are drawn (no path figure without).
     pub arena: Option<Arena>,
+    /// The method drawn on top of every figure and in each ablations' and controls' figure:
+    /// the paper's EA-MADM (role `paper`, kind `ea_madm`), if the experiment has it.
+    pub on_top: Option<String>,
 }
 
 impl FigurePlan {
@@ -75,6 +79,11 @@ impl FigurePlan {
                 .map(|m| (m.label.clone(), m.role))
                 .collect(),
             arena,
+            on_top: facts
+                .methods
+                .iter()
+                .find(|m| m.role == Role::Paper && m.kind == "ea_madm")
+                .map(|m| m.label.clone()),
         }
     }
 
@@ -154,6 +163,9 @@ const REACHING_CHARTS: [ReachingChart; 3] = [
     },
 ];
 
+/// The figures drawn (file name and SVG text) and those left out.
+type Rendered = (Vec<(String, String)>, Vec<NotDrawn>);
+
 /// The most series in one figure: more cannot be told apart.
 pub const MAX_SERIES: usize = 8;
 
@@ -197,29 +209,47 @@ struct FirstRun {
 }
 
 impl MethodCurves {
-    fn new(record: &RunRecord, role: Role, is_robot: bool) -> Self {
+    fn new(record: &RunRecord, role: Role, is_robot: bool, on_top: bool) -> Self {
         let title = method_title(&record.method);
         let style = method_style(&record.method, role);
         let series = || {
-            Series::new(
+            let mut series = Series::new(
                 record.method.clone(),
                 title.clone(),
                 style,
                 FIGURE_SMOOTHING,
-            )
+            );
+            series.on_top = on_top;
+            series
         };
-        let mut steps = series();
         // The per-seed story is the story for the paper's methods: collapses and seeds stuck
-        // at the step cap.
+        // at the step cap, in steps and in return; every figure over episodes has the strip of
+        // collapsed seeds besides.
+        let mut steps = series();
         steps.per_seed = role == Role::Paper;
+        let mut task_return = series();
+        task_return.per_seed = role == Role::Paper;
+        let success = is_robot.then(|| {
+            let mut success = series();
+            success.share = true;
+            success
+        });
         Self {
             method: record.method.clone(),
             role,
             steps,
-            task_return: series(),
-            success: is_robot.then(series),
+            task_return,
+            success,
             reaching: if is_robot {
-                REACHING_CHARTS.iter().map(|_| series()).collect()
+                // Few seeds reach: each one's curve is drawn.
+                REACHING_CHARTS
+                    .iter()
+                    .map(|_| {
+                        let mut reaching = series();
+                        reaching.per_seed = true;
+                        reaching
+                    })
+                    .collect()
             } else {
                 Vec::new()
             },
@@ -241,8 +271,16 @@ impl MethodCurves {
         let at_cap: Vec<bool> = record.episodes.iter().map(|e| e.truncated).collect();
         self.steps.count_at_cap(&at_cap);
         self.task_return.push(&curve(&|e| e.task_return));
+        let (outcome, episode) =
+            RunOutcome::of(record.evaluation.reached, &record.episodes, FINAL_WINDOW);
+        let collapse = (outcome == RunOutcome::Collapsed)
+            .then_some(episode)
+            .flatten();
+        self.steps.note_collapse(collapse);
+        self.task_return.note_collapse(collapse);
         if let Some(success) = &mut self.success {
             success.push(&curve(&|e| f64::from(u8::from(e.reached))));
+            success.note_collapse(collapse);
         }
         for (series, chart) in self.reaching.iter_mut().zip(&REACHING_CHARTS) {
             // The first reaching episodes in order, as C4's scores take them.
@@ -317,8 +355,13 @@ impl ExperimentFigures {
             Some(index) => index,
             None => {
                 let role = self.plan.role(&record.method);
-                self.methods
-                    .push(MethodCurves::new(record, role, self.plan.is_robot()));
+                let on_top = self.plan.on_top.as_deref() == Some(record.method.as_str());
+                self.methods.push(MethodCurves::new(
+                    record,
+                    role,
+                    self.plan.is_robot(),
+                    on_top,
+                ));
                 self.methods.len() - 1
             }
         };
@@ -354,8 +397,9 @@ impl ExperimentFigures {
             .into_iter()
             .map(|(file, caption)| (file.to_owned(), caption))
             .collect();
-        let not_drawn = self.not_drawn();
-        let files = self.render()?;
+        let mut not_drawn = self.not_drawn();
+        let (files, nothing) = self.render()?;
+        not_drawn.extend(nothing);
         Ok(Drawing {
             figures: Figures {
                 files: files.iter().map(|(file, _)| file.clone()).collect(),
@@ -475,9 +519,20 @@ impl ExperimentFigures {
                 (
                     "success.svg",
                     format!(
-                        "Share of episodes that reached the target, IQM over seeds of the \
-                         {FIGURE_SMOOTHING}-episode moving average at the last episode: {}.",
-                        ending(|m| m.success.as_ref(), 2)
+                        "Share of episodes that reached the target, pooled over the seeds and \
+                         their last {FIGURE_SMOOTHING} episodes, at the last episode: {}.",
+                        paper
+                            .iter()
+                            .filter_map(|m| {
+                                let (share, successes, trials) =
+                                    m.success.as_ref()?.final_share()?;
+                                Some(format!(
+                                    "{} {share:.2} ({successes} of {trials})",
+                                    method_title(&m.method)
+                                ))
+                            })
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 ),
             );
@@ -495,26 +550,37 @@ impl ExperimentFigures {
         captions
     }
 
-    /// The figures: file name and SVG text (none without runs).
-    fn render(self) -> Result<Vec<(String, String)>, FigureError> {
+    /// The figures: file name and SVG text (none without runs), and the charts left out
+    /// because every line of them would be 0.
+    fn render(self) -> Result<Rendered, FigureError> {
         let plan = &self.plan;
         if self.methods.is_empty() {
-            return Ok(Vec::new());
+            return Ok((Vec::new(), Vec::new()));
         }
         let of_role = |role: Role| -> Vec<&MethodCurves> {
             self.methods.iter().filter(|m| m.role == role).collect()
         };
-        let paper: Vec<&MethodCurves> = self
+        let shown = self.shown();
+        let ea_madm = self
             .methods
             .iter()
-            .filter(|m| plan.is_paper_method(&m.method))
+            .find(|m| plan.on_top.as_deref() == Some(m.method.as_str()));
+        let ablations = chunks(ea_madm, &of_role(Role::Ablation));
+        let controls = chunks(ea_madm, &of_role(Role::Control));
+        // One colour per method in each figure, a method's colour the same in all of them.
+        let groups: Vec<Vec<(&str, Role)>> = std::iter::once(&shown)
+            .chain(&ablations)
+            .chain(&controls)
+            .map(|group| group.iter().map(|m| (m.method.as_str(), m.role)).collect())
             .collect();
-        let shown: Vec<&MethodCurves> = if paper.is_empty() {
-            self.methods.iter().take(MAX_SERIES).collect()
-        } else {
-            paper.into_iter().take(MAX_SERIES).collect()
+        let looks = assign(&groups);
+        let styled = |series: &Series| {
+            let mut series = series.clone();
+            if let Some(look) = looks.get(&series.method) {
+                series.style = *look;
+            }
+            series
         };
-        let ea_madm = self.methods.iter().find(|m| m.method == "ea-madm");
         let is_robot = plan.is_robot();
         // optimum far below 2^52
         let reference = self.optimum.flatten().map(|optimum| {
@@ -552,26 +618,27 @@ impl ExperimentFigures {
             .with_smoothing(FIGURE_SMOOTHING)
             .with_metric_range(steps_range.0, steps_range.1)
             .with_cap_panel(cap_text.clone())
+            .with_collapse_strip()
             .with_final_zoom(zoom);
             for m in methods {
-                chart = chart.with_series(m.steps.clone());
+                chart = chart.with_series(styled(&m.steps));
             }
             if let Some((label, y)) = &reference {
                 chart = chart.with_reference_line(label.clone(), *y);
             }
-            chart.render_svg()
+            chart
         };
-        let mut figures = vec![(
+        let mut figures: Vec<(String, LineChart)> = vec![(
             "steps.svg".to_owned(),
             steps_chart(
                 &shown,
                 format!(
-                    "{}EA-MADM and the paper's competitors; thin lines show every seed, so \
-                     collapses and seeds at the step cap stay visible; the right panel zooms \
-                     on the end of training.",
+                    "{}EA-MADM and the paper's competitors; thin lines show every seed and the \
+                     strip under the plot the seeds that collapsed, so collapses and seeds at \
+                     the step cap stay visible; the right panel zooms on the end of training.",
                     analogue("steps")
                 ),
-            )?,
+            ),
         )];
         let mut return_chart = LineChart::new(
             format!("{title}: return per episode"),
@@ -579,29 +646,27 @@ impl ExperimentFigures {
             "return per episode (task reward)",
         )
         .with_subtitle(format!(
-            "{}EA-MADM and the paper's competitors; the right panel zooms on the end of training.",
+            "{}EA-MADM and the paper's competitors; thin lines show every seed and the strip \
+             under the plot the seeds that collapsed; the right panel zooms on the end of \
+             training.",
             analogue("return")
         ))
         .with_smoothing(FIGURE_SMOOTHING)
+        .with_collapse_strip()
         .with_final_zoom(zoom);
         for m in &shown {
-            return_chart = return_chart.with_series(m.task_return.clone());
+            return_chart = return_chart.with_series(styled(&m.task_return));
         }
-        figures.push(("return.svg".to_owned(), return_chart.render_svg()?));
+        figures.push(("return.svg".to_owned(), return_chart));
 
-        for (role, name, what) in [
+        for (groups, name, what) in [
+            (&ablations, "ablations-steps", "EA-MADM and its ablations"),
             (
-                Role::Ablation,
-                "ablations-steps",
-                "EA-MADM and its ablations (dashed)",
-            ),
-            (
-                Role::Control,
+                &controls,
                 "controls-steps",
-                "EA-MADM and controls the paper does not run (dotted)",
+                "EA-MADM and controls the paper does not run",
             ),
         ] {
-            let groups = chunks(ea_madm, &of_role(role));
             let count = groups.len();
             for (index, group) in groups.iter().enumerate() {
                 let part = if count > 1 {
@@ -609,12 +674,19 @@ impl ExperimentFigures {
                 } else {
                     String::new()
                 };
+                let dashes = dash_words(
+                    group
+                        .iter()
+                        .filter(|m| m.role != Role::Paper)
+                        .map(|m| looks.get(&m.method).map_or(Dash::Solid, |look| look.dash)),
+                );
                 figures.push((
                     numbered(name, index, count),
-                    steps_chart(group, format!("{what}{part}."))?,
+                    steps_chart(group, format!("{what} ({dashes}){part}.")),
                 ));
             }
         }
+        let mut not_drawn = Vec::new();
         if is_robot {
             // The robot's first figure is success per episode: with no success, more steps
             // only means surviving longer.
@@ -623,37 +695,82 @@ impl ExperimentFigures {
                 "episode",
                 "share of episodes that reached the target",
             )
-            .with_subtitle("1 if the episode reached the target, else 0, per seed.")
+            .with_subtitle(
+                "The share of episodes that reached the target, pooled over the seeds; the strip \
+                 under the plot marks the seeds that collapsed.",
+            )
             .with_smoothing(FIGURE_SMOOTHING)
-            .with_metric_range(Some(0.0), Some(1.0));
+            .with_metric_range(Some(0.0), Some(1.0))
+            .with_collapse_strip();
             for m in &shown {
                 if let Some(success) = &m.success {
-                    chart = chart.with_series(success.clone());
+                    chart = chart.with_series(styled(success));
                 }
             }
-            figures.insert(0, ("success.svg".to_owned(), chart.render_svg()?));
+            figures.insert(0, ("success.svg".to_owned(), chart));
+        }
+        // A chart whose every line is 0 shows nothing: a sentence says so instead.
+        let mut files = Vec::new();
+        for (file, chart) in figures {
+            if chart.shows_nothing() {
+                not_drawn.push(NotDrawn {
+                    file: file.clone(),
+                    what: format!("{} ({})", chart.title, chart.y_label),
+                    why: format!(
+                        "it is 0 in every episode of every seed of {}",
+                        chart
+                            .series
+                            .iter()
+                            .map(|s| s.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                });
+            } else {
+                files.push((file, chart.render_svg()?));
+            }
+        }
+        if is_robot {
             // Fig. 13–15 plot "episodes that are to reach the target": x is the
             // reaching-episode index, each seed contributing its own first reaching episodes
             // in order. A chart none of whose methods reaches is not drawn (`not_drawn`).
             for (index, reaching) in REACHING_CHARTS.iter().enumerate() {
                 let series = shown
                     .iter()
-                    .filter_map(|m| Some((m.method.as_str(), m.reaching.get(index)?.clone())))
+                    .filter_map(|m| Some((m.method.as_str(), styled(m.reaching.get(index)?))))
                     .collect();
                 if let Some(svg) = reaching_chart(title, reaching, series)? {
-                    figures.push((reaching.file.to_owned(), svg));
+                    files.push((reaching.file.to_owned(), svg));
                 }
             }
         }
-        figures.push((
-            "trajectories.svg".to_owned(),
-            match trajectory_figure(plan, &shown, &analogue("trajectories")) {
-                Some(svg) => svg,
-                None => return Ok(figures),
-            },
-        ));
-        Ok(figures)
+        if let Some(svg) = trajectory_figure(plan, &shown, &looks, &analogue("trajectories")) {
+            files.push(("trajectories.svg".to_owned(), svg));
+        }
+        Ok((files, not_drawn))
     }
+}
+
+/// The dashes of a group's methods in words, in first-appearance order: `dashed`, `dotted,
+/// dash-dotted`.
+fn dash_words(dashes: impl Iterator<Item = Dash>) -> String {
+    let mut words: Vec<&str> = Vec::new();
+    for dash in dashes {
+        let word = match dash {
+            Dash::Solid => "solid",
+            Dash::Dashed => "dashed",
+            Dash::Dotted => "dotted",
+            Dash::DashDot => "dash-dotted",
+            Dash::DashDotDot => "dash-dot-dotted",
+            Dash::LongDash => "long-dashed",
+            Dash::LongDashDot => "long-dash-dotted",
+            Dash::LongDashDotDot => "long-dash-dot-dotted",
+        };
+        if !words.contains(&word) {
+            words.push(word);
+        }
+    }
+    words.join(", ")
 }
 
 /// A chart of one robot metric over the first [`REACHING_EPISODES`] *reaching* episodes
@@ -713,12 +830,21 @@ fn reaching_chart(
 fn trajectory_figure(
     plan: &FigurePlan,
     methods: &[&MethodCurves],
+    looks: &BTreeMap<String, MethodStyle>,
     analogue: &str,
 ) -> Option<String> {
     let title = format!("{}: greedy paths after training", plan.title);
+    let look = |m: &MethodCurves| {
+        looks
+            .get(&m.method)
+            .copied()
+            .unwrap_or_else(|| method_style(&m.method, m.role))
+    };
     Some(match plan.arena.as_ref()? {
-        Arena::Maze(maze) => maze_trajectories(maze, methods, &title, analogue),
-        Arena::Robot(scenario) => robot_trajectories(scenario, methods, &title, analogue),
+        Arena::Maze(maze) => maze_trajectories(maze, methods, &look, &title, analogue),
+        Arena::Robot(scenario) => {
+            robot_trajectories(scenario, methods, &look, plan, &title, analogue)
+        }
     })
 }
 
@@ -766,6 +892,7 @@ fn path_summary(first: &FirstRun, visits: &[(Pos, u64)]) -> String {
 fn maze_trajectories(
     maze: &mazes::Maze,
     methods: &[&MethodCurves],
+    look: &dyn Fn(&MethodCurves) -> MethodStyle,
     title: &str,
     analogue: &str,
 ) -> String {
@@ -814,7 +941,7 @@ fn maze_trajectories(
         .unwrap_or(1);
     let caption_lines = lines as f64 * 13.0 * 1.25 + 8.0;
     for (index, (m, (caption, path, counts))) in methods.iter().zip(&summaries).enumerate() {
-        let style = method_style(&m.method, m.role);
+        let style = look(m);
         let x0 = PAD + (index % columns) as f64 * (panel_w + gap);
         let y0 = top + (index / columns) as f64 * (panel_h + caption_lines + gap);
         wrapped_text(
@@ -914,6 +1041,8 @@ fn attribute<'s>(svg: &'s str, name: &str) -> Option<&'s str> {
 fn robot_trajectories(
     scenario: &wmr_model::Scenario,
     methods: &[&MethodCurves],
+    look: &dyn Fn(&MethodCurves) -> MethodStyle,
+    plan: &FigurePlan,
     title: &str,
     analogue: &str,
 ) -> String {
@@ -934,7 +1063,9 @@ fn robot_trajectories(
         width,
         title,
         &format!(
-            "{analogue}Greedy evaluation of each method's first seed after training; a dot marks where each path ends."
+            "{analogue}Greedy evaluation of each method's first seed after training; a dot marks \
+             where each path ends; a path under another is drawn wider, so both show, and \
+             methods with the same path share one line."
         ),
     );
     let top = y + 8.0;
@@ -951,10 +1082,22 @@ fn robot_trajectories(
         px(top)
     );
     let metres = |v: f64| (v * wmr_model::render::PIXELS_PER_METRE * 10.0).round() / 10.0;
-    let mut order: Vec<&&MethodCurves> = methods.iter().collect();
-    order.sort_by_key(|m| m.method == "ea-madm");
-    for m in &order {
-        let style = method_style(&m.method, m.role);
+    // Methods with the same path are one line; the paper's EA-MADM is drawn last, and each
+    // path 1.5 px wider than the next one drawn over it, so a path under another shows.
+    let mut paths: Vec<(&MethodCurves, Vec<&str>)> = Vec::new();
+    for m in methods {
+        match paths
+            .iter_mut()
+            .find(|(first, _)| first.first.trajectory.positions == m.first.trajectory.positions)
+        {
+            Some((_, also)) => also.push(&m.method),
+            None => paths.push((m, Vec::new())),
+        }
+    }
+    paths.sort_by_key(|(m, _)| plan.on_top.as_deref() == Some(m.method.as_str()));
+    let count = paths.len();
+    for (index, (m, also)) in paths.iter().enumerate() {
+        let style = look(m);
         let points: Vec<String> = m
             .first
             .trajectory
@@ -962,11 +1105,18 @@ fn robot_trajectories(
             .iter()
             .map(|&[x, y]| format!("{},{}", metres(x), metres(-y)))
             .collect();
+        let width = 2.5 + 1.5 * (count - 1 - index).min(4) as f64;
         let _ = writeln!(
             body,
-            "<polyline class=\"path\" data-method=\"{}\" fill=\"none\" {} stroke-width=\"2.5\" points=\"{}\"/>",
+            "<polyline class=\"path\" data-method=\"{}\"{} fill=\"none\" {} stroke-width=\"{}\" points=\"{}\"/>",
             escape(&m.method),
+            if also.is_empty() {
+                String::new()
+            } else {
+                format!(" data-also=\"{}\"", escape(&also.join(" ")))
+            },
             stroke_attributes(&style),
+            px(width),
             points.join(" ")
         );
         if let Some(&[x, y]) = m.first.trajectory.positions.last() {
@@ -982,17 +1132,24 @@ fn robot_trajectories(
     body.push_str("</svg>\n");
     let mut y = top + arena_h + 10.0;
     for m in methods {
-        let style = method_style(&m.method, m.role);
+        let style = look(m);
+        let same: Vec<String> = paths
+            .iter()
+            .find(|(_, also)| also.contains(&m.method.as_str()))
+            .map(|(first, _)| format!(" (the same path as {})", method_title(&first.method)))
+            .into_iter()
+            .collect();
         let outcome = if m.first.reached {
             "reached the target"
         } else {
             "target not reached"
         };
         let label = format!(
-            "{}: seed {}, {} steps, {outcome}",
+            "{}: seed {}, {} steps, {outcome}{}",
             method_title(&m.method),
             m.first.seed,
-            m.first.steps
+            m.first.steps,
+            same.join("")
         );
         let _ = writeln!(
             body,
@@ -1125,6 +1282,7 @@ mod tests {
                 ("epsilon-greedy".to_owned(), Role::Control),
             ],
             arena: Some(Arena::Maze(tiny_maze())),
+            on_top: None,
         }
     }
 
@@ -1154,6 +1312,7 @@ mod tests {
             arena: Some(Arena::Robot(Box::new(
                 wmr_model::Scenario::default_scenario(),
             ))),
+            on_top: None,
         };
         let runs = ["epsilon-greedy", "softmax"]
             .into_iter()
@@ -1190,12 +1349,19 @@ mod tests {
         );
         let drawing = figures.draw().unwrap();
         let files = &drawing.figures.files;
-        assert!(files.contains(&"success.svg".to_owned()), "{files:?}");
         assert!(
             not_drawn.iter().all(|n| !files.contains(&n.file)),
             "{files:?}"
         );
-        assert_eq!(drawing.figures.not_drawn, not_drawn);
+        // Success is 0 everywhere: no figure of flat zeros, a sentence instead.
+        assert!(!files.contains(&"success.svg".to_owned()), "{files:?}");
+        let success = drawing.figures.not_drawn.last().unwrap();
+        assert_eq!(success.file, "success.svg");
+        assert_eq!(
+            success.why,
+            "it is 0 in every episode of every seed of ε-greedy, softmax"
+        );
+        assert_eq!(drawing.figures.not_drawn[..3], not_drawn[..]);
         assert_eq!(
             drawing.files.iter().map(|(f, _)| f).collect::<Vec<_>>(),
             files.iter().collect::<Vec<_>>()
@@ -1207,6 +1373,7 @@ mod tests {
         assert_eq!(not_drawn_sentence(&[]), "");
         let files = figures.draw().unwrap().figures.files;
         for file in [
+            "success.svg",
             "average-reward.svg",
             "reaching-time.svg",
             "retention-time.svg",
@@ -1255,7 +1422,8 @@ mod tests {
         let figures = collect(&plan(), &runs);
         let maze = tiny_maze();
         let first: Vec<&MethodCurves> = figures.methods.iter().take(1).collect();
-        let svg = maze_trajectories(&maze, &first, "t", "");
+        let look = |m: &MethodCurves| method_style(&m.method, m.role);
+        let svg = maze_trajectories(&maze, &first, &look, "t", "");
         assert!(svg.contains(">6×</text>"), "{svg}");
         assert!(svg.contains("over 1 tile, loops (a tile visited"), "{svg}");
         let number = |text: &str, key: &str| -> f64 {
