@@ -295,6 +295,7 @@ pub(crate) fn write_outputs(
             match gathered.finish() {
                 Ok((mut experiment, rows)) => {
                     experiment.figures = figures;
+                    experiment.tables_written = true;
                     facts.push(experiment);
                     if let Ok(all) = scores.as_mut() {
                         all.extend(rows);

@@ -40,9 +40,10 @@ pub(crate) fn experiment_figures(
     facts: &ExperimentFacts,
 ) -> ExperimentFigures {
     let task = planned.experiment.task();
-    let mut plan = FigurePlan::new(facts, Arena::from_parts(task.maze(), task.scenario()));
-    plan.title.clone_from(&planned.title);
-    ExperimentFigures::new(plan)
+    ExperimentFigures::new(FigurePlan::new(
+        facts,
+        Arena::from_parts(task.maze(), task.scenario()),
+    ))
 }
 
 /// Draws the figures of `figures` and writes them under `<out>/<name>/`; returns their file

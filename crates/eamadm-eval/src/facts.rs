@@ -118,8 +118,9 @@ pub struct ExperimentFacts {
     #[serde(default)]
     pub margins: Vec<claims::Margin>,
     /// Each method as its config states it (label, role, kind, what a control matches), in
-    /// config order: what the verdicts and the text know of a method beyond its scores, so
-    /// that nothing is read off a label. Empty in a context written before it existed (no
+    /// the order its runs came (the job order; methods not run after them): what the
+    /// verdicts and the text know of a method beyond its scores, so that nothing is read off
+    /// a label, and the order the figures of a folder are drawn again in. Empty in a context written before it existed (no
     /// control is then known by its family).
     #[serde(default)]
     pub methods: Vec<MethodFacts>,
@@ -129,6 +130,10 @@ pub struct ExperimentFacts {
     /// The first seed: the runs' seeds are `base_seed .. base_seed + seeds`.
     #[serde(default)]
     pub base_seed: u64,
+    /// Whether its tables (`curves.csv.gz`, `trajectories.csv`) were written beside its
+    /// figures (the main job writes them; a report of `eamadm.run`'s results has none).
+    #[serde(default)]
+    pub tables_written: bool,
 }
 
 impl ExperimentFacts {
@@ -311,7 +316,7 @@ pub struct Figures {
     /// `(file name, one-line caption)` of the key figures, in the order they are shown.
     pub captions: Vec<(String, String)>,
     /// The figures left out because they would be empty axes, and why; one sentence
-    /// ([`not_drawn_sentence`]) stands for them in the report.
+    /// (`eamadm_present::report::not_drawn_sentence`) stands for them in the report.
     pub not_drawn: Vec<NotDrawn>,
 }
 

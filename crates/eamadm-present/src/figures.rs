@@ -425,9 +425,10 @@ impl ExperimentFigures {
         }
     }
 
-    /// The robot's C4 figures ([`REACHING_CHARTS`]) that would be empty axes, because none of
-    /// the methods they draw has a reaching episode in any seed: [`Self::render`] writes no
-    /// SVG for them and the report says why (`eamadm::report::not_drawn_sentence`).
+    /// The robot's C4 figures (average reward, reaching time, retention time) that would be
+    /// empty axes, because none of the methods they draw has a reaching episode in any seed:
+    /// [`Self::draw`] draws no SVG for them and the report says why
+    /// ([`crate::report::not_drawn_sentence`]).
     pub fn not_drawn(&self) -> Vec<NotDrawn> {
         if !self.plan.is_robot() || self.methods.is_empty() {
             return Vec::new();

@@ -15,23 +15,34 @@ use pyo3::prelude::*;
 
 use crate::error::value_error;
 
+/// An experiment's facts (TOML) and its runs' `final-scores.csv` rows.
+pub(crate) type ReportInput = (String, String);
+
 /// What a report needs of one experiment's runs, as text Python carries opaquely: the
 /// experiment's facts (TOML) and its runs' `final-scores.csv` rows, both made by
 /// [`Experiment::report_facts`], the main job's own builder (the robot's reward diagnosis
-/// included).
+/// included); and the figures of the runs, drawn by the main job's code, as `[(path, SVG
+/// text)]` (paths `<experiment>/<file>.svg`, which the facts' figures and the report name).
 pub(crate) fn report_input(
     experiment: &Experiment,
     records: &[RunRecord],
-) -> PyResult<(String, String)> {
-    let (facts, scores) = experiment
+) -> PyResult<(ReportInput, Vec<(String, String)>)> {
+    let (mut facts, scores) = experiment
         .report_facts(records)
         .map_err(|error| value_error("config", error))?;
+    let drawing = crate::figures::draw(&facts, experiment.task(), records, "config")?;
+    facts.figures = drawing.figures;
+    let files = drawing
+        .files
+        .into_iter()
+        .map(|(file, svg)| (format!("{}/{file}", facts.name), svg))
+        .collect();
     let mut scores_csv = Vec::new();
     eamadm::scores::write_csv(&scores, &mut scores_csv)
         .map_err(|error| value_error("config", error))?;
     let facts = toml::to_string(&facts).map_err(|error| value_error("config", error))?;
     let scores_csv = String::from_utf8(scores_csv).map_err(|error| value_error("config", error))?;
-    Ok((facts, scores_csv))
+    Ok(((facts, scores_csv), files))
 }
 
 /// The text of `folder/name`; a `ValueError` naming `dir` and the file when it cannot be read.

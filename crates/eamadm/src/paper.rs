@@ -372,6 +372,7 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         paper_figures: PaperTask::from_name(name)
             .map_or_else(PaperFigures::default, PaperTask::figures),
         base_seed: config.base_seed,
+        tables_written: false,
     }
 }
 

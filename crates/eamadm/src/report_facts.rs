@@ -45,6 +45,8 @@ pub struct ReportFacts<'a> {
     scores: Result<Vec<FinalScore>, ScoresError>,
     /// The seeds of the runs pushed, each once.
     seeds: Vec<u64>,
+    /// The methods of the runs pushed, in the order they came (job order).
+    methods: Vec<String>,
 }
 
 impl<'a> ReportFacts<'a> {
@@ -67,6 +69,7 @@ impl<'a> ReportFacts<'a> {
                 .then(BehaviourAccumulator::default),
             scores: Ok(Vec::new()),
             seeds: Vec::new(),
+            methods: Vec::new(),
         }
     }
 
@@ -85,6 +88,9 @@ impl<'a> ReportFacts<'a> {
         if !self.seeds.contains(&record.seed) {
             self.seeds.push(record.seed);
         }
+        if !self.methods.contains(&record.method) {
+            self.methods.push(record.method.clone());
+        }
         if let Ok(rows) = &mut self.scores {
             match scores::final_score_of(record, self.experiment) {
                 Ok(row) => rows.push(row),
@@ -94,7 +100,8 @@ impl<'a> ReportFacts<'a> {
     }
 
     /// The facts (the robot's behaviour summed, the seeds those of the runs pushed, or the
-    /// config's without runs) and the runs' final scores, in the order pushed.
+    /// config's without runs, and the methods in the order their runs came, the job order,
+    /// then those not run) and the runs' final scores, in the order pushed.
     ///
     /// # Errors
     /// The [`ScoresError`] of the first run whose final scores could not be computed.
@@ -108,6 +115,13 @@ impl<'a> ReportFacts<'a> {
         {
             facts.seeds = seeds;
         }
+        let order = |label: &str| {
+            self.methods
+                .iter()
+                .position(|m| m == label)
+                .unwrap_or(usize::MAX)
+        };
+        facts.methods.sort_by_key(|m| order(&m.label));
         Ok((facts, self.scores?))
     }
 }

@@ -104,6 +104,7 @@ fn context(reward_readings: Vec<RewardReading>) -> ReportContext {
             methods: methods(),
             paper_figures: PaperFigures::default(),
             base_seed: 0,
+            tables_written: false,
         }],
         readings: Vec::new(),
         deviations: Vec::new(),

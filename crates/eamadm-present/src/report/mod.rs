@@ -262,6 +262,7 @@ pub(crate) mod tests {
             ],
             paper_figures: PaperFigures::default(),
             base_seed: 0,
+            tables_written: false,
         }
     }
 

@@ -817,6 +817,7 @@ mod tests {
             methods: Vec::new(),
             paper_figures: eamadm_eval::facts::PaperFigures::default(),
             base_seed: 0,
+            tables_written: false,
         }
     }
 

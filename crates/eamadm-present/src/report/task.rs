@@ -148,8 +148,10 @@ pub(crate) fn write_task(
         verdicts.paper_ea_madm(task),
         found,
     );
-    if !experiment.figures.files.is_empty() {
+    if !experiment.figures.files.is_empty() || !experiment.figures.not_drawn.is_empty() {
         text.push_str(&gallery(task, &experiment.figures));
+    }
+    if experiment.tables_written {
         let _ = writeln!(
             text,
             "Tables: [curves]({task}/{}) (gzip), [trajectories]({task}/{}).\n",
@@ -157,11 +159,11 @@ pub(crate) fn write_task(
         );
     } else {
         // A report of runs rendered outside an output folder (`eamadm.report` of
-        // `eamadm.run`'s results in Python) has no files to link.
+        // `eamadm.run`'s results in Python) has no tables to link.
         let _ = writeln!(
             text,
-            "No figures or tables were written for `{task}`: only `cargo xtask reproduce-paper` \
-             writes them, into its output folder.\n"
+            "No tables were written for `{task}`: only `cargo xtask reproduce-paper` writes \
+             them, into its output folder (`eamadm.run` returns the curves).\n"
         );
     }
 }

@@ -13,7 +13,8 @@ and :func:`paper_config` returns the paper's presets. :func:`load_runs` reads th
 an output folder of ``cargo xtask reproduce-paper`` and :func:`read_scores` its
 ``final-scores.csv`` and ``claims.csv``, typed by its ``datapackage.json``; :func:`report`
 renders ``REPORT.md`` (and its verdicts) of such a folder, byte for byte, or of :func:`run`'s
-results. Everything is
+results with their figures; :func:`figures` draws the main job's figures of either, with the
+main job's code. Everything is
 computed by the Rust crates; the numbers are bit-identical to ``cargo xtask reproduce-paper``.
 """
 
@@ -24,6 +25,7 @@ import gymnasium
 from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
 from eamadm.experiment import Results, paper_config, run
+from eamadm.figures import figures
 from eamadm.outputs import Scores, data_package, load_runs, read_scores
 from eamadm.report import Report, report
 from eamadm.vector import MazeVectorEnv, RobotVectorEnv
@@ -38,6 +40,7 @@ __all__ = [
     "Scores",
     "__version__",
     "data_package",
+    "figures",
     "load_runs",
     "paper_config",
     "read_scores",

@@ -41,6 +41,9 @@ class _RunResults(Results):
 
     #: Opaque to Python: handed back to the Rust report.
     report_input: Any = None
+    #: The runs' figures as the main job draws them: ``(path, SVG text)`` pairs, paths
+    #: ``<experiment>/<file>.svg`` (what :func:`eamadm.figures` returns for these results).
+    figure_files: Any = None
 
 
 def paper_config(name: str, *, as_dict: bool = False) -> Union[str, dict]:
@@ -175,7 +178,9 @@ def run(
         else:
             results = _RunResults(pandas.DataFrame(curves), outputs.as_frame(scores, fields))
             results.report_input = columns["report_input"]
+            results.figure_files = columns["figure_files"]
             return results
     results = _RunResults(curves, outputs.as_arrays(scores, fields))
     results.report_input = columns["report_input"]
+    results.figure_files = columns["figure_files"]
     return results

@@ -5,7 +5,8 @@ nothing of it is re-derived in Python. Given an output folder of ``cargo xtask r
 it judges the claims again from the folder's ``final-scores.csv`` and renders them with the
 folder's ``report-context.toml`` (tasks, experiments, figures with captions, the robot's
 behaviour), so the text equals the folder's ``REPORT.md`` byte for byte. Given results of
-:func:`eamadm.run`, it renders the report of those runs, without figures (the report says so).
+:func:`eamadm.run`, it renders the report of those runs with their figures, drawn by the main
+job's code (:attr:`Report.figures`; :meth:`Report.save` writes the report and its figures).
 """
 
 from __future__ import annotations
@@ -13,9 +14,11 @@ from __future__ import annotations
 import csv
 import io
 import os
-from typing import Any, Iterable, NamedTuple, Union
+from typing import Any, Dict, Iterable, NamedTuple, Union
 
 from eamadm import _native
+from eamadm.figures import figures as _draw
+from eamadm.figures import write as _write
 from eamadm.experiment import Results
 
 
@@ -32,6 +35,20 @@ class Report(NamedTuple):
     claims_csv: str
     #: The text of ``final-scores.csv`` (one row per task, method and seed).
     scores_csv: str
+    #: The figures the report shows, ``{path: SVG text}`` (paths relative to the report,
+    #: ``<experiment>/<file>.svg``): drawn with the runs of :func:`eamadm.run`; empty for an
+    #: output folder, which holds its own (:func:`eamadm.figures` draws them again).
+    figures: Dict[str, str] = {}
+
+    def save(self, out: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes ``REPORT.md`` and the report's figures into the folder ``out`` (made when
+        missing), so that its links resolve."""
+        import pathlib
+
+        folder = pathlib.Path(out)
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "REPORT.md").write_text(self.markdown, encoding="utf-8")
+        _write(self.figures, folder)
 
 
 def _report_inputs(results: Any) -> list:
@@ -72,19 +89,22 @@ def report(
             a list of dicts).
 
     Returns:
-        a :class:`Report`: the Markdown text, the verdicts, and the ``claims.csv`` and
-        ``final-scores.csv`` texts.
+        a :class:`Report`: the Markdown text, the verdicts, the ``claims.csv`` and
+        ``final-scores.csv`` texts, and for runs their figures (:meth:`Report.save` writes the
+        report beside them).
 
     Raises:
         ValueError: naming the argument, when the folder lacks the files or the results are
             not of :func:`eamadm.run`.
     """
+    figures: Dict[str, str] = {}
     if isinstance(source, (str, os.PathLike)):
         if quick:
             raise ValueError("quick: a folder's report knows whether it was a --quick run")
         markdown, claims, scores = _native.report_of_folder(os.fspath(source))
     else:
         markdown, claims, scores = _native.report_of_runs(_report_inputs(source), bool(quick))
+        figures = _draw(source)
     verdicts: Any = None
     if dataframe:
         try:
@@ -95,4 +115,4 @@ def report(
             verdicts = pandas.read_csv(io.StringIO(claims))
     if verdicts is None:
         verdicts = list(csv.DictReader(io.StringIO(claims)))
-    return Report(markdown, verdicts, claims, scores)
+    return Report(markdown, verdicts, claims, scores, figures)
