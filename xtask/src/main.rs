@@ -43,8 +43,6 @@ mod figure_checks;
 mod finish;
 mod fixtures;
 mod jobs;
-#[cfg(test)]
-mod markdown;
 mod outputs;
 mod plan;
 mod progress;
@@ -53,8 +51,6 @@ mod reproduce;
 mod sensitivity_report;
 mod test_all;
 mod text_diff;
-#[cfg(test)]
-mod tidy;
 mod wheel;
 
 // Every file goes through the run crate's atomic writes (`crate::atomic` in the modules).
