@@ -232,44 +232,50 @@ pub(crate) fn collapses_rejudged(found: &TaskFindings) -> Option<String> {
     ))
 }
 
-/// Which EA-MADM variants end as a sub-task alone seed for seed, in one sentence.
-pub(crate) fn equalities(found: &TaskFindings) -> Option<String> {
-    let pairs: Vec<String> = found
-        .equalities
-        .iter()
-        .map(|eq| {
-            let differing: Vec<String> = eq
-                .differing
-                .iter()
-                .map(|(part, n)| format!("{part} on {n}"))
-                .collect();
-            format!(
-                "{} = `{}` on {}/{}, all through on {}{}",
-                name(&eq.method),
-                eq.other,
-                eq.end_same,
-                eq.both,
-                eq.all_through,
-                if differing.is_empty() {
-                    String::new()
-                } else {
-                    format!(" (still differing: {})", differing.join(", "))
-                }
-            )
-        })
-        .collect();
-    (!pairs.is_empty()).then(|| {
-        format!(
-            "Seed for seed, these EA-MADM variants end exactly as a sub-task alone (the same \
-             final-window steps and return, greedy episode and outcome), and on some of those \
-             seeds run the same all through (every score but the environment steps, which \
-             count each method's own pre-training): {}. On the seeds they end alike, the \
-             sub-task's own experience, without the MADM step, ends where EA-MADM does; the \
-             way there (the training curve, a collapse episode) may differ (pairs that end \
-             alike on fewer than half the seeds are not listed).",
-            pairs.join("; ")
-        )
-    })
+/// Which EA-MADM variants end as a sub-task alone seed for seed: a sentence and a table (pairs
+/// that end alike on at least half the seeds); empty when none does.
+pub(crate) fn equalities(found: &TaskFindings) -> String {
+    if found.equalities.is_empty() {
+        return String::new();
+    }
+    let mut table = MarkdownTable::new([
+        ("EA-MADM variant", Align::Left),
+        ("sub-task alone", Align::Left),
+        ("ends the same", Align::Right),
+        ("the same all through", Align::Right),
+        (
+            "still differing, on the seeds that end the same",
+            Align::Left,
+        ),
+    ]);
+    for eq in &found.equalities {
+        let differing: Vec<String> = eq
+            .differing
+            .iter()
+            .map(|(part, n)| format!("{part} on {n}"))
+            .collect();
+        let _ = table.push_row([
+            name(&eq.method),
+            format!("`{}`", eq.other),
+            format!("{}/{}", eq.end_same, eq.both),
+            eq.all_through.to_string(),
+            if differing.is_empty() {
+                "—".to_owned()
+            } else {
+                differing.join(", ")
+            },
+        ]);
+    }
+    format!(
+        "Seed for seed, these EA-MADM variants end exactly as a sub-task alone (the same \
+         final-window steps and return, greedy episode and outcome), and on some of those seeds \
+         run the same all through (every score but the environment steps, which count each \
+         method's own pre-training). On those seeds the sub-task's own experience, without the \
+         MADM step, ends where EA-MADM does; the way there (the training curve, a collapse \
+         episode) may differ. Pairs that end alike on fewer than half the seeds are not \
+         listed.\n\n{}\n",
+        table.render()
+    )
 }
 
 /// Methods whose per-seed scores equal an earlier method's on every seed, in one sentence.

@@ -137,6 +137,9 @@ pub(crate) fn write_task(
         let _ = writeln!(text, "- {sentence}");
     }
     text.push('\n');
+    if let Some(found) = found {
+        text.push_str(&super::outcomes::equalities(found));
+    }
     if robot {
         super::robot::write_robot(text, experiment, &overviews, verdicts, found);
     }
@@ -415,7 +418,6 @@ fn explanations(
     }
     sentences.extend(super::outcomes::pretraining_shares(task, context, verdicts));
     sentences.extend(found.and_then(super::outcomes::identical));
-    sentences.extend(found.and_then(super::outcomes::equalities));
     if !robot {
         // A robot state has more features than a maze cell's column and row.
         sentences.extend(super::outcomes::tau_caveat(task, context, verdicts, found));
