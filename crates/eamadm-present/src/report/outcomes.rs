@@ -450,3 +450,177 @@ pub(crate) fn tau_caveat(
         )
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{context, method, options, row};
+    use super::*;
+    use eamadm_eval::findings::Findings;
+
+    /// The context with Task I's methods of these tests, by their configs: the sub-tasks
+    /// alone (frozen), two ablations, and EA-MADM with tree thresholds 0.5 and 0.33 as
+    /// controls (labels that say nothing of what they are).
+    fn context_of() -> ReportContext {
+        let mut context = context();
+        let alone = |subtask| {
+            Some(ControlFamily::SubtaskAlone {
+                subtask,
+                learns: false,
+            })
+        };
+        let mut high = method("wide", Role::Control, "ea_madm", None);
+        high.tree_threshold = Some(0.5);
+        let mut low = method("narrow", Role::Control, "ea_madm", None);
+        low.tree_threshold = Some(0.33);
+        context.experiments[0].methods = vec![
+            method("ea-madm", Role::Paper, "ea_madm", None),
+            method("first", Role::Control, "subtask_greedy", alone(0)),
+            method("second", Role::Control, "subtask_greedy", alone(1)),
+            method("ea-madm-uniform", Role::Ablation, "ea_madm", None),
+            method("ea-madm-distance", Role::Ablation, "ea_madm", None),
+            high,
+            low,
+        ];
+        context
+    }
+
+    fn verdicts(scores: Vec<FinalScore>) -> Verdicts {
+        Verdicts::compute(scores, &options(), &context_of()).unwrap()
+    }
+
+    /// EA-MADM and its two sub-tasks alone on 4 seeds: sub-task 0 pre-trains `p0` steps,
+    /// sub-task 1 `p1`, EA-MADM `p0 + p1 + extra`.
+    fn pretraining(p0: u64, p1: u64, extra: u64) -> Vec<FinalScore> {
+        let mut rows = Vec::new();
+        for seed in 0..4 {
+            let mut ea = row("task1", "ea-madm", Role::Paper, "ea_madm", seed, 60.0);
+            ea.pretrain_env_steps = p0 + p1 + extra;
+            rows.push(ea);
+            let mut a = row(
+                "task1",
+                "first",
+                Role::Control,
+                "subtask_greedy",
+                seed,
+                60.0,
+            );
+            a.pretrain_env_steps = p0;
+            rows.push(a);
+            let mut b = row(
+                "task1",
+                "second",
+                Role::Control,
+                "subtask_greedy",
+                seed,
+                2000.0,
+            );
+            b.pretrain_env_steps = p1;
+            b.outcome = RunOutcome::NeverReached;
+            rows.push(b);
+        }
+        rows
+    }
+
+    #[test]
+    fn pretraining_shares_are_stated_only_when_the_sub_tasks_add_up() {
+        let context = context_of();
+        let text =
+            pretraining_shares("task1", &context, &verdicts(pretraining(50, 950, 0))).unwrap();
+        assert_eq!(
+            text,
+            "Of EA-MADM's sub-task pre-training steps (summed over seeds) 5% to the sub-task of \
+             `first` (which alone converges on 4/4 seeds) and 95% to the sub-task of `second` \
+             (which alone converges on 0/4 seeds)."
+        );
+        assert_eq!(
+            pretraining_shares("task1", &context, &verdicts(pretraining(50, 950, 1))),
+            None
+        );
+    }
+
+    #[test]
+    fn equalities_are_a_table_of_variants_ending_as_a_sub_task_alone() {
+        let mut rows = pretraining(50, 950, 0);
+        for seed in 0..4 {
+            let mut u = row(
+                "task1",
+                "ea-madm-uniform",
+                Role::Ablation,
+                "ea_madm",
+                seed,
+                60.0,
+            );
+            if seed == 3 {
+                u.final_steps = 61.0;
+            }
+            // Ends the same, but the way there differs.
+            if seed == 0 {
+                u.fluctuation_steps += 1.0;
+                u.collapse_episode = Some(7);
+            }
+            rows.push(u);
+            let distance = 70.0 + seed as f64;
+            rows.push(row(
+                "task1",
+                "ea-madm-distance",
+                Role::Ablation,
+                "ea_madm",
+                seed,
+                distance,
+            ));
+        }
+        let verdicts = verdicts(rows);
+        let found = Findings::of(&context_of(), &verdicts);
+        let text = equalities(&found.tasks[0]);
+        let uniform = text
+            .lines()
+            .find(|l| l.starts_with("| `ea-madm-uniform`"))
+            .unwrap();
+        let cells: Vec<&str> = uniform.split('|').map(str::trim).collect();
+        assert_eq!(
+            cells[1..6],
+            [
+                "`ea-madm-uniform`",
+                "`first`",
+                "3/4",
+                "2",
+                "the training curve's SD on 1, the collapse episode or the count of reaching \
+                 episodes on 1"
+            ]
+        );
+        assert!(!text.contains("distance"), "{text}");
+        // The sub-task alone is the one that converges on most seeds, by config.
+        let pairing = subtask_pairing(&found.tasks[0]).unwrap();
+        assert!(pairing.contains("`first`"), "{pairing}");
+    }
+
+    #[test]
+    fn the_tau_caveat_names_exact_and_merging_thresholds_from_the_configs() {
+        let mut rows = Vec::new();
+        for seed in 0..4 {
+            rows.push(row("task1", "ea-madm", Role::Paper, "ea_madm", seed, 60.0));
+            rows.push(row("task1", "wide", Role::Control, "ea_madm", seed, 60.0));
+            let mut low = row("task1", "narrow", Role::Control, "ea_madm", seed, 2000.0);
+            low.outcome = RunOutcome::NeverReached;
+            rows.push(low);
+        }
+        let verdicts = verdicts(rows);
+        let found = Findings::of(&context_of(), &verdicts);
+        let text = tau_caveat("task1", &context_of(), &verdicts, found.task("task1")).unwrap();
+        assert!(
+            text.ends_with(
+                "Here τ = 0.5 (above 1/3, exact) ends as EA-MADM on 4/4 seeds and scores as it \
+                 on every one and τ = 0.33 (at or below 1/3, it merges whole rows or columns) \
+                 converges on 0/4 seeds."
+            ),
+            "{text}"
+        );
+        // Without the thresholds in the methods' facts, no caveat.
+        let mut bare = context_of();
+        bare.experiments[0]
+            .methods
+            .iter_mut()
+            .for_each(|m| m.tree_threshold = None);
+        assert_eq!(tau_caveat("task1", &bare, &verdicts, None), None);
+    }
+}
