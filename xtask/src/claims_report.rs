@@ -1,12 +1,15 @@
 //! `REPORT.md`, `final-scores.csv` and `claims.csv`: the files of a run's verdicts. Their text
-//! is made by [`eamadm::report`] (pure, tested there); this module only writes it, atomically.
+//! is made by [`eamadm_present::report`] (pure, tested there); this module only writes it, atomically.
 
 use std::path::Path;
 
 use eamadm::claims::ClaimsError;
+use eamadm::facts::ReportContext;
+use eamadm::findings::Findings;
 use eamadm::output_names as names;
-use eamadm::report::{self, ReportContext, ReportError, Verdicts};
 use eamadm::scores::ScoresError;
+use eamadm::verdicts::Verdicts;
+use eamadm_present::report::{self, ReportError};
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
@@ -26,6 +29,9 @@ pub(crate) enum ClaimsReportError {
     /// The report's context as TOML.
     #[error("{file}: {0}", file = eamadm::output_names::REPORT_CONTEXT)]
     Context(#[from] toml::ser::Error),
+    /// The findings as JSON.
+    #[error("{file}: {0}", file = eamadm::output_names::FINDINGS)]
+    Findings(#[from] serde_json::Error),
 }
 
 impl From<ReportError> for ClaimsReportError {
@@ -37,8 +43,9 @@ impl From<ReportError> for ClaimsReportError {
     }
 }
 
-/// Writes `final-scores.csv`, `claims.csv`, `REPORT.md` and `report-context.toml` into `out`; `context` holds the
-/// paper's tasks and, per experiment, the figures written and the robot's behaviour.
+/// Writes `final-scores.csv`, `claims.csv`, `findings.json`, `REPORT.md` and
+/// `report-context.toml` into `out`; `context` holds the paper's tasks and, per experiment, the
+/// figures written and the robot's behaviour.
 pub(crate) fn write_claim_outputs(
     out: &Path,
     context: &ReportContext,
@@ -55,7 +62,10 @@ pub(crate) fn write_claim_outputs(
         &out.join(names::DATA_PACKAGE),
         eamadm::data_package::data_package_text().as_bytes(),
     )?;
-    let report = report::render(context, verdicts)?;
+    // What the report states, as data; the report and the README's blocks render from it.
+    let findings = Findings::of(context, verdicts);
+    write_atomic(&out.join(names::FINDINGS), findings.to_json()?.as_bytes())?;
+    let report = report::render(context, verdicts, &findings);
     write_atomic(&out.join(names::REPORT), report.as_bytes())?;
     // What the report was made from beyond final-scores.csv, so that it can be made again from
     // the folder alone (`eamadm.report(dir)` in Python).

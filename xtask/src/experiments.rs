@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use eamadm::paper::Reading;
-use eamadm::{ConfigError, Experiment, ExperimentConfig, Role, Shortening};
+use eamadm::{ConfigError, Experiment, ExperimentConfig, Shortening};
 use thiserror::Error;
 
 use crate::cli::{Readings, Task};
@@ -50,14 +50,6 @@ impl PlannedExperiment {
     /// The config actually run.
     pub(crate) fn config(&self) -> &ExperimentConfig {
         self.experiment.config()
-    }
-
-    /// Whether `label` is one of the paper's methods in this experiment (`role = paper`), as
-    /// opposed to an ablation or a control.
-    pub(crate) fn is_paper_method(&self, label: &str) -> bool {
-        self.config()
-            .method(label)
-            .is_some_and(|spec| spec.role == Role::Paper)
     }
 }
 
@@ -216,8 +208,6 @@ mod tests {
         }
         assert!(planned.iter().all(|p| p.config().seeds == 2));
         assert_eq!(planned[1].title, "Task II");
-        assert!(planned[0].is_paper_method("softmax"));
-        assert!(!planned[0].is_paper_method("ea-madm-table"));
     }
 
     #[test]

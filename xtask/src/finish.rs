@@ -1,8 +1,8 @@
 //! The outputs of a plan, made from run stores as a stream: one run at a time is read (in job
 //! order), written to the CSV tables, added to the
-//! experiment's figures ([`ExperimentFigures`]: per-episode bands), its final scores (one small
-//! row per run, which the verdicts' per-seed bootstrap needs) and the robot's behaviour sums
-//! ([`BehaviourAccumulator`]), then dropped. No run is held past its turn, so memory does not
+//! experiment's figures ([`eamadm_present::figures::ExperimentFigures`]: per-episode bands) and
+//! its report facts ([`ReportFacts`]: one small final-score row per run, which the verdicts'
+//! per-seed bootstrap needs, and the robot's behaviour sums), then dropped. No run is held past its turn, so memory does not
 //! grow with the number of seeds.
 //!
 //! `reproduce-paper` (unsharded, `--shard`, `--runs-only`) and `merge` all end here, so a merge
@@ -13,7 +13,7 @@
 
 use std::path::Path;
 
-use eamadm::BehaviourAccumulator;
+use eamadm::ReportFacts;
 use eamadm::results::{CurvesCsv, ResultsError, TrajectoriesCsv};
 use eamadm::scores::{FinalScore, ScoresError};
 use eamadm::sensitivity::ReadingRuns;
@@ -23,8 +23,8 @@ use crate::claims_report::{ClaimsReportError, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
-use crate::outputs::{ExperimentFigures, OutputError};
-use eamadm::report::Verdicts;
+use crate::outputs::{OutputError, experiment_figures, write_figures};
+use eamadm::verdicts::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
 use eamadm_runs::store::{RunStore, StoreError, StoredRun};
 
@@ -234,12 +234,10 @@ pub(crate) fn write_outputs(
         } else {
             None
         };
+        // The report's facts and final scores, and the figures, gathered run by run.
         let mut collected = everything.then(|| {
-            let is_robot = matches!(planned.config().task, eamadm::TaskConfig::Robot { .. });
-            (
-                ExperimentFigures::new(planned),
-                is_robot.then(BehaviourAccumulator::default),
-            )
+            let facts = ReportFacts::new(&planned.experiment, &planned.name);
+            (experiment_figures(planned, facts.facts()), facts)
         });
         {
             let mut csv = tables
@@ -265,17 +263,9 @@ pub(crate) fn write_outputs(
                             .map_err(table(eamadm_runs::names::TRAJECTORIES))?;
                     }
                 }
-                if let Some((experiment_figures, robot_behaviour)) = collected.as_mut() {
+                if let Some((experiment_figures, facts)) = collected.as_mut() {
                     experiment_figures.push(&run.record);
-                    if let Some(robot_behaviour) = robot_behaviour {
-                        robot_behaviour.push(&run.record);
-                    }
-                    if let Ok(rows) = scores.as_mut() {
-                        match eamadm::scores::final_score_of(&run.record, &planned.experiment) {
-                            Ok(row) => rows.push(row),
-                            Err(error) => scores = Err(error),
-                        }
-                    }
+                    facts.push(&run.record);
                 }
             }
             if let Some((curves, paths)) = csv {
@@ -300,17 +290,24 @@ pub(crate) fn write_outputs(
                 .commit()?;
             paths.commit()?;
         }
-        let mut experiment =
-            eamadm::paper::experiment_facts(&planned.name, &planned.title, planned.config());
-        experiment.reward_readings = eamadm::diagnosis::reward_readings(&planned.experiment);
-        experiment.margins = planned.experiment.task().equivalence_margins();
-        if let Some((experiment_figures, robot_behaviour)) = collected {
-            experiment.figures = experiment_figures.write(out)?;
-            if let Some(robot_behaviour) = robot_behaviour {
-                experiment.behaviour = robot_behaviour.finish();
+        if let Some((experiment_figures, gathered)) = collected {
+            let figures = write_figures(out, &planned.name, experiment_figures)?;
+            match gathered.finish() {
+                Ok((mut experiment, rows)) => {
+                    experiment.figures = figures;
+                    experiment.tables_written = true;
+                    facts.push(experiment);
+                    if let Ok(all) = scores.as_mut() {
+                        all.extend(rows);
+                    }
+                }
+                Err(error) => {
+                    if scores.is_ok() {
+                        scores = Err(error);
+                    }
+                }
             }
         }
-        facts.push(experiment);
     }
     remove_legacy_files(store_out, experiments)?;
     if let Outputs::Everything { quick } = outputs {
@@ -318,7 +315,8 @@ pub(crate) fn write_outputs(
         let mut context = eamadm::paper::report_context(quick);
         context.experiments = facts;
         let options = context.claim_options().map_err(ClaimsReportError::from)?;
-        let mut verdicts = Verdicts::compute(scores, &options).map_err(ClaimsReportError::from)?;
+        let mut verdicts =
+            Verdicts::compute(scores, &options, &context).map_err(ClaimsReportError::from)?;
         let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);

@@ -22,9 +22,10 @@
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
 //! configs; [`reproduce`] drives a run: [`jobs`] lists and shards the runs, [`execute`] runs
 //! them (resuming by [`eamadm_runs::key`]'s keys from the [`eamadm_runs::store`], showing [`progress`]), [`finish`]
-//! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
+//! streams the store into the outputs: CSV, figures ([`outputs`], drawn by
+//! [`eamadm_present::figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
-//! and `REPORT.md` (whose text [`eamadm::report`] makes), [`sensitivity_report`] the readings'
+//! and `REPORT.md` (whose text [`eamadm_present::report`] makes), [`sensitivity_report`] the readings'
 //! `sensitivity.csv`, all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
@@ -42,13 +43,10 @@ mod execute;
 mod experiments;
 #[cfg(test)]
 mod figure_checks;
-mod figures;
 mod finish;
 mod fixtures;
 mod gc;
 mod jobs;
-#[cfg(test)]
-mod markdown;
 mod outputs;
 mod plan;
 mod progress;
@@ -57,8 +55,6 @@ mod reproduce;
 mod sensitivity_report;
 mod test_all;
 mod text_diff;
-#[cfg(test)]
-mod tidy;
 mod verify;
 mod wheel;
 

@@ -2,20 +2,22 @@
 //! `cargo xtask regen-fixtures` (and checked by `--check`):
 //!
 //! - between `<!-- generated:verdicts -->` and `<!-- /generated:verdicts -->`: the verdict table
-//!   as the run's `REPORT.md` opens, then the claims C1–C4 in a line each
-//!   ([`readme_verdicts`]);
+//!   of the run's `REPORT.md`, then the claims C1–C4 in a line each ([`readme_verdicts`]);
 //! - between `<!-- generated:answer -->` and `<!-- /generated:answer -->`: the answer, a
 //!   paragraph per task, exactly as the run's `REPORT.md` opens ([`readme_answer`]);
 //! - [`FIGURE`]: the run's `task1/steps.svg`, byte for byte.
 //!
-//! The text is made by [`eamadm::report`]; this module reads the run's files and splices.
+//! Both blocks are rendered by [`eamadm_present::report`] from the run's `findings.json`
+//! (what the report states, as data), never cut out of its text; this module reads the run's
+//! files and splices.
 //!
 //! The default run is made by this very binary (`reproduce-paper --out <temporary folder>`), so
 //! the README always shows what the code computes now.
 
 use std::path::Path;
 
-use eamadm::report::{readme_answer, readme_verdicts};
+use eamadm::findings::Findings;
+use eamadm_present::report::{readme_answer, readme_verdicts};
 
 /// The README, relative to the workspace root.
 pub(crate) const README: &str = "README.md";
@@ -27,8 +29,8 @@ const FIGURE_SOURCE: &str = "task1/steps.svg";
 /// What the README is made from: the default run's files.
 #[derive(Debug, Clone)]
 pub(crate) struct DefaultRun {
-    /// `REPORT.md`.
-    pub(crate) report: String,
+    /// `findings.json`.
+    pub(crate) findings: Findings,
     /// `task1/steps.svg`.
     pub(crate) figure: Vec<u8>,
 }
@@ -44,16 +46,18 @@ pub(crate) fn read_run(out: &Path) -> Result<DefaultRun, String> {
             String::from_utf8(bytes).map_err(|error| format!("{name} is not UTF-8: {error}"))
         })
     };
+    let findings = eamadm::output_names::FINDINGS;
     Ok(DefaultRun {
-        report: text("REPORT.md")?,
+        findings: Findings::from_json(&text(findings)?)
+            .map_err(|error| format!("{findings} of {}: {error}", out.display()))?,
         figure: read(FIGURE_SOURCE)?,
     })
 }
 
 /// The README with its generated parts replaced by those of `run`.
 pub(crate) fn generate(readme: &str, run: &DefaultRun) -> Result<String, String> {
-    let readme = splice(readme, "verdicts", &readme_verdicts(&run.report)?)?;
-    splice(&readme, "answer", &readme_answer(&run.report)?)
+    let readme = splice(readme, "verdicts", &readme_verdicts(&run.findings)?)?;
+    splice(&readme, "answer", &readme_answer(&run.findings)?)
 }
 
 /// `text` with the lines between `<!-- generated:NAME … -->` and `<!-- /generated:NAME -->`

@@ -1,6 +1,6 @@
 //! The readings of the paper in a run's outputs: the plan printout's line and
 //! `sensitivity.csv` (issue 20 item 4). The rows are computed by `eamadm::sensitivity` and the
-//! report's section on them is written by `eamadm::report`; this module only writes files.
+//! report's section on them is written by `eamadm_present::report`; this module only writes files.
 
 use std::path::Path;
 
@@ -208,7 +208,7 @@ mod tests {
         // Task I: C1–C3 under each of the five readings that change Task I.
         assert_eq!(csv.lines().count(), 1 + 3 * 5, "{csv}");
         assert!(csv.starts_with("claim,task,reading,method,base_verdict,verdict,change"));
-        assert!(report.contains("## Sensitivity to the readings of the paper"));
+        assert!(report.contains("### Sensitivity to the readings of the paper"));
         assert!(report.contains("`pretrain-double`"));
         assert_eq!((csv, report), run(2));
     }

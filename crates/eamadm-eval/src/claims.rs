@@ -258,7 +258,7 @@ impl Default for ClaimOptions {
 }
 
 /// The verdict on one claim × task × method under test.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
     /// Every testable comparison favours the method under test.
@@ -598,7 +598,7 @@ fn per_seed_flag(column: &str) -> fn(&FinalScore) -> bool {
 }
 
 /// How the reasons say that a seed has the per-seed property of `column`.
-pub(crate) fn per_seed_words(column: &str) -> &'static str {
+pub fn per_seed_words(column: &str) -> &'static str {
     if column == STABLE_REACHING {
         "reaches in every greedy evaluation of the second half"
     } else {
@@ -684,7 +684,7 @@ pub fn per_seed_tests(
 
 /// A per-seed test in words, e.g. "EA-MADM reaches on 3/20 seeds, softmax on 11/20; exact
 /// paired sign test, Holm p < 0.001".
-pub(crate) fn per_seed_reason(method: &str, test: &ReachingComparison) -> String {
+pub fn per_seed_reason(method: &str, test: &ReachingComparison) -> String {
     format!(
         "{} {} on {}/{n} seeds, {} on {}/{n}; exact paired sign test, Holm p {}",
         paper::method_title(method),

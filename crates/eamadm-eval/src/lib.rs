@@ -1,7 +1,7 @@
 //! The evaluation of EA-MADM runs: statistics over seeds, per-seed final scores, the paper's
 //! claims tested with a verdict each, the methods' behaviour, and the tidy tables that hold
 //! them. Pure: run records in ([`RunRecord`], the output of `eamadm`'s runner), numbers,
-//! verdicts and text out; no file is opened here (writers take any [`std::io::Write`]).
+//! verdicts and findings out; no file is opened here (writers take any [`std::io::Write`]).
 //!
 //! It depends on no crate of the workspace: the run record types ([`record`]), a method's
 //! [`Role`] and the paper's claims as data ([`paper_claims`]) live here, and `eamadm`
@@ -17,10 +17,14 @@
 //! | [`paper_claims`] | the paper's claims C1–C4 as data, metric directions, method titles |
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4, Fig. 13–15) and the seeds behind each point |
+//! | [`facts`] | what the report and figures know beyond the scores: the paper's tasks, the run's experiments, the readings |
 //! | [`columns`] | every column of `final-scores.csv` and `claims.csv` documented: the data package and its Markdown |
 //! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
+//! | [`findings`] | what the report states, as data (`findings.json`): verdicts, deciding comparisons, strongest controls, collapses, equalities, the diagnosis |
+//! | [`verdicts`] | every verdict of a run: against the competitors, the strongest control, without collapses, under the readings |
+//! | [`rounding`] | numbers as text, rounded to the digits they support |
 //!
 //! The paper's equations this crate evaluates against: the claims of Sec. VI.A (Fig. 7, 8,
 //! 10, 11: steps and cumulative reward per episode, their fluctuation) and Sec. VI.B (Fig.
@@ -49,16 +53,19 @@
 pub mod behaviour;
 pub mod claims;
 pub mod columns;
+pub mod facts;
+pub mod findings;
 pub mod paper_claims;
 pub mod reaching;
 pub mod record;
-pub mod report;
 pub mod results;
 mod role;
+pub mod rounding;
 pub mod scores;
 pub mod sensitivity;
 pub mod stats;
 pub mod summary;
+pub mod verdicts;
 
 pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour, behaviour};
 pub use record::{

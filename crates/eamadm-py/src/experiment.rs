@@ -176,10 +176,11 @@ struct RunArguments {
 /// ([`shortening_of`]; `quick` also runs `min(3, config seeds)` seeds unless seeds are given,
 /// as `--quick` does), on `threads` threads (default rayon's). `progress`, if given, is called
 /// with `(done, total)` after each finished run. Returns `{"curves": columns, "final_scores":
-/// text, "report_input": (facts, scores)}`: one row per (run, episode) with the columns of the
-/// Rust runner's `curves.csv.gz` (numpy arrays; a column with blank cells is `float64` with
-/// NaN, text columns are lists), `final-scores.csv` of the runs as the main job writes it, and
-/// what `report_of_runs` needs of these runs.
+/// text, "report_input": (facts, scores), "figure_files": [(path, svg)]}`: one row per (run,
+/// episode) with the columns of the Rust runner's `curves.csv.gz` (numpy arrays; a column with
+/// blank cells is `float64` with NaN, text columns are lists), `final-scores.csv` of the runs as
+/// the main job writes it, what `report_of_runs` needs of these runs, and their figures as the
+/// main job draws them.
 #[pyfunction]
 #[expect(
     clippy::needless_pass_by_value,
@@ -333,10 +334,9 @@ fn run<'py>(
     let result = PyDict::new(py);
     result.set_item("curves", curve_columns(py, &records)?)?;
     result.set_item("final_scores", final_scores_csv(&records, &experiment)?)?;
-    result.set_item(
-        "report_input",
-        crate::report::report_input(&experiment, &records, seeds.len())?,
-    )?;
+    let (report_input, figure_files) = crate::report::report_input(&experiment, &records)?;
+    result.set_item("report_input", report_input)?;
+    result.set_item("figure_files", figure_files)?;
     Ok(result)
 }
 

@@ -26,6 +26,7 @@
 
 mod error;
 mod experiment;
+mod figures;
 mod maze;
 mod outputs;
 mod report;
@@ -60,5 +61,6 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(outputs::data_package_json, module)?)?;
     module.add_function(wrap_pyfunction!(report::report_of_folder, module)?)?;
     module.add_function(wrap_pyfunction!(report::report_of_runs, module)?)?;
+    module.add_function(wrap_pyfunction!(figures::figures_of_folder, module)?)?;
     Ok(())
 }

@@ -1,8 +1,8 @@
-//! `REPORT.md` from Python, made by the text the main job writes (`eamadm::report`), never
+//! `REPORT.md` from Python, made by the text the main job writes (`eamadm_present::report`), never
 //! re-derived here: for an output folder, from its `final-scores.csv` and `report-context.toml`
 //! (the report's context, figures and robot behaviour included, as the main job wrote it); for
 //! runs of [`run_config`](crate::experiment::run_config), from the scores and facts computed
-//! beside them ([`report_input`]), without figures.
+//! beside them ([`report_input`]), with the figures drawn of the same runs.
 //!
 //! A report of runs does not open with the main job's "Made by `cargo xtask reproduce-paper`
 //! … rerun the command" (no such command made it): its opening paragraph is the caller's
@@ -10,11 +10,11 @@
 
 use std::path::{Path, PathBuf};
 
+use eamadm::facts::{ExperimentFacts, ReportContext};
 use eamadm::output_names::{FINAL_SCORES, REPORT, REPORT_CONTEXT, SENSITIVITY};
-use eamadm::paper::PaperTask;
-use eamadm::report::{ExperimentFacts, Verdicts};
 use eamadm::scores::FinalScore;
-use eamadm::{BehaviourAccumulator, Experiment, RunRecord, TaskConfig};
+use eamadm::verdicts::Verdicts;
+use eamadm::{Experiment, RunRecord};
 use pyo3::prelude::*;
 
 use crate::error::{guard, not_found, value_error};
@@ -34,38 +34,34 @@ const CLI_OPENING: &str = "Made by `python -m eamadm reproduce`{quick}. Do not e
 const QUICK_NOTE: &str =
     " --quick (a smoke run: few seeds and episodes; these numbers mean little)";
 
+/// An experiment's facts (TOML) and its runs' `final-scores.csv` rows.
+pub(crate) type ReportInput = (String, String);
+
 /// What a report needs of one experiment's runs, as text Python carries opaquely: the
-/// experiment's facts (TOML) and its runs' `final-scores.csv` rows.
+/// experiment's facts (TOML) and its runs' `final-scores.csv` rows, both made by
+/// [`Experiment::report_facts`], the main job's own builder (the robot's reward diagnosis
+/// included); and the figures of the runs, drawn by the main job's code, as `[(path, SVG
+/// text)]` (paths `<experiment>/<file>.svg`, which the facts' figures and the report name).
 pub(crate) fn report_input(
     experiment: &Experiment,
     records: &[RunRecord],
-    seeds: usize,
-) -> PyResult<(String, String)> {
-    let config = experiment.config();
-    let title = PaperTask::from_name(&config.name)
-        .map_or_else(|| config.name.clone(), |task| task.title().to_owned());
-    let mut facts = eamadm::paper::experiment_facts(&config.name, &title, config);
-    facts.margins = experiment.task().equivalence_margins();
-    // The seeds actually run (`seeds=` may differ from the config's count).
-    facts.seeds = u32::try_from(seeds).map_err(|error| value_error("seeds", error))?;
-    if matches!(config.task, TaskConfig::Robot { .. }) {
-        let mut behaviour = BehaviourAccumulator::default();
-        for record in records {
-            behaviour.push(record);
-        }
-        facts.behaviour = behaviour.finish();
-    }
-    let scores = records
-        .iter()
-        .map(|record| eamadm::scores::final_score_of(record, experiment))
-        .collect::<Result<Vec<FinalScore>, _>>()
+) -> PyResult<(ReportInput, Vec<(String, String)>)> {
+    let (mut facts, scores) = experiment
+        .report_facts(records)
         .map_err(|error| value_error("config", error))?;
+    let drawing = crate::figures::draw(&facts, experiment.task(), records, "config")?;
+    facts.figures = drawing.figures;
+    let files = drawing
+        .files
+        .into_iter()
+        .map(|(file, svg)| (format!("{}/{file}", facts.name), svg))
+        .collect();
     let mut scores_csv = Vec::new();
     eamadm::scores::write_csv(&scores, &mut scores_csv)
         .map_err(|error| value_error("config", error))?;
     let facts = toml::to_string(&facts).map_err(|error| value_error("config", error))?;
     let scores_csv = String::from_utf8(scores_csv).map_err(|error| value_error("config", error))?;
-    Ok((facts, scores_csv))
+    Ok(((facts, scores_csv), files))
 }
 
 /// The text of `folder/name`; a `ValueError` naming `dir` and the file when it cannot be read.
@@ -249,17 +245,18 @@ fn with_opening(report: &str, opening: &str) -> PyResult<String> {
 /// The report, `claims.csv` and `final-scores.csv` of `scores` in `context`, as the main job
 /// writes them (the verdicts judged with the context's margins, as the main job's).
 fn render(
-    context: &eamadm::report::ReportContext,
+    context: &ReportContext,
     scores: Vec<FinalScore>,
     sensitivity: Vec<eamadm::sensitivity::SensitivityRow>,
     argument: &str,
 ) -> PyResult<(String, String, String)> {
     let error = |error: &dyn std::fmt::Display| value_error(argument, error);
     let options = context.claim_options().map_err(|e| error(&e))?;
-    let verdicts = Verdicts::compute(scores, &options)
+    let verdicts = Verdicts::compute(scores, &options, context)
         .map_err(|e| error(&e))?
         .with_sensitivity(sensitivity);
-    let report = eamadm::report::render(context, &verdicts).map_err(|e| error(&e))?;
+    let findings = eamadm::findings::Findings::of(context, &verdicts);
+    let report = eamadm_present::report::render(context, &verdicts, &findings);
     let claims = verdicts.claims_csv().map_err(|e| error(&e))?;
     let scores = verdicts.scores_csv().map_err(|e| error(&e))?;
     Ok((report, claims, scores))

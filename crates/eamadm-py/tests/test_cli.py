@@ -1,5 +1,6 @@
 """``python -m eamadm``: the main job's commands from the package."""
 
+import re
 import subprocess
 import sys
 
@@ -51,6 +52,27 @@ def test_reproduce_writes_the_main_jobs_tables_byte_for_byte(both_quick_task1):
     report = (python / "REPORT.md").read_text(encoding="utf-8")
     assert report.splitlines()[2].startswith("Made by `python -m eamadm reproduce` --quick")
     assert "cargo xtask reproduce-paper`" not in report.splitlines()[2]
+    # The figures the report links are written beside it, drawn by the main job's code from
+    # the same runs: the main job's own files.
+    linked = re.findall(r"\]\((task1/[^)]+\.svg)\)", report)
+    assert "task1/steps.svg" in linked
+    for path in linked:
+        assert (python / path).read_text(encoding="utf-8") == (rust / path).read_text(encoding="utf-8"), path
+
+
+def test_figures_draws_the_main_jobs_folder_again(both_quick_task1, tmp_path):
+    rust, python = both_quick_task1
+    done = python_m("figures", str(rust), "--out", str(tmp_path / "drawn"))
+    assert done.returncode == 0, done.stderr
+    on_disk = sorted(p.relative_to(rust).as_posix() for p in rust.rglob("*.svg"))
+    assert on_disk and on_disk == sorted(
+        p.relative_to(tmp_path / "drawn").as_posix() for p in (tmp_path / "drawn").rglob("*.svg")
+    )
+    for path in on_disk:
+        assert (tmp_path / "drawn" / path).read_bytes() == (rust / path).read_bytes(), path
+    # A folder of `reproduce` keeps no runs to draw from: it says so.
+    done = python_m("figures", str(python))
+    assert done.returncode == 1 and "has no run store (runs/)" in done.stderr, done.stderr
 
 
 def test_report_of_the_reproduced_folder_is_its_report(both_quick_task1):
@@ -71,7 +93,8 @@ def test_report_and_figures_fail_clearly(tmp_path):
     done = python_m("report", str(tmp_path / "missing"))
     assert done.returncode == 1 and done.stderr.startswith("error: dir: ")
     done = python_m("figures", str(tmp_path))
-    if hasattr(eamadm, "figures"):
-        pytest.skip("this version draws figures (eamadm.figures exists)")
-    assert done.returncode == 1 and "eamadm.figures" in done.stderr
+    assert done.returncode == 1 and done.stderr.startswith("error: dir: "), done.stderr
+    assert "no run store" in done.stderr
+    done = python_m("figures", str(tmp_path / "missing"))
+    assert done.returncode == 1 and done.stderr.startswith("error: dir: "), done.stderr
     assert python_m("reproduce").returncode == 2  # usage: DIR is required

@@ -45,21 +45,41 @@ def test_a_changed_score_changes_the_report(quick_folder, tmp_path):
     assert report.markdown.startswith("# EA-MADM reproduction report")
 
 
-def test_report_of_runs_has_no_figure_links():
+def test_report_of_runs_draws_its_figures_and_saves_them(tmp_path):
     config = eamadm.paper_config("task1", as_dict=True)
     config["task"]["step_cap"] = 300
     results = eamadm.run(config, episodes=6, seeds=2, methods=["ea-madm", "epsilon-greedy"])
     curves, finals = results  # still a pair
     report = eamadm.report(results, quick=True)
     assert "--quick" in report.markdown
-    assert ".svg" not in report.markdown and "curves.csv.gz" not in report.markdown
-    assert "No figures or tables were written for `task1`" in report.markdown
+    # The figures are drawn by the main job's code and linked; there are no tables.
+    assert "![steps](task1/steps.svg)" in report.markdown
+    assert report.figures["task1/steps.svg"].startswith("<svg")
+    assert report.figures == eamadm.figures(results)
+    assert "curves.csv.gz" not in report.markdown
+    assert "No tables were written for `task1`" in report.markdown
     # It opens with what made it, not with the main job's "rerun the command".
     opening = report.markdown.split("\n\n")[1]
     assert opening.startswith("Made by `eamadm.report` from runs of `eamadm.run` in Python --quick")
     assert "cargo xtask" not in opening and "rerun" not in opening
     assert set(report.verdicts["method"]) <= {"ea-madm", "epsilon-greedy"}
     assert report.scores_csv.count("\ntask1,") == 4
+    report.save(tmp_path / "saved")
+    assert (tmp_path / "saved" / "REPORT.md").read_text(encoding="utf-8") == report.markdown
+    assert (tmp_path / "saved" / "task1" / "steps.svg").read_text(encoding="utf-8") == report.figures[
+        "task1/steps.svg"
+    ]
+
+
+def test_report_of_robot_runs_has_the_reward_diagnosis():
+    # The facts of a report of runs are gathered by the main job's own builder, so a robot's
+    # report explains with its sub-task rewards why EA-MADM does not reach (it used to lack
+    # the diagnosis).
+    config = eamadm.paper_config("robot", as_dict=True)
+    results = eamadm.run(config, episodes=3, seeds=1, methods=["ea-madm", "softmax"])
+    report = eamadm.report(results)
+    assert "The diagnosis: each sub-task's reward definition values" in report.markdown
+    assert "paper (Eq. 6–8)" in report.markdown
 
 
 def test_report_errors_name_the_argument(tmp_path):

@@ -12,8 +12,8 @@ use serde::Serialize;
 use wmr_model::{ReferenceEpisode, ReferenceValues, SUBTASK_COUNT, SUBTASK_NAMES, SubtaskRepairs};
 
 use crate::config::{CompetitorSignal, Method};
+use crate::facts::{RewardReading, SubtaskReference};
 use crate::record::RunRecord;
-use crate::report::{RewardReading, SubtaskReference};
 use crate::runner::Experiment;
 use crate::task::Task;
 

@@ -16,7 +16,6 @@
 //! | [`wmr_model`] | the wheeled robot and its scenario (Sec. III, VI.B) |
 //! | [`config`] | experiment configs in TOML |
 //! | [`paper`] | the paper's presets (Table 1 and 2), methods, titles, reported numbers, claims C1–C4 |
-//! | [`theme`] | one colour and dash per method (Okabe–Ito; paper solid, ablations dashed, controls dotted) for every figure |
 //! | [`pretrain`], [`prior`] | sub-task pre-training and the sub-tasks' stored experience (Fig. 5) |
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
 //! | [`runner`], [`record`] | runs as pure functions of (config, method, seed), in parallel |
@@ -33,6 +32,7 @@
 //! | [`margins`] | each task's equivalence margins, derived from its rewards and control period |
 //! | [`family`] | the maze family: held-out layouts with structure (perfect mazes, rooms, traps) as experiments, and `layouts.csv` |
 //! | [`tuning`] | the same number of hyperparameter trials per method from stated ranges, on tuning seeds apart from the held-out ones, and `tuning.csv` |
+//! | [`report_facts`] | what a run's report needs of an experiment (its facts and final scores), gathered run by run |
 //!
 //! # A first experiment
 //!
@@ -182,8 +182,8 @@ pub use wmr_model;
 pub use eamadm_eval;
 // The evaluation lives in `eamadm-eval`; its modules keep their paths here.
 pub use eamadm_eval::{
-    behaviour, claims, columns, reaching, record, report, results, scores, sensitivity, stats,
-    summary,
+    behaviour, claims, columns, facts, findings, reaching, record, results, rounding, scores,
+    sensitivity, stats, summary, verdicts,
 };
 
 pub mod agent;
@@ -197,12 +197,12 @@ pub mod output_names;
 pub mod paper;
 pub mod pretrain;
 pub mod prior;
+pub mod report_facts;
 mod rng;
 pub mod runner;
 pub mod shortening;
 pub mod signal;
 pub mod task;
-pub mod theme;
 pub mod tuning;
 
 pub use agent::{EaMadmPolicy, PolicyError};
@@ -223,6 +223,7 @@ pub use record::{
     AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,
     TrajectoryRecord,
 };
+pub use report_facts::ReportFacts;
 pub use runner::{
     Experiment, NoPretrainingCache, PretrainingCache, SharedPretraining, run, run_all,
 };

@@ -30,7 +30,7 @@
 //! ```
 
 use crate::claims::Margin;
-use crate::report::format::{decimals_for, format_fixed};
+use crate::rounding::{decimals_for, format_fixed};
 use crate::scores::REACHING_EPISODES;
 use crate::task::{Task, TaskKind};
 use crate::wmr_model::TaskReward;

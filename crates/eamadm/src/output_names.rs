@@ -38,10 +38,15 @@ pub const DATA_PACKAGE: &str = "datapackage.json";
 /// one row per claim × task × reading, holds or flips.
 pub const SENSITIVITY: &str = "sensitivity.csv";
 /// What `REPORT.md` was rendered from beyond `final-scores.csv` (the run's
-/// `eamadm_eval::report::ReportContext` as TOML, whose floats read back exactly: tasks, experiments, figures with their
+/// `eamadm_eval::facts::ReportContext` as TOML, whose floats read back exactly: tasks, experiments, figures with their
 /// captions, the robot's behaviour), so the report can be rendered again from the folder
 /// alone, byte for byte (the Python package's `eamadm.report(dir)` does).
 pub const REPORT_CONTEXT: &str = "report-context.toml";
+/// What `REPORT.md` states, as data (`eamadm_eval::findings::Findings` as JSON): per task the
+/// verdicts with their deciding comparisons, the strongest controls, collapses,
+/// re-judgements, equalities and the diagnosis; the README's generated blocks are rendered
+/// from it.
+pub const FINDINGS: &str = "findings.json";
 /// Every record in one JSON file, written by earlier versions (removed when found).
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
@@ -63,7 +68,7 @@ pub const SET_ASIDE: &str = ".set-aside";
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 8] = [
+pub const TOP_LEVEL: [&str; 9] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -72,6 +77,7 @@ pub const TOP_LEVEL: [&str; 8] = [
     DATA_PACKAGE,
     SENSITIVITY,
     REPORT_CONTEXT,
+    FINDINGS,
 ];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.

@@ -26,10 +26,11 @@ use reward_std::Standardisation;
 use serde::Serialize;
 use wmr_model::{Action, SubtaskRepairs};
 
-use crate::output_names;
-use crate::report::{
-    ExperimentFacts, Figures, FinalEpsilon, PaperTaskFacts, ReadingFacts, ReportContext,
+use crate::facts::{
+    ControlFamily, DeviationFacts, ExperimentFacts, Figures, FinalEpsilon, MethodFacts,
+    PaperFigures, PaperTaskFacts, ReadingFacts, ReportContext,
 };
+use crate::output_names;
 
 use ea_tree::EaTreeConfig;
 
@@ -107,6 +108,26 @@ impl PaperTask {
         }
     }
 
+    /// The paper's figures this task's figures are the analogues of (Fig. 6–8 for Task I,
+    /// 9–11 for Task II; the robot's Fig. 13–15 are named by their own figures).
+    #[must_use]
+    pub fn figures(self) -> PaperFigures {
+        let figure = |number: u8| Some(format!("Fig. {number}"));
+        match self {
+            Self::Task1 => PaperFigures {
+                trajectories: figure(6),
+                steps: figure(7),
+                task_return: figure(8),
+            },
+            Self::Task2 => PaperFigures {
+                trajectories: figure(9),
+                steps: figure(10),
+                task_return: figure(11),
+            },
+            Self::Robot | Self::RobotPaperState => PaperFigures::default(),
+        }
+    }
+
     /// What the paper reports for EA-MADM on this task; `None` for the robot (no numbers).
     #[must_use]
     pub fn reported(self) -> Option<ReportedNumbers> {
@@ -126,7 +147,7 @@ impl PaperTask {
 
 /// What `REPORT.md` needs to know about the paper's tasks and the robot (titles, the numbers
 /// the paper reports, the robot's action names, the output tables' file names) for
-/// [`report::render`](crate::report::render), with no experiment yet: the caller adds one
+/// `eamadm_present::report::render`, with no experiment yet: the caller adds one
 /// [`experiment_facts`] per experiment run, with its figures and behaviour.
 #[must_use]
 pub fn report_context(quick: bool) -> ReportContext {
@@ -159,7 +180,150 @@ pub fn report_context(quick: bool) -> ReportContext {
                 methods: reading.methods().iter().map(|m| (*m).to_owned()).collect(),
             })
             .collect(),
+        deviations: deviations(),
     }
+}
+
+/// How this reproduction differs from the paper wherever the difference could change a
+/// verdict, each with where `docs/paper-notes.md` records it and the readings, ablations or
+/// controls that run the other choice: what the report's first screen lists.
+#[must_use]
+pub fn deviations() -> Vec<DeviationFacts> {
+    let strings = |items: &[&str]| items.iter().map(|s| (*s).to_owned()).collect::<Vec<_>>();
+    let deviation = |what: &str,
+                     ours: &str,
+                     notes: &str,
+                     tasks: &[&str],
+                     readings: &[&str],
+                     methods: &[&str]| DeviationFacts {
+        what: what.to_owned(),
+        ours: ours.to_owned(),
+        notes: notes.to_owned(),
+        tasks: strings(tasks),
+        readings: strings(readings),
+        methods: strings(methods),
+    };
+    let robots = ["robot", "robot-paper-state"];
+    vec![
+        deviation(
+            "Generated mazes",
+            "the paper does not publish its maze layouts; ours are generated with its sizes and \
+             obstacle counts, so our steps and returns are not its numbers",
+            "§7",
+            &["task1", "task2"],
+            &[],
+            &[],
+        ),
+        deviation(
+            "Task II's reward",
+            "we pay +10 at the target and −1 otherwise, as Sec. VI.A states, though it also \
+             calls Task II similar to Task I",
+            "§7, §10.3",
+            &["task2"],
+            &[Reading::Task2RewardAsTask1.name()],
+            &[],
+        ),
+        deviation(
+            "A 2D robot, not Webots",
+            "our own model of an e-puck-class robot with a range camera stands in for the \
+             paper's Webots simulation",
+            "§8",
+            &robots,
+            &[],
+            &[],
+        ),
+        deviation(
+            "The robot's task reward",
+            "the paper never defines it (the competitors learn from it); ours is Task I's: +1 \
+             closer, −1 otherwise, −100 for a hit, +100 for reaching, −10 for losing the target",
+            "§8",
+            &robots,
+            &[],
+            &[],
+        ),
+        deviation(
+            "The target's bearing in the robot's state",
+            "`robot` adds the target's position in the camera image (7 bins), without which no \
+             competitor learns; `robot-paper-state` keeps the paper's state",
+            "§8.1",
+            &robots,
+            &[],
+            &[],
+        ),
+        deviation(
+            "Robot settings chosen on the competitors",
+            "control period, step cap, reach radius, distance bins and 500 episodes were picked \
+             by a sweep of the three competitors alone, before any EA-MADM run was looked at",
+            "§8.5",
+            &robots,
+            &[],
+            &[],
+        ),
+        deviation(
+            "ε of ε-greedy",
+            "Table 1's ε = 0.95 is read as the start of the annealed schedules; fixed ε-greedy \
+             gets 0.1",
+            "§2",
+            &[],
+            &[Reading::EpsilonGreedy095.name()],
+            &[],
+        ),
+        deviation(
+            "Softmax's temperature",
+            "Table 1's temperatures 0.1 and 0.01 are read as the start and the floor of one \
+             schedule annealed by 0.95",
+            "§2, §10.3",
+            &[],
+            &[Reading::TemperatureFloor01.name()],
+            &[],
+        ),
+        deviation(
+            "Sub-task pre-training",
+            "the paper does not say how long the sub-tasks are trained; ours train 200 episodes \
+             each, and every step of it counts in EA-MADM's budget",
+            "§6",
+            &[],
+            &[Reading::PretrainHalf.name(), Reading::PretrainDouble.name()],
+            &[],
+        ),
+        deviation(
+            "Reward standardisation",
+            "Eq. 10–12 as printed give the source task 0 on every step; EA-MADM standardises \
+             each sub-task's reward against its own running statistics instead",
+            "§3",
+            &[],
+            &[],
+            &["ea-madm-literal"],
+        ),
+        deviation(
+            "The OWA support",
+            "Eq. 15 is undefined for equal values and negative for opposite signs; ours is \
+             max(0, xy) / (|x − y|² + 10⁻⁹)",
+            "§5",
+            &[],
+            &[],
+            &["ea-madm-distance", "ea-madm-uniform"],
+        ),
+        deviation(
+            "Tree thresholds and missing experience",
+            "the paper gives no thresholds; ours are τ = 1, where a tree answers as a table, and \
+             a sub-task without experience of an action abstains from its row",
+            "§4, §6",
+            &[],
+            &[],
+            &["ea-madm-table", "ea-madm-tau0.5", "ea-madm-tau0.33"],
+        ),
+        deviation(
+            "Many seeds and C3 on greedy evaluations",
+            "the paper shows single runs; we judge 20 seeds by interval estimates and tests, and \
+             C3's fluctuation on greedy evaluations, so that a seed stuck at the step cap cannot \
+             count as stable",
+            "§10.2, §10.2d",
+            &[],
+            &[],
+            &[],
+        ),
+    ]
 }
 
 /// `context` as the text of an output folder's [`output_names::REPORT_CONTEXT`]: TOML, whose
@@ -181,6 +345,13 @@ pub fn report_context_from_toml(text: &str) -> Result<ReportContext, toml::de::E
     toml::from_str(text)
 }
 
+/// The title of the experiment named `name`: the paper task's (`Task I`, …) when it is one,
+/// else the name itself.
+#[must_use]
+pub fn experiment_title(name: &str) -> String {
+    PaperTask::from_name(name).map_or_else(|| name.to_owned(), |task| task.title().to_owned())
+}
+
 /// The report's facts of one experiment (folder `name`, `title`, and from `config` its
 /// episodes, seeds and γ), with no figures, no behaviour and no reward readings yet (see
 /// [`diagnosis::reward_readings`](crate::diagnosis::reward_readings)).
@@ -197,6 +368,47 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         reward_readings: Vec::new(),
         final_epsilon: final_epsilon(config),
         margins: Vec::new(),
+        methods: config.methods.iter().map(method_facts).collect(),
+        paper_figures: PaperTask::from_name(name)
+            .map_or_else(PaperFigures::default, PaperTask::figures),
+        base_seed: config.base_seed,
+        tables_written: false,
+    }
+}
+
+/// What the report and the verdicts know of `spec` beyond its scores: its role, its kind and,
+/// for a control, what it matches or isolates (read off its config, never its label).
+#[must_use]
+pub fn method_facts(spec: &MethodSpec) -> MethodFacts {
+    let control = match &spec.method {
+        Method::SubtaskGreedy(alone) => Some(ControlFamily::SubtaskAlone {
+            subtask: alone.subtask,
+            learns: alone.learn,
+        }),
+        Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
+            if training.signal.needs_subtasks() {
+                Some(ControlFamily::RewardMatched)
+            } else if training.warmup_env_steps > 0 {
+                Some(ControlFamily::BudgetMatched)
+            } else {
+                None
+            }
+        }
+        _ => None,
+    };
+    let tree_threshold = match &spec.method {
+        Method::EaMadm(ea) => match ea.storage {
+            Storage::Tree(tree) => Some(tree.state_threshold),
+            Storage::Table => None,
+        },
+        _ => None,
+    };
+    MethodFacts {
+        label: spec.label.clone(),
+        role: spec.role,
+        kind: spec.method.kind_name().to_owned(),
+        control: control.filter(|_| spec.role == Role::Control),
+        tree_threshold,
     }
 }
 

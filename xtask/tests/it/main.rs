@@ -5,8 +5,10 @@ use std::path::Path;
 
 mod concurrent_store;
 mod kill_resume;
+mod markdown;
 mod slurm;
 mod store_faults;
+mod tidy;
 
 /// Every file under `folder`: relative path → bytes (the outputs two runs must share).
 pub(crate) fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {

@@ -8,6 +8,7 @@
 mod band;
 mod chains;
 mod claims;
+mod findings;
 mod hierarchical;
 mod margins;
 mod monte_carlo;

@@ -14,9 +14,10 @@ Ctrl-C; :func:`paper_config` returns the paper's presets. :func:`load_runs` read
 of an output folder of ``cargo xtask reproduce-paper`` and :func:`read_scores` its
 ``final-scores.csv`` and ``claims.csv``, typed by its ``datapackage.json``; :func:`report`
 renders ``REPORT.md`` (and its verdicts) of such a folder, byte for byte, or of :func:`run`'s
-results; :func:`rliable_scores` gives the scores in rliable's ``{method: runs × tasks}`` shape.
-``python -m eamadm reproduce|report|figures DIR`` runs the main job's commands without Rust.
-Everything is computed by the Rust crates; the numbers are bit-identical to
+results with their figures; :func:`figures` draws the main job's figures of either, with the
+main job's code; :func:`rliable_scores` gives the scores in rliable's ``{method: runs × tasks}``
+shape. ``python -m eamadm reproduce|report|figures DIR`` runs the main job's commands without
+Rust. Everything is computed by the Rust crates; the numbers are bit-identical to
 ``cargo xtask reproduce-paper``.
 
 Bad input raises Python's exceptions: ``TypeError`` for a value of the wrong type,
@@ -31,6 +32,7 @@ import gymnasium
 from eamadm import _native
 from eamadm.envs import MazeEnv, RobotEnv
 from eamadm.experiment import Config, Results, paper_config, run
+from eamadm.figures import figures
 from eamadm.outputs import Scores, data_package, load_runs, read_scores
 from eamadm.report import Report, report
 from eamadm.scores import rliable_scores
@@ -48,6 +50,7 @@ __all__ = [
     "Scores",
     "__version__",
     "data_package",
+    "figures",
     "load_runs",
     "paper_config",
     "read_scores",

@@ -3,14 +3,16 @@
 * ``python -m eamadm reproduce DIR [--quick] [--task NAME ...] [--seeds N] [--threads N]``:
   the main job's plan (the paper's presets, their methods in the main job's order) run with
   :func:`eamadm.run`, and written to ``DIR``: ``REPORT.md``, ``final-scores.csv``,
-  ``claims.csv``, ``datapackage.json`` and ``report-context.toml``. ``final-scores.csv`` and
+  ``claims.csv``, ``datapackage.json``, ``report-context.toml`` and the report's figures
+  (``<experiment>/<file>.svg``, drawn by the main job's code). ``final-scores.csv`` and
   ``claims.csv`` equal ``cargo xtask reproduce-paper``'s byte for byte for the same options;
-  the report has no figures, and no sensitivity to the paper's readings (the main job reruns
-  those), and says what made it.
+  the report has no sensitivity to the paper's readings (the main job reruns those), and says
+  what made it.
 * ``python -m eamadm report DIR [--out FILE]``: the ``REPORT.md`` of an output folder
   (:func:`eamadm.report`), printed or written to ``FILE``.
-* ``python -m eamadm figures DIR [--out OUT]``: the figures of an output folder, drawn by
-  ``eamadm.figures`` where this version of the package has it.
+* ``python -m eamadm figures DIR [--out OUT]``: the figures of an output folder of the main
+  job drawn again from its run store (:func:`eamadm.figures`), written into ``OUT`` (default
+  ``DIR``).
 
 Exit status: 0 on success, 1 on an error (its message on stderr), 2 on a usage error,
 130 on Ctrl-C.
@@ -23,7 +25,7 @@ import os
 import pathlib
 import sys
 import tempfile
-from typing import Any, Callable, List, Optional, Sequence
+from typing import List, Optional, Sequence
 
 import eamadm
 from eamadm import _native, experiment, outputs
@@ -91,7 +93,12 @@ def reproduce(arguments: argparse.Namespace) -> int:
     markdown, claims, scores, context = _native.report_of_runs(
         report_inputs(results), arguments.quick, True
     )
+    drawn = eamadm.figures(results)
     out.mkdir(parents=True, exist_ok=True)
+    # The figures before the report that links them.
+    for path, svg in drawn.items():
+        (out / path).parent.mkdir(parents=True, exist_ok=True)
+        _write_atomic(out / path, svg)
     for name, text in (
         ("final-scores.csv", scores),
         ("claims.csv", claims),
@@ -100,7 +107,10 @@ def reproduce(arguments: argparse.Namespace) -> int:
         ("REPORT.md", markdown),
     ):
         _write_atomic(out / name, text)
-    print(f"wrote {out / 'REPORT.md'} and its tables ({len(results)} experiments)")
+    print(
+        f"wrote {out / 'REPORT.md'}, its tables and {len(drawn)} figures "
+        f"({len(results)} experiments)"
+    )
     return 0
 
 
@@ -117,14 +127,9 @@ def show_report(arguments: argparse.Namespace) -> int:
 
 def figures(arguments: argparse.Namespace) -> int:
     """The ``figures`` command."""
-    draw: Optional[Callable[..., Any]] = getattr(eamadm, "figures", None)
-    if draw is None:
-        raise RuntimeError(
-            f"figures: this version of eamadm ({eamadm.__version__}) cannot draw figures "
-            "(it has no eamadm.figures); `cargo xtask reproduce-paper` draws them into its "
-            "output folder"
-        )
-    draw(arguments.dir, arguments.out if arguments.out is not None else arguments.dir)
+    out = arguments.out if arguments.out is not None else arguments.dir
+    drawn = eamadm.figures(arguments.dir, out)
+    print(f"drew {len(drawn)} figures into {out}")
     return 0
 
 
@@ -155,9 +160,9 @@ def parser() -> argparse.ArgumentParser:
         description=(
             "Runs the main job's plan (the paper's presets, their methods in its order) and "
             "writes REPORT.md, final-scores.csv, claims.csv, datapackage.json and "
-            "report-context.toml into DIR; the tables equal `cargo xtask reproduce-paper`'s "
-            "byte for byte for the same options. No figures and no readings' sensitivity "
-            "(the main job's)."
+            "report-context.toml and the report's figures into DIR; the tables equal "
+            "`cargo xtask reproduce-paper`'s byte for byte for the same options. No readings' "
+            "sensitivity (the main job's)."
         ),
     )
     run.add_argument("dir", metavar="DIR", help="the output folder (made if missing)")
@@ -186,10 +191,13 @@ def parser() -> argparse.ArgumentParser:
     show.set_defaults(handler=show_report)
     draw = commands.add_parser(
         "figures",
-        help="draw the figures of an output folder (needs eamadm.figures)",
-        description="Draws the figures of an output folder with eamadm.figures.",
+        help="draw the figures of an output folder of the main job again from its runs",
+        description=(
+            "Draws the figures of an output folder of `cargo xtask reproduce-paper` again from "
+            "its run store (eamadm.figures), byte for byte its own SVG files."
+        ),
     )
-    draw.add_argument("dir", metavar="DIR", help="an output folder of the main job")
+    draw.add_argument("dir", metavar="DIR", help="an output folder of the main job (with runs/)")
     draw.add_argument("--out", metavar="OUT", help="where to draw them (default: DIR)")
     draw.set_defaults(handler=figures)
     return top

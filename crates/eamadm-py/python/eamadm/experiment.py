@@ -228,6 +228,9 @@ class _RunResults(Results):
 
     #: Opaque to Python: handed back to the Rust report.
     report_input: Optional[Tuple[str, str]] = None
+    #: The runs' figures as the main job draws them: ``(path, SVG text)`` pairs, paths
+    #: ``<experiment>/<file>.svg`` (what :func:`eamadm.figures` returns for these results).
+    figure_files: Optional[List[Tuple[str, str]]] = None
 
 
 @overload
@@ -405,6 +408,7 @@ def run(
     fields = outputs.fields(outputs.data_package(), "final-scores")
     scores = outputs.typed_columns(columns["final_scores"], fields)
     report_input = columns["report_input"]
+    figure_files = columns["figure_files"]
     if dataframe:
         try:
             import pandas
@@ -413,7 +417,9 @@ def run(
         else:
             results = _RunResults(pandas.DataFrame(curves), outputs.as_frame(scores, fields))
             results.report_input = report_input
+            results.figure_files = figure_files
             return results
     results = _RunResults(curves, outputs.as_arrays(scores, fields))
     results.report_input = report_input
+    results.figure_files = figure_files
     return results

@@ -5,7 +5,8 @@ nothing of it is re-derived in Python. Given an output folder of ``cargo xtask r
 it judges the claims again from the folder's ``final-scores.csv`` and renders them with the
 folder's ``report-context.toml`` (tasks, experiments, figures with captions, the robot's
 behaviour), so the text equals the folder's ``REPORT.md`` byte for byte. Given results of
-:func:`eamadm.run`, it renders the report of those runs, without figures (the report says so),
+:func:`eamadm.run`, it renders the report of those runs with their figures, drawn by the main
+job's code (:attr:`Report.figures`; :meth:`Report.save` writes the report and its figures),
 opening with what made it (``eamadm.report`` in Python, not the main job's command).
 """
 
@@ -14,9 +15,11 @@ from __future__ import annotations
 import csv
 import io
 import os
-from typing import Any, Iterable, List, NamedTuple, Tuple, Union
+from typing import Any, Dict, Iterable, List, NamedTuple, Tuple, Union
 
 from eamadm import _args, _native, outputs
+from eamadm.figures import figures as _draw
+from eamadm.figures import write as _write
 from eamadm.experiment import Results
 
 
@@ -33,6 +36,46 @@ class Report(NamedTuple):
     claims_csv: str
     #: The text of ``final-scores.csv`` (one row per task, method and seed).
     scores_csv: str
+    #: The figures the report shows, ``{path: SVG text}`` (paths relative to the report,
+    #: ``<experiment>/<file>.svg``): drawn with the runs of :func:`eamadm.run`; empty for an
+    #: output folder, which holds its own (:func:`eamadm.figures` draws them again).
+    figures: Dict[str, str] = {}
+
+    def save(self, out: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes ``REPORT.md`` and the report's figures into the folder ``out`` (made when
+        missing), so that its links resolve."""
+        import pathlib
+
+        folder = pathlib.Path(out)
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "REPORT.md").write_text(self.markdown, encoding="utf-8")
+        _write(self.figures, folder)
+
+
+def results_list(results: object) -> List[Results]:
+    """One :class:`Results` or an iterable of them, checked, as a list.
+
+    Raises:
+        TypeError: ``results`` is not what :func:`eamadm.run` returns, nor a list of it.
+        ValueError: the list is empty.
+    """
+    items = [results] if isinstance(results, Results) else results
+    if isinstance(items, (str, bytes)) or not isinstance(items, Iterable):
+        raise TypeError(
+            "results: expected an output folder, a Results of eamadm.run or a list of them, "
+            f"got {_args.type_name(results)}"
+        )
+    runs: List[Results] = []
+    for item in items:
+        if not isinstance(item, Results) or getattr(item, "report_input", None) is None:
+            raise TypeError(
+                "results: expected what eamadm.run returns (a Results), got "
+                f"{_args.type_name(item)}"
+            )
+        runs.append(item)
+    if not runs:
+        raise ValueError("results: expected the results of at least one run")
+    return runs
 
 
 def report_inputs(results: object) -> List[Tuple[str, str]]:
@@ -42,24 +85,7 @@ def report_inputs(results: object) -> List[Tuple[str, str]]:
         TypeError: ``results`` is not what :func:`eamadm.run` returns, nor a list of it.
         ValueError: the list is empty.
     """
-    items = [results] if isinstance(results, Results) else results
-    if isinstance(items, (str, bytes)) or not hasattr(items, "__iter__"):
-        raise TypeError(
-            "results: expected an output folder, a Results of eamadm.run or a list of them, "
-            f"got {_args.type_name(results)}"
-        )
-    inputs = []
-    for item in items:
-        report_input = getattr(item, "report_input", None)
-        if not isinstance(item, Results) or report_input is None:
-            raise TypeError(
-                "results: expected what eamadm.run returns (a Results), got "
-                f"{_args.type_name(item)}"
-            )
-        inputs.append(report_input)
-    if not inputs:
-        raise ValueError("results: expected the results of at least one run")
-    return inputs
+    return [run.report_input for run in results_list(results)]
 
 
 def report(
@@ -80,8 +106,9 @@ def report(
             a list of dicts).
 
     Returns:
-        a :class:`Report`: the Markdown text, the verdicts, and the ``claims.csv`` and
-        ``final-scores.csv`` texts.
+        a :class:`Report`: the Markdown text, the verdicts, the ``claims.csv`` and
+        ``final-scores.csv`` texts, and for runs their figures (:meth:`Report.save` writes the
+        report beside them).
 
     Raises:
         TypeError: ``source`` is neither a path nor results of :func:`eamadm.run`.
@@ -92,12 +119,17 @@ def report(
     """
     quick = _args.check_bool(quick, "quick")
     dataframe = _args.check_bool(dataframe, "dataframe")
+    figures: Dict[str, str] = {}
     if isinstance(source, (str, os.PathLike)):
         if quick:
             raise ValueError("quick: a folder's report knows whether it was a --quick run")
         markdown, claims, scores = _native.report_of_folder(os.fspath(outputs.folder(source)))
     else:
-        markdown, claims, scores, _context = _native.report_of_runs(report_inputs(source), quick)
+        runs = results_list(source)
+        markdown, claims, scores, _context = _native.report_of_runs(
+            [run.report_input for run in runs], quick
+        )
+        figures = _draw(runs)
     verdicts: Any = None
     if dataframe:
         try:
@@ -108,4 +140,4 @@ def report(
             verdicts = pandas.read_csv(io.StringIO(claims))
     if verdicts is None:
         verdicts = list(csv.DictReader(io.StringIO(claims)))
-    return Report(markdown, verdicts, claims, scores)
+    return Report(markdown, verdicts, claims, scores, figures)

@@ -78,7 +78,7 @@ fn the_report_context_round_trips_through_its_toml() {
     let text = eamadm::paper::report_context_toml(&context).unwrap();
     let back = eamadm::paper::report_context_from_toml(&text).unwrap();
     assert_eq!(back, context);
-    let bits = |c: &eamadm::report::ReportContext| -> Vec<u64> {
+    let bits = |c: &eamadm::facts::ReportContext| -> Vec<u64> {
         c.experiments[0]
             .behaviour
             .iter()

@@ -1,6 +1,6 @@
 //! SVG line charts of per-episode curves over seeds, drawn with the estimator the tables use:
 //! for each method the **interquartile mean** (IQM) over seeds as a line and the 95 %
-//! percentile-bootstrap interval of that IQM as a translucent band ([`eamadm::stats`], the
+//! percentile-bootstrap interval of that IQM as a translucent band ([`eamadm_eval::stats`], the
 //! functions behind `REPORT.md`'s numbers). A bootstrap interval of a statistic of the seeds'
 //! values lies between the smallest and largest value, so a band can never leave its metric's
 //! range (no negative steps, no success share above 1).
@@ -10,10 +10,10 @@
 //! zoomed panel of the final episodes (so the end of training is readable when the first
 //! episodes span orders of magnitude more), dashed reference lines (the optimum).
 //!
-//! Every method has one look ([`eamadm::theme`]): its colour and dash are the same in every
+//! Every method has one look ([`crate::theme`]): its colour and dash are the same in every
 //! figure. EA-MADM is drawn last, on top. Titles, legends and captions are wrapped to the
 //! canvas with a conservative estimate of the text's width ([`text_width`]), and the figure
-//! checks (`figure_checks`) verify it on every figure of a run.
+//! checks ([`crate::checks`]) verify it on every figure of a run.
 //!
 //! The SVG is written directly (no plotting library): it needs `stroke-dasharray` for the
 //! methods' dashes and carries, for the checks, the data coordinates of each plot
@@ -21,31 +21,36 @@
 //! tenth of a pixel and nothing depends on time or the machine, so equal input gives equal
 //! bytes.
 //!
-//! ```ignore
+//! ```
+//! use eamadm_eval::Role;
+//! use eamadm_present::chart::{LineChart, Series};
+//! use eamadm_present::theme::method_style;
+//!
+//! let style = method_style("ea-madm", Role::Paper);
 //! let mut ea_madm = Series::new("ea-madm", "EA-MADM", style, 5);
-//! for run in ea_madm_runs {
-//!     ea_madm.push(&steps_of(run));
+//! for seed in 0..4 {
+//!     let steps: Vec<f64> = (0..30).map(|e| 200.0 / f64::from(e + 1) + f64::from(seed)).collect();
+//!     ea_madm.push(&steps);
 //! }
-//! LineChart::new("Task I: steps per episode", "episode", "steps per episode")
+//! let svg = LineChart::new("Task I: steps per episode", "episode", "steps per episode")
 //!     .with_smoothing(5)
 //!     .with_series(ea_madm)
 //!     .with_reference_line("BFS optimum = 58", 58.0)
-//!     .write_svg(&out.join("task1/steps.svg"))?;
+//!     .render_svg()?;
+//! assert!(svg.starts_with("<svg") && svg.contains("data-method=\"ea-madm\""));
+//! # Ok::<(), eamadm_present::chart::FigureError>(())
 //! ```
 
 use std::fmt::Write as _;
-use std::path::Path;
 
-use eamadm::stats::{self, Bootstrap, Statistic};
-use eamadm::summary::{self, StatsError};
-use eamadm::theme::MethodStyle;
+use crate::theme::MethodStyle;
+use eamadm_eval::stats::{self, Bootstrap, Statistic};
+use eamadm_eval::summary::{self, StatsError};
 use thiserror::Error;
-
-use crate::atomic::{AtomicWriteError, write_atomic};
 
 /// Bad chart input, or a failure to write it.
 #[derive(Debug, Error)]
-pub(crate) enum FigureError {
+pub enum FigureError {
     /// A chart with no series.
     #[error("chart {title:?} has no series")]
     NoSeries {
@@ -102,20 +107,17 @@ pub(crate) enum FigureError {
         /// Requested width in pixels.
         width: u32,
     },
-    /// Writing the SVG file failed.
-    #[error(transparent)]
-    Write(#[from] AtomicWriteError),
 }
 
 /// Narrowest accepted canvas.
 const MIN_WIDTH: u32 = 600;
 /// Bootstrap resamples of each band point: enough for a figure's 95 % band (its ends move by
 /// well under a line's width between seeds of the bootstrap).
-pub(crate) const FIGURE_RESAMPLES: u32 = 1_000;
+pub const FIGURE_RESAMPLES: u32 = 1_000;
 /// The most episodes per series at which the band is bootstrapped; on longer curves it is
 /// computed every `⌈episodes / MAX_BAND_POINTS⌉` episodes (and at the last) and the caption
 /// says so. The curves are moving averages, so the band changes slowly between those points.
-pub(crate) const MAX_BAND_POINTS: usize = 100;
+pub const MAX_BAND_POINTS: usize = 100;
 /// Seed of the bootstrap of every band point (the episode index is added).
 const BAND_SEED: u64 = 0x0F16_0BAD;
 
@@ -126,13 +128,13 @@ const BAND_SEED: u64 = 0x0F16_0BAD;
 /// and the curves after it are ignored; drawing the series then fails naming it, the seed (its
 /// position among the curves pushed) and the episode. A series that is never drawn never fails.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Series {
+pub struct Series {
     /// The method's label (`data-method` in the SVG, for the checks).
-    pub(crate) method: String,
+    pub method: String,
     /// Legend label, e.g. `"EA-MADM"`.
-    pub(crate) name: String,
+    pub name: String,
     /// The method's colour and dash.
-    pub(crate) style: MethodStyle,
+    pub style: MethodStyle,
     /// Trailing moving-average window each curve is smoothed with (1: none).
     smoothing_window: usize,
     /// Curves pushed, failed ones included.
@@ -144,7 +146,28 @@ pub(crate) struct Series {
     /// The first bad curve's error.
     failure: Option<StatsError>,
     /// Whether the chart draws a thin line per seed.
-    pub(crate) per_seed: bool,
+    pub per_seed: bool,
+    /// Whether the curves are 0/1 outcomes (reached the target or not): the line is then the
+    /// share pooled over seeds and the smoothing window, with its Wilson 95 % interval as the
+    /// band, never an IQM of 0s and 1s (which reads 0 while a quarter of the seeds succeed).
+    pub share: bool,
+    /// Whether it is drawn last, on top of the others (the paper's EA-MADM).
+    pub on_top: bool,
+    /// Per seed noted, the episode from which its run never reached the target again, if it
+    /// collapsed ([`Series::note_collapse`]); the collapse strip draws them.
+    collapses: Vec<Option<u64>>,
+    /// The methods of the series that draw exactly as this one and are drawn as it
+    /// (`data-also` in the SVG).
+    also: Vec<String>,
+}
+
+/// What a plot draws of the series: each one's line and band, the draw order, and each one's
+/// stroke width in that plot.
+#[derive(Clone, Copy)]
+struct Lines<'a> {
+    drawn: &'a [Drawn],
+    order: &'a [usize],
+    widths: &'a [f64],
 }
 
 /// What is drawn of a series: the IQM per episode and band points (episode index, low, high).
@@ -157,7 +180,7 @@ struct Drawn {
 impl Series {
     /// A series without curves of the method labelled `method`, shown as `name`, whose curves
     /// are smoothed over `smoothing_window` episodes (1 = none; it must be its chart's window).
-    pub(crate) fn new(
+    pub fn new(
         method: impl Into<String>,
         name: impl Into<String>,
         style: MethodStyle,
@@ -173,11 +196,64 @@ impl Series {
             at_cap: Vec::new(),
             failure: None,
             per_seed: false,
+            share: false,
+            on_top: false,
+            collapses: Vec::new(),
+            also: Vec::new(),
         }
     }
 
+    /// Notes the next seed's run outcome for the collapse strip: the episode from which it
+    /// never reached the target again when it collapsed, else `None`.
+    pub fn note_collapse(&mut self, episode: Option<u64>) {
+        self.collapses.push(episode);
+    }
+
+    /// The episodes the noted seeds collapsed from, in seed order, and the seeds noted.
+    #[must_use]
+    pub fn collapses(&self) -> (Vec<u64>, usize) {
+        (
+            self.collapses.iter().flatten().copied().collect(),
+            self.collapses.len(),
+        )
+    }
+
+    /// Whether every value of every curve is 0 (a chart of such series shows nothing).
+    #[must_use]
+    pub fn all_zero(&self) -> bool {
+        self.failure.is_none() && self.curves.iter().flatten().all(|v| *v == 0.0)
+    }
+
+    /// Whether `other` draws exactly what this series draws: the same curves, seeds at the
+    /// cap, collapses and estimator (then one line stands for both).
+    #[must_use]
+    pub fn draws_as(&self, other: &Self) -> bool {
+        self.failure.is_none()
+            && other.failure.is_none()
+            && self.curves == other.curves
+            && self.at_cap == other.at_cap
+            && self.collapses == other.collapses
+            && self.share == other.share
+            && self.smoothing_window == other.smoothing_window
+    }
+
+    /// The pooled share at episode index `episode` of 0/1 curves smoothed over the window:
+    /// (successes, trials) over the seeds with a value there.
+    fn pooled(&self, episode: usize) -> (u64, u64) {
+        let count = (episode + 1).min(self.smoothing_window.max(1)) as f64;
+        self.curves.iter().filter_map(|c| c.get(episode)).fold(
+            (0, 0),
+            |(successes, trials), value| {
+                (
+                    successes + (value * count).round() as u64,
+                    trials + count as u64,
+                )
+            },
+        )
+    }
+
     /// Adds the next seed's curve (`curve[episode]`).
-    pub(crate) fn push(&mut self, curve: &[f64]) {
+    pub fn push(&mut self, curve: &[f64]) {
         let seed = self.pushed;
         self.pushed += 1;
         if self.failure.is_some() {
@@ -202,7 +278,7 @@ impl Series {
     }
 
     /// Counts, per episode, the seed's episodes that hit the step cap (`at_cap[episode]`).
-    pub(crate) fn count_at_cap(&mut self, at_cap: &[bool]) {
+    pub fn count_at_cap(&mut self, at_cap: &[bool]) {
         if self.at_cap.len() < at_cap.len() {
             self.at_cap.resize(at_cap.len(), 0);
         }
@@ -212,13 +288,22 @@ impl Series {
     }
 
     /// Curves pushed so far (seeds), failed ones included.
-    pub(crate) fn seeds(&self) -> usize {
+    pub fn seeds(&self) -> usize {
         self.pushed
+    }
+
+    /// The pooled share at the last episode of the longest curves, with its successes and
+    /// trials (a [`share`](Self::share) series); `None` without curves.
+    #[must_use]
+    pub fn final_share(&self) -> Option<(f64, u64, u64)> {
+        let last = self.curves_len().checked_sub(1)?;
+        let (successes, trials) = self.pooled(last);
+        (trials > 0).then(|| (successes as f64 / trials as f64, successes, trials))
     }
 
     /// The IQM over seeds of the last episode of the longest curves (their smoothed value
     /// there), and how many seeds hit the step cap in that episode; `None` without curves.
-    pub(crate) fn final_iqm(&self) -> Option<(f64, u32)> {
+    pub fn final_iqm(&self) -> Option<(f64, u32)> {
         let longest = self.curves_len();
         let values: Vec<f64> = self
             .curves
@@ -234,28 +319,28 @@ impl Series {
     }
 
     /// Per episode (x index from 0), the seeds whose curve has a value there
-    /// ([`eamadm::reaching::seeds_contributing`]); up to the longest curve.
-    pub(crate) fn seeds_per_x(&self) -> Vec<usize> {
+    /// ([`eamadm_eval::reaching::seeds_contributing`]); up to the longest curve.
+    pub fn seeds_per_x(&self) -> Vec<usize> {
         let lengths: Vec<usize> = self.curves.iter().map(Vec::len).collect();
-        eamadm::reaching::seeds_contributing(&lengths)
+        eamadm_eval::reaching::seeds_contributing(&lengths)
     }
 
     /// Episodes of the longest curve.
-    pub(crate) fn curves_len(&self) -> usize {
+    pub fn curves_len(&self) -> usize {
         self.curves.iter().map(Vec::len).max().unwrap_or(0)
     }
 
     /// Seeds behind the series' last point: the curves as long as the longest. Fewer than
     /// [`Self::seeds`] where curves end early (over reaching episodes, a seed that reached
     /// fewer times drops out), so with it a caption can state the range along x.
-    pub(crate) fn seeds_at_end(&self) -> usize {
+    pub fn seeds_at_end(&self) -> usize {
         let longest = self.curves_len();
         self.curves.iter().filter(|c| c.len() == longest).count()
     }
 
     /// Numbers held (for the memory law: one per seed and episode).
     #[cfg(test)]
-    pub(crate) fn held_numbers(&self) -> usize {
+    pub fn held_numbers(&self) -> usize {
         self.curves.iter().map(Vec::len).sum::<usize>() + self.at_cap.len()
     }
 
@@ -280,6 +365,13 @@ impl Series {
                 episode: episode + 1,
                 source,
             };
+            if self.share {
+                let (successes, trials) = self.pooled(episode);
+                let interval = stats::wilson(successes, trials, 0.95).map_err(band_error)?;
+                line.push(interval.estimate);
+                band.push((episode, interval.low, interval.high));
+                continue;
+            }
             line.push(stats::iqm(&values).map_err(band_error)?);
             if episode % stride == 0 || episode + 1 == longest {
                 let bootstrap = Bootstrap::new(FIGURE_RESAMPLES, 0.95, BAND_SEED + episode as u64)
@@ -303,46 +395,50 @@ impl Series {
 
 /// A dashed horizontal line with a legend label, e.g. `"BFS optimum = 58"` at 58.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct ReferenceLine {
+pub struct ReferenceLine {
     /// Legend label.
-    pub(crate) label: String,
+    pub label: String,
     /// Height in data units.
-    pub(crate) y: f64,
+    pub y: f64,
 }
 
 /// A line chart of per-episode curves over seeds; build it with [`LineChart::new`] and the
-/// `with_*` methods, then call [`LineChart::render_svg`] or [`LineChart::write_svg`].
+/// `with_*` methods, then call [`LineChart::render_svg`].
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct LineChart {
+pub struct LineChart {
     /// Title above the chart (wrapped to the canvas).
-    pub(crate) title: String,
+    pub title: String,
     /// Smaller text under the title (wrapped), e.g. what the figure is the analogue of.
-    pub(crate) subtitle: String,
+    pub subtitle: String,
     /// Label of the x axis (episodes, numbered from 1), with its unit.
-    pub(crate) x_label: String,
+    pub x_label: String,
     /// Label of the y axis, with its unit.
-    pub(crate) y_label: String,
+    pub y_label: String,
     /// The metric's range, `(lowest, highest)` where bounded: the y axis never leaves it and
     /// the checks hold every band inside it.
-    pub(crate) metric_range: (Option<f64>, Option<f64>),
+    pub metric_range: (Option<f64>, Option<f64>),
     /// The series, in legend order (EA-MADM is drawn last whatever its place).
-    pub(crate) series: Vec<Series>,
+    pub series: Vec<Series>,
     /// Dashed horizontal reference lines.
-    pub(crate) reference_lines: Vec<ReferenceLine>,
+    pub reference_lines: Vec<ReferenceLine>,
     /// Trailing moving-average window applied to every seed's curve before the IQM over seeds
     /// ([`summary::moving_average`]); 1 means no smoothing.
-    pub(crate) smoothing_window: usize,
+    pub smoothing_window: usize,
     /// A panel of the seeds at the step cap per episode, titled with this text.
-    pub(crate) cap_panel: Option<String>,
+    pub cap_panel: Option<String>,
     /// A panel zoomed on the final this-many episodes, beside the whole run.
-    pub(crate) final_zoom: Option<usize>,
+    pub final_zoom: Option<usize>,
     /// A panel of the seeds each series' line is the IQM of, per episode, titled with this
     /// text (seeds whose curves are shorter drop out to the right).
-    pub(crate) seed_panel: Option<String>,
+    pub seed_panel: Option<String>,
     /// The x axis's last episode, when fixed (otherwise the longest curve's).
-    pub(crate) x_end: Option<usize>,
+    pub x_end: Option<usize>,
+    /// A strip under the plot marking, per series, the episode each collapsed seed never
+    /// reached the target again from ([`Series::note_collapse`]), so that collapses are seen
+    /// in every figure, not averaged away.
+    pub collapse_strip: bool,
     /// Canvas width in pixels (the height follows from the content).
-    pub(crate) width: u32,
+    pub width: u32,
 }
 
 /// Colour of reference lines (dark grey, dashed) and of secondary text.
@@ -372,7 +468,7 @@ const ZOOM_SHARE: f64 = 0.3;
 /// Conservative estimate of the width in pixels of `text` at `font` px in a sans-serif face:
 /// 0.85 em for capitals and `m`/`w`, 0.65 em for every other character (the `DejaVu Sans` face, the
 /// widest common default, averages about 0.6 em for lower case and digits).
-pub(crate) fn text_width(text: &str, font: f64) -> f64 {
+pub fn text_width(text: &str, font: f64) -> f64 {
     text.chars()
         .map(|c| {
             if c.is_uppercase() || c == 'm' || c == 'w' {
@@ -387,7 +483,7 @@ pub(crate) fn text_width(text: &str, font: f64) -> f64 {
 
 /// Greedy word wrap to lines at most `width` px wide at `font` px (a longer word keeps its
 /// own line).
-pub(crate) fn wrap(text: &str, width: f64, font: f64) -> Vec<String> {
+pub fn wrap(text: &str, width: f64, font: f64) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     for word in text.split_whitespace() {
         match lines.last_mut() {
@@ -445,7 +541,7 @@ fn legend_label(svg: &mut String, text_x: f64, middle: f64, lines: &[String]) ->
 }
 
 /// Escapes text for SVG.
-pub(crate) fn escape(text: &str) -> String {
+pub fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -453,7 +549,7 @@ pub(crate) fn escape(text: &str) -> String {
 }
 
 /// A number rounded to a tenth, as SVG coordinates are written.
-pub(crate) fn px(value: f64) -> String {
+pub fn px(value: f64) -> String {
     let rounded = (value * 10.0).round() / 10.0;
     if rounded == rounded.trunc() {
         format!("{rounded:.0}")
@@ -463,7 +559,7 @@ pub(crate) fn px(value: f64) -> String {
 }
 
 /// A `<text>` element (`anchor`: `start`, `middle` or `end`).
-pub(crate) fn text_element(
+pub fn text_element(
     svg: &mut String,
     (x, y): (f64, f64),
     font: f64,
@@ -482,7 +578,7 @@ pub(crate) fn text_element(
 }
 
 /// Wrapped lines of `text` starting at baseline `y`; returns the `y` below the last line.
-pub(crate) fn wrapped_text(
+pub fn wrapped_text(
     svg: &mut String,
     (x, y): (f64, f64),
     width: f64,
@@ -499,8 +595,17 @@ pub(crate) fn wrapped_text(
     y
 }
 
+/// ` data-also="m2 m3"`: the methods a merged series also draws (empty when none).
+fn also_attribute(series: &Series) -> String {
+    if series.also.is_empty() {
+        String::new()
+    } else {
+        format!(" data-also=\"{}\"", escape(&series.also.join(" ")))
+    }
+}
+
 /// The SVG attributes of a method's stroke: colour and dash.
-pub(crate) fn stroke_attributes(style: &MethodStyle) -> String {
+pub fn stroke_attributes(style: &MethodStyle) -> String {
     let mut attributes = format!("stroke=\"{}\"", style.colour);
     if let Some(dash) = style.dash.dasharray() {
         let _ = write!(attributes, " stroke-dasharray=\"{dash}\"");
@@ -603,10 +708,7 @@ impl Frame {
             px(self.right - self.left),
             px(self.bottom - self.top)
         );
-        let y_step = tick_step(self.y.1 - self.y.0, 5.0);
-        let y_decimals = tick_decimals(y_step);
-        let mut tick = (self.y.0 / y_step).ceil() * y_step;
-        while tick <= self.y.1 + y_step * 1e-9 {
+        for (tick, label) in y_ticks(self.y) {
             let (_, y) = self.at(self.x.0, tick);
             let _ = writeln!(
                 svg,
@@ -616,7 +718,6 @@ impl Frame {
                 px(self.right),
                 px(y)
             );
-            let label = format!("{:.*}", y_decimals, if tick == 0.0 { 0.0 } else { tick });
             text_element(
                 svg,
                 (self.left - 5.0, y + TICK_FONT * 0.35),
@@ -625,7 +726,6 @@ impl Frame {
                 "#333333",
                 &label,
             );
-            tick += y_step;
         }
         let width = self.right - self.left;
         let x_step = tick_step(self.x.1 - self.x.0, (width / 90.0).clamp(2.0, 10.0)).max(1.0);
@@ -645,9 +745,61 @@ impl Frame {
     }
 }
 
-/// A y-axis label, rotated, centred on the frame's height.
-fn y_label(svg: &mut String, frame: &Frame, label: &str) {
-    let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+/// The y tick labels of a range, with their values (as [`Frame::open`] draws them).
+fn y_ticks(y: (f64, f64)) -> Vec<(f64, String)> {
+    let step = tick_step(y.1 - y.0, 5.0);
+    let decimals = tick_decimals(step);
+    let mut ticks = Vec::new();
+    let mut tick = (y.0 / step).ceil() * step;
+    while tick <= y.1 + step * 1e-9 {
+        let label = format!("{:.*}", decimals, if tick == 0.0 { 0.0 } else { tick });
+        ticks.push((tick, label));
+        tick += step;
+    }
+    ticks
+}
+
+/// The width of the widest y tick label of a range.
+fn widest_tick(y: (f64, f64)) -> f64 {
+    y_ticks(y)
+        .iter()
+        .map(|(_, label)| text_width(label, TICK_FONT))
+        .fold(0.0, f64::max)
+}
+
+/// Each series' stroke width, so that a line lying under a later one stays visible around
+/// it: 2 px, and 2 px wider than the widest later line it runs along (within 1.5 px of it, in
+/// a plot of height [`PLOT_HEIGHT`] over `y`) on at least a tenth of its episodes from `from`
+/// on. Each panel has its own: lines apart in the zoomed panel are drawn thin there.
+fn line_widths(drawn: &[Drawn], order: &[usize], y: (f64, f64), from: usize) -> Vec<f64> {
+    let close = 1.5 / PLOT_HEIGHT * (y.1 - y.0);
+    let mut widths = vec![2.0; drawn.len()];
+    for (position, &i) in order.iter().enumerate().rev() {
+        let line = drawn[i].line.get(from..).unwrap_or(&[]);
+        let under = order[position + 1..]
+            .iter()
+            .filter(|&&j| {
+                let other = drawn[j].line.get(from..).unwrap_or(&[]);
+                let common = line.len().min(other.len());
+                let near = line
+                    .iter()
+                    .zip(other)
+                    .filter(|(a, b)| (*a - *b).abs() <= close)
+                    .count();
+                common > 0 && near * 10 >= common
+            })
+            .map(|&j| widths[j])
+            .fold(0.0, f64::max);
+        if under > 0.0 {
+            widths[i] = (under + 2.0).min(8.0);
+        }
+    }
+    widths
+}
+
+/// A y-axis label, rotated, centred on the frame's height, `room` pixels left of the frame.
+fn y_label(svg: &mut String, frame: &Frame, label: &str, room: f64) {
+    let x = frame.left - room + AXIS_FONT;
     let y = (frame.top + frame.bottom) / 2.0;
     let _ = writeln!(
         svg,
@@ -693,7 +845,7 @@ fn padded_range(
 
 impl LineChart {
     /// An empty 960 px wide chart with no smoothing.
-    pub(crate) fn new(
+    pub fn new(
         title: impl Into<String>,
         x_label: impl Into<String>,
         y_label: impl Into<String>,
@@ -711,18 +863,19 @@ impl LineChart {
             final_zoom: None,
             seed_panel: None,
             x_end: None,
+            collapse_strip: false,
             width: 960,
         }
     }
 
     /// Adds a series (made with this chart's smoothing window).
-    pub(crate) fn with_series(mut self, series: Series) -> Self {
+    pub fn with_series(mut self, series: Series) -> Self {
         self.series.push(series);
         self
     }
 
     /// Adds a dashed horizontal reference line at height `y`.
-    pub(crate) fn with_reference_line(mut self, label: impl Into<String>, y: f64) -> Self {
+    pub fn with_reference_line(mut self, label: impl Into<String>, y: f64) -> Self {
         self.reference_lines.push(ReferenceLine {
             label: label.into(),
             y,
@@ -731,67 +884,59 @@ impl LineChart {
     }
 
     /// States that every seed's curve is smoothed over `window` episodes.
-    pub(crate) fn with_smoothing(mut self, window: usize) -> Self {
+    pub fn with_smoothing(mut self, window: usize) -> Self {
         self.smoothing_window = window;
         self
     }
 
     /// Sets the subtitle.
-    pub(crate) fn with_subtitle(mut self, subtitle: impl Into<String>) -> Self {
+    pub fn with_subtitle(mut self, subtitle: impl Into<String>) -> Self {
         self.subtitle = subtitle.into();
         self
     }
 
     /// Sets the metric's range.
-    pub(crate) fn with_metric_range(mut self, low: Option<f64>, high: Option<f64>) -> Self {
+    pub fn with_metric_range(mut self, low: Option<f64>, high: Option<f64>) -> Self {
         self.metric_range = (low, high);
         self
     }
 
     /// Adds the panel of seeds at the step cap.
-    pub(crate) fn with_cap_panel(mut self, title: impl Into<String>) -> Self {
+    pub fn with_cap_panel(mut self, title: impl Into<String>) -> Self {
         self.cap_panel = Some(title.into());
         self
     }
 
     /// Adds the panel of the seeds behind each line per episode.
-    pub(crate) fn with_seed_panel(mut self, title: impl Into<String>) -> Self {
+    pub fn with_seed_panel(mut self, title: impl Into<String>) -> Self {
         self.seed_panel = Some(title.into());
         self
     }
 
     /// Fixes the x axis to episodes 1 ..= `episodes` (curves are never longer: the caller
     /// cuts them).
-    pub(crate) fn with_x_end(mut self, episodes: usize) -> Self {
+    pub fn with_x_end(mut self, episodes: usize) -> Self {
         self.x_end = Some(episodes);
         self
     }
 
     /// Adds a panel zoomed on the final `episodes` episodes.
-    pub(crate) fn with_final_zoom(mut self, episodes: usize) -> Self {
+    pub fn with_final_zoom(mut self, episodes: usize) -> Self {
         self.final_zoom = Some(episodes);
         self
     }
 
-    /// Sets the canvas width in pixels.
-    #[cfg_attr(
-        not(test),
-        expect(dead_code, reason = "the run's figures use the default width")
-    )]
-    pub(crate) fn with_width(mut self, width: u32) -> Self {
-        self.width = width;
+    /// Adds the strip of collapsed seeds under the plot.
+    #[must_use]
+    pub fn with_collapse_strip(mut self) -> Self {
+        self.collapse_strip = true;
         self
     }
 
-    /// Renders the chart and writes it to `path` atomically (creating parent folders).
-    #[cfg_attr(
-        not(test),
-        expect(dead_code, reason = "figures are written via outputs")
-    )]
-    pub(crate) fn write_svg(&self, path: &Path) -> Result<(), FigureError> {
-        let svg = self.render_svg()?;
-        write_atomic(path, svg.as_bytes())?;
-        Ok(())
+    /// Sets the canvas width in pixels.
+    pub fn with_width(mut self, width: u32) -> Self {
+        self.width = width;
+        self
     }
 
     /// Validates the input and computes each series' IQM line and band.
@@ -865,11 +1010,20 @@ impl LineChart {
         } else {
             String::new()
         };
-        let mut notes = vec![format!(
-            "Line: interquartile mean (IQM) over {over} of {smoothing}, as in the tables. \
-             Band: 95% percentile bootstrap interval of the IQM ({FIGURE_RESAMPLES} \
-             resamples{band_points})."
-        )];
+        let mut notes = vec![if self.series.iter().all(|s| s.share) {
+            format!(
+                "Line: the share of episodes that reached the target, pooled over {over} and \
+                 each seed's last {} episodes. Band: its Wilson 95% interval (the episodes of \
+                 one seed are not independent, so it is too narrow).",
+                self.smoothing_window
+            )
+        } else {
+            format!(
+                "Line: interquartile mean (IQM) over {over} of {smoothing}, as in the tables. \
+                 Band: 95% percentile bootstrap interval of the IQM ({FIGURE_RESAMPLES} \
+                 resamples{band_points})."
+            )
+        }];
         if self.series.iter().any(|s| s.per_seed) {
             notes.push("Thin lines: one per seed.".to_owned());
         }
@@ -877,7 +1031,43 @@ impl LineChart {
     }
 
     /// Renders the chart as an SVG document.
-    pub(crate) fn render_svg(&self) -> Result<String, FigureError> {
+    pub fn render_svg(&self) -> Result<String, FigureError> {
+        let merged = self.merged();
+        if merged.series.len() < self.series.len() {
+            return merged.render_merged();
+        }
+        self.render_merged()
+    }
+
+    /// This chart with series that draw exactly the same thing ([`Series::draws_as`]) as
+    /// one: the first, named with all of their names (`EA-MADM = ea-madm-table`) and listing
+    /// the others' methods in `also`.
+    fn merged(&self) -> Self {
+        let mut merged = Self {
+            series: Vec::new(),
+            ..self.clone()
+        };
+        for series in &self.series {
+            match merged.series.iter_mut().find(|m| m.draws_as(series)) {
+                Some(first) => {
+                    first.name = format!("{} = {}", first.name, series.name);
+                    first.also.push(series.method.clone());
+                    first.on_top |= series.on_top;
+                }
+                None => merged.series.push(series.clone()),
+            }
+        }
+        merged
+    }
+
+    /// Whether every series is 0 everywhere: the chart would show nothing but flat lines.
+    #[must_use]
+    pub fn shows_nothing(&self) -> bool {
+        !self.series.is_empty() && self.series.iter().all(Series::all_zero)
+    }
+
+    /// Renders the chart (its series merged already).
+    fn render_merged(&self) -> Result<String, FigureError> {
         let (drawn, stride) = self.drawn()?;
         let width = f64::from(self.width);
         let mut body = String::new();
@@ -904,24 +1094,16 @@ impl LineChart {
                 &self.subtitle,
             );
         }
-        let plot_top = y + 26.0;
-        let plot_left = PAD + Y_AXIS_ROOM;
-        let plot_right = width - LEGEND_WIDTH - PAD;
         let longest = drawn.iter().map(|d| d.line.len()).max().unwrap_or(1);
         let x_range = (1.0, (self.x_end.unwrap_or(longest) as f64).max(2.0));
 
-        // The draw order: EA-MADM last, on top.
+        // The draw order: the series on top (EA-MADM) last.
         let mut order: Vec<usize> = (0..self.series.len()).collect();
-        order.sort_by_key(|&i| self.series[i].method == "ea-madm");
+        order.sort_by_key(|&i| self.series[i].on_top);
 
         let zoom = self
             .final_zoom
             .filter(|&episodes| episodes >= 2 && longest > 2 * episodes);
-        let main_right = if zoom.is_some() {
-            plot_right - (plot_right - plot_left) * ZOOM_SHARE
-        } else {
-            plot_right
-        };
         let values_in = |from: usize| {
             let lines = drawn
                 .iter()
@@ -940,19 +1122,52 @@ impl LineChart {
             .filter(|s| s.per_seed)
             .flat_map(|s| s.curves.iter().flatten().copied());
         let references = self.reference_lines.iter().map(|l| l.y);
+        let main_y = padded_range(
+            values_in(0).chain(seed_values).chain(references),
+            self.metric_range,
+        );
+        // Room left of the plot for the widest tick label and the rotated axis label.
+        let axis_room = Y_AXIS_ROOM.max(widest_tick(main_y) + 5.0 + 1.3 * AXIS_FONT + 8.0);
+        let plot_left = PAD + axis_room;
+        let plot_right = width - LEGEND_WIDTH - PAD;
+        let main_right = if zoom.is_some() {
+            plot_right - (plot_right - plot_left) * ZOOM_SHARE
+        } else {
+            plot_right
+        };
+        // The zoomed panel: its range, the room for its ticks, its title wrapped to its width.
+        let zoomed_panel = zoom.map(|episodes| {
+            let from = longest - episodes;
+            let references = self.reference_lines.iter().map(|l| l.y);
+            let y = padded_range(values_in(from).chain(references), self.metric_range);
+            let left = main_right + (Y_AXIS_ROOM - 6.0).max(widest_tick(y) + 14.0);
+            let title = wrap(
+                &format!("last {episodes} episodes"),
+                plot_right - left,
+                SUBTITLE_FONT,
+            );
+            (from, y, left, title)
+        });
+        let title_lines = zoomed_panel
+            .as_ref()
+            .map_or(1, |(.., title)| title.len().max(1));
+        let plot_top = y + 26.0 + (title_lines - 1) as f64 * SUBTITLE_FONT * 1.25;
         let main = Frame {
             left: plot_left,
             right: main_right,
             top: plot_top,
             bottom: plot_top + PLOT_HEIGHT,
             x: x_range,
-            y: padded_range(
-                values_in(0).chain(seed_values).chain(references),
-                self.metric_range,
-            ),
+            y: main_y,
         };
-        self.draw_plot(&mut body, &main, &drawn, &order, 0, true);
-        y_label(&mut body, &main, &self.y_label);
+        let widths = line_widths(&drawn, &order, main.y, 0);
+        let lines = Lines {
+            drawn: &drawn,
+            order: &order,
+            widths: &widths,
+        };
+        self.draw_plot(&mut body, &main, &lines, 0, true);
+        y_label(&mut body, &main, &self.y_label, axis_room);
         let mut bottom = main.bottom + X_AXIS_ROOM;
         text_element(
             &mut body,
@@ -965,25 +1180,35 @@ impl LineChart {
             "#222222",
             &self.x_label,
         );
-        if let Some(episodes) = zoom {
-            let from = longest - episodes;
-            let references = self.reference_lines.iter().map(|l| l.y);
+        if let Some((from, y, left, title)) = zoomed_panel {
             let zoomed = Frame {
-                left: main_right + Y_AXIS_ROOM - 6.0,
+                left,
                 right: plot_right,
                 x: ((from + 1) as f64, longest as f64),
-                y: padded_range(values_in(from).chain(references), self.metric_range),
+                y,
                 ..main
             };
-            self.draw_plot(&mut body, &zoomed, &drawn, &order, from, false);
-            text_element(
-                &mut body,
-                ((zoomed.left + zoomed.right) / 2.0, zoomed.top - 5.0),
-                SUBTITLE_FONT,
-                "middle",
-                NOTE_COLOUR,
-                &format!("final {episodes} episodes, zoomed"),
-            );
+            let widths = line_widths(&drawn, &order, zoomed.y, from);
+            let lines = Lines {
+                drawn: &drawn,
+                order: &order,
+                widths: &widths,
+            };
+            self.draw_plot(&mut body, &zoomed, &lines, from, false);
+            let lines = title.len();
+            for (index, line) in title.iter().enumerate() {
+                text_element(
+                    &mut body,
+                    (
+                        (zoomed.left + zoomed.right) / 2.0,
+                        zoomed.top - 5.0 - (lines - 1 - index) as f64 * SUBTITLE_FONT * 1.25,
+                    ),
+                    SUBTITLE_FONT,
+                    "middle",
+                    NOTE_COLOUR,
+                    line,
+                );
+            }
             text_element(
                 &mut body,
                 (
@@ -997,10 +1222,13 @@ impl LineChart {
             );
         }
         if let Some(title) = &self.cap_panel {
-            bottom = self.draw_cap_panel(&mut body, title, &main, bottom);
+            bottom = self.draw_cap_panel(&mut body, title, &main, bottom, axis_room);
         }
         if let Some(title) = &self.seed_panel {
-            bottom = self.draw_seed_panel(&mut body, title, &main, bottom);
+            bottom = self.draw_seed_panel(&mut body, title, &main, bottom, axis_room);
+        }
+        if self.collapse_strip {
+            bottom = self.draw_collapse_strip(&mut body, &main, bottom);
         }
         let legend_bottom = self.draw_legend(&mut body, plot_right + PAD, plot_top);
         let mut caption_y = bottom.max(legend_bottom) + 4.0;
@@ -1035,11 +1263,15 @@ impl LineChart {
         &self,
         svg: &mut String,
         frame: &Frame,
-        drawn: &[Drawn],
-        order: &[usize],
+        lines: &Lines<'_>,
         from: usize,
         per_seed: bool,
     ) {
+        let Lines {
+            drawn,
+            order,
+            widths,
+        } = *lines;
         frame.open(svg, "plot", self.metric_range);
         for &i in order {
             let (series, d) = (&self.series[i], &drawn[i]);
@@ -1094,13 +1326,14 @@ impl LineChart {
         }
         for &i in order {
             let (series, d) = (&self.series[i], &drawn[i]);
-            let width = if series.method == "ea-madm" { 2.6 } else { 2.0 };
             let _ = writeln!(
                 svg,
-                "<polyline class=\"line\" data-method=\"{}\" fill=\"none\" {} stroke-width=\"{width}\" \
+                "<polyline class=\"line\" data-method=\"{}\"{} fill=\"none\" {} stroke-width=\"{}\" \
                  points=\"{}\"/>",
                 escape(&series.method),
+                also_attribute(series),
                 stroke_attributes(&series.style),
+                px(widths[i]),
                 frame.points(
                     d.line
                         .iter()
@@ -1114,7 +1347,14 @@ impl LineChart {
     }
 
     /// The panel of seeds at the step cap per episode under `main`; returns its bottom.
-    fn draw_cap_panel(&self, svg: &mut String, title: &str, main: &Frame, top: f64) -> f64 {
+    fn draw_cap_panel(
+        &self,
+        svg: &mut String,
+        title: &str,
+        main: &Frame,
+        top: f64,
+        room: f64,
+    ) -> f64 {
         let capped: Vec<&Series> = self
             .series
             .iter()
@@ -1149,7 +1389,7 @@ impl LineChart {
         };
         frame.open(svg, "plot cap", (Some(0.0), Some(most as f64)));
         let mut order: Vec<&&Series> = capped.iter().collect();
-        order.sort_by_key(|s| s.method == "ea-madm");
+        order.sort_by_key(|s| s.on_top);
         for series in order {
             let points = series
                 .at_cap
@@ -1167,7 +1407,7 @@ impl LineChart {
         }
         svg.push_str("</g>\n");
         let y = (frame.top + frame.bottom) / 2.0;
-        let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+        let x = frame.left - room + AXIS_FONT;
         let _ = writeln!(
             svg,
             "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
@@ -1184,7 +1424,14 @@ impl LineChart {
     /// The panel under `main` of the seeds each line is the IQM of, per episode: a step line
     /// per series ([`Series::seeds_per_x`]), so a jump of a line where seeds drop out is seen
     /// with its cause; returns its bottom.
-    fn draw_seed_panel(&self, svg: &mut String, title: &str, main: &Frame, top: f64) -> f64 {
+    fn draw_seed_panel(
+        &self,
+        svg: &mut String,
+        title: &str,
+        main: &Frame,
+        top: f64,
+        room: f64,
+    ) -> f64 {
         let most = self
             .series
             .iter()
@@ -1209,7 +1456,7 @@ impl LineChart {
         };
         frame.open(svg, "plot seeds", (Some(0.0), Some(most as f64)));
         let mut order: Vec<&Series> = self.series.iter().collect();
-        order.sort_by_key(|s| s.method == "ea-madm");
+        order.sort_by_key(|s| s.on_top);
         for series in order {
             let counts = series.seeds_per_x();
             // A step line: the count holds until the episode where it falls.
@@ -1238,7 +1485,7 @@ impl LineChart {
         }
         svg.push_str("</g>\n");
         let y = (frame.top + frame.bottom) / 2.0;
-        let x = frame.left - Y_AXIS_ROOM + AXIS_FONT;
+        let x = frame.left - room + AXIS_FONT;
         let _ = writeln!(
             svg,
             "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
@@ -1250,6 +1497,90 @@ impl LineChart {
             px(y)
         );
         frame.bottom + TICK_FONT + 10.0
+    }
+
+    /// The strip under `main` of the seeds that collapsed: a row per series with a seed's
+    /// mark at the episode it never reached the target again from, and the count; one line
+    /// when no seed of any series collapsed. Returns its bottom.
+    fn draw_collapse_strip(&self, svg: &mut String, main: &Frame, top: f64) -> f64 {
+        let label_y = top + SUBTITLE_FONT + 2.0;
+        let rows: Vec<(&Series, Vec<u64>, usize)> = self
+            .series
+            .iter()
+            .map(|s| {
+                let (episodes, seeds) = s.collapses();
+                (s, episodes, seeds)
+            })
+            .collect();
+        if rows.iter().all(|(_, episodes, _)| episodes.is_empty()) {
+            text_element(
+                svg,
+                (main.left, label_y),
+                SUBTITLE_FONT,
+                "start",
+                NOTE_COLOUR,
+                "collapsed seeds (reached the target, then never again): none",
+            );
+            return label_y + 8.0;
+        }
+        text_element(
+            svg,
+            (main.left, label_y),
+            SUBTITLE_FONT,
+            "start",
+            NOTE_COLOUR,
+            "collapsed seeds: a mark at the episode each never reached the target again from",
+        );
+        let row_height = 14.0;
+        let frame = Frame {
+            top: label_y + 8.0,
+            bottom: label_y + 8.0 + row_height * rows.len() as f64,
+            y: (0.0, rows.len() as f64),
+            ..*main
+        };
+        let _ = writeln!(
+            svg,
+            "<g class=\"collapses\" data-left=\"{}\" data-right=\"{}\" data-x0=\"{}\" \
+             data-x1=\"{}\">",
+            frame.left, frame.right, frame.x.0, frame.x.1
+        );
+        for (row, (series, episodes, seeds)) in rows.iter().enumerate() {
+            let middle = frame.top + row_height * (row as f64 + 0.5);
+            // The row in the series' colour and dash, so the legend names it.
+            let _ = writeln!(
+                svg,
+                "<line class=\"strip\" data-method=\"{}\" x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" \
+                 {} stroke-width=\"1\" stroke-opacity=\"0.6\"/>",
+                escape(&series.method),
+                px(frame.left),
+                px(middle),
+                px(frame.right),
+                px(middle),
+                stroke_attributes(&series.style)
+            );
+            for &episode in episodes {
+                let (x, _) = frame.at(episode as f64 + 1.0, 0.0);
+                let _ = writeln!(
+                    svg,
+                    "<circle class=\"collapse\" data-method=\"{}\" data-episode=\"{episode}\" \
+                     cx=\"{}\" cy=\"{}\" r=\"3.5\" fill=\"{}\"/>",
+                    escape(&series.method),
+                    px(x.clamp(frame.left, frame.right)),
+                    px(middle),
+                    series.style.colour
+                );
+            }
+            text_element(
+                svg,
+                (frame.left - 5.0, middle + TICK_FONT * 0.35),
+                TICK_FONT,
+                "end",
+                "#333333",
+                &format!("{}/{seeds}", episodes.len()),
+            );
+        }
+        svg.push_str("</g>\n");
+        frame.bottom + 8.0
     }
 
     /// The legend in its own column at `x`, from `top`; returns its bottom.
@@ -1304,8 +1635,8 @@ fn episode(i: usize) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use eamadm::config::Role;
-    use eamadm::theme::method_style;
+    use crate::theme::method_style;
+    use eamadm_eval::Role;
 
     use super::*;
 
@@ -1313,13 +1644,15 @@ mod tests {
     fn series(method: &str, window: usize, runs: &[Vec<f64>]) -> Series {
         let mut series = Series::new(
             method,
-            eamadm::paper::method_title(method),
+            eamadm_eval::paper_claims::method_title(method),
             method_style(method, Role::Paper),
             window,
         );
         for curve in runs {
             series.push(curve);
         }
+        // EA-MADM is the series on top, as the figures draw it.
+        series.on_top = method == "ea-madm";
         series
     }
 
@@ -1362,7 +1695,7 @@ mod tests {
         }
         assert_eq!(svg.matches("class=\"band\"").count(), 2, "{svg}");
         assert!(svg.contains(
-            "class=\"line\" data-method=\"ea-madm\" fill=\"none\" stroke=\"#0072B2\" stroke-width=\"2.6\""
+            "class=\"line\" data-method=\"ea-madm\" fill=\"none\" stroke=\"#0072B2\" stroke-width=\"2\""
         ));
         // EA-MADM is drawn last although it is listed first.
         let ea = svg.find("class=\"line\" data-method=\"ea-madm\"").unwrap();
@@ -1524,7 +1857,11 @@ mod tests {
             .render_svg()
             .unwrap();
         assert!(svg.contains("class=\"plot cap\""));
-        assert!(svg.contains("final 10 episodes, zoomed"));
+        // The zoomed panel's title wraps to its width.
+        assert!(
+            svg.contains(">last 10</text>") && svg.contains(">episodes</text>"),
+            "{svg}"
+        );
         assert_eq!(svg.matches("<g class=\"plot").count(), 3);
     }
 
@@ -1647,15 +1984,65 @@ mod tests {
         assert_eq!(tick_decimals(500.0), 0);
     }
 
+    /// Series that draw the same are one line named by all of them; a line under another is
+    /// drawn wider; a share of 0/1 outcomes is the pooled share with its Wilson band; the
+    /// collapse strip marks each collapsed seed.
     #[test]
-    fn write_svg_writes_the_rendered_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("task1/steps.svg");
-        let chart = tiny_chart(1);
-        chart.write_svg(&path).unwrap();
-        assert_eq!(
-            std::fs::read_to_string(&path).unwrap(),
-            chart.render_svg().unwrap()
+    fn identical_series_are_one_line_and_hidden_lines_stay_visible() {
+        let curves = [vec![10.0; 30], vec![12.0; 30]];
+        let mut ea = series("ea-madm", 1, &curves);
+        let mut table = series("ea-madm-table", 1, &curves);
+        ea.note_collapse(Some(20));
+        ea.note_collapse(None);
+        table.note_collapse(Some(20));
+        table.note_collapse(None);
+        let other = series("softmax", 1, &[vec![10.5; 30], vec![11.5; 30]]);
+        let svg = LineChart::new("t", "episode", "steps")
+            .with_series(ea)
+            .with_series(other)
+            .with_series(table)
+            .with_collapse_strip()
+            .render_svg()
+            .unwrap();
+        // The legend names both (wrapped to its column).
+        assert!(
+            svg.contains(">EA-MADM =</text>") && svg.contains(">ea-madm-table</text>"),
+            "{svg}"
+        );
+        assert!(svg.contains("data-method=\"ea-madm\" data-also=\"ea-madm-table\""));
+        assert!(!svg.contains("class=\"line\" data-method=\"ea-madm-table\""));
+        // softmax runs along EA-MADM's line, under it: wider.
+        assert!(svg.contains(
+            "class=\"line\" data-method=\"softmax\" fill=\"none\" stroke=\"#CC79A7\" stroke-width=\"4\""
+        ));
+        assert_eq!(svg.matches("class=\"collapse\"").count(), 1, "{svg}");
+        assert!(svg.contains(">1/2<"), "{svg}");
+
+        // Success of 4 seeds: 1 reaches in every episode, 3 never: the IQM would be 0.
+        let mut success = series(
+            "softmax",
+            1,
+            &[vec![1.0; 5], vec![0.0; 5], vec![0.0; 5], vec![0.0; 5]],
+        );
+        success.share = true;
+        assert_eq!(success.final_share(), Some((0.25, 1, 4)));
+        let chart = LineChart::new("s", "episode", "share").with_series(success.clone());
+        let (drawn, _) = chart.drawn().unwrap();
+        assert_eq!(drawn[0].line, vec![0.25; 5]);
+        let wilson = eamadm_eval::stats::wilson(1, 4, 0.95).unwrap();
+        assert_eq!(drawn[0].band[0], (0, wilson.low, wilson.high));
+        assert!(chart.render_svg().unwrap().contains("pooled over 4 seeds"));
+        // All zero: the chart shows nothing.
+        let zero = series("softmax", 1, &[vec![0.0; 5]]);
+        assert!(
+            LineChart::new("z", "episode", "share")
+                .with_series(zero)
+                .shows_nothing()
+        );
+        assert!(
+            !LineChart::new("s", "episode", "share")
+                .with_series(success)
+                .shows_nothing()
         );
     }
 }

@@ -5,9 +5,9 @@ use std::fmt::Write as _;
 
 use super::format::{decimals_for, format_fixed};
 use super::{ReportContext, Verdicts};
-use crate::claims;
-use crate::paper_claims::CLAIMS;
-use crate::scores;
+use eamadm_eval::claims;
+use eamadm_eval::paper_claims::CLAIMS;
+use eamadm_eval::scores;
 
 /// The margins list under the rule: per task of the run a claim is judged on (in run
 /// order), one line per margin and reason with the metrics sharing it; or a sentence that
@@ -59,16 +59,16 @@ pub(crate) fn write_margins(text: &mut String, context: &ReportContext, verdicts
     if lines.is_empty() {
         let _ = writeln!(
             text,
-            "**The margins.** No task of this run defines an equivalence margin, so no \
+            "### The margins\n\nNo task of this run defines an equivalence margin, so no \
              comparison can be judged equivalent and \"favours\" needs no effect size.\n"
         );
         return;
     }
     let _ = writeln!(
         text,
-        "**The margins** (regions of practical equivalence: a difference within ± the margin is \
-         no difference in practice), derived from each task's rewards and control period \
-         before any run was judged (docs/paper-notes.md §10.1a):\n"
+        "### The margins\n\nThe regions of practical equivalence (a difference within ± the \
+         margin is no difference in practice), derived from each task's rewards and control \
+         period before any run was judged (docs/paper-notes.md §10.1a):\n"
     );
     for line in lines {
         let _ = writeln!(text, "{line}");

@@ -12,17 +12,19 @@ use std::fmt::Write as _;
 use super::format::{Align, MarkdownTable, format_fixed, interval, number, p_value};
 use super::task::estimate_cell;
 use super::{ExperimentFacts, Play, RewardReading, SubtaskReference, Verdicts};
-use crate::Role;
-use crate::behaviour::MethodBehaviour;
-use crate::claims::{Judgement, MethodOverview, Verdict};
-use crate::paper_claims::method_title;
-use crate::stats::Interval;
+use eamadm_eval::Role;
+use eamadm_eval::behaviour::MethodBehaviour;
+use eamadm_eval::claims::{Judgement, MethodOverview, Verdict};
+use eamadm_eval::findings::TaskFindings;
+use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::stats::Interval;
 
 pub(crate) fn write_robot(
     text: &mut String,
     experiment: &ExperimentFacts,
     overviews: &[&MethodOverview],
     verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
 ) {
     let task = experiment.name.as_str();
     let _ = writeln!(
@@ -37,7 +39,9 @@ pub(crate) fn write_robot(
         ("reaching time (s)", Align::Right),
         ("retention decay (s / episode)", Align::Right),
     ]);
-    for o in overviews {
+    // The methods that never reach in training have no C4 value: one sentence names them.
+    let mut rows = 0;
+    for o in overviews.iter().filter(|o| o.reaching_seeds > 0) {
         let _ = table.push_row([
             method_title(&o.method),
             format!("{}/{}", o.reaching_seeds, o.seeds),
@@ -45,11 +49,14 @@ pub(crate) fn write_robot(
             estimate_cell(verdicts, task, &o.method, "reach_time"),
             estimate_cell(verdicts, task, &o.method, "retention_decay"),
         ]);
+        rows += 1;
     }
-    text.push_str(&table.render());
-    text.push('\n');
+    if rows > 0 {
+        text.push_str(&table.render());
+        text.push('\n');
+    }
     let _ = writeln!(text, "{}\n", robot_ranking(task, overviews, verdicts));
-    write_c4_verdicts(text, experiment, overviews, verdicts);
+    write_c4_verdicts(text, experiment, overviews, verdicts, found);
 }
 
 /// Which method has the highest point estimate of the robot's average reward, among methods
@@ -130,6 +137,17 @@ fn success(method: &MethodBehaviour) -> String {
     }
 }
 
+/// The number that decides `judgement`, in words (the findings' deciding comparison).
+fn deciding_number(judgement: &Judgement) -> String {
+    let finding = eamadm_eval::findings::verdict_finding(judgement);
+    super::words::deciding_or_reason(
+        finding.deciding.as_ref(),
+        &finding.reason,
+        &judgement.method,
+        true,
+    )
+}
+
 /// What C4's verdict says of the paper's claim.
 fn reproduced(verdict: Verdict) -> &'static str {
     match verdict {
@@ -163,11 +181,18 @@ fn write_c4_verdicts(
     experiment: &ExperimentFacts,
     overviews: &[&MethodOverview],
     verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
 ) {
+    // A method that scores as an earlier one on every seed has its verdicts; its sentence
+    // would repeat the earlier one's.
     let judgements: Vec<&Judgement> = verdicts
         .judgements
         .iter()
         .filter(|j| j.task == experiment.name && j.claim.id == "C4")
+        .filter(|j| {
+            j.versus_set != eamadm_eval::claims::VersusSet::Paper
+                || found.is_none_or(|f| !f.identical.iter().any(|i| i.method == j.method))
+        })
         .collect();
     if judgements.is_empty() {
         return;
@@ -208,7 +233,7 @@ pub(crate) fn c4_sentence(
     };
     let evidence = match judgement.reaching.first() {
         _ if judgement.verdict == Verdict::Untestable => judgement.reason.clone(),
-        None => super::verdicts::deciding_number(judgement),
+        None => deciding_number(judgement),
         Some(first) => {
             let against: Vec<String> = judgement
                 .reaching
@@ -352,35 +377,6 @@ pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<St
     })
 }
 
-/// [`why_never`] in one sentence for the answer: why `method` (which never reaches) does not,
-/// without the per-sub-task detail; `None` when it learns from no sub-task rewards.
-pub(crate) fn why_never_short(experiment: &ExperimentFacts, method: &str) -> Option<String> {
-    let reading = experiment
-        .reward_readings
-        .iter()
-        .find(|r| r.methods.iter().any(|m| m == method))?;
-    let paying = reading
-        .subtasks
-        .iter()
-        .filter(|s| s.reaching_pays())
-        .count();
-    Some(if paying == 0 {
-        format!(
-            "It never reaches the target: under {} no sub-task's reward values reaching above \
-             both ending the episode at once and idling, so no aggregation of their values \
-             leads there.",
-            reading_name(reading)
-        )
-    } else {
-        format!(
-            "It never reaches the target: under {} {paying} of {} sub-tasks value reaching \
-             most, yet the aggregation of their values does not lead there.",
-            reading_name(reading),
-            reading.subtasks.len()
-        )
-    })
-}
-
 /// How most of a method's final-window episodes ended, in a few words with the number that
 /// shows it.
 fn endings_groups(methods: &[MethodBehaviour], action_names: &[String]) -> Option<String> {
@@ -440,15 +436,19 @@ fn share_of(count: u64, total: u64) -> f64 {
 }
 
 /// Appends the behaviour section of a robot experiment to `text`: its methods' behaviour
-/// (`experiment.behaviour`, from [`behaviour()`](crate::behaviour()) or a
-/// [`BehaviourAccumulator`](crate::BehaviourAccumulator) fed its runs), how their episodes end,
+/// (`experiment.behaviour`, from [`behaviour()`](eamadm_eval::behaviour()) or a
+/// [`BehaviourAccumulator`](eamadm_eval::BehaviourAccumulator) fed its runs), how their episodes end,
 /// EA-MADM's sub-tasks, and the diagnosis of the sub-task rewards (`experiment.reward_readings`);
-/// `action_names` in the order of the action shares.
+/// `action_names` in the order of the action shares; `ea` is the paper's EA-MADM, whose
+/// sub-tasks are detailed. A method that scores as an earlier one on every seed (`found`) is
+/// one row of the table: its group's.
 pub(crate) fn write_robot_behaviour(
     text: &mut String,
     experiment: &ExperimentFacts,
     overviews: &[&MethodOverview],
     action_names: &[String],
+    ea: Option<&str>,
+    found: Option<&TaskFindings>,
 ) {
     let methods = experiment.behaviour.as_slice();
     let gamma = experiment.gamma;
@@ -476,7 +476,10 @@ pub(crate) fn write_robot_behaviour(
             .map(|action| (action.clone(), Align::Right)),
     );
     let mut table = MarkdownTable::new(columns);
-    for method in methods {
+    for method in methods
+        .iter()
+        .filter(|m| found.is_none_or(|f| !f.identical.iter().any(|i| i.method == m.method)))
+    {
         let mut row = vec![
             method_title(&method.method),
             success(method),
@@ -495,16 +498,21 @@ pub(crate) fn write_robot_behaviour(
     // The sub-task detail of the paper's EA-MADM only; the ablations' action shares are above.
     for method in methods
         .iter()
-        .filter(|m| !m.subtasks.is_empty() && m.method == "ea-madm")
+        .filter(|m| !m.subtasks.is_empty() && Some(m.method.as_str()) == ea)
     {
         write_subtasks(text, method, gamma, action_names);
     }
-    write_diagnosis(text, experiment, overviews);
+    write_diagnosis(text, experiment, overviews, ea);
 }
 
 /// The diagnosis: per reading of the sub-task rewards, what each sub-task's reward definition
 /// makes of three ways to play beside what its learner learned, then sentences from it.
-fn write_diagnosis(text: &mut String, experiment: &ExperimentFacts, overviews: &[&MethodOverview]) {
+fn write_diagnosis(
+    text: &mut String,
+    experiment: &ExperimentFacts,
+    overviews: &[&MethodOverview],
+    ea: Option<&str>,
+) {
     let Some(first) = experiment.reward_readings.first() else {
         return;
     };
@@ -532,7 +540,7 @@ fn write_diagnosis(text: &mut String, experiment: &ExperimentFacts, overviews: &
         ("learned by", Align::Left),
     ]);
     for reading in &experiment.reward_readings {
-        let learner = learner_of(experiment, reading, Some("ea-madm"));
+        let learner = learner_of(experiment, reading, ea);
         for (k, s) in reading.subtasks.iter().enumerate() {
             let learned = learner
                 .and_then(|b| b.subtasks.get(k))
@@ -553,7 +561,7 @@ fn write_diagnosis(text: &mut String, experiment: &ExperimentFacts, overviews: &
     text.push_str(&table.render());
     text.push('\n');
     for reading in &experiment.reward_readings {
-        let learner = learner_of(experiment, reading, Some("ea-madm"));
+        let learner = learner_of(experiment, reading, ea);
         if reading.repairs.is_empty() {
             for (k, s) in reading.subtasks.iter().enumerate() {
                 let learned = learner
@@ -755,8 +763,8 @@ fn write_subtasks(
 
 #[cfg(test)]
 mod tests {
-    use crate::stats::wilson;
-    use crate::{Endings, SubtaskBehaviour};
+    use eamadm_eval::stats::wilson;
+    use eamadm_eval::{Endings, SubtaskBehaviour};
 
     use super::*;
 
@@ -806,13 +814,24 @@ mod tests {
             reward_readings: readings,
             final_epsilon: Vec::new(),
             margins: Vec::new(),
+            methods: Vec::new(),
+            paper_figures: eamadm_eval::facts::PaperFigures::default(),
+            base_seed: 0,
+            tables_written: false,
         }
     }
 
     #[test]
     fn no_methods_write_nothing() {
         let mut text = String::new();
-        write_robot_behaviour(&mut text, &experiment(Vec::new(), Vec::new()), &[], &[]);
+        write_robot_behaviour(
+            &mut text,
+            &experiment(Vec::new(), Vec::new()),
+            &[],
+            &[],
+            None,
+            None,
+        );
         assert!(text.is_empty());
     }
 
@@ -912,7 +931,12 @@ mod tests {
                 rows.push(r);
             }
         }
-        Verdicts::compute(rows, &super::super::tests::options()).unwrap()
+        Verdicts::compute(
+            rows,
+            &super::super::tests::options(),
+            &super::super::tests::context(),
+        )
+        .unwrap()
     }
 
     const PAPER_SET: [(&str, Role, &str, bool); 4] = [
@@ -1009,7 +1033,9 @@ mod tests {
     #[test]
     fn the_verdict_table_states_a_reaching_verdict_by_its_test_alone() {
         let v = verdicts(&PAPER_SET);
-        let report = super::super::render(&super::super::tests::context(), &v).unwrap();
+        let context = super::super::tests::context();
+        let findings = eamadm_eval::findings::Findings::of(&context, &v);
+        let report = super::super::render(&context, &v, &findings);
         let row = report.lines().find(|l| l.starts_with("| C4 ")).unwrap();
         assert!(
             row.contains(
@@ -1018,28 +1044,34 @@ mod tests {
             ),
             "{row}"
         );
-        // The full reason, with why the metrics could not be compared, stays in the
-        // ablations' table and the robot section.
+        // Why the metrics could not be compared is the rule's (the appendix).
         assert!(!row.contains("value in 0 of"), "{row}");
-        assert!(report.contains("value in 0 of 8 seeds"), "{report}");
     }
 
     #[test]
     fn the_answers_why_names_the_reading_and_whether_any_sub_task_values_reaching() {
-        let facts = experiment(behaviour(), readings());
+        let diagnosis = |repairs: &[&str], paying: [bool; 3]| eamadm_eval::findings::Diagnosis {
+            repairs: repairs.iter().map(|r| (*r).to_owned()).collect(),
+            subtasks: ["reach", "avoid", "view"]
+                .into_iter()
+                .zip(paying)
+                .map(|(n, p)| (n.to_owned(), p))
+                .collect(),
+        };
         assert_eq!(
-            why_never_short(&facts, "ea-madm").unwrap(),
-            "It never reaches the target: under the paper's sub-task rewards (Eq. 6–8) no \
-             sub-task's reward values reaching above both ending the episode at once and \
-             idling, so no aggregation of their values leads there."
+            super::super::answer::never_reaches_sentence(&diagnosis(&[], [false; 3])),
+            "under the paper's sub-task rewards (Eq. 6–8) no sub-task's reward values reaching \
+             the target above ending the episode at once or idling, so no aggregation of their \
+             values leads to the target"
         );
         assert_eq!(
-            why_never_short(&facts, "ea-madm-goal-bonus").unwrap(),
-            "It never reaches the target: under the sub-task rewards with goal bonus for reach \
-             1 of 3 sub-tasks value reaching most, yet the aggregation of their values does \
-             not lead there."
+            super::super::answer::never_reaches_sentence(&diagnosis(
+                &["goal bonus for reach"],
+                [true, false, false]
+            )),
+            "under the sub-task rewards with goal bonus for reach only 1 of 3 sub-tasks value \
+             reaching most, and the aggregation of their values still does not lead to the target"
         );
-        assert_eq!(why_never_short(&facts, "softmax"), None);
     }
 
     #[test]
@@ -1059,10 +1091,7 @@ mod tests {
         );
         // Identical per seed: no comparison favours anyone.
         assert!(!sentence.contains("Why:"), "{sentence}");
-        assert!(
-            sentence.contains(&super::super::verdicts::deciding_number(j)),
-            "{sentence}"
-        );
+        assert!(sentence.contains(&deciding_number(j)), "{sentence}");
         assert_eq!(reproduced(Verdict::Supported), "reproduced");
     }
 
@@ -1150,8 +1179,8 @@ mod tests {
             .map(str::to_owned)
             .to_vec();
         let mut text = String::new();
-        write_robot(&mut text, &facts, &overviews, &v);
-        write_robot_behaviour(&mut text, &facts, &overviews, &names);
+        write_robot(&mut text, &facts, &overviews, &v, None);
+        write_robot_behaviour(&mut text, &facts, &overviews, &names, Some("ea-madm"), None);
         insta::assert_snapshot!(text);
     }
 }

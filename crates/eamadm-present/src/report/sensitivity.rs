@@ -1,13 +1,13 @@
 //! The report's section "Sensitivity to the readings of the paper" (issue 20 item 4): each
-//! verdict judged again under the other readings of the paper ([`crate::sensitivity`]), laid
+//! verdict judged again under the other readings of the paper ([`eamadm_eval::sensitivity`]), laid
 //! out; the readings' descriptions come in as data ([`ReadingFacts`](super::ReadingFacts)).
 
 use std::fmt::Write as _;
 
 use super::ReportContext;
 use super::format::{Align, MarkdownTable, decimals_for, format_fixed};
-use crate::paper_claims::method_title;
-use crate::sensitivity::{self, SensitivityRow};
+use eamadm_eval::paper_claims::method_title;
+use eamadm_eval::sensitivity::{self, SensitivityRow};
 
 /// A number with `significant` digits (none after the point from 10^significant up).
 fn number(value: f64, significant: i32) -> String {
@@ -70,7 +70,7 @@ pub(crate) fn write_sensitivity(
     }
     let _ = writeln!(
         text,
-        "## Sensitivity to the readings of the paper\n\n\
+        "### Sensitivity to the readings of the paper\n\n\
          Each reading below takes one thing the paper leaves open, or says two ways, the other \
          way. Only the methods it changes run again, with the same seeds (so the same random \
          streams); every other run is the base experiment's own, and the same rule judges the \
@@ -95,24 +95,66 @@ pub(crate) fn write_sensitivity(
             reading.source
         );
     }
-    let survival: Vec<String> = sensitivity::survival(rows)
+    // Per task the readings under which every verdict holds, in one line; a table of the
+    // rows that flip.
+    let survival = sensitivity::survival(rows);
+    let mut tasks: Vec<&str> = Vec::new();
+    for row in rows {
+        if !tasks.contains(&row.task.as_str()) {
+            tasks.push(&row.task);
+        }
+    }
+    let holds: Vec<String> = tasks
         .iter()
-        .map(|entry| {
-            let title = context.task_title(&entry.task);
-            if entry.survives {
-                format!("{} on {title} survives all {}", entry.claim, entry.readings)
-            } else {
-                let by: Vec<String> = entry.flipped_by.iter().map(|r| format!("`{r}`")).collect();
-                format!("{} on {title} flips under {}", entry.claim, by.join(", "))
+        .filter_map(|task| {
+            let mut readings: Vec<&str> = Vec::new();
+            for row in rows.iter().filter(|r| r.task == *task) {
+                if !readings.contains(&row.reading.as_str()) {
+                    readings.push(&row.reading);
+                }
             }
+            let holding: Vec<String> = readings
+                .into_iter()
+                .filter(|reading| {
+                    rows.iter()
+                        .filter(|r| r.task == *task && r.reading == *reading)
+                        .all(|r| r.change == sensitivity::Change::Holds)
+                })
+                .map(|reading| format!("`{reading}`"))
+                .collect();
+            (!holding.is_empty()).then(|| {
+                format!(
+                    "on {} under {}",
+                    context.task_title(task),
+                    super::format::list(&holding)
+                )
+            })
         })
         .collect();
+    let flipping: Vec<String> = survival
+        .iter()
+        .filter(|e| !e.survives)
+        .map(|e| {
+            let by: Vec<String> = e.flipped_by.iter().map(|r| format!("`{r}`")).collect();
+            format!(
+                "{} on {} under {}",
+                e.claim,
+                context.task_title(&e.task),
+                by.join(", ")
+            )
+        })
+        .collect();
+    if !holds.is_empty() {
+        let _ = writeln!(text, "\nEvery verdict holds {}.", holds.join("; "));
+    }
+    if flipping.is_empty() {
+        let _ = writeln!(text, "\nNo reading flips a verdict.\n");
+        return;
+    }
     let _ = writeln!(
         text,
-        "
-Of the verdicts: {}.
-",
-        survival.join("; ")
+        "\nA verdict flips: {}. The rows that flip:\n",
+        flipping.join("; ")
     );
     let mut table = MarkdownTable::new([
         ("claim", Align::Left),
@@ -122,7 +164,10 @@ Of the verdicts: {}.
         ("holds or flips", Align::Left),
         ("the number that decides it under the reading", Align::Left),
     ]);
-    for row in rows {
+    for row in rows
+        .iter()
+        .filter(|r| r.change == sensitivity::Change::Flips)
+    {
         let _ = table.push_row([
             row.claim.to_owned(),
             context.task_title(&row.task),

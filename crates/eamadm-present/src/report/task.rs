@@ -8,10 +8,11 @@ use super::format::{
     share,
 };
 use super::{ExperimentFacts, Figures, FinalEpsilon, ReportContext, Verdicts};
-use crate::Role;
-use crate::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
-use crate::paper_claims::method_title;
-use crate::scores::FinalScore;
+use eamadm_eval::Role;
+use eamadm_eval::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
+use eamadm_eval::facts::ControlFamily;
+use eamadm_eval::findings::TaskFindings;
+use eamadm_eval::paper_claims::method_title;
 
 pub(crate) fn estimate_cell(verdicts: &Verdicts, task: &str, method: &str, metric: &str) -> String {
     match verdicts.estimate(task, method, metric) {
@@ -26,8 +27,13 @@ pub(crate) fn write_task(
     context: &ReportContext,
     experiment: &ExperimentFacts,
     verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
 ) {
     let task = experiment.name.as_str();
+    // A method that scores as an earlier one on every seed is one row: its group's.
+    let shown = |o: &&&MethodOverview| {
+        found.is_none_or(|f| !f.identical.iter().any(|i| i.method == o.method))
+    };
     let _ = writeln!(text, "## {} (`{task}`)\n", experiment.title);
     let overviews: Vec<&MethodOverview> = verdicts
         .overviews
@@ -77,7 +83,11 @@ pub(crate) fn write_task(
         ]
     };
     let mut table = MarkdownTable::new(columns);
-    for o in overviews.iter().filter(|o| o.role != Role::Control) {
+    for o in overviews
+        .iter()
+        .filter(|o| o.role != Role::Control)
+        .filter(|o| shown(o))
+    {
         let _ = table.push_row(row(o));
     }
     let _ = writeln!(
@@ -91,6 +101,7 @@ pub(crate) fn write_task(
     let controls: Vec<&&MethodOverview> = overviews
         .iter()
         .filter(|o| o.role == Role::Control)
+        .filter(|o| shown(o))
         .collect();
     if !controls.is_empty() {
         let _ = writeln!(
@@ -105,30 +116,46 @@ pub(crate) fn write_task(
         }
         text.push_str(&table.render());
         text.push('\n');
-        write_control_comparisons(text, task, verdicts);
-        for sentence in super::strongest::strongest_sentences(verdicts, task) {
+        write_control_comparisons(text, task, verdicts, found);
+        for sentence in found
+            .map(super::strongest::strongest_sentences)
+            .unwrap_or_default()
+        {
             let _ = writeln!(text, "{sentence}\n");
         }
     }
 
     write_comparisons(text, task, verdicts);
-    write_distributions(text, &overviews);
-    super::outcomes::write_outcomes(text, task, verdicts);
+    let distinct: Vec<&MethodOverview> = overviews.iter().filter(|o| shown(o)).copied().collect();
+    write_distributions(text, &distinct);
+    super::outcomes::write_outcomes(text, task, context, verdicts, found);
     let robot = context.paper_task(task).is_some_and(|t| t.robot)
         || verdicts
             .scores
             .iter()
             .any(|s| s.task == task && s.reach_time.is_some());
-    for sentence in explanations(experiment, robot, &overviews, verdicts) {
+    for sentence in explanations(context, experiment, robot, &overviews, verdicts, found) {
         let _ = writeln!(text, "- {sentence}");
     }
     text.push('\n');
-    if robot {
-        super::robot::write_robot(text, experiment, &overviews, verdicts);
+    if let Some(found) = found {
+        text.push_str(&super::outcomes::equalities(found));
     }
-    super::robot::write_robot_behaviour(text, experiment, &overviews, &context.action_names);
-    if !experiment.figures.files.is_empty() {
+    if robot {
+        super::robot::write_robot(text, experiment, &overviews, verdicts, found);
+    }
+    super::robot::write_robot_behaviour(
+        text,
+        experiment,
+        &overviews,
+        &context.action_names,
+        verdicts.paper_ea_madm(task),
+        found,
+    );
+    if !experiment.figures.files.is_empty() || !experiment.figures.not_drawn.is_empty() {
         text.push_str(&gallery(task, &experiment.figures));
+    }
+    if experiment.tables_written {
         let _ = writeln!(
             text,
             "Tables: [curves]({task}/{}) (gzip), [trajectories]({task}/{}).\n",
@@ -136,11 +163,11 @@ pub(crate) fn write_task(
         );
     } else {
         // A report of runs rendered outside an output folder (`eamadm.report` of
-        // `eamadm.run`'s results in Python) has no files to link.
+        // `eamadm.run`'s results in Python) has no tables to link.
         let _ = writeln!(
             text,
-            "No figures or tables were written for `{task}`: only `cargo xtask reproduce-paper` \
-             writes them, into its output folder.\n"
+            "No tables were written for `{task}`: only `cargo xtask reproduce-paper` writes \
+             them, into its output folder (`eamadm.run` returns the curves).\n"
         );
     }
 }
@@ -178,11 +205,20 @@ pub(crate) fn gallery(task: &str, figures: &Figures) -> String {
     text
 }
 
-fn write_control_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
+fn write_control_comparisons(
+    text: &mut String,
+    task: &str,
+    verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
+) {
+    // A control that scores as an earlier method on every seed is compared as that one.
     let rows: Vec<&ControlComparison> = verdicts
         .controls
         .iter()
         .filter(|c| c.task == task)
+        .filter(|c| {
+            found.is_none_or(|f| !f.identical.iter().any(|i| i.method == c.comparison.versus))
+        })
         .collect();
     if rows.is_empty() {
         return;
@@ -331,10 +367,12 @@ fn write_distributions(text: &mut String, overviews: &[&MethodOverview]) {
 
 /// Sentences on numbers that need explaining, each chosen by the numbers.
 fn explanations(
+    context: &ReportContext,
     experiment: &ExperimentFacts,
     robot: bool,
     overviews: &[&MethodOverview],
     verdicts: &Verdicts,
+    found: Option<&TaskFindings>,
 ) -> Vec<String> {
     let task = experiment.name.as_str();
     let mut sentences = Vec::new();
@@ -347,15 +385,14 @@ fn explanations(
             sentences.push(sentence);
         }
     }
-    if let Some(sentence) = step_budget(overviews) {
+    if let Some(sentence) = step_budget(experiment, overviews) {
         sentences.push(sentence);
     }
-    sentences.extend(super::outcomes::pretraining_shares(task, verdicts));
-    sentences.extend(identical_methods(task, verdicts));
-    sentences.extend(super::outcomes::equalities_with_subtasks(task, verdicts));
+    sentences.extend(super::outcomes::pretraining_shares(task, context, verdicts));
+    sentences.extend(found.and_then(super::outcomes::identical));
     if !robot {
         // A robot state has more features than a maze cell's column and row.
-        sentences.extend(super::outcomes::tau_caveat(task, verdicts));
+        sentences.extend(super::outcomes::tau_caveat(task, context, verdicts, found));
     }
     sentences
 }
@@ -438,7 +475,7 @@ fn scientific(value: f64) -> String {
 }
 
 /// The step budgets of EA-MADM and the competitors, when they differ.
-fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
+fn step_budget(experiment: &ExperimentFacts, overviews: &[&MethodOverview]) -> Option<String> {
     let ea = overviews
         .iter()
         .find(|o| o.role == Role::Paper && claims::is_under_test(&o.kind))?;
@@ -461,23 +498,29 @@ fn step_budget(overviews: &[&MethodOverview]) -> Option<String> {
         format_fixed(ea.pretrain_env_steps, 0),
         format_fixed(most, 0),
         format_fixed(ea.env_steps_total / most, 1),
-        controls_run(overviews)
+        controls_run(experiment, overviews)
     ))
 }
 
 /// Which of the controls that give the competitors EA-MADM's budget or reward information
 /// ran, in words.
-fn controls_run(overviews: &[&MethodOverview]) -> String {
-    let family = |name: &str| -> Vec<String> {
+fn controls_run(experiment: &ExperimentFacts, overviews: &[&MethodOverview]) -> String {
+    let family = |family: ControlFamily| -> Vec<String> {
         overviews
             .iter()
             .filter(|o| {
-                o.role == Role::Control && super::strongest::control_family(&o.method) == Some(name)
+                o.role == Role::Control
+                    && experiment
+                        .method(&o.method)
+                        .is_some_and(|m| m.control == Some(family))
             })
             .map(|o| format!("`{}`", o.method))
             .collect()
     };
-    let (budget, reward) = (family("budget-matched"), family("reward-matched"));
+    let (budget, reward) = (
+        family(ControlFamily::BudgetMatched),
+        family(ControlFamily::RewardMatched),
+    );
     match (budget.is_empty(), reward.is_empty()) {
         (true, true) => "No control with an equal budget or equal reward information was run \
                          here, so whether either closes the gap is not tested."
@@ -501,53 +544,6 @@ fn controls_run(overviews: &[&MethodOverview]) -> String {
     }
 }
 
-/// Methods whose per-seed scores equal the paper's EA-MADM's exactly.
-fn identical_methods(task: &str, verdicts: &Verdicts) -> Option<String> {
-    let ea = verdicts.paper_ea_madm(task)?;
-    let rows_of = |method: &str| -> Vec<&FinalScore> {
-        verdicts
-            .scores
-            .iter()
-            .filter(|s| s.task == task && s.method == method)
-            .collect()
-    };
-    let reference = rows_of(ea);
-    let same_numbers = |a: &FinalScore, b: &FinalScore| {
-        a.seed == b.seed
-            && a.final_steps == b.final_steps
-            && a.final_return == b.final_return
-            && a.fluctuation_steps == b.fluctuation_steps
-            && a.fluctuation_return == b.fluctuation_return
-            && a.env_steps_total == b.env_steps_total
-            && a.greedy_steps == b.greedy_steps
-    };
-    let same: Vec<String> = claims::methods(&verdicts.scores, task)
-        .into_iter()
-        .filter(|&(method, _, _)| method != ea)
-        .filter(|&(method, _, _)| {
-            let rows = rows_of(method);
-            rows.len() == reference.len()
-                && rows.iter().zip(&reference).all(|(a, b)| same_numbers(a, b))
-        })
-        .map(|(method, _, _)| format!("`{method}`"))
-        .collect();
-    (!same.is_empty()).then(|| {
-        format!(
-            "{} {} exactly EA-MADM's per-seed scores: {} sub-task experience answers every \
-             lookup as EA-MADM's exact tree does (a table, or a tree whose thresholds merge no \
-             two states), so {} not exercise the tree's aggregation.",
-            same.join(", "),
-            if same.len() == 1 { "gives" } else { "give" },
-            if same.len() == 1 { "its" } else { "their" },
-            if same.len() == 1 {
-                "it does"
-            } else {
-                "they do"
-            },
-        )
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::tests::overview;
@@ -561,7 +557,24 @@ mod tests {
             o.role = Role::Control;
             o
         };
-        let (budget, shaped) = (control("softmax-budget"), control("softmax-shaped"));
+        // Their families come from their configs, whatever their labels.
+        let (budget, shaped) = (control("softmax-budget"), control("my-shaped-control"));
+        let mut facts = super::super::tests::experiment("task2", "Task II");
+        facts.methods = vec![
+            super::super::tests::method(
+                "softmax-budget",
+                Role::Control,
+                "softmax",
+                Some(ControlFamily::BudgetMatched),
+            ),
+            super::super::tests::method(
+                "my-shaped-control",
+                Role::Control,
+                "softmax",
+                Some(ControlFamily::RewardMatched),
+            ),
+        ];
+        let controls_run = |overviews: &[&MethodOverview]| controls_run(&facts, overviews);
         assert!(controls_run(&[]).starts_with("No control with an equal budget"));
         assert!(controls_run(&[&budget]).starts_with(
             "The budget-matched controls (`softmax-budget`) give the competitors the same \
@@ -571,8 +584,8 @@ mod tests {
         assert_eq!(
             controls_run(&[&budget, &shaped]),
             "The budget-matched controls (`softmax-budget`) give the competitors the same \
-             steps, the reward-matched ones (`softmax-shaped`) the same reward information (the \
-             controls table above)."
+             steps, the reward-matched ones (`my-shaped-control`) the same reward information \
+             (the controls table above)."
         );
     }
 }

@@ -3,9 +3,9 @@
 
 use thiserror::Error;
 
-use crate::Role;
-use crate::claims::Share;
-use crate::stats::Interval;
+use eamadm_eval::Role;
+use eamadm_eval::claims::Share;
+use eamadm_eval::stats::Interval;
 
 /// A table row of the wrong length.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -114,26 +114,7 @@ impl MarkdownTable {
     }
 }
 
-/// Most decimals any number in the report gets.
-const MAX_DECIMALS: i32 = 6;
-
-/// Formats `value` with `decimals` decimals, never printing a negative zero.
-pub fn format_fixed(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
-        _ => text,
-    }
-}
-
-/// Decimals that show `value` to `significant` significant digits (none for large values).
-pub fn decimals_for(value: f64, significant: i32) -> usize {
-    if value == 0.0 || !value.is_finite() {
-        return 0;
-    }
-    let magnitude = value.abs().log10().floor() as i32;
-    (significant - 1 - magnitude).clamp(0, MAX_DECIMALS) as usize
-}
+pub use eamadm_eval::rounding::{decimals_for, format_fixed};
 
 /// A number to three significant digits (no decimals from 100 up).
 pub fn number(value: f64) -> String {
@@ -166,17 +147,26 @@ pub fn interval(i: &Interval) -> String {
 
 /// The mean paired difference of a comparison with its exact sign-flip interval, as
 /// [`interval`] prints an interval; "unbounded" for an interval too few pairs leave open.
-pub fn paired_interval(p: &crate::claims::PairedComparison) -> String {
-    match (p.low, p.high) {
-        (Some(low), Some(high)) => interval(&Interval {
-            estimate: p.estimate,
+pub fn paired_interval(p: &eamadm_eval::claims::PairedComparison) -> String {
+    mean_interval(
+        p.estimate,
+        p.low.zip(p.high).map(|(low, high)| [low, high]),
+        p.n,
+    )
+}
+
+/// A mean paired difference `estimate` with its `interval` as [`interval`] prints one, or
+/// "`estimate` [unbounded: `pairs` pairs]" when it has none (too few pairs to bound it).
+pub fn mean_interval(estimate: f64, interval_ends: Option<[f64; 2]>, pairs: usize) -> String {
+    match interval_ends {
+        Some([low, high]) => interval(&Interval {
+            estimate,
             low,
             high,
         }),
-        _ => format!(
-            "{} [unbounded: {} pairs]",
-            format_fixed(p.estimate, decimals_for(p.estimate, 3)),
-            p.n
+        None => format!(
+            "{} [unbounded: {pairs} pairs]",
+            format_fixed(estimate, decimals_for(estimate, 3)),
         ),
     }
 }

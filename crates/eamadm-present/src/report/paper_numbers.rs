@@ -5,8 +5,8 @@ use std::fmt::Write as _;
 use super::format::{Align, MarkdownTable, format_fixed};
 use super::task::estimate_cell;
 use super::{ReportContext, Verdicts};
-use crate::claims;
-use crate::paper_claims::ReportedNumbers;
+use eamadm_eval::claims;
+use eamadm_eval::paper_claims::ReportedNumbers;
 
 pub(crate) fn write_paper_numbers(text: &mut String, context: &ReportContext, verdicts: &Verdicts) {
     let rows: Vec<(ReportedNumbers, &str)> = claims::tasks(&verdicts.scores)

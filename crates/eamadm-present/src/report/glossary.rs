@@ -3,12 +3,12 @@
 use std::fmt::Write as _;
 
 use super::Verdicts;
-use crate::scores;
+use eamadm_eval::scores;
 
 /// The glossary section. Its numbers (final window, resamples) come from the run's
 /// settings, so it cannot drift from the rule it defines.
 pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
-    let _ = writeln!(text, "## Glossary\n");
+    let _ = writeln!(text, "### Glossary\n");
     let terms: [(&str, String); 17] = [
         (
             "IQM",
@@ -85,21 +85,24 @@ pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
             ),
         ),
         (
-            "reward-matched control (`*-shaped`)",
-            "a competitor that learns from the same shaped sub-task rewards EA-MADM's source \
-             task learns from."
+            "reward-matched control",
+            "a competitor that learns from the shaped sub-task rewards EA-MADM's sub-tasks get \
+             (config `signal = \"standardised\"`: the signal EA-MADM's source task learns \
+             from; or `\"subtask_sum\"`) instead of the task reward."
                 .to_owned(),
         ),
         (
-            "budget-matched control (`*-budget`)",
+            "budget-matched control",
             "a competitor that first trains on the task for as many environment steps as \
-             EA-MADM's sub-task pre-training takes."
+             EA-MADM's sub-task pre-training takes (config `warmup_env_steps`)."
                 .to_owned(),
         ),
         (
-            "sub-task alone (`subtaskN-alone`)",
-            "sub-task N pre-trained exactly as in the EA-MADM run of the same seed, then acting \
-             alone (ε-greedy on its own values, EA-MADM's schedule), with no MADM step."
+            "sub-task alone",
+            "one sub-task pre-trained exactly as in the EA-MADM run of the same seed, then \
+             acting alone (ε-greedy on its own values, EA-MADM's schedule), with no MADM step \
+             (config `kind = \"subtask_greedy\"`; frozen, or still learning with `learn = \
+             true`)."
                 .to_owned(),
         ),
         (
