@@ -2045,4 +2045,36 @@ mod tests {
                 .shows_nothing()
         );
     }
+
+    proptest::proptest! {
+        /// A share series draws what the evaluation's `summary::success_band` computes of the
+        /// same 0/1 outcomes (seeds of equal length, as a figure's runs are): per episode the
+        /// share pooled over the seeds and the smoothing window, and its Wilson band.
+        #[test]
+        fn a_share_series_draws_the_success_band(
+            outcomes in proptest::collection::vec(
+                proptest::collection::vec(proptest::bool::ANY, 12), 1..6),
+            window in 1_usize..6,
+        ) {
+            let curves: Vec<Vec<f64>> = outcomes
+                .iter()
+                .map(|seed| seed.iter().map(|&r| f64::from(u8::from(r))).collect())
+                .collect();
+            let mut success = series("softmax", window, &curves);
+            success.share = true;
+            let (drawn, _) = LineChart::new("s", "episode", "share")
+                .with_smoothing(window)
+                .with_series(success)
+                .drawn()
+                .unwrap();
+            let band = eamadm_eval::summary::success_band(&outcomes, window).unwrap();
+            for (episode, point) in band.iter().enumerate() {
+                proptest::prop_assert!((drawn[0].line[episode] - point.wilson.estimate).abs() < 1e-12);
+                let (at, low, high) = drawn[0].band[episode];
+                proptest::prop_assert_eq!(at, episode);
+                proptest::prop_assert!((low - point.wilson.low).abs() < 1e-12);
+                proptest::prop_assert!((high - point.wilson.high).abs() < 1e-12);
+            }
+        }
+    }
 }

@@ -19,14 +19,15 @@ pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
         (
             "paired difference",
             "per seed, the method's value minus the other method's on the same seed (runs of \
-             one seed share their random streams); the report gives their mean with a paired \
-             bootstrap interval and a sign-flip p-value."
+             one seed share their random streams); their mean decides every comparison, with \
+             its exact sign-flip 95% interval and sign-flip p-values (see the rule)."
                 .to_owned(),
         ),
         (
             "Holm",
-            "the Holm step-down adjustment of p-values across the comparisons of one claim × \
-             task × method, so that the chance of any false \"favours\" stays below α."
+            "the Holm step-down adjustment of p-values across the informative comparisons of \
+             one claim × task × method (and C3's stable-reaching tests), so that the chance of \
+             any false \"favours\" stays below α."
                 .to_owned(),
         ),
         (
@@ -34,22 +35,23 @@ pub(crate) fn write_glossary(text: &mut String, verdicts: &Verdicts) {
             "the region of practical equivalence of a metric on a task, derived from the \
              task's rewards and control period (each with its reason in the margins list under \
              the rule); TOST tests whether the mean paired difference lies inside ± the margin \
-             (two one-sided tests)."
+             (two one-sided sign-flip tests at α/2: the within-margin p)."
                 .to_owned(),
         ),
         (
             "favours",
             format!(
-                "a comparison favours a side when its Holm p is below {}, its interval \
-                 excludes 0 and the effect exceeds the margin.",
+                "a comparison favours a side when its Holm-adjusted p that the mean paired \
+                 difference lies beyond the margin is below {}: its exact interval then lies \
+                 beyond the margin on that side.",
                 verdicts.options.alpha
             ),
         ),
         (
             "supported, contradicted, equivalent, inconclusive, untestable",
             "the verdicts of the rule under the verdict table: every comparison favours EA-MADM; \
-             one favours the other side; every comparison is equivalent (Holm TOST p below α); \
-             none of these; no data to compare."
+             one favours the other side; every comparison is equivalent (Holm-adjusted \
+             within-margin p below α); none of these; no data to compare."
                 .to_owned(),
         ),
         (
