@@ -1,6 +1,6 @@
 """``REPORT.md`` from Python, as the main job writes it.
 
-:func:`report` renders the report with the Rust text the main job uses (``eamadm::report``);
+:func:`report` renders the report with the Rust text the main job uses (``eamadm_present::report``);
 nothing of it is re-derived in Python. Given an output folder of ``cargo xtask reproduce-paper``
 it judges the claims again from the folder's ``final-scores.csv`` and renders them with the
 folder's ``report-context.toml`` (tasks, experiments, figures with captions, the robot's
