@@ -23,6 +23,7 @@ __all__ = [
     "data_package_json",
     "report_of_folder",
     "report_of_runs",
+    "figures_of_folder",
 ]
 
 __version__: str

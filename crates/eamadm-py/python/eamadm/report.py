@@ -20,7 +20,7 @@ from typing import Any, Dict, Iterable, List, NamedTuple, Tuple, Union
 from eamadm import _args, _native, outputs
 from eamadm.figures import figures as _draw
 from eamadm.figures import write as _write
-from eamadm.experiment import Results
+from eamadm.experiment import Results, _RunResults
 
 
 class Report(NamedTuple):
@@ -52,7 +52,7 @@ class Report(NamedTuple):
         _write(self.figures, folder)
 
 
-def results_list(results: object) -> List[Results]:
+def results_list(results: object) -> List[_RunResults]:
     """One :class:`Results` or an iterable of them, checked, as a list.
 
     Raises:
@@ -65,9 +65,9 @@ def results_list(results: object) -> List[Results]:
             "results: expected an output folder, a Results of eamadm.run or a list of them, "
             f"got {_args.type_name(results)}"
         )
-    runs: List[Results] = []
+    runs: List[_RunResults] = []
     for item in items:
-        if not isinstance(item, Results) or getattr(item, "report_input", None) is None:
+        if not isinstance(item, _RunResults) or item.report_input is None:
             raise TypeError(
                 "results: expected what eamadm.run returns (a Results), got "
                 f"{_args.type_name(item)}"
@@ -85,7 +85,14 @@ def report_inputs(results: object) -> List[Tuple[str, str]]:
         TypeError: ``results`` is not what :func:`eamadm.run` returns, nor a list of it.
         ValueError: the list is empty.
     """
-    return [run.report_input for run in results_list(results)]
+    return [_input_of(run) for run in results_list(results)]
+
+
+def _input_of(run: _RunResults) -> Tuple[str, str]:
+    # results_list admits only results that carry their report input.
+    if run.report_input is None:
+        raise TypeError("results: these Results carry no report input (not made by eamadm.run)")
+    return run.report_input
 
 
 def report(
@@ -127,7 +134,7 @@ def report(
     else:
         runs = results_list(source)
         markdown, claims, scores, _context = _native.report_of_runs(
-            [run.report_input for run in runs], quick
+            [_input_of(run) for run in runs], quick
         )
         figures = _draw(runs)
     verdicts: Any = None
