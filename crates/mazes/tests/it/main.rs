@@ -7,6 +7,7 @@ mod env;
 mod fixtures;
 mod generation;
 mod map_text;
+mod model;
 mod path;
 mod render;
 mod subtasks;
