@@ -49,7 +49,7 @@ use crate::store::{MAX_ENTRY_BYTES, StoreError};
 
 /// Version of the artefact layout and of what training a sub-task computes; bump it when
 /// either changes, so that old artefacts are not reused (it is part of every key).
-pub const PRETRAINED_FORMAT: u32 = 1;
+pub const PRETRAINED_FORMAT: u32 = 2;
 
 /// What a trained sub-task depends on; its hash (as [`RunKey::of`]) names the artefact.
 #[derive(Debug, Clone, Serialize)]

@@ -212,7 +212,7 @@ pub use config::{
 };
 pub use diagnosis::{SubtaskDiagnosis, subtask_diagnosis};
 pub use error::{RunError, RunFailure};
-pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};
+pub use pretrain::{PretrainedSubtask, SubtaskGoals, pretrain_subtask, pretrain_subtasks};
 pub use prior::{PriorTable, build_prior};
 pub use record::{
     AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,

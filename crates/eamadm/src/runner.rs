@@ -499,7 +499,13 @@ fn fits_training<E: TaskEnv>(
         && kept.learner.n_actions() == prototype.n_actions()
         && *kept.learner.params() == config.learner
         && kept.name == name
-        && kept.episodes == pretrain.episodes
+        && match pretrain.until {
+            None => kept.episodes == pretrain.episodes && kept.converged.is_none(),
+            Some(rule) => {
+                (pretrain.episodes..=rule.max_episodes).contains(&kept.episodes)
+                    && kept.converged.is_some()
+            }
+        }
 }
 
 /// One run of `method` with `seed` in the experiment `config` (see [`Experiment::run`]).
@@ -632,6 +638,11 @@ fn run_on<E: TaskEnv>(
                     table_bytes,
                     greedy_alone: Some(session.greedy_alone(&subtask.learner)?),
                     start_values: start_values(prototype, &subtask.learner),
+                    reached_episodes: subtask.reached_episodes,
+                    converged: subtask.converged,
+                    checks: subtask.checks,
+                    check_env_steps: subtask.check_env_steps,
+                    last_check_reached: subtask.last_check_reached,
                 });
             }
             let pretrain_env_steps = subtasks.iter().map(|s| s.env_steps).sum();
@@ -705,6 +716,11 @@ fn run_on<E: TaskEnv>(
                 table_bytes,
                 greedy_alone: Some(session.greedy_alone(&pretrained.learner)?),
                 start_values: start_values(prototype, &pretrained.learner),
+                reached_episodes: pretrained.reached_episodes,
+                converged: pretrained.converged,
+                checks: pretrained.checks,
+                check_env_steps: pretrained.check_env_steps,
+                last_check_reached: pretrained.last_check_reached,
             };
             let pretrain_env_steps = pretrained.env_steps;
             // The source task's episodes act (and, with `learn`, learn) on the sub-task's own
