@@ -112,10 +112,8 @@ pub(crate) fn shorten(
     config.trajectories.episodes.retain(|&e| e < episodes_now);
     for spec in &mut config.methods {
         match &mut spec.method {
-            Method::EaMadm(ea) => ea.pretrain.episodes = ea.pretrain.episodes.min(episodes),
-            Method::SubtaskGreedy(alone) => {
-                alone.pretrain.episodes = alone.pretrain.episodes.min(episodes);
-            }
+            Method::EaMadm(ea) => shorten_pretraining(&mut ea.pretrain, episodes),
+            Method::SubtaskGreedy(alone) => shorten_pretraining(&mut alone.pretrain, episodes),
             // A budget written for the full run shrinks with the episodes, as pre-training
             // does (only roughly matched in a shortened run, whose step caps differ too).
             Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
@@ -143,6 +141,20 @@ pub(crate) fn shorten(
         }
         // A task kind added to eamadm later keeps its own cap.
         _ => {}
+    }
+}
+
+/// Pre-training shortened to at most `episodes` episodes; a stopping rule's cap shrinks in the
+/// same proportion (never below the fewest episodes), so a smoke run stays short.
+fn shorten_pretraining(pretrain: &mut eamadm::PretrainConfig, episodes: u64) {
+    let before = pretrain.episodes;
+    pretrain.episodes = before.min(episodes);
+    if let Some(until) = pretrain.until.as_mut() {
+        let scaled = u128::from(until.max_episodes) * u128::from(pretrain.episodes)
+            / u128::from(before.max(1));
+        until.max_episodes = u64::try_from(scaled)
+            .unwrap_or(u64::MAX)
+            .max(pretrain.episodes);
     }
 }
 
@@ -284,9 +296,14 @@ mod tests {
         assert_eq!(config.task.step_cap(), Some(QUICK_MAZE_STEP_CAP));
         for spec in &config.methods {
             match &spec.method {
-                Method::EaMadm(ea) => assert_eq!(ea.pretrain.episodes, QUICK_EPISODES),
+                Method::EaMadm(ea) => {
+                    assert_eq!(ea.pretrain.episodes, QUICK_EPISODES);
+                    // the stopping rule's cap shrinks with it: 1000 × 30 / 200
+                    assert_eq!(ea.pretrain.until.map(|u| u.max_episodes), Some(150));
+                }
                 Method::SubtaskGreedy(alone) => {
                     assert_eq!(alone.pretrain.episodes, QUICK_EPISODES);
+                    assert_eq!(alone.pretrain.until.map(|u| u.max_episodes), Some(150));
                 }
                 Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
                     assert!(
@@ -306,11 +323,20 @@ mod tests {
     fn presets_are_planned_with_the_given_seeds() {
         let planned = plan_experiments(&Task::ALL, false, None, 2, true, Readings::All).unwrap();
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(names[..4], ["task1", "task2", "robot", "robot-paper-state"]);
-        assert_eq!(base_count(&planned), 4);
-        // Then each reading on each maze task it changes, reading-major.
         assert_eq!(
-            names[4..],
+            names[..5],
+            [
+                "task1",
+                "task2",
+                "robot",
+                "robot-paper-state",
+                "aggregation-control"
+            ]
+        );
+        assert_eq!(base_count(&planned), 5);
+        // Then each reading on each paper maze task it changes, reading-major.
+        assert_eq!(
+            names[5..],
             [
                 "task2-reading-task2-reward-as-task1",
                 "task1-reading-epsilon-greedy-0.95",
@@ -321,11 +347,13 @@ mod tests {
                 "task2-reading-pretrain-half",
                 "task1-reading-pretrain-double",
                 "task2-reading-pretrain-double",
+                "task1-reading-pretrain-fixed",
+                "task2-reading-pretrain-fixed",
                 "task1-reading-temperature-floor-0.1",
                 "task2-reading-temperature-floor-0.1",
             ]
         );
-        for reading in &planned[4..] {
+        for reading in &planned[5..] {
             let (_, base) = reading.reading.unwrap();
             assert_eq!(reading.config().seeds, 2);
             assert_eq!(reading.config().episodes, planned[base].config().episodes);

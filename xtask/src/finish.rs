@@ -23,6 +23,7 @@ use crate::claims_report::{ClaimsReportError, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
+use crate::oracle_tables::{OracleTablesError, oracle_rows, write_oracle_tables};
 use crate::outputs::{ExperimentFigures, OutputError};
 use eamadm::report::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
@@ -76,6 +77,9 @@ pub(crate) enum FinishError {
     /// The verdicts or their files failed.
     #[error(transparent)]
     Claims(#[from] ClaimsReportError),
+    /// `oracle.csv` or `pretraining.csv` failed.
+    #[error(transparent)]
+    Oracle(#[from] OracleTablesError),
 }
 
 /// The runs of `jobs` that none of `stores` holds (keeping `keep`'s trajectories), one line
@@ -209,6 +213,8 @@ pub(crate) fn write_outputs(
     let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
     // The final scores of each reading's reruns, judged against the base's at the end.
     let mut readings: Vec<ReadingRuns> = Vec::new();
+    // Each sub-task's pre-training in every run of the base experiments (`pretraining.csv`).
+    let mut pretraining = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
         if let Some((reading, base)) = planned.reading {
@@ -266,6 +272,7 @@ pub(crate) fn write_outputs(
                     }
                 }
                 if let Some((experiment_figures, robot_behaviour)) = collected.as_mut() {
+                    pretraining.extend(eamadm::oracle::pretraining_rows(&run.record));
                     experiment_figures.push(&run.record);
                     if let Some(robot_behaviour) = robot_behaviour {
                         robot_behaviour.push(&run.record);
@@ -323,6 +330,8 @@ pub(crate) fn write_outputs(
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);
         write_claim_outputs(out, &context, &verdicts)?;
+        let oracle = oracle_rows(store_out, experiments)?;
+        write_oracle_tables(out, &oracle, &pretraining)?;
     }
     Ok(jobs.len())
 }

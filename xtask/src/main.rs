@@ -22,7 +22,7 @@
 //! streams the store into the outputs: CSV, figures ([`outputs`], [`figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
 //! and `REPORT.md` (whose text [`eamadm::report`] makes), [`sensitivity_report`] the readings'
-//! `sensitivity.csv`, all staged and swapped into the
+//! `sensitivity.csv`, `oracle.csv` and `pretraining.csv` ([`oracle_tables`]), all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
 //! [`text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
@@ -45,6 +45,7 @@ mod fixtures;
 mod jobs;
 #[cfg(test)]
 mod markdown;
+mod oracle_tables;
 mod outputs;
 mod plan;
 mod progress;

@@ -373,10 +373,10 @@ mod tests {
         assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
-        // 8 methods and 10 controls (the robot configs have no controls: an upper bound).
+        // Every label on every task (each task runs only the labels it has: an upper bound).
         assert_eq!(
             plan.runs(),
-            4 * default_methods().len() as u64 * u64::from(DEFAULT_SEEDS)
+            Task::ALL.len() as u64 * default_methods().len() as u64 * u64::from(DEFAULT_SEEDS)
         );
         let quick = ReproduceArgs {
             quick: true,

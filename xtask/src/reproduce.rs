@@ -448,9 +448,9 @@ mod tests {
     }
 
     /// Runs per seed of the readings [`small`] plans on Task I (the readings change no robot
-    /// task): γ (EA-MADM and softmax), pre-training half and double (EA-MADM) and the
+    /// task): γ (EA-MADM and softmax), pre-training half, double and fixed (EA-MADM) and the
     /// temperature floor (softmax).
-    const SMALL_READING_RUNS_PER_SEED: usize = 5;
+    const SMALL_READING_RUNS_PER_SEED: usize = 6;
 
     /// A small plan: two methods, two seeds, Task I and the robot, shortened by a config-free
     /// --quick.

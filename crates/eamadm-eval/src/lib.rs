@@ -19,6 +19,7 @@
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4, Fig. 13–15) and the seeds behind each point |
 //! | [`columns`] | every column of `final-scores.csv` and `claims.csv` documented: the data package and its Markdown |
 //! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
+//! | [`oracle`] | the decision step on exact (or converged) sub-task values, and each sub-task's pre-training: `oracle.csv`, `pretraining.csv` |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
 //!
@@ -49,6 +50,7 @@
 pub mod behaviour;
 pub mod claims;
 pub mod columns;
+pub mod oracle;
 pub mod paper_claims;
 pub mod reaching;
 pub mod record;

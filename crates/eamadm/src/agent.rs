@@ -530,12 +530,16 @@ mod tests {
         let own = [0.2, 0.1, -0.3, 0.0];
         let mut matrix = Vec::new();
         for (a, &own) in own.iter().enumerate() {
-            matrix.extend([prior.get(0, a, 0).unwrap(), prior.get(0, a, 1).unwrap(), own]);
+            matrix.extend([
+                prior.get(0, a, 0).unwrap(),
+                prior.get(0, a, 1).unwrap(),
+                own,
+            ]);
         }
         Normalisation::ZScore.apply(&mut matrix, 4, 3);
         let rows: Vec<&[f64]> = matrix.chunks(3).collect();
-        let mut mean = policy(prior.clone(), Weighting::Uniform)
-            .with_normalisation(Normalisation::ZScore);
+        let mut mean =
+            policy(prior.clone(), Weighting::Uniform).with_normalisation(Normalisation::ZScore);
         let mut max = policy(prior, Weighting::MaximumEntropy { orness: 1.0 })
             .with_normalisation(Normalisation::ZScore);
         let means = mean.evaluations(0, &own).to_vec();

@@ -46,6 +46,9 @@ pub const PAPER_TASK2_TOML: &str = include_str!("../configs/task2.toml");
 /// The paper's robot experiment (Sec. VI.B, Table 2) as TOML; parses to
 /// [`paper::robot`](crate::paper::robot).
 pub const PAPER_ROBOT_TOML: &str = include_str!("../configs/robot.toml");
+/// The positive control of issue 32 as TOML; parses to
+/// [`paper::aggregation_control`](crate::paper::aggregation_control).
+pub const AGGREGATION_CONTROL_TOML: &str = include_str!("../configs/aggregation-control.toml");
 /// The robot experiment over the paper's literal state (no target feature) as TOML; parses to
 /// [`paper::robot_paper_state`](crate::paper::robot_paper_state).
 pub const PAPER_ROBOT_PAPER_STATE_TOML: &str = include_str!("../configs/robot-paper-state.toml");

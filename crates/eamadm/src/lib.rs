@@ -31,6 +31,7 @@
 //! | [`data_package`], [`columns`] | `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its type, unit and meaning |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
 //! | [`margins`] | each task's equivalence margins, derived from its rewards and control period |
+//! | [`oracle`] | EA-MADM's decision and the plain aggregators on exact (maze) or converged (robot) sub-task values: `oracle.csv`; each sub-task's pre-training: `pretraining.csv` |
 //!
 //! # A first experiment
 //!
@@ -190,6 +191,7 @@ pub mod data_package;
 pub mod diagnosis;
 pub mod error;
 pub mod margins;
+pub mod oracle;
 pub mod output_names;
 pub mod paper;
 pub mod pretrain;
@@ -204,11 +206,11 @@ pub use agent::{EaMadmPolicy, PolicyError};
 // `behaviour` (the function) comes with the module of the same name above.
 pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour};
 pub use config::{
-    CompetitorSignal, CompetitorTraining, ConfigError, DEFAULT_EVALUATION_EVERY, EaMadmConfig,
-    EvaluationConfig, ExperimentConfig, MAX_INPUT_FILE_BYTES, Method, MethodSpec,
-    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
-    PretrainConfig, RESERVED_NAMES, Role, Storage, SubtaskGreedyConfig, TaskConfig,
-    TrajectoryConfig, is_safe_slug, read_input_file,
+    AGGREGATION_CONTROL_TOML, CompetitorSignal, CompetitorTraining, ConfigError, Convergence,
+    DEFAULT_EVALUATION_EVERY, EaMadmConfig, EvaluationConfig, ExperimentConfig,
+    MAX_INPUT_FILE_BYTES, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML,
+    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role, Storage,
+    SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, is_safe_slug, read_input_file,
 };
 pub use diagnosis::{SubtaskDiagnosis, subtask_diagnosis};
 pub use error::{RunError, RunFailure};

@@ -159,7 +159,9 @@ fn train_subtask<E: SubtaskGoals + Clone>(
     let mut checker = config
         .until
         .map(|rule| Checker::new(&env, k, rule, seed, env.subtask_has_goal(k)));
-    let cap = config.until.map_or(config.episodes, |rule| rule.max_episodes);
+    let cap = config
+        .until
+        .map_or(config.episodes, |rule| rule.max_episodes);
     let mut env_steps = 0;
     let mut last_episode_steps = 0;
     let mut reached_episodes = 0;
@@ -195,7 +197,11 @@ fn train_subtask<E: SubtaskGoals + Clone>(
         }
     }
     let (checks, check_env_steps, last_check_reached) = checker.map_or((0, 0, None), |c| {
-        (c.history.len() as u64, c.env_steps, c.history.last().map(|h| h.1))
+        (
+            c.history.len() as u64,
+            c.env_steps,
+            c.history.last().map(|h| h.1),
+        )
     });
     Ok(PretrainedSubtask {
         name,
@@ -271,7 +277,96 @@ impl<E: SubtaskGoals + Clone> Checker<E> {
         if self.has_goal {
             last.iter().all(|&(_, reached)| reached)
         } else {
-            last.iter().all(|&(value, _)| value.to_bits() == last[0].0.to_bits())
+            last.iter()
+                .all(|&(value, _)| value.to_bits() == last[0].0.to_bits())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::table1_learner;
+    use mazes::{Maze, TaskSpec};
+
+    fn env() -> MazeEnv {
+        let maze = Maze::parse("S....\n.##..\n...#.\n.#...\n....T\n").unwrap();
+        MazeEnv::new(
+            maze,
+            TaskSpec {
+                step_cap: 60,
+                ..TaskSpec::task1()
+            },
+        )
+        .unwrap()
+    }
+
+    fn fixed(episodes: u64) -> PretrainConfig {
+        PretrainConfig {
+            episodes,
+            ..PretrainConfig::default()
+        }
+    }
+
+    fn rule(episodes: u64, every: u64, max_episodes: u64) -> PretrainConfig {
+        PretrainConfig {
+            until: Some(Convergence {
+                every,
+                stable: 3,
+                max_episodes,
+            }),
+            ..fixed(episodes)
+        }
+    }
+
+    #[test]
+    fn only_the_reach_sub_task_of_a_maze_has_the_target_as_its_goal() {
+        let env = env();
+        assert!(env.subtask_has_goal(0));
+        assert!(!env.subtask_has_goal(1));
+        assert!(!env.subtask_has_goal(2));
+        let robot = WmrEnv::default();
+        assert!(robot.subtask_has_goal(0));
+        assert!(!robot.subtask_has_goal(1) && !robot.subtask_has_goal(2));
+    }
+
+    /// The checks play on their own copy and streams: a sub-task the rule stopped after `n`
+    /// episodes is the learner a fixed pre-training of `n` episodes gives, with the checks'
+    /// steps added to its count.
+    #[test]
+    fn the_rule_only_decides_when_to_stop() {
+        let env = env();
+        for k in 0..2 {
+            let ruled = pretrain_subtask(&env, k, table1_learner(), &rule(20, 5, 400), 3).unwrap();
+            assert!((20..=400).contains(&ruled.episodes));
+            assert_eq!(ruled.episodes % 5, 0, "it stops at a check");
+            let plain =
+                pretrain_subtask(&env, k, table1_learner(), &fixed(ruled.episodes), 3).unwrap();
+            assert_eq!(ruled.learner, plain.learner, "sub-task {k}");
+            assert_eq!(ruled.reached_episodes, plain.reached_episodes);
+            assert_eq!(ruled.env_steps, plain.env_steps + ruled.check_env_steps);
+            assert_eq!(ruled.checks, ruled.episodes / 5);
+            assert_eq!(plain.converged, None);
+            assert_eq!((plain.checks, plain.check_env_steps), (0, 0));
+            assert_eq!(plain.last_check_reached, None);
+            // On this small maze both converge well before the cap: the reach sub-task's checks
+            // reach the target, the other's return settles.
+            assert_eq!(ruled.converged, Some(true), "sub-task {k}");
+            if k == 0 {
+                assert_eq!(ruled.last_check_reached, Some(true));
+            }
+        }
+    }
+
+    /// A goal the sub-task cannot reach in time: training runs to the cap and says so.
+    #[test]
+    fn the_cap_stops_a_sub_task_that_never_converges() {
+        let env = env();
+        // Ten episodes at most, a check every 5 and 3 agreeing checks needed: never enough.
+        let capped = pretrain_subtask(&env, 0, table1_learner(), &rule(5, 5, 10), 3).unwrap();
+        assert_eq!(capped.episodes, 10);
+        assert_eq!(capped.converged, Some(false));
+        assert_eq!(capped.checks, 2);
+        assert!(capped.check_env_steps > 0);
     }
 }

@@ -108,6 +108,23 @@ impl Experiment {
         seed: u64,
         shared: &SharedPretraining,
     ) -> Result<RunRecord, RunError> {
+        self.run_with_learner(method, seed, shared)
+            .map(|(record, _)| record)
+    }
+
+    /// [`run_shared`](Self::run_shared), also returning the source task's learner as training
+    /// left it (for EA-MADM, the own values of its decision matrix; for a sub-task alone, the
+    /// sub-task's learner): what the run learned, for analyses the record does not hold
+    /// (`eamadm::oracle`). The record is the one [`run`](Self::run) returns.
+    ///
+    /// # Errors
+    /// As [`run`](Self::run).
+    pub fn run_with_learner(
+        &self,
+        method: &MethodSpec,
+        seed: u64,
+        shared: &SharedPretraining,
+    ) -> Result<(RunRecord, DoubleQ), RunError> {
         let fail = |source: RunFailure| RunError::new(&method.label, seed, source);
         method
             .validate("method")
@@ -357,7 +374,7 @@ impl SharedPretraining {
     }
 
     /// `self` if it was computed for `config`'s task and learner and `seed`, else nothing.
-    fn fits(&self, config: &ExperimentConfig, seed: u64) -> &Self {
+    pub(crate) fn fits(&self, config: &ExperimentConfig, seed: u64) -> &Self {
         static NONE: SharedPretraining = SharedPretraining {
             basis: None,
             subtasks: Vec::new(),
@@ -373,14 +390,18 @@ impl SharedPretraining {
         }
     }
 
-    fn subtask(&self, pretrain: &PretrainConfig, k: usize) -> Option<&PretrainedSubtask> {
+    pub(crate) fn subtask(
+        &self,
+        pretrain: &PretrainConfig,
+        k: usize,
+    ) -> Option<&PretrainedSubtask> {
         self.subtasks
             .iter()
             .find(|shared| shared.k == k && shared.pretrain == *pretrain)
             .map(|shared| &shared.subtask)
     }
 
-    fn prior(
+    pub(crate) fn prior(
         &self,
         pretrain: &PretrainConfig,
         storage: &Storage,
@@ -594,7 +615,7 @@ fn run_on<E: TaskEnv>(
     seed: u64,
     optimum_steps: Option<u64>,
     shared: &SharedPretraining,
-) -> Result<RunRecord, RunFailure> {
+) -> Result<(RunRecord, DoubleQ), RunFailure> {
     let mut init_rng = stream_rng(seed, Stream::SourceInit);
     let learner = DoubleQ::new(
         prototype.n_states(),
@@ -755,7 +776,7 @@ fn run_on<E: TaskEnv>(
         actions,
         agreement,
     } = outcome;
-    Ok(RunRecord {
+    let record = RunRecord {
         experiment: config.name.clone(),
         method: spec.label.clone(),
         seed,
@@ -771,7 +792,8 @@ fn run_on<E: TaskEnv>(
         final_window_episodes: window,
         final_window_actions: actions,
         agreement,
-    })
+    };
+    Ok((record, session.learner))
 }
 
 /// Every sub-task of `prototype` trained with `pretrain`: taken from `shared` where it holds
@@ -1101,7 +1123,7 @@ impl<E: TaskEnv> Session<'_, E> {
 
 /// One greedy episode of `learner` without learning, numbered `episode`, on the evaluation
 /// streams of `seed`; its record counts only its own steps in `env_steps`.
-fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
+pub(crate) fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
     env: &mut Counting<E>,
     learner: &mut DoubleQ,
     policy: &mut P,
@@ -1128,7 +1150,7 @@ fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
     Ok((outcome, record))
 }
 
-fn episode_record<E: TaskEnv>(
+pub(crate) fn episode_record<E: TaskEnv>(
     env: &Counting<E>,
     episode: u64,
     outcome: &EpisodeOutcome,

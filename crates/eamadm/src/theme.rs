@@ -97,7 +97,7 @@ pub const OKABE_ITO: [&str; 8] = [
 ];
 
 /// The looks of the methods of the paper's presets, by label.
-const LOOKS: [(&str, usize, Dash); 38] = [
+const LOOKS: [(&str, usize, Dash); 40] = [
     // The paper's methods: EA-MADM blue, its three competitors.
     ("ea-madm", 0, Dash::Solid),
     ("epsilon-greedy", 1, Dash::Solid),
@@ -119,6 +119,9 @@ const LOOKS: [(&str, usize, Dash); 38] = [
     ("softmax-shaped", 3, Dash::DashDot),
     ("ea-madm-tau0.5", 5, Dash::Dotted),
     ("ea-madm-tau0.33", 0, Dash::Dotted),
+    // The plain aggregators (EA-MADM with another aggregation: EA-MADM's blue, and black).
+    ("subtasks-mean", 0, Dash::DashDotDot),
+    ("subtasks-max", 6, Dash::DashDotDot),
     // The robot's repaired readings (ablations, drawn with the four above).
     ("ea-madm-goal-bonus", 1, Dash::Dashed),
     ("ea-madm-end-penalties", 2, Dash::Dashed),
@@ -183,7 +186,13 @@ mod tests {
     /// one preset share colour and dash.
     #[test]
     fn preset_methods_have_distinct_looks_of_their_role() {
-        for preset in [paper::task1(), paper::task2(), paper::robot()] {
+        for preset in [
+            paper::task1(),
+            paper::task2(),
+            paper::robot(),
+            paper::robot_paper_state(),
+            paper::aggregation_control(),
+        ] {
             distinct_looks_of_their_role(&preset);
         }
         assert_eq!(method_style("ea-madm", Role::Paper).colour, OKABE_ITO[0]);

@@ -114,7 +114,13 @@ def _shortened(config: Config, episodes: Optional[int], seeds: Optional[int]) ->
             # many episodes, and a warm-up budget shrinks with the episodes.
             pretrain = method.get("pretrain")
             if isinstance(pretrain, dict) and isinstance(pretrain.get("episodes"), int):
-                pretrain["episodes"] = min(pretrain["episodes"], episodes)
+                fewest = pretrain["episodes"]
+                pretrain["episodes"] = min(fewest, episodes)
+                # A stopping rule's cap shrinks in the same proportion, never below the fewest.
+                until = pretrain.get("until")
+                if isinstance(until, dict) and isinstance(until.get("max_episodes"), int):
+                    scaled = until["max_episodes"] * pretrain["episodes"] // max(fewest, 1)
+                    until["max_episodes"] = max(scaled, pretrain["episodes"])
             warmup = method.get("warmup_env_steps")
             if isinstance(warmup, int) and isinstance(before, int) and episodes < before:
                 method["warmup_env_steps"] = warmup * episodes // max(before, 1)
