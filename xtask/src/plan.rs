@@ -288,7 +288,7 @@ pub(crate) fn describe_regen_fixtures(check: bool, workspace: &Workspace) -> Str
     let _ = writeln!(text, "  action:   {action}");
     let _ = writeln!(
         text,
-        "  files:    maze layouts (task1, task2), the robot scenario, and reference trajectories \
+        "  files:    maze layouts (task1, task2, aggregation-control), the robot scenario, and reference trajectories \
          and curves for one fixed seed per task and method, each with a header saying how it \
          was made"
     );

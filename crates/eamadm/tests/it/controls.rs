@@ -178,7 +178,7 @@ fn budget_matched_competitors_spend_the_budget_first() {
 #[test]
 fn a_warmup_beyond_the_limit_is_refused_naming_the_field() {
     let text = eamadm::PAPER_TASK1_TOML.replacen(
-        "warmup_env_steps = 420000",
+        "warmup_env_steps = 464000",
         "warmup_env_steps = 1000000000000",
         1,
     );
