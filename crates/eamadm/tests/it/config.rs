@@ -227,6 +227,40 @@ fn the_pretraining_schedule_is_checked_under_its_own_path() {
     assert_eq!(error.field(), Some("methods[0].pretrain.epsilon.floor"));
 }
 
+/// The stopping rule's parameters are checked under their own path: a check interval and a
+/// window of at least 1, a cap no smaller than the fewest episodes.
+#[test]
+fn the_stopping_rule_is_checked_under_its_own_path() {
+    let rule = "until = { every = 10, stable = 3, max_episodes = 1000 }";
+    for (bad, field, value) in [
+        (
+            "until = { every = 0, stable = 3, max_episodes = 1000 }",
+            "methods[0].pretrain.until.every",
+            "0",
+        ),
+        (
+            "until = { every = 10, stable = 0, max_episodes = 1000 }",
+            "methods[0].pretrain.until.stable",
+            "0",
+        ),
+        (
+            "until = { every = 10, stable = 3, max_episodes = 150 }",
+            "methods[0].pretrain.until.max_episodes",
+            "150",
+        ),
+    ] {
+        let error = ExperimentConfig::from_toml_str(&edited(rule, bad)).unwrap_err();
+        assert_eq!(error.field(), Some(field), "{error}");
+        assert!(error.to_string().contains(value), "{error}");
+    }
+    // An unknown key of the rule is named too.
+    let message = error_of(&edited(
+        rule,
+        "until = { every = 10, stable = 3, max_episodes = 1000, patience = 2 }",
+    ));
+    assert!(message.contains("patience"), "{message}");
+}
+
 #[test]
 fn type_errors_and_syntax_errors_name_the_line() {
     let message = error_of(&edited("episodes = 200", "episodes = \"many\""));
