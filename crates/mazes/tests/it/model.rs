@@ -1,6 +1,11 @@
 //! The maze as a deterministic model ([`MazeEnv::model`]): it is the environment's dynamics and
 //! rewards, and its value-iteration `Q*` is what the learners converge to.
 
+#![allow(
+    clippy::unwrap_used,
+    reason = "tests may unwrap: a failure is the test failing"
+)]
+
 use dql::{
     DoubleQ, DoubleQParams, EpisodeOptions, EpsilonGreedy, Learner, QLearning, QLearningParams,
     SubtaskRewardSignal, TaskRewardSignal, run_episode, value_iteration,
