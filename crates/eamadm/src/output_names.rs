@@ -65,10 +65,16 @@ pub const MANIFEST: &str = ".outputs";
 /// deleted.
 pub const SET_ASIDE: &str = ".set-aside";
 
+/// `oracle.csv`: the decision step on exact (maze) or converged (robot) sub-task values
+/// ([`crate::oracle`]).
+pub const ORACLE: &str = "oracle.csv";
+/// `pretraining.csv`: each sub-task's pre-training per run ([`crate::oracle::PretrainingRow`]).
+pub const PRETRAINING: &str = "pretraining.csv";
+
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 9] = [
+pub const TOP_LEVEL: [&str; 11] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -78,6 +84,8 @@ pub const TOP_LEVEL: [&str; 9] = [
     SENSITIVITY,
     REPORT_CONTEXT,
     FINDINGS,
+    ORACLE,
+    PRETRAINING,
 ];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.
