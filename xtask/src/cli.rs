@@ -142,7 +142,7 @@ pub(crate) use eamadm_runs::KeepTrajectories;
 pub(crate) const MAX_SEEDS: u32 = 1000;
 
 /// `--keep-trajectories`: `figures` (only what the figures draw: the evaluation episodes, in
-/// trajectories.csv the first seed's) or `all` (also every seed's evaluation path and every
+/// trajectories.csv.gz the first seed's) or `all` (also every seed's evaluation path and every
 /// training trajectory the config records).
 fn keep_trajectories_values() -> impl clap::builder::TypedValueParser<Value = KeepTrajectories> {
     clap::builder::PossibleValuesParser::new(KeepTrajectories::ALL.map(KeepTrajectories::name))
@@ -182,7 +182,7 @@ pub(crate) struct ReproduceArgs {
     /// of exiting with an error.
     #[arg(long)]
     pub(crate) wait: bool,
-    /// Which training trajectories to keep in the run store and trajectories.csv.
+    /// Which training trajectories to keep in the run store and trajectories.csv.gz.
     #[arg(long, value_name = "WHICH", value_parser = keep_trajectories_values(), default_value_t)]
     pub(crate) keep_trajectories: KeepTrajectories,
     /// Whether to rerun the selected methods under the other readings of the paper (ε-greedy

@@ -238,7 +238,9 @@ pub(crate) fn write_outputs(
         let mut tables = if everything {
             Some((
                 eamadm_runs::gzip::table_encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
-                AtomicFile::create(&folder.join(eamadm_runs::names::TRAJECTORIES))?,
+                eamadm_runs::gzip::table_encoder(AtomicFile::create(
+                    &folder.join(eamadm_runs::names::TRAJECTORIES),
+                )?),
             ))
         } else {
             None
@@ -298,7 +300,14 @@ pub(crate) fn write_outputs(
                     source,
                 })?
                 .commit()?;
-            paths.commit()?;
+            let paths_path = folder.join(eamadm_runs::names::TRAJECTORIES);
+            paths
+                .finish()
+                .map_err(|source| AtomicWriteError {
+                    path: paths_path,
+                    source,
+                })?
+                .commit()?;
         }
         if let Some((experiment_figures, gathered)) = collected {
             let figures = write_figures(out, &planned.name, experiment_figures)?;
@@ -334,9 +343,14 @@ pub(crate) fn write_outputs(
         let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);
-        write_claim_outputs(out, &context, &verdicts)?;
+        // The oracle and the reach sub-tasks' pre-training enter the findings (and the
+        // report) through the context, so that `eamadm.report(dir)` renders them from
+        // `report-context.toml` too.
         let oracle = oracle_rows(pretrained_cache, experiments)?;
+        context.oracle = eamadm::oracle::oracle_findings(&oracle, &verdicts.scores);
+        context.pretraining = eamadm::oracle::reach_pretraining(&pretraining);
         write_oracle_tables(out, &oracle, &pretraining)?;
+        write_claim_outputs(out, &context, &verdicts)?;
     }
     Ok(jobs.len())
 }

@@ -528,7 +528,7 @@ mod tests {
             "REPORT.md",
             "runs/mine.jsonl.zst",
             "mine/curves.csv.gz",
-            "mine/trajectories.csv",
+            "mine/trajectories.csv.gz",
             "mine/steps.svg",
             "mine/return.svg",
             "mine/trajectories.svg",

@@ -258,6 +258,20 @@ pub struct OracleFinding {
     pub reaches_initial: u64,
     /// Seeds on which it reaches with the values its run learned instead.
     pub reaches_learned: u64,
+    /// Median steps of its greedy episodes with the initial own values (the step cap for a
+    /// seed that does not reach); `None` without such rows.
+    #[serde(default)]
+    pub median_steps_initial: Option<f64>,
+    /// Median steps with the learned own values.
+    #[serde(default)]
+    pub median_steps_learned: Option<f64>,
+    /// On a maze, the mean over seeds of the share of states whose decision (initial own
+    /// values) is a shortest-path action; `None` on the robot.
+    #[serde(default)]
+    pub optimal_share_initial: Option<f64>,
+    /// The same with the learned own values.
+    #[serde(default)]
+    pub optimal_share_learned: Option<f64>,
     /// The sub-task alone (`subtaskK-alone`) reaching on most seeds (the first of them, so
     /// sub-task 0 when none reaches), and on how many.
     pub best_subtask_alone: Option<(String, u64)>,
@@ -294,8 +308,9 @@ pub fn oracle_findings(rows: &[OracleRow], scores: &[FinalScore]) -> Vec<OracleF
                 .copied()
                 .or_else(|| of(OwnValues::Learned).next())
                 .expect("a decision has a row");
+            let learned: Vec<&OracleRow> = of(OwnValues::Learned).collect();
             let reaches_initial = initial.iter().filter(|r| r.reached).count() as u64;
-            let reaches_learned = of(OwnValues::Learned).filter(|r| r.reached).count() as u64;
+            let reaches_learned = learned.iter().filter(|r| r.reached).count() as u64;
             let mut alone: Vec<(String, Vec<&OracleRow>)> = Vec::new();
             for row in rows
                 .iter()
@@ -373,6 +388,10 @@ pub fn oracle_findings(rows: &[OracleRow], scores: &[FinalScore]) -> Vec<OracleF
                     .map(|manhattan| first.optimum_steps == Some(manhattan)),
                 reaches_initial,
                 reaches_learned,
+                median_steps_initial: median_steps(&initial),
+                median_steps_learned: median_steps(&learned),
+                optimal_share_initial: mean_share(&initial),
+                optimal_share_learned: mean_share(&learned),
                 best_subtask_alone: best.map(|(name, seeds)| {
                     let n = reaching(&seeds);
                     (name, n)
@@ -383,6 +402,44 @@ pub fn oracle_findings(rows: &[OracleRow], scores: &[FinalScore]) -> Vec<OracleF
             }
         })
         .collect()
+}
+
+/// The median greedy steps of `rows` (the mean of the two middle ones for an even count).
+fn median_steps(rows: &[&OracleRow]) -> Option<f64> {
+    let mut steps: Vec<u64> = rows.iter().map(|r| r.greedy_steps).collect();
+    steps.sort_unstable();
+    let n = steps.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(steps[n / 2] as f64),
+        _ => Some((steps[n / 2 - 1] as f64 + steps[n / 2] as f64) / 2.0),
+    }
+}
+
+/// The mean optimal-action share of `rows`, when every row has one.
+fn mean_share(rows: &[&OracleRow]) -> Option<f64> {
+    let shares: Option<Vec<f64>> = rows.iter().map(|r| r.optimal_share).collect();
+    let shares = shares?;
+    (!shares.is_empty()).then(|| shares.iter().sum::<f64>() / shares.len() as f64)
+}
+
+/// The reach sub-task's pre-training (sub-task 0: the sub-task paid for reaching the target
+/// in every preset) of each method that pre-trains more than one sub-task (EA-MADM, its
+/// variants and the plain aggregators; not a sub-task alone), per task, in first-appearance
+/// order: what the report says about whether pre-training ever reached.
+#[must_use]
+pub fn reach_pretraining(rows: &[PretrainingRow]) -> Vec<PretrainingSummary> {
+    let several: std::collections::BTreeSet<(&str, &str)> = rows
+        .iter()
+        .filter(|r| r.subtask > 0)
+        .map(|r| (r.task.as_str(), r.method.as_str()))
+        .collect();
+    let reach: Vec<PretrainingRow> = rows
+        .iter()
+        .filter(|r| r.subtask == 0 && several.contains(&(r.task.as_str(), r.method.as_str())))
+        .cloned()
+        .collect();
+    pretraining_summary(&reach)
 }
 
 /// One sub-task's pre-training over the seeds of one method's runs: whether it converged and

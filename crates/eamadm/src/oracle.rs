@@ -43,7 +43,8 @@ use wmr_model::SubtaskRepairs;
 pub use eamadm_eval::oracle::{
     FailingPart, ORACLE_COLUMNS, OracleError, OracleFinding, OracleRow, OracleValues, OwnValues,
     PRETRAINING_COLUMNS, PretrainingRow, PretrainingSummary, oracle_findings, pretraining_rows,
-    pretraining_summary, read_csv, read_pretraining_csv, write_csv, write_pretraining_csv,
+    pretraining_summary, reach_pretraining, read_csv, read_pretraining_csv, write_csv,
+    write_pretraining_csv,
 };
 
 /// The decision rules the oracle feeds, by label, when the experiment has them: EA-MADM and

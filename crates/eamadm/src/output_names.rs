@@ -51,8 +51,9 @@ pub const FINDINGS: &str = "findings.json";
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
 pub const CURVES: &str = "curves.csv.gz";
-/// Each experiment's evaluation paths, `<out>/<experiment>/trajectories.csv`.
-pub const TRAJECTORIES: &str = "trajectories.csv";
+/// Each experiment's evaluation paths, `<out>/<experiment>/trajectories.csv.gz` (gzip, as the
+/// curves: the paths of a policy looping to the step cap compress about twentyfold).
+pub const TRAJECTORIES: &str = "trajectories.csv.gz";
 /// The output folder's lock file.
 pub const LOCK_FILE: &str = ".reproduce-paper.lock";
 /// Where a set of outputs is written before it is committed.
