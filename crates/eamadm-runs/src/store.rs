@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! runs/<experiment>.jsonl.zst         packed bundle: the experiment's runs, many per Zstandard frame
-//! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member (not yet packed)
+//! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member of stored blocks (not yet packed)
 //! runs/.set-aside/…                   entries that failed their checks, kept for inspection
 //! runs/.writers.lock                  held shared by writers while they make a temporary file
 //! ```
@@ -37,7 +37,10 @@
 //!   atomic rename. This rests on `rename` being atomic within a folder (POSIX; NFS and Lustre
 //!   keep it) and on the folder lock being exclusive (`flock`, which NFS emulates with
 //!   byte-range locks). No append is ever shared. A temporary file is removed by another
-//!   process only when its writer is gone ([`crate::atomic::WritersLock`]).
+//!   process only when its writer is gone ([`crate::atomic::WritersLock`]). A running plan
+//!   writes its runs through a [`LooseBatch`] (a group commit): the same files and renames,
+//!   synced together once per batch instead of once per run, so a crash of the machine may
+//!   lose the last batches' runs (found torn or missing, recomputed), never trust a wrong one.
 //! - **Readers never change anything.** [`RunStore::open`] only reads; a damaged or torn entry is
 //!   reported and skipped.
 //! - **Nothing removes a run.** Packing writes the union of the bundles' verified entries and
@@ -1759,7 +1762,10 @@ impl LooseBatch<'_> {
             }
             other => other?,
         };
-        let mut state = self.state.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut state = self
+            .state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         if state.written.is_empty() {
             state.started = std::time::Instant::now();
         }
@@ -1818,7 +1824,10 @@ impl LooseBatch<'_> {
     /// # Errors
     /// [`StoreError::Write`] if a sync failed.
     pub fn finish(self) -> Result<(), StoreError> {
-        let mut state = self.state.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut state = self
+            .state
+            .into_inner()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         Self::wait(&mut state);
         let files = std::mem::take(&mut state.written);
         if let Err(error) = sync_written(&self.loose, &files) {
@@ -2719,6 +2728,105 @@ mod tests {
     /// What a kill between a bundle's rename and the removal of the loose files it packed
     /// leaves: loose copies of packed runs. They are recognised, removed by the next pack and
     /// never reported (9dc06af kept them for ever).
+    /// The group commit's durability trade (docs/paper-notes.md §24): a crash of the machine
+    /// between batches loses at most the runs not yet handed to a sync. Here the process dies
+    /// after six runs with a batch of four (the first four synced), and the power loss leaves
+    /// the last two runs' files emptied and torn, as an unsynced file may be after a reboot.
+    /// The next open trusts the four synced runs, reports the torn one, never indexes either
+    /// lost run; the resumed invocation recomputes exactly those two, and after its pack the
+    /// store holds the very bytes of a store that never crashed.
+    #[test]
+    fn a_crash_between_batches_loses_at_most_the_unsynced_runs_and_resumes() {
+        let runs = runs_of(6);
+        let figures = KeepTrajectories::Figures;
+        let limit = BatchLimit {
+            runs: 4,
+            interval: std::time::Duration::from_secs(3600),
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let (store, _) = open(dir.path());
+        let batch = store.batch(limit).unwrap();
+        for (key, description, record) in &runs {
+            batch.append(key, description, record, figures).unwrap();
+        }
+        let unsynced = batch.unsynced();
+        let lost: Vec<PathBuf> = runs[4..]
+            .iter()
+            .map(|(key, _, _)| store.loose_path(key, figures))
+            .collect();
+        assert_eq!(
+            unsynced, lost,
+            "the runs after the last full batch wait for their sync"
+        );
+        // The process dies here (no `finish`), then the machine: the unsynced files are lost.
+        drop(batch);
+        drop(store);
+        std::fs::write(&lost[0], b"").unwrap();
+        let torn = std::fs::read(&lost[1]).unwrap();
+        std::fs::write(&lost[1], &torn[..torn.len() / 2]).unwrap();
+
+        let (store, warnings) = open(dir.path());
+        assert_eq!(store.len(), 4);
+        for (key, _, _) in &runs[..4] {
+            assert!(store.has(key, figures));
+        }
+        for (key, _, _) in &runs[4..] {
+            assert!(!store.has(key, figures));
+        }
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("recomputed"), "{warnings:?}");
+        // The resumed invocation recomputes what the store lacks (the same bits) and packs.
+        let batch = store.batch(limit).unwrap();
+        for (key, description, record) in &runs {
+            if !store.has(key, figures) {
+                batch.append(key, description, record, figures).unwrap();
+            }
+        }
+        batch.finish().unwrap();
+        drop(store);
+        pack(dir.path(), &keys(&runs));
+        let (store, warnings) = open(dir.path());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(store.keys(), keys(&runs).iter().collect::<Vec<_>>());
+
+        let clean = tempfile::tempdir().unwrap();
+        let bundle = stored(clean.path(), &runs);
+        assert_eq!(
+            std::fs::read(store.bundle_path(&runs[0].2.experiment)).unwrap(),
+            std::fs::read(bundle).unwrap()
+        );
+    }
+
+    /// A batch written in full and finished is what appending one run at a time stores: the
+    /// same loose files, byte for byte.
+    #[test]
+    fn a_finished_batch_stores_what_single_appends_store() {
+        let runs = runs_of(3);
+        let figures = KeepTrajectories::Figures;
+        let (one, batched) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        append_all(one.path(), &runs, figures);
+        let (store, _) = open(batched.path());
+        let batch = store.batch(BatchLimit::default()).unwrap();
+        for (key, description, record) in &runs {
+            batch.append(key, description, record, figures).unwrap();
+        }
+        batch.finish().unwrap();
+        for (key, _, _) in &runs {
+            let relative = |dir: &Path| {
+                std::fs::read(loose_path_in(
+                    &dir.join(crate::names::RUNS_FOLDER),
+                    key,
+                    figures,
+                ))
+                .unwrap()
+            };
+            assert_eq!(relative(one.path()), relative(batched.path()));
+        }
+        let (store, warnings) = open(batched.path());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(store.len(), 3);
+    }
+
     #[test]
     fn loose_copies_of_packed_runs_left_by_a_kill_are_removed_quietly() {
         let runs = runs();
