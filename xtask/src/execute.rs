@@ -168,6 +168,10 @@ pub(crate) fn run_jobs(
             None => groups.push(vec![job]),
         }
     }
+    // One sync per batch of runs rather than two per run (a group commit,
+    // `eamadm_runs::LooseBatch`): a crash of the machine loses at most the last batches'
+    // runs, which the next invocation finds torn or missing and recomputes.
+    let batch = store.batch(eamadm_runs::BatchLimit::default())?;
     let receipts = groups
         .par_iter()
         .map(|group| -> Result<Vec<AppendReceipt>, ExecuteError> {
@@ -186,7 +190,7 @@ pub(crate) fn run_jobs(
                             experiment: planned.name.clone(),
                             source,
                         })?;
-                    let receipt = store.append(
+                    let receipt = batch.append(
                         &job.key,
                         &RunDescription::new(&planned.experiment, job.method, job.seed),
                         &record,
@@ -197,10 +201,11 @@ pub(crate) fn run_jobs(
                 })
                 .collect()
         })
-        .collect::<Result<Vec<Vec<AppendReceipt>>, ExecuteError>>()?
-        .into_iter()
-        .flatten()
-        .collect();
+        .collect::<Result<Vec<Vec<AppendReceipt>>, ExecuteError>>();
+    // Synced whether or not a run failed: what was stored stays stored.
+    let synced = batch.finish();
+    let receipts: Vec<AppendReceipt> = receipts?.into_iter().flatten().collect();
+    synced?;
     for bar in &bars {
         bar.finish();
     }

@@ -118,6 +118,17 @@ pub const FIGURE_RESAMPLES: u32 = 1_000;
 /// computed every `⌈episodes / MAX_BAND_POINTS⌉` episodes (and at the last) and the caption
 /// says so. The curves are moving averages, so the band changes slowly between those points.
 pub const MAX_BAND_POINTS: usize = 100;
+/// The seeds up to which a series gets all [`MAX_BAND_POINTS`] band points. Each point costs
+/// [`FIGURE_RESAMPLES`] resamples of every seed, so with more seeds the band is computed at
+/// proportionally fewer points (at least [`MIN_BAND_POINTS`]): the band's cost stays that of
+/// `MAX_BAND_POINTS × BAND_FULL_SEEDS` seeds' values instead of growing with thousands of
+/// seeds (docs/paper-notes.md §24), and the caption says every how many episodes it was
+/// computed. With more seeds the band is narrower and smoother (its width falls as
+/// 1/√seeds), so fewer points lose little.
+pub const BAND_FULL_SEEDS: usize = 50;
+/// The fewest band points a bootstrapped series gets, however many seeds it has (besides the
+/// last episode's).
+pub const MIN_BAND_POINTS: usize = 5;
 /// Seed of the bootstrap of every band point (the episode index is added).
 const BAND_SEED: u64 = 0x0F16_0BAD;
 
@@ -391,6 +402,19 @@ impl Series {
             source,
         }
     }
+}
+
+/// Every how many episodes the band of a chart whose longest curve has `longest` episodes and
+/// whose largest series has `seeds` seeds is bootstrapped: at most [`MAX_BAND_POINTS`] points,
+/// and beyond [`BAND_FULL_SEEDS`] seeds proportionally fewer, down to [`MIN_BAND_POINTS`].
+fn band_stride(longest: usize, seeds: Option<usize>) -> usize {
+    let seeds = seeds.unwrap_or(1).max(1);
+    let points = if seeds <= BAND_FULL_SEEDS {
+        MAX_BAND_POINTS
+    } else {
+        (MAX_BAND_POINTS * BAND_FULL_SEEDS / seeds).max(MIN_BAND_POINTS)
+    };
+    longest.div_ceil(points).max(1)
 }
 
 /// A dashed horizontal line with a legend label, e.g. `"BFS optimum = 58"` at 58.
@@ -964,7 +988,7 @@ impl LineChart {
             .flat_map(|s| s.curves.iter().map(Vec::len))
             .max()
             .unwrap_or(1);
-        let stride = longest.div_ceil(MAX_BAND_POINTS).max(1);
+        let stride = band_stride(longest, self.series.iter().map(Series::seeds).max());
         let drawn = self
             .series
             .iter()
@@ -1721,6 +1745,46 @@ mod tests {
                 assert!(min <= low && low <= d.line[e] && d.line[e] <= high && high <= max);
             }
         }
+    }
+
+    #[test]
+    fn the_band_costs_a_bounded_number_of_draws_beyond_fifty_seeds() {
+        // Up to BAND_FULL_SEEDS seeds (the default run's 20 among them) nothing changes.
+        for seeds in [1, 20, BAND_FULL_SEEDS] {
+            assert_eq!(band_stride(100, Some(seeds)), 1);
+            assert_eq!(band_stride(500, Some(seeds)), 5);
+        }
+        // Beyond, the points times the seeds stay within MAX_BAND_POINTS × BAND_FULL_SEEDS
+        // until the floor of MIN_BAND_POINTS is reached.
+        for seeds in [51, 100, 200, 333, 500, 1000, 5000] {
+            for longest in [100, 500, 1000] {
+                let stride = band_stride(longest, Some(seeds));
+                let points = longest.div_ceil(stride);
+                assert!(
+                    points * seeds <= MAX_BAND_POINTS * BAND_FULL_SEEDS
+                        || points <= MIN_BAND_POINTS,
+                    "{seeds} seeds, {longest} episodes: {points} points"
+                );
+                assert!(points >= MIN_BAND_POINTS.min(longest));
+            }
+        }
+        assert_eq!(band_stride(100, Some(1000)), 20);
+        let curve: Vec<f64> = (0..100).map(|i| f64::from(i % 7)).collect();
+        let chart = LineChart::new("many", "episode", "steps").with_series(series(
+            "softmax",
+            1,
+            &vec![curve; 1000],
+        ));
+        let (drawn, stride) = chart.drawn().unwrap();
+        assert_eq!(stride, 20);
+        // Episodes 1, 21, 41, 61, 81 and the last.
+        assert_eq!(drawn[0].band.len(), 6);
+        assert!(
+            chart
+                .render_svg()
+                .unwrap()
+                .contains("computed every 20 episodes")
+        );
     }
 
     #[test]

@@ -54,6 +54,18 @@ pub fn compress(bytes: &[u8]) -> io::Result<Vec<u8>> {
     encoder.finish()
 }
 
+/// `bytes` as one gzip member of stored (uncompressed) DEFLATE blocks: the loose runs of the
+/// store ([`crate::store::RunStore::append`]), which live only until the next pack moves them
+/// into a Zstandard bundle, so compressing them is work thrown away (at level 1 it was about
+/// 8 % of a 1000-seed ε-greedy `reproduce-paper`, docs/paper-notes.md §24). The member keeps
+/// gzip's CRC-32 and length, so a torn or damaged loose file is still detected.
+pub fn compress_stored(bytes: &[u8]) -> io::Result<Vec<u8>> {
+    // Five bytes of block header per 64 KiB stored block, plus header and trailer.
+    let mut encoder = encoder_at(Vec::with_capacity(bytes.len() + bytes.len() / 8192 + 64), 0);
+    encoder.write_all(bytes)?;
+    encoder.finish()
+}
+
 /// The content of the first gzip member at the start of `bytes`, and how many bytes of `bytes`
 /// the member takes (header, compressed data and trailer). Fails on a damaged or incomplete
 /// member (the CRC and length in the trailer are checked).

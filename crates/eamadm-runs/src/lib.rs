@@ -63,4 +63,7 @@ pub mod verify;
 pub use eamadm::output_names as names;
 pub use key::{RESULTS_FORMAT, RunDescription, RunKey, canonical_json};
 pub use pretrained::{PRETRAINED_FORMAT, PretrainedStore, PretrainingDescription};
-pub use store::{AppendReceipt, KeepTrajectories, RunStore, StoreError, StoredRun, compact};
+pub use store::{
+    AppendReceipt, BatchLimit, KeepTrajectories, LooseBatch, RunStore, StoreError, StoredRun,
+    compact,
+};

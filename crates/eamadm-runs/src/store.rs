@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! runs/<experiment>.jsonl.zst         packed bundle: the experiment's runs, many per Zstandard frame
-//! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member (not yet packed)
+//! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member of stored blocks (not yet packed)
 //! runs/.set-aside/…                   entries that failed their checks, kept for inspection
 //! runs/.writers.lock                  held shared by writers while they make a temporary file
 //! ```
@@ -37,7 +37,10 @@
 //!   atomic rename. This rests on `rename` being atomic within a folder (POSIX; NFS and Lustre
 //!   keep it) and on the folder lock being exclusive (`flock`, which NFS emulates with
 //!   byte-range locks). No append is ever shared. A temporary file is removed by another
-//!   process only when its writer is gone ([`crate::atomic::WritersLock`]).
+//!   process only when its writer is gone ([`crate::atomic::WritersLock`]). A running plan
+//!   writes its runs through a [`LooseBatch`] (a group commit): the same files and renames,
+//!   synced together once per batch instead of once per run, so a crash of the machine may
+//!   lose the last batches' runs (found torn or missing, recomputed), never trust a wrong one.
 //! - **Readers never change anything.** [`RunStore::open`] only reads; a damaged or torn entry is
 //!   reported and skipped.
 //! - **Nothing removes a run.** Packing writes the union of the bundles' verified entries and
@@ -1287,13 +1290,29 @@ impl RunStore {
     /// no two processes write the same file. (Two storing the same run write the same bytes.)
     /// Needs no lock; [`RunStore::pack`] moves it into its bundle later. Returns the receipt
     /// of the bytes written, with which [`RunStore::open_with_receipts`] indexes the file
-    /// without reading it back in full.
+    /// without reading it back in full. Many runs in a row are cheaper through a
+    /// [`LooseBatch`], which syncs once per batch.
     pub fn append(
         &self,
         key: &RunKey,
         description: &RunDescription,
         record: &RunRecord,
         keep: KeepTrajectories,
+    ) -> Result<AppendReceipt, StoreError> {
+        self.write_loose(key, description, record, keep, true, true)
+    }
+
+    /// Writes the loose file of a run ([`RunStore::append`]): `synced` forces it and its
+    /// rename to disk before returning; `make_folders` first makes `runs/loose/` (checking
+    /// that no part of it is a link).
+    fn write_loose(
+        &self,
+        key: &RunKey,
+        description: &RunDescription,
+        record: &RunRecord,
+        keep: KeepTrajectories,
+        synced: bool,
+        make_folders: bool,
     ) -> Result<AppendReceipt, StoreError> {
         let path = self.loose_path(key, keep);
         let write = |source| StoreError::Write {
@@ -1303,15 +1322,17 @@ impl RunStore {
         let description =
             canonical_json(description).map_err(|e| write(io::Error::other(e.to_string())))?;
         let line = line_bytes(key, description.as_bytes(), record, keep)?;
-        let entry = crate::gzip::compress(&line).map_err(write)?;
-        let out = self.folder.parent().unwrap_or(Path::new("."));
-        crate::no_follow::ensure_folders(
-            out,
-            &Path::new(crate::names::RUNS_FOLDER).join(LOOSE_FOLDER),
-        )
-        .map_err(write)?;
-        crate::atomic::write_atomic_among_writers(&path, &entry, &self.writers())
-            .map_err(|e| write(e.source))?;
+        let entry = crate::gzip::compress_stored(&line).map_err(write)?;
+        if make_folders {
+            self.make_loose_folder().map_err(write)?;
+        }
+        if synced {
+            crate::atomic::write_atomic_among_writers(&path, &entry, &self.writers())
+                .map_err(|e| write(e.source))?;
+        } else {
+            crate::atomic::write_atomic_among_writers_unsynced(&path, &entry, &self.writers())
+                .map_err(|e| write(e.source))?;
+        }
         Ok(AppendReceipt {
             key: key.clone(),
             keep,
@@ -1320,6 +1341,39 @@ impl RunStore {
             digest: blake3::hash(&entry),
             line_len: line.len() as u64,
             line_digest: blake3::hash(&line),
+        })
+    }
+
+    /// Makes `runs/loose/` (and `runs/`), refusing a link on the way.
+    fn make_loose_folder(&self) -> io::Result<()> {
+        let out = self.folder.parent().unwrap_or(Path::new("."));
+        crate::no_follow::ensure_folders(
+            out,
+            &Path::new(crate::names::RUNS_FOLDER).join(LOOSE_FOLDER),
+        )
+    }
+
+    /// A batch of loose runs written with one sync for many (group commit): see [`LooseBatch`].
+    ///
+    /// # Errors
+    /// [`StoreError::Write`] if `runs/loose/` cannot be made.
+    pub fn batch(&self, limit: BatchLimit) -> Result<LooseBatch<'_>, StoreError> {
+        let loose = self.folder.join(LOOSE_FOLDER);
+        self.make_loose_folder()
+            .map_err(|source| StoreError::Write {
+                path: loose.clone(),
+                source,
+            })?;
+        Ok(LooseBatch {
+            store: self,
+            limit,
+            loose,
+            state: Mutex::new(BatchState {
+                written: Vec::new(),
+                started: std::time::Instant::now(),
+                syncing: None,
+                failure: None,
+            }),
         })
     }
 
@@ -1629,6 +1683,204 @@ const LOOSE_HELD_BYTES: u64 = 16 << 20;
 
 /// Checks one line of the frame at byte `frame` of `path`: a line too long to be held is read
 /// again whole (under the cap, so legitimately long) to be parsed.
+/// When a [`LooseBatch`] syncs what it has written: after `runs` runs or `interval`, whichever
+/// comes first (and when it is finished).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BatchLimit {
+    /// Runs per batch (at least 1).
+    pub runs: usize,
+    /// The longest a written run waits for its batch's sync to start.
+    pub interval: std::time::Duration,
+}
+
+impl Default for BatchLimit {
+    /// 256 runs or 2 seconds: a crash of the machine loses at most the runs of the last
+    /// seconds (recomputed on the next invocation), and a sweep of thousands of short runs
+    /// syncs a handful of times instead of twice per run.
+    fn default() -> Self {
+        Self {
+            runs: 256,
+            interval: std::time::Duration::from_secs(2),
+        }
+    }
+}
+
+/// Loose runs written with one sync per batch: a **group commit**. [`LooseBatch::append`]
+/// writes a run's loose file aside and renames it into place like [`RunStore::append`] (so
+/// no process ever sees it half written, and a killed process loses nothing: the kernel
+/// holds what it wrote), but does not force it to disk. When the batch reaches its
+/// [`BatchLimit`], the files written so far are synced together on a thread of their own while
+/// the next batch is written: on Linux by one `syncfs` of the store's file system, elsewhere
+/// by syncing each file and then the folder once. [`LooseBatch::finish`] syncs the rest and
+/// waits for every sync.
+///
+/// **The durability trade** (docs/paper-notes.md §24): a crash of the *machine* (power
+/// loss, kernel panic) may lose the runs written since the last completed sync, at most two
+/// batches (the one being synced and the one being written). A lost run's file is missing,
+/// empty or torn; the next open finds its gzip CRC or its checksum wrong, reports it, the
+/// next pack sets it aside, and the run is recomputed (same bits: every run is a function of
+/// its description). Nothing wrong is ever trusted, and the runs of earlier batches are safe.
+/// A killed *process* loses nothing it wrote.
+pub struct LooseBatch<'a> {
+    store: &'a RunStore,
+    limit: BatchLimit,
+    loose: PathBuf,
+    state: Mutex<BatchState>,
+}
+
+struct BatchState {
+    /// Loose files written since the last sync started.
+    written: Vec<PathBuf>,
+    /// When the first of them was written (or the batch began).
+    started: std::time::Instant,
+    /// The sync in flight.
+    syncing: Option<std::thread::JoinHandle<io::Result<()>>>,
+    /// The first failed sync, reported by the next append or by `finish`.
+    failure: Option<io::Error>,
+}
+
+impl LooseBatch<'_> {
+    /// Stores a finished run as [`RunStore::append`] does, synced with its batch.
+    ///
+    /// # Errors
+    /// [`StoreError`] if the run cannot be written, or an earlier sync of this batch failed.
+    pub fn append(
+        &self,
+        key: &RunKey,
+        description: &RunDescription,
+        record: &RunRecord,
+        keep: KeepTrajectories,
+    ) -> Result<AppendReceipt, StoreError> {
+        let receipt = match self
+            .store
+            .write_loose(key, description, record, keep, false, false)
+        {
+            // The folder was removed under us: made again once.
+            Err(StoreError::Write { source, .. }) if source.kind() == io::ErrorKind::NotFound => {
+                self.store
+                    .write_loose(key, description, record, keep, false, true)?
+            }
+            other => other?,
+        };
+        let mut state = self
+            .state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if state.written.is_empty() {
+            state.started = std::time::Instant::now();
+        }
+        state.written.push(self.store.loose_path(key, keep));
+        if state.written.len() >= self.limit.runs.max(1)
+            || state.started.elapsed() >= self.limit.interval
+        {
+            self.start_sync(&mut state);
+        }
+        match state.failure.take() {
+            Some(source) => Err(StoreError::Write {
+                path: self.loose.clone(),
+                source,
+            }),
+            None => Ok(receipt),
+        }
+    }
+
+    /// Waits for the sync in flight (keeping its failure), then starts syncing what was
+    /// written since on a thread of its own.
+    fn start_sync(&self, state: &mut BatchState) {
+        Self::wait(state);
+        let files = Arc::new(std::mem::take(&mut state.written));
+        if files.is_empty() {
+            return;
+        }
+        let (loose, to_sync) = (self.loose.clone(), Arc::clone(&files));
+        let spawned = std::thread::Builder::new()
+            .name("eamadm-store-sync".to_owned())
+            .spawn(move || sync_written(&loose, &to_sync));
+        match spawned {
+            Ok(handle) => state.syncing = Some(handle),
+            // No thread to spare: sync here and now.
+            Err(_) => {
+                if let Err(error) = sync_written(&self.loose, &files) {
+                    state.failure.get_or_insert(error);
+                }
+            }
+        }
+    }
+
+    /// Waits for the sync in flight, keeping its failure.
+    fn wait(state: &mut BatchState) {
+        if let Some(handle) = state.syncing.take() {
+            let result = handle
+                .join()
+                .unwrap_or_else(|_| Err(io::Error::other("the sync thread panicked")));
+            if let Err(error) = result {
+                state.failure.get_or_insert(error);
+            }
+        }
+    }
+
+    /// Syncs every run written and waits until they are on disk.
+    ///
+    /// # Errors
+    /// [`StoreError::Write`] if a sync failed.
+    pub fn finish(self) -> Result<(), StoreError> {
+        let mut state = self
+            .state
+            .into_inner()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        Self::wait(&mut state);
+        let files = std::mem::take(&mut state.written);
+        if let Err(error) = sync_written(&self.loose, &files) {
+            state.failure.get_or_insert(error);
+        }
+        match state.failure {
+            Some(source) => Err(StoreError::Write {
+                path: self.loose,
+                source,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The loose files written and not yet handed to a sync (for tests of a crash).
+    #[doc(hidden)]
+    #[must_use]
+    pub fn unsynced(&self) -> Vec<PathBuf> {
+        self.state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .written
+            .clone()
+    }
+}
+
+/// Forces the loose files `files` of the folder `loose` and their names to disk: one `syncfs`
+/// on Linux (the file system's dirty data, ours among it), elsewhere each file and then the
+/// folder. Nothing to do for no file.
+fn sync_written(loose: &Path, files: &[PathBuf]) -> io::Result<()> {
+    if files.is_empty() {
+        return Ok(());
+    }
+    #[cfg(target_os = "linux")]
+    {
+        let _ = files;
+        let folder = std::fs::File::open(loose)?;
+        rustix::fs::syncfs(&folder).map_err(io::Error::from)
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        for file in files {
+            match std::fs::File::open(file) {
+                Ok(file) => file.sync_all()?,
+                // Packed and removed by another process meanwhile: its bundle was synced.
+                Err(error) if error.kind() == io::ErrorKind::NotFound => {}
+                Err(error) => return Err(error),
+            }
+        }
+        crate::atomic::sync_folder(loose)
+    }
+}
+
 fn check_frame_line(path: &Path, frame: u64, line: FrameLine) -> Result<Candidate, String> {
     let bytes = match line.bytes {
         Some(bytes) => bytes,
@@ -2476,6 +2728,105 @@ mod tests {
     /// What a kill between a bundle's rename and the removal of the loose files it packed
     /// leaves: loose copies of packed runs. They are recognised, removed by the next pack and
     /// never reported (9dc06af kept them for ever).
+    /// The group commit's durability trade (docs/paper-notes.md §24): a crash of the machine
+    /// between batches loses at most the runs not yet handed to a sync. Here the process dies
+    /// after six runs with a batch of four (the first four synced), and the power loss leaves
+    /// the last two runs' files emptied and torn, as an unsynced file may be after a reboot.
+    /// The next open trusts the four synced runs, reports the torn one, never indexes either
+    /// lost run; the resumed invocation recomputes exactly those two, and after its pack the
+    /// store holds the very bytes of a store that never crashed.
+    #[test]
+    fn a_crash_between_batches_loses_at_most_the_unsynced_runs_and_resumes() {
+        let runs = runs_of(6);
+        let figures = KeepTrajectories::Figures;
+        let limit = BatchLimit {
+            runs: 4,
+            interval: std::time::Duration::from_secs(3600),
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let (store, _) = open(dir.path());
+        let batch = store.batch(limit).unwrap();
+        for (key, description, record) in &runs {
+            batch.append(key, description, record, figures).unwrap();
+        }
+        let unsynced = batch.unsynced();
+        let lost: Vec<PathBuf> = runs[4..]
+            .iter()
+            .map(|(key, _, _)| store.loose_path(key, figures))
+            .collect();
+        assert_eq!(
+            unsynced, lost,
+            "the runs after the last full batch wait for their sync"
+        );
+        // The process dies here (no `finish`), then the machine: the unsynced files are lost.
+        drop(batch);
+        drop(store);
+        std::fs::write(&lost[0], b"").unwrap();
+        let torn = std::fs::read(&lost[1]).unwrap();
+        std::fs::write(&lost[1], &torn[..torn.len() / 2]).unwrap();
+
+        let (store, warnings) = open(dir.path());
+        assert_eq!(store.len(), 4);
+        for (key, _, _) in &runs[..4] {
+            assert!(store.has(key, figures));
+        }
+        for (key, _, _) in &runs[4..] {
+            assert!(!store.has(key, figures));
+        }
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("recomputed"), "{warnings:?}");
+        // The resumed invocation recomputes what the store lacks (the same bits) and packs.
+        let batch = store.batch(limit).unwrap();
+        for (key, description, record) in &runs {
+            if !store.has(key, figures) {
+                batch.append(key, description, record, figures).unwrap();
+            }
+        }
+        batch.finish().unwrap();
+        drop(store);
+        pack(dir.path(), &keys(&runs));
+        let (store, warnings) = open(dir.path());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(store.keys(), keys(&runs).iter().collect::<Vec<_>>());
+
+        let clean = tempfile::tempdir().unwrap();
+        let bundle = stored(clean.path(), &runs);
+        assert_eq!(
+            std::fs::read(store.bundle_path(&runs[0].2.experiment)).unwrap(),
+            std::fs::read(bundle).unwrap()
+        );
+    }
+
+    /// A batch written in full and finished is what appending one run at a time stores: the
+    /// same loose files, byte for byte.
+    #[test]
+    fn a_finished_batch_stores_what_single_appends_store() {
+        let runs = runs_of(3);
+        let figures = KeepTrajectories::Figures;
+        let (one, batched) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        append_all(one.path(), &runs, figures);
+        let (store, _) = open(batched.path());
+        let batch = store.batch(BatchLimit::default()).unwrap();
+        for (key, description, record) in &runs {
+            batch.append(key, description, record, figures).unwrap();
+        }
+        batch.finish().unwrap();
+        for (key, _, _) in &runs {
+            let relative = |dir: &Path| {
+                std::fs::read(loose_path_in(
+                    &dir.join(crate::names::RUNS_FOLDER),
+                    key,
+                    figures,
+                ))
+                .unwrap()
+            };
+            assert_eq!(relative(one.path()), relative(batched.path()));
+        }
+        let (store, warnings) = open(batched.path());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(store.len(), 3);
+    }
+
     #[test]
     fn loose_copies_of_packed_runs_left_by_a_kill_are_removed_quietly() {
         let runs = runs();
