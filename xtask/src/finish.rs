@@ -76,6 +76,9 @@ pub(crate) enum FinishError {
     /// The verdicts or their files failed.
     #[error(transparent)]
     Claims(#[from] ClaimsReportError),
+    /// Scoring the tuning suite's trials failed.
+    #[error(transparent)]
+    Tuning(#[from] eamadm::tuning::TuningError),
 }
 
 /// The runs of `jobs` that none of `stores` holds (keeping `keep`'s trajectories), one line
@@ -209,8 +212,25 @@ pub(crate) fn write_outputs(
     let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
     // The final scores of each reading's reruns, judged against the base's at the end.
     let mut readings: Vec<ReadingRuns> = Vec::new();
+    // The final scores of the tuning suite's runs (`--suite tuning`).
+    let mut tuned: Vec<FinalScore> = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
+        if planned.tuning.is_some() {
+            if everything {
+                for job in jobs.iter().filter(|job| job.experiment == index) {
+                    let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
+                        missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
+                        total: jobs.len(),
+                    })?;
+                    tuned.push(eamadm::scores::final_score_of(
+                        &run.record,
+                        &planned.experiment,
+                    )?);
+                }
+            }
+            continue;
+        }
         if let Some((reading, base)) = planned.reading {
             if everything {
                 readings.push(reading_runs(
@@ -320,7 +340,19 @@ pub(crate) fn write_outputs(
         let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);
-        write_claim_outputs(out, &context, &verdicts)?;
+        let tuning = crate::tuning_suite::outcome(experiments, &tuned)?;
+        if let Some(tuning) = &tuning {
+            let mut bytes = Vec::new();
+            let path = out.join(eamadm::output_names::TUNING);
+            eamadm::tuning::write_tuning_csv(&tuning.rows, &mut bytes).map_err(|error| {
+                AtomicWriteError {
+                    path: path.clone(),
+                    source: std::io::Error::other(error),
+                }
+            })?;
+            eamadm_runs::atomic::write_atomic(&path, &bytes)?;
+        }
+        write_claim_outputs(out, &context, &verdicts, tuning.as_ref())?;
     }
     Ok(jobs.len())
 }

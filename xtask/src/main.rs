@@ -55,6 +55,7 @@ mod reproduce;
 mod sensitivity_report;
 mod test_all;
 mod text_diff;
+mod tuning_suite;
 mod verify;
 mod wheel;
 

@@ -47,6 +47,9 @@ pub const REPORT_CONTEXT: &str = "report-context.toml";
 /// re-judgements, equalities and the diagnosis; the README's generated blocks are rendered
 /// from it.
 pub const FINDINGS: &str = "findings.json";
+/// Every trial of `--suite tuning` with its values, score and whether it was chosen
+/// (`crate::tuning::TuningRow`).
+pub const TUNING: &str = "tuning.csv";
 /// Every record in one JSON file, written by earlier versions (removed when found).
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
@@ -68,7 +71,7 @@ pub const SET_ASIDE: &str = ".set-aside";
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 9] = [
+pub const TOP_LEVEL: [&str; 10] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -78,6 +81,7 @@ pub const TOP_LEVEL: [&str; 9] = [
     SENSITIVITY,
     REPORT_CONTEXT,
     FINDINGS,
+    TUNING,
 ];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.
