@@ -128,3 +128,62 @@ pub(crate) fn write_at_best(text: &mut String, findings: &Findings) {
         write_task(text, findings, at_best);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use eamadm_eval::findings::ChosenTrial;
+
+    use super::super::tests::{context, judged, options, scores};
+    use super::*;
+
+    /// The paper-setting run of the shared test scores (EA-MADM better than the competitors)
+    /// and an "at its best" run where the competitors were tuned to beat it: the section shows
+    /// the chosen trials, both verdict columns, and names the claims that changed.
+    #[test]
+    fn the_section_reads_as_pinned() {
+        let (_, findings) = judged(scores(60.0, &[3], 10.0));
+        let paper_only = |rows: Vec<eamadm_eval::scores::FinalScore>| {
+            rows.into_iter()
+                .filter(|r| ["ea-madm", "epsilon-greedy", "softmax"].contains(&r.method.as_str()))
+                .collect::<Vec<_>>()
+        };
+        // At their best the competitors end at 40 steps, EA-MADM at 60.
+        let mut tuned = paper_only(scores(60.0, &[], 10.0));
+        for row in &mut tuned {
+            if row.method != "ea-madm" {
+                row.final_steps = 40.0 + row.seed as f64;
+                row.final_return = 200.0 - row.final_steps;
+            }
+        }
+        let chosen = |method: &str, trial: u32, score: f64| ChosenTrial {
+            task: "task1".to_owned(),
+            method: method.to_owned(),
+            trial,
+            paper_setting: trial == 0,
+            objective: "final_steps_iqm".to_owned(),
+            score,
+            trials: 16,
+            tuning_seeds: 10,
+        };
+        let chosen = [
+            chosen("ea-madm", 0, 61.5),
+            chosen("epsilon-greedy", 7, 41.0),
+            chosen("softmax", 12, 42.25),
+        ];
+        let findings = findings
+            .with_at_best(&context(), &tuned, &chosen, &options())
+            .unwrap();
+        let [at_best] = &findings.at_best[..] else {
+            panic!("{:?}", findings.at_best);
+        };
+        assert!(!at_best.changed.is_empty(), "{at_best:?}");
+        let mut text = String::new();
+        write_at_best(&mut text, &findings);
+        insta::assert_snapshot!(text);
+        // Without tuning, no section.
+        let (_, plain) = judged(scores(60.0, &[3], 10.0));
+        let mut none = String::new();
+        write_at_best(&mut none, &plain);
+        assert_eq!(none, "");
+    }
+}
