@@ -50,6 +50,7 @@ pub(crate) fn write_claim_outputs(
     out: &Path,
     context: &ReportContext,
     verdicts: &Verdicts,
+    tuning: Option<&crate::tuning_suite::TuningOutcome>,
 ) -> Result<(), ClaimsReportError> {
     write_atomic(
         &out.join(names::FINAL_SCORES),
@@ -60,10 +61,20 @@ pub(crate) fn write_claim_outputs(
     // Every column of the two tables, typed and documented, beside them.
     write_atomic(
         &out.join(names::DATA_PACKAGE),
-        eamadm::data_package::data_package_text().as_bytes(),
+        if tuning.is_some() {
+            eamadm::data_package::data_package_text_with_tuning()
+        } else {
+            eamadm::data_package::data_package_text()
+        }
+        .as_bytes(),
     )?;
     // What the report states, as data; the report and the README's blocks render from it.
-    let findings = Findings::of(context, verdicts);
+    let mut findings = Findings::of(context, verdicts);
+    if let Some(tuning) = tuning {
+        // "Each at its best": a verdict set of its own beside the paper-setting verdicts.
+        findings =
+            findings.with_at_best(context, &tuning.at_best, &tuning.chosen, &verdicts.options)?;
+    }
     write_atomic(&out.join(names::FINDINGS), findings.to_json()?.as_bytes())?;
     let report = report::render(context, verdicts, &findings);
     write_atomic(&out.join(names::REPORT), report.as_bytes())?;

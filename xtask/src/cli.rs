@@ -196,6 +196,33 @@ pub(crate) struct ReproduceArgs {
     /// target/pretrained-cache in the workspace]; not inside --out.
     #[arg(long, value_name = "DIR")]
     pub(crate) pretrained_cache: Option<PathBuf>,
+    /// Heavier work beside the paper's experiments; repeat for several. `tuning`: the same
+    /// hyperparameter budget for every method the claims compare on task1, task2 and the robot
+    /// (16 trials each on tuning seeds, then each method's best on the held-out seeds), written
+    /// to tuning.csv and the report's "each method at its best" verdicts.
+    #[arg(long = "suite", value_name = "SUITE", value_enum)]
+    pub(crate) suites: Vec<Suite>,
+}
+
+/// `--suite`: heavier work a plan adds beside the paper's experiments (the README gives each
+/// one's cost).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
+pub(crate) enum Suite {
+    /// The maze family of issue 33 (another branch).
+    Family,
+    /// The same tuning budget for every method (issue 33 item 3): two stages, trials on the
+    /// tuning seeds, then each method's chosen trial on the held-out seeds.
+    Tuning,
+}
+
+impl Suite {
+    /// The command-line name.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Suite::Family => "family",
+            Suite::Tuning => "tuning",
+        }
+    }
 }
 
 /// `--readings`: which readings of the paper a plan reruns besides the presets.
@@ -325,6 +352,7 @@ mod tests {
                 keep_trajectories: KeepTrajectories::Figures,
                 readings: Readings::All,
                 pretrained_cache: None,
+                suites: vec![],
             }
         );
     }
@@ -368,6 +396,7 @@ mod tests {
                 keep_trajectories: KeepTrajectories::All,
                 readings: Readings::None,
                 pretrained_cache: Some(PathBuf::from("/tmp/cache")),
+                suites: vec![],
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command

@@ -44,6 +44,11 @@ pub(crate) struct PlannedExperiment {
     /// plan. Such experiments come after every base experiment, write no tables or figures of
     /// their own and feed `sensitivity.csv`; `None` for the base experiments.
     pub(crate) reading: Option<(Reading, usize)>,
+    /// For an experiment of `--suite tuning` (a trial on the tuning seeds, or a method's
+    /// chosen trial on the held-out seeds): which, and the index of its base experiment. Such
+    /// experiments come after the others, write no tables or figures of their own and feed
+    /// `tuning.csv` and the "each at its best" verdicts; `None` otherwise.
+    pub(crate) tuning: Option<crate::tuning_suite::TuningRun>,
 }
 
 impl PlannedExperiment {
@@ -117,6 +122,7 @@ pub(crate) fn plan_experiments(
                 title,
                 experiment,
                 reading: None,
+                tuning: None,
             })
         })
         .collect::<Result<_, ExperimentError>>()?;
@@ -149,6 +155,7 @@ pub(crate) fn reading_experiments(
                 name,
                 experiment,
                 reading: Some((reading, index)),
+                tuning: None,
             });
         }
     }

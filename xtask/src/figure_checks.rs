@@ -58,6 +58,7 @@ mod tests {
                 keep_trajectories: KeepTrajectories::Figures,
                 readings: crate::cli::Readings::All,
                 pretrained_cache: None,
+                suites: vec![],
             },
             mode: RunModeArgs::default(),
         };

@@ -83,6 +83,9 @@ pub(crate) enum FinishError {
     /// `oracle.csv` or `pretraining.csv` failed.
     #[error(transparent)]
     Oracle(#[from] OracleTablesError),
+    /// Scoring the tuning suite's trials failed.
+    #[error(transparent)]
+    Tuning(#[from] eamadm::tuning::TuningError),
 }
 
 /// The runs of `jobs` that none of `stores` holds (keeping `keep`'s trajectories), one line
@@ -218,8 +221,25 @@ pub(crate) fn write_outputs(
     let mut readings: Vec<ReadingRuns> = Vec::new();
     // Each sub-task's pre-training in every run of the base experiments (`pretraining.csv`).
     let mut pretraining = Vec::new();
+    // The final scores of the tuning suite's runs (`--suite tuning`).
+    let mut tuned: Vec<FinalScore> = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
+        if planned.tuning.is_some() {
+            if everything {
+                for job in jobs.iter().filter(|job| job.experiment == index) {
+                    let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
+                        missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
+                        total: jobs.len(),
+                    })?;
+                    tuned.push(eamadm::scores::final_score_of(
+                        &run.record,
+                        &planned.experiment,
+                    )?);
+                }
+            }
+            continue;
+        }
         if let Some((reading, base)) = planned.reading {
             if everything {
                 readings.push(reading_runs(
@@ -350,7 +370,19 @@ pub(crate) fn write_outputs(
         context.oracle = eamadm::oracle::oracle_findings(&oracle, &verdicts.scores);
         context.pretraining = eamadm::oracle::reach_pretraining(&pretraining);
         write_oracle_tables(out, &oracle, &pretraining)?;
-        write_claim_outputs(out, &context, &verdicts)?;
+        let tuning = crate::tuning_suite::outcome(experiments, &tuned)?;
+        if let Some(tuning) = &tuning {
+            let mut bytes = Vec::new();
+            let path = out.join(eamadm::output_names::TUNING);
+            eamadm::tuning::write_tuning_csv(&tuning.rows, &mut bytes).map_err(|error| {
+                AtomicWriteError {
+                    path: path.clone(),
+                    source: std::io::Error::other(error),
+                }
+            })?;
+            eamadm_runs::atomic::write_atomic(&path, &bytes)?;
+        }
+        write_claim_outputs(out, &context, &verdicts, tuning.as_ref())?;
     }
     Ok(jobs.len())
 }

@@ -159,6 +159,9 @@ pub(crate) fn plan_arguments(
     if args.readings != crate::cli::Readings::All {
         arguments.extend(["--readings".to_owned(), args.readings.name().to_owned()]);
     }
+    for suite in &args.suites {
+        arguments.extend(["--suite".to_owned(), suite.name().to_owned()]);
+    }
     if let Some(cache) = &args.pretrained_cache {
         arguments.extend([
             "--pretrained-cache".to_owned(),

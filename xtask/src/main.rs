@@ -56,6 +56,7 @@ mod reproduce;
 mod sensitivity_report;
 mod test_all;
 mod text_diff;
+mod tuning_suite;
 mod verify;
 mod wheel;
 

@@ -423,6 +423,7 @@ mod tests {
             keep_trajectories: crate::cli::KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
+            suites: vec![],
         }
     }
 

@@ -64,7 +64,7 @@ pub(crate) fn prepare(
         };
     }
     let config_file = plan.config.as_deref().zip(custom.as_ref());
-    let experiments = plan_experiments(
+    let mut experiments = plan_experiments(
         &plan.tasks,
         !args.tasks.is_empty(),
         config_file,
@@ -73,6 +73,9 @@ pub(crate) fn prepare(
         plan.readings,
     )
     .map_err(Failure::invalid)?;
+    let stage1 =
+        crate::tuning_suite::stage1(&args.suites, &experiments, &plan.methods, plan.quick)?;
+    experiments.extend(stage1);
     Ok((plan, experiments))
 }
 
@@ -84,10 +87,13 @@ fn task_name(
     experiments: &[PlannedExperiment],
     experiment: usize,
 ) -> &'static str {
-    let experiment = experiments
-        .get(experiment)
-        .and_then(|planned| planned.reading)
-        .map_or(experiment, |(_, base)| base);
+    let experiment = experiments.get(experiment).map_or(experiment, |planned| {
+        planned
+            .reading
+            .map(|(_, base)| base)
+            .or_else(|| planned.tuning.as_ref().map(|run| run.base))
+            .unwrap_or(experiment)
+    });
     if args.config.is_some() {
         "config"
     } else {
@@ -107,14 +113,37 @@ pub(crate) fn reproduce_paper(
         Some(text) => Some(Shard::parse(text).map_err(Failure::invalid)?),
         None => None,
     };
-    let (plan, experiments) = prepare(args, workspace)?;
-    let mut jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
+    let (plan, mut experiments) = prepare(args, workspace)?;
     if command.mode.list_jobs {
+        // Stage 2 of a tuning suite is listed once stage 1 is in --out's store.
+        let stores = existing_store(&plan.out)?;
+        if let Some((missing, of)) = crate::tuning_suite::extend_with_stage2(
+            &mut experiments,
+            &plan.methods,
+            &stores,
+            args.keep_trajectories,
+        )? {
+            warn_on_stderr(&crate::tuning_suite::pending_message(missing, of));
+        }
+        let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
         return print_lines(
             &mut std::io::stdout().lock(),
             &job_lines(args, &plan, &experiments, &jobs, workspace)?,
         );
     }
+    // One process per output folder; what a killed earlier invocation left is repaired here.
+    let folder = OutputFolder::open(&plan.out, args.wait).map_err(Failure::failed)?;
+    let started = Instant::now();
+    let keep = args.keep_trajectories;
+    let mut store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+    // A rerun after stage 1 of a tuning suite completed plans its stage 2 now.
+    let mut pending = crate::tuning_suite::extend_with_stage2(
+        &mut experiments,
+        &plan.methods,
+        std::slice::from_ref(&store),
+        keep,
+    )?;
+    let mut jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     let planned_runs = jobs.len();
     if let Some(shard) = shard {
         jobs.retain(|job| shard.holds(&job.key));
@@ -135,38 +164,69 @@ pub(crate) fn reproduce_paper(
             jobs.len()
         );
     }
+    print!(
+        "{}",
+        crate::tuning_suite::describe(&experiments, &jobs, pending)
+    );
 
-    // One process per output folder; what a killed earlier invocation left is repaired here.
-    let folder = OutputFolder::open(&plan.out, args.wait).map_err(Failure::failed)?;
-    let started = Instant::now();
-    let keep = args.keep_trajectories;
-    let store = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
     let artefacts = PretrainedStore::new(&plan.pretrained_cache);
-    let executed = run_jobs(
-        &experiments,
-        &jobs,
-        &store,
-        &artefacts,
-        keep,
-        &Progress::for_stdout(),
-        &warn_on_stderr,
-    )
-    .map_err(Failure::failed)?;
-    let counts = executed.counts;
-    // Reopened, with the runs stored above (its damaged entries were reported by the first
-    // open), and packed: every run stored in the folder, this plan's in job order. The runs
-    // stored above are indexed from their receipts while their files hold the bytes written,
-    // and what the first open checked is not read again (the folder's lock, held since, keeps
-    // other packers out).
-    let store = store
-        .reopen(&executed.receipts, &mut |_| {})
+    let mut counts = crate::execute::RunCounts::default();
+    // Stage 2 of a tuning suite is planned once stage 1's runs are stored: after this loop's
+    // first pass in an unsharded run.
+    let mut first_new = 0;
+    loop {
+        let executed = run_jobs(
+            &experiments,
+            &jobs[first_new..],
+            &store,
+            &artefacts,
+            keep,
+            &Progress::for_stdout(),
+            &warn_on_stderr,
+        )
         .map_err(Failure::failed)?;
-    drop(executed);
+        counts.ran += executed.counts.ran;
+        counts.resumed += executed.counts.resumed;
+        counts.pretrained += executed.counts.pretrained;
+        counts.pretrained_loaded += executed.counts.pretrained_loaded;
+        // Reopened, with the runs stored above (its damaged entries were reported by the first
+        // open), and packed below: every run stored in the folder, this plan's in job order.
+        // The runs stored above are indexed from their receipts while their files hold the
+        // bytes written, and what the first open checked is not read again (the folder's lock,
+        // held since, keeps other packers out).
+        store = store
+            .reopen(&executed.receipts, &mut |_| {})
+            .map_err(Failure::failed)?;
+        drop(executed);
+        if shard.is_some() || pending.is_none() {
+            break;
+        }
+        first_new = jobs.len();
+        drop(jobs);
+        pending = crate::tuning_suite::extend_with_stage2(
+            &mut experiments,
+            &plan.methods,
+            std::slice::from_ref(&store),
+            keep,
+        )?;
+        jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
+        if pending.is_some() || jobs.len() == first_new {
+            break;
+        }
+        println!(
+            "  tuning:   stage 1 complete; stage 2: {} runs (each method's chosen trial on the \
+             held-out seeds)",
+            jobs.len() - first_new
+        );
+    }
+    if let Some((missing, of)) = pending {
+        warn_on_stderr(&crate::tuning_suite::pending_message(missing, of));
+    }
+    let reporting = shard.is_none() && !command.mode.runs_only && pending.is_none();
     let keys: Vec<RunKey> = jobs.iter().map(|job| job.key.clone()).collect();
     let store = store
         .pack(&folder, &[], &keys, &mut warn_on_stderr)
         .map_err(Failure::failed)?;
-    let reporting = shard.is_none() && !command.mode.runs_only;
     if reporting {
         // The set of outputs is written aside and swapped in whole (see `output_folder`); the
         // run store was packed above.
@@ -215,6 +275,15 @@ pub(crate) fn reproduce_paper(
         println!("run store: {}", plan.out.join("runs").display());
     }
     Ok(())
+}
+
+/// The run store of the output folder `out` opened read-only, when it has one (none: empty).
+fn existing_store(out: &Path) -> Result<Vec<RunStore>, Failure> {
+    if !out.join(eamadm_runs::names::RUNS_FOLDER).is_dir() {
+        return Ok(Vec::new());
+    }
+    let store = RunStore::open_read_only(out, &mut warn_on_stderr).map_err(Failure::failed)?;
+    Ok(vec![store])
 }
 
 /// Writes `lines` to `out`, one a line; a reader that stops reading (`--list-jobs | head -1`)
@@ -267,16 +336,28 @@ fn job_lines(
 
 /// Runs `run-job`: exactly the run `--key` of the plan, into the run store of `--out`.
 pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Failure> {
-    let (plan, experiments) = prepare(&args.plan, workspace)?;
+    let (plan, mut experiments) = prepare(&args.plan, workspace)?;
+    let keep = args.plan.keep_trajectories;
+    let store = RunStore::open(&plan.out, &mut warn_on_stderr).map_err(Failure::failed)?;
+    // A stage-2 key of a tuning suite exists once stage 1 is in this store.
+    let pending = crate::tuning_suite::extend_with_stage2(
+        &mut experiments,
+        &plan.methods,
+        std::slice::from_ref(&store),
+        keep,
+    )?;
     let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     let Some(job) = jobs.iter().find(|job| job.key.as_str() == args.key) else {
         return Err(Failure::invalid(format!(
-            "--key {}: no run of this plan has this key; list the keys with `cargo xtask              reproduce-paper --list-jobs` and the same options",
-            args.key
+            "--key {}: no run of this plan has this key; list the keys with `cargo xtask \
+             reproduce-paper --list-jobs` and the same options{}",
+            args.key,
+            pending.map_or_else(String::new, |(missing, of)| format!(
+                " ({})",
+                crate::tuning_suite::pending_message(missing, of)
+            ))
         )));
     };
-    let keep = args.plan.keep_trajectories;
-    let store = RunStore::open(&plan.out, &mut warn_on_stderr).map_err(Failure::failed)?;
     let artefacts = PretrainedStore::new(&plan.pretrained_cache);
     let counts = run_jobs(
         &experiments,
@@ -319,8 +400,7 @@ fn describe_pretraining(counts: &crate::execute::RunCounts, cache: &PretrainedSt
 
 /// Runs `merge`: checks the given stores, then writes the plan's outputs from them.
 pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failure> {
-    let (plan, experiments) = prepare(&args.plan, workspace)?;
-    let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
+    let (plan, mut experiments) = prepare(&args.plan, workspace)?;
     let keep: KeepTrajectories = args.plan.keep_trajectories;
     let mut stores = Vec::new();
     for path in &args.stores {
@@ -334,6 +414,11 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         );
         stores.push(store);
     }
+    // Stage 2 of a tuning suite is planned once stage 1 is in the stores; while it is not,
+    // its missing runs are listed below.
+    let pending =
+        crate::tuning_suite::extend_with_stage2(&mut experiments, &plan.methods, &stores, keep)?;
+    let jobs = plan_jobs(&experiments, &plan.methods).map_err(Failure::failed)?;
     // Every run must be there, and the sample asked for recompute to what is stored, before
     // the output folder is touched.
     if let Some(fraction) = args.verify {
@@ -347,13 +432,38 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         )?;
     }
     let missing = crate::finish::missing_runs(&experiments, &jobs, &stores, keep);
-    if !missing.is_empty() {
+    let stage2_only = crate::tuning_suite::only_stage2_missing(&experiments, &jobs, &stores, keep);
+    if !missing.is_empty() && !stage2_only {
         return Err(Failure::failed(crate::finish::FinishError::Missing {
             missing,
             total: jobs.len(),
         }));
     }
+    debug_assert!(pending.is_none() || !missing.is_empty());
     let folder = OutputFolder::open(&plan.out, args.plan.wait).map_err(Failure::failed)?;
+    if stage2_only {
+        // The shards ran stage 1 of a tuning suite, which plans stage 2: stage 1 is packed
+        // into this folder's store, where a rerun runs stage 2.
+        let own = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
+        let keys: Vec<RunKey> = jobs
+            .iter()
+            .filter(|job| stores.iter().any(|store| store.has(&job.key, keep)))
+            .map(|job| job.key.clone())
+            .collect();
+        own.pack(&folder, &stores, &keys, &mut warn_on_stderr)
+            .map_err(Failure::failed)?;
+        return Err(Failure::failed(format!(
+            "--suite tuning: stage 1 is complete and now stored in {}; stage 2 ({} runs: each \
+             method's chosen trial on the held-out seeds) could not be planned before it and is \
+             not run yet. Run it there with the same plan options: `cargo xtask reproduce-paper \
+             ... --out {}` (resumes stage 1, runs stage 2 and writes the report), or list its \
+             jobs with `--list-jobs --out {}` and run them with `run-job`",
+            plan.out.join(eamadm_runs::names::RUNS_FOLDER).display(),
+            missing.len(),
+            plan.out.display(),
+            plan.out.display()
+        )));
+    }
     let started = Instant::now();
     // The output folder's store keeps what it holds and gains the plan's runs from the others.
     let own = RunStore::open(folder.root(), &mut warn_on_stderr).map_err(Failure::failed)?;
@@ -412,6 +522,7 @@ mod tests {
             keep_trajectories: KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
+            suites: vec![],
         }
     }
 
@@ -490,6 +601,7 @@ mod tests {
             keep_trajectories: KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
+            suites: vec![],
         }
     }
 
@@ -672,6 +784,7 @@ mod tests {
             keep_trajectories: KeepTrajectories::Figures,
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
+            suites: vec![],
         };
         reproduce_paper(&command(args, RunModeArgs::default()), &ws).unwrap();
         let out = ws.root.join("out");

@@ -153,6 +153,7 @@ mod tests {
             keep_trajectories: KeepTrajectories::Figures,
             readings: Readings::None,
             pretrained_cache: None,
+            suites: vec![],
         }
     }
 

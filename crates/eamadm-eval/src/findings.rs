@@ -48,6 +48,12 @@ pub struct Findings {
     pub format: u32,
     /// Per task, in run order.
     pub tasks: Vec<TaskFindings>,
+    /// "Each method at its best": per tuned task, the paper's EA-MADM judged again when every
+    /// method runs the trial its tuning chose (`--suite tuning`, docs/paper-notes.md §23), a
+    /// verdict set beside the paper-setting verdicts of `tasks`, which it never changes. Empty
+    /// (and left out of `findings.json`) when no tuning ran.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub at_best: Vec<AtBestFindings>,
 }
 
 impl Default for Findings {
@@ -55,8 +61,54 @@ impl Default for Findings {
         Self {
             format: FINDINGS_FORMAT,
             tasks: Vec::new(),
+            at_best: Vec::new(),
         }
     }
+}
+
+/// A method's chosen trial of a tuning (a row of `tuning.csv` with `chosen` true).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChosenTrial {
+    /// The task tuned.
+    pub task: String,
+    /// The method's label.
+    pub method: String,
+    /// The trial's index (0: the preset's setting).
+    pub trial: u32,
+    /// Whether it is the preset's (the paper's) setting.
+    pub paper_setting: bool,
+    /// The objective's name (`final_steps_iqm`, `success_rate_mean`).
+    pub objective: String,
+    /// Its value over the tuning seeds.
+    pub score: f64,
+    /// Trials the method had (the same for every method of a tuning).
+    pub trials: u32,
+    /// Tuning seeds each trial ran on.
+    pub tuning_seeds: u32,
+}
+
+/// The "each at its best" verdicts of one task: every method at its chosen trial, run on the
+/// held-out seeds, and the paper's EA-MADM judged against the paper's competitors by the
+/// normal claims (paired by seed).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AtBestFindings {
+    /// The task (experiment name).
+    pub task: String,
+    /// Its title for people.
+    pub title: String,
+    /// The paper's EA-MADM's label.
+    pub method: String,
+    /// Each method's chosen trial, in the tuning's method order.
+    pub chosen: Vec<ChosenTrial>,
+    /// EA-MADM's seeds at its best, and those it converges on.
+    pub converged: SeedCount,
+    /// Each competitor at its best with the seeds it converges on.
+    pub competitors: Vec<MethodCount>,
+    /// EA-MADM's verdict on each claim made on the task, claim order.
+    pub verdicts: Vec<VerdictFinding>,
+    /// The claims whose verdict differs from the paper-setting verdict on the task (none
+    /// when the paper setting has no verdict there).
+    pub changed: Vec<String>,
 }
 
 /// What the report states about one task.
@@ -471,7 +523,72 @@ impl Findings {
         Self {
             format: FINDINGS_FORMAT,
             tasks,
+            at_best: Vec::new(),
         }
+    }
+
+    /// These findings with the "each at its best" verdicts: `scores` are the held-out runs of
+    /// every method's chosen trial, under the tuned tasks' own names (so they pair by seed and
+    /// are judged by the claims of those tasks), `chosen` the trials they ran. They are judged
+    /// with `options` (the run's) apart from the paper-setting verdicts, which do not change.
+    ///
+    /// # Errors
+    /// [`claims::ClaimsError`] when a statistic fails.
+    pub fn with_at_best(
+        mut self,
+        context: &ReportContext,
+        scores: &[FinalScore],
+        chosen: &[ChosenTrial],
+        options: &claims::ClaimOptions,
+    ) -> Result<Self, claims::ClaimsError> {
+        let judgements = claims::judge(scores, options)?;
+        let mut at_best = Vec::new();
+        for task in claims::tasks(scores) {
+            let Some(ea) = claims::methods(scores, task)
+                .into_iter()
+                .find(|&(_, role, kind)| role == Role::Paper && claims::is_under_test(kind))
+                .map(|(method, _, _)| method)
+            else {
+                continue;
+            };
+            let verdicts: Vec<VerdictFinding> = judgements
+                .iter()
+                .filter(|j| j.task == task && j.method == ea)
+                .map(verdict_finding)
+                .collect();
+            if verdicts.is_empty() {
+                continue;
+            }
+            let paper = self.task(task);
+            let changed = verdicts
+                .iter()
+                .filter(|v| {
+                    paper
+                        .and_then(|p| p.verdicts.iter().find(|pv| pv.claim == v.claim))
+                        .is_some_and(|pv| pv.verdict != v.verdict)
+                })
+                .map(|v| v.claim.clone())
+                .collect();
+            at_best.push(AtBestFindings {
+                task: task.to_owned(),
+                title: context.task_title(task),
+                method: ea.to_owned(),
+                chosen: chosen.iter().filter(|c| c.task == task).cloned().collect(),
+                converged: converged(scores, task, ea),
+                competitors: claims::methods(scores, task)
+                    .into_iter()
+                    .filter(|&(_, role, kind)| claims::is_competitor(role, kind))
+                    .map(|(m, _, _)| MethodCount {
+                        method: m.to_owned(),
+                        converged: converged(scores, task, m),
+                    })
+                    .collect(),
+                verdicts,
+                changed,
+            });
+        }
+        self.at_best = at_best;
+        Ok(self)
     }
 
     /// The findings of `task`, if it has any.

@@ -15,7 +15,7 @@
 use serde_json::Value;
 
 use crate::columns::{self, Resource};
-use crate::output_names::{CLAIMS, FINAL_SCORES, ORACLE, PRETRAINING};
+use crate::output_names::{CLAIMS, FINAL_SCORES, ORACLE, PRETRAINING, TUNING};
 use crate::{claims, oracle, scores};
 
 /// The package's name.
@@ -65,6 +65,18 @@ pub const RESOURCES: [Resource; 4] = [
     },
 ];
 
+/// `tuning.csv`, written beside the others by `--suite tuning` (and then in its package).
+pub const TUNING_RESOURCE: Resource = Resource {
+    name: "tuning",
+    path: TUNING,
+    title: "Tuning trials (--suite tuning)",
+    description: "One row per hyperparameter trial of every method the claims compare, on the \
+                  tuning seeds: its values, its score by the task's objective and whether it \
+                  is its method's chosen trial, the one run on the held-out seeds for the \
+                  \"each at its best\" verdicts; written by `eamadm::tuning`.",
+    columns: crate::tuning::TUNING_COLUMNS,
+};
+
 /// The data package of [`RESOURCES`].
 #[must_use]
 pub fn data_package() -> Value {
@@ -77,9 +89,21 @@ pub fn data_package_text() -> String {
     columns::to_json_text(&data_package())
 }
 
-/// [`RESOURCES`] as Markdown: a section with a table of columns per file (spliced into
-/// `docs/outputs.md`).
+/// The text of `datapackage.json` of a run that wrote `tuning.csv` too: [`RESOURCES`] and
+/// [`TUNING_RESOURCE`].
+#[must_use]
+pub fn data_package_text_with_tuning() -> String {
+    let [scores, claims, oracle, pretraining] = RESOURCES;
+    columns::to_json_text(&columns::data_package(
+        NAME,
+        &[scores, claims, oracle, pretraining, TUNING_RESOURCE],
+    ))
+}
+
+/// [`RESOURCES`] and [`TUNING_RESOURCE`] as Markdown: a section with a table of columns per
+/// file (spliced into `docs/outputs.md`).
 #[must_use]
 pub fn markdown() -> String {
-    columns::markdown(&RESOURCES)
+    let [scores, claims, oracle, pretraining] = RESOURCES;
+    columns::markdown(&[scores, claims, oracle, pretraining, TUNING_RESOURCE])
 }

@@ -47,6 +47,9 @@ pub const REPORT_CONTEXT: &str = "report-context.toml";
 /// re-judgements, equalities and the diagnosis; the README's generated blocks are rendered
 /// from it.
 pub const FINDINGS: &str = "findings.json";
+/// Every trial of `--suite tuning` with its values, score and whether it was chosen
+/// (`crate::tuning::TuningRow`).
+pub const TUNING: &str = "tuning.csv";
 /// Every record in one JSON file, written by earlier versions (removed when found).
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
@@ -75,7 +78,7 @@ pub const PRETRAINING: &str = "pretraining.csv";
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 11] = [
+pub const TOP_LEVEL: [&str; 12] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -87,6 +90,7 @@ pub const TOP_LEVEL: [&str; 11] = [
     FINDINGS,
     ORACLE,
     PRETRAINING,
+    TUNING,
 ];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.

@@ -314,6 +314,12 @@ pub enum TuningError {
         /// One past the last tuning seed.
         tuning_end: u64,
     },
+    /// A number of tuning seeds outside `1..=TUNING_SEEDS`.
+    #[error("tuning: {seeds} tuning seeds per trial; expected 1 to {TUNING_SEEDS}")]
+    TuningSeeds {
+        /// The number asked for.
+        seeds: u32,
+    },
     /// A trial's config that does not validate.
     #[error("tuning: {0}")]
     Config(#[from] Box<ConfigError>),
@@ -556,7 +562,23 @@ impl Trial {
     /// [`TuningError::UnknownMethod`] or [`TuningError::NotTunable`] when `base` is not the
     /// trial's, [`TuningError::Config`] when the result does not validate.
     pub fn experiment(&self, base: &ExperimentConfig) -> Result<ExperimentConfig, TuningError> {
-        self.config(base, self.experiment_name(), TUNING_BASE_SEED, TUNING_SEEDS)
+        self.experiment_on(base, TUNING_SEEDS)
+    }
+
+    /// As [`experiment`](Self::experiment) on `seeds` tuning seeds from [`TUNING_BASE_SEED`]
+    /// (the suite's `--quick` runs fewer; at most [`TUNING_SEEDS`]).
+    ///
+    /// # Errors
+    /// As [`experiment`](Self::experiment), and [`TuningError::TuningSeeds`].
+    pub fn experiment_on(
+        &self,
+        base: &ExperimentConfig,
+        seeds: u32,
+    ) -> Result<ExperimentConfig, TuningError> {
+        if !(1..=TUNING_SEEDS).contains(&seeds) {
+            return Err(TuningError::TuningSeeds { seeds });
+        }
+        self.config(base, self.experiment_name(), TUNING_BASE_SEED, seeds)
     }
 
     /// The trial (a method's chosen one) on `base`'s own held-out seeds: named
@@ -821,6 +843,203 @@ pub fn write_tuning_csv<W: Write>(rows: &[TuningRow], writer: W) -> Result<(), c
     }
     csv.flush()?;
     Ok(())
+}
+
+/// The paper experiments `--suite tuning` tunes: the claims are judged on these three (the
+/// robot over the paper's literal state is a reading of the robot, not a claim's task).
+pub const SUITE_TASKS: [&str; 3] = ["task1", "task2", "robot"];
+
+/// One task's tuning in two stages (docs/paper-notes.md §23): stage 1 runs every trial on the
+/// tuning seeds ([`stage1`](Self::stage1)); once all of them are stored, [`rows`](Self::rows)
+/// scores each trial by the task's [`Objective`] and marks each method's best
+/// ([`choose`]), and stage 2 runs each method's chosen trial on the held-out seeds
+/// ([`stage2`](Self::stage2), [`Trial::held_out`]). Stage 2 cannot be planned before stage
+/// 1 is complete: which trial runs depends on every trial's score.
+///
+/// ```
+/// use eamadm::{paper, tuning};
+///
+/// let task1 = paper::task1();
+/// let tuning = tuning::TaskTuning::new(&task1, &tuning::paper_methods(&task1), 16, 10)?;
+/// assert_eq!(tuning.stage1()?.len(), 4 * 16);
+/// // Nothing ran yet: no score, nothing chosen, no stage 2.
+/// let rows = tuning.rows(&[])?;
+/// assert!(rows.iter().all(|row| row.score.is_none() && row.chosen.is_none()));
+/// assert!(tuning.stage2(&rows)?.is_none());
+/// # Ok::<(), tuning::TuningError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaskTuning {
+    /// The experiment tuned (its held-out seeds are the stage-2 seeds).
+    pub base: ExperimentConfig,
+    /// Every trial of every tuned method, method-major ([`tuning_plan`]).
+    pub trials: Vec<Trial>,
+    /// Tuning seeds per trial (from [`TUNING_BASE_SEED`]).
+    pub tuning_seeds: u32,
+}
+
+impl TaskTuning {
+    /// The tuning of `methods` in `base`, `budget` trials each, on `tuning_seeds` seeds.
+    ///
+    /// # Errors
+    /// As [`tuning_plan`]; [`TuningError::SeedsOverlap`] when `base`'s held-out seeds meet the
+    /// tuning seeds; [`TuningError::TuningSeeds`].
+    pub fn new(
+        base: &ExperimentConfig,
+        methods: &[&str],
+        budget: u32,
+        tuning_seeds: u32,
+    ) -> Result<Self, TuningError> {
+        check_disjoint(base)?;
+        if !(1..=TUNING_SEEDS).contains(&tuning_seeds) {
+            return Err(TuningError::TuningSeeds {
+                seeds: tuning_seeds,
+            });
+        }
+        Ok(Self {
+            base: base.clone(),
+            trials: tuning_plan(base, methods, budget)?,
+            tuning_seeds,
+        })
+    }
+
+    /// The task's objective.
+    #[must_use]
+    pub fn objective(&self) -> Objective {
+        Objective::of(&self.base.task)
+    }
+
+    /// Stage 1: each trial's experiment on the tuning seeds, in trial order.
+    ///
+    /// # Errors
+    /// As [`Trial::experiment_on`].
+    pub fn stage1(&self) -> Result<Vec<ExperimentConfig>, TuningError> {
+        self.trials
+            .iter()
+            .map(|trial| trial.experiment_on(&self.base, self.tuning_seeds))
+            .collect()
+    }
+
+    /// The `tuning.csv` rows of the trials, scored from `scores` (final scores of any runs: a
+    /// trial's are the rows whose task is its experiment) and, for each method whose every
+    /// trial has a score, chosen ([`choose`]). A trial without rows stays unscored.
+    ///
+    /// # Errors
+    /// [`TuningError::Score`] when a trial's rows give no objective value.
+    pub fn rows(&self, scores: &[FinalScore]) -> Result<Vec<TuningRow>, TuningError> {
+        let objective = self.objective();
+        let mut rows = Vec::with_capacity(self.trials.len());
+        for trial in &self.trials {
+            let mut row = TuningRow::new(trial, objective);
+            row.tuning_seeds = self.tuning_seeds;
+            let of_trial: Vec<FinalScore> = scores
+                .iter()
+                .filter(|score| score.task == row.experiment && score.method == trial.method)
+                .cloned()
+                .collect();
+            if !of_trial.is_empty() {
+                let score = objective
+                    .score(&of_trial)
+                    .map_err(|error| TuningError::Score {
+                        experiment: row.experiment.clone(),
+                        reason: error.to_string(),
+                    })?;
+                if !score.is_finite() {
+                    return Err(TuningError::Score {
+                        experiment: row.experiment.clone(),
+                        reason: format!("the objective is {score}"),
+                    });
+                }
+                row.score = Some(score);
+            }
+            rows.push(row);
+        }
+        choose(&mut rows, objective);
+        Ok(rows)
+    }
+
+    /// Stage 2: each method's chosen trial (by `rows`, from [`rows`](Self::rows)) with its
+    /// experiment on the held-out seeds, in method order; `None` while some method has no
+    /// chosen trial (stage 1 is not complete).
+    ///
+    /// # Errors
+    /// As [`Trial::held_out`].
+    pub fn stage2(
+        &self,
+        rows: &[TuningRow],
+    ) -> Result<Option<Vec<(Trial, ExperimentConfig)>>, TuningError> {
+        let mut methods: Vec<&str> = Vec::new();
+        for trial in &self.trials {
+            if !methods.contains(&trial.method.as_str()) {
+                methods.push(&trial.method);
+            }
+        }
+        let mut chosen = Vec::with_capacity(methods.len());
+        for method in methods {
+            let Some(row) = rows
+                .iter()
+                .find(|row| row.method == method && row.chosen == Some(true))
+            else {
+                return Ok(None);
+            };
+            let Some(trial) = self
+                .trials
+                .iter()
+                .find(|trial| trial.method == method && trial.trial == row.trial)
+            else {
+                return Ok(None);
+            };
+            chosen.push((trial.clone(), trial.held_out(&self.base)?));
+        }
+        Ok(Some(chosen))
+    }
+}
+
+/// The final scores of the "each at its best" verdicts on `base`: the rows of its stage-2
+/// experiments (`<base>-best-<method>`, [`Trial::held_out`]) renamed into `base`, so that
+/// the claims judge them as one task and pair them by seed (a run's streams depend on its
+/// seed only, not on the experiment's name).
+#[must_use]
+pub fn at_best_scores(base: &str, held_out: &[FinalScore]) -> Vec<FinalScore> {
+    let prefix = format!("{base}-best-");
+    held_out
+        .iter()
+        .filter(|score| {
+            score
+                .task
+                .strip_prefix(&prefix)
+                .is_some_and(|method| method == score.method)
+        })
+        .map(|score| FinalScore {
+            task: base.to_owned(),
+            ..score.clone()
+        })
+        .collect()
+}
+
+/// Each method's chosen trial in `rows` (in row order), for the findings.
+#[must_use]
+pub fn chosen_trials(rows: &[TuningRow]) -> Vec<crate::findings::ChosenTrial> {
+    let trials_of = |row: &TuningRow| {
+        let count = rows
+            .iter()
+            .filter(|other| other.task == row.task && other.method == row.method)
+            .count();
+        u32::try_from(count).unwrap_or(u32::MAX)
+    };
+    rows.iter()
+        .filter(|row| row.chosen == Some(true))
+        .map(|row| crate::findings::ChosenTrial {
+            trials: trials_of(row),
+            tuning_seeds: row.tuning_seeds,
+            task: row.task.clone(),
+            method: row.method.clone(),
+            trial: row.trial,
+            paper_setting: row.paper_setting,
+            objective: row.objective.to_owned(),
+            score: row.score.unwrap_or(f64::NAN),
+        })
+        .collect()
 }
 
 /// Draws grid points of ranges from a method's own stream.

@@ -21,6 +21,7 @@
 //! | `words` | a method's name, a control's family, a deciding comparison in words |
 //! | `answer` | the first screen: the answer per task and the deviations from the paper |
 //! | `verdicts` | the verdict table, the claims, the ablations' verdicts, the rule |
+//! | `at_best` | "each method at its best": the verdicts after the same tuning budget per method |
 //! | `strongest` | the strongest control's sentences of a task section |
 //! | `outcomes` | how each run ended, the paired tests on converging, the controls' facts |
 //! | `task` | per task: scores, controls, comparisons, distributions, explanations, figures |
@@ -53,6 +54,7 @@ use eamadm_eval::sensitivity::SensitivityRow;
 pub use eamadm_eval::verdicts::{ControlVerdict, SurvivesReadings, Verdicts};
 
 mod answer;
+mod at_best;
 pub mod format;
 mod glossary;
 mod margins;
@@ -127,6 +129,7 @@ pub fn render(context: &ReportContext, verdicts: &Verdicts, findings: &Findings)
         .map(|t| t.title.clone())
         .collect();
     verdicts::write_verdicts(&mut text, &titles, findings);
+    at_best::write_at_best(&mut text, findings);
     for experiment in &context.experiments {
         task::write_task(
             &mut text,

@@ -368,3 +368,104 @@ fn tuning_csv_has_its_documented_columns() {
         names.join(",")
     );
 }
+
+/// The two stages of a task's tuning: stage 2 is planned only once every trial of every
+/// method is scored, then holds each method's best trial on the held-out seeds; the held-out
+/// rows are renamed into the task for the "each at its best" verdicts, and nothing else is.
+#[test]
+fn stage_two_follows_only_a_complete_stage_one() {
+    use eamadm::tuning::{TaskTuning, at_best_scores, chosen_trials};
+
+    let base = paper::task1();
+    let tuning = TaskTuning::new(&base, &["softmax", "ea-madm"], 16, 2).unwrap();
+    let stage1 = tuning.stage1().unwrap();
+    assert_eq!(stage1.len(), 32);
+    assert!(
+        stage1
+            .iter()
+            .all(|c| c.seeds == 2 && c.base_seed == TUNING_BASE_SEED)
+    );
+    assert!(matches!(
+        TaskTuning::new(&base, &["softmax"], 16, TUNING_SEEDS + 1),
+        Err(TuningError::TuningSeeds { .. })
+    ));
+
+    // One real (shortened) run gives a row to copy; each trial's rows say its experiment.
+    let mut config = stage1[0].clone();
+    config.episodes = 3;
+    config.seeds = 1;
+    let experiment = Experiment::new(config).unwrap();
+    let template =
+        scores::final_scores(&experiment.run_all().unwrap(), &experiment).unwrap()[0].clone();
+    let row_of = |experiment: &str, method: &str, steps: f64| scores::FinalScore {
+        task: experiment.to_owned(),
+        method: method.to_owned(),
+        final_steps: steps,
+        ..template.clone()
+    };
+    let mut all = Vec::new();
+    for trial in &tuning.trials {
+        // softmax is best at trial 5, EA-MADM ties at trials 0 and 3 (trial 0 wins).
+        let steps = match (trial.method.as_str(), trial.trial) {
+            ("softmax", 5) | ("ea-madm", 0 | 3) => 58.0,
+            _ => 90.0 + f64::from(trial.trial),
+        };
+        all.push(row_of(&trial.experiment_name(), &trial.method, steps));
+        all.push(row_of(&trial.experiment_name(), &trial.method, steps));
+    }
+    // A trial's rows missing: that method is not chosen, and stage 2 waits.
+    let missing = "task1-tune-ea-madm-t07";
+    let partial: Vec<scores::FinalScore> =
+        all.iter().filter(|r| r.task != missing).cloned().collect();
+    let rows = tuning.rows(&partial).unwrap();
+    assert!(
+        rows.iter()
+            .filter(|r| r.method == "ea-madm")
+            .all(|r| r.chosen.is_none())
+    );
+    assert_eq!(
+        rows.iter().filter(|r| r.chosen == Some(true)).count(),
+        1,
+        "softmax is complete"
+    );
+    assert!(tuning.stage2(&rows).unwrap().is_none());
+
+    let rows = tuning.rows(&all).unwrap();
+    assert!(
+        rows.iter()
+            .all(|r| r.tuning_seeds == 2 && r.score.is_some())
+    );
+    let stage2 = tuning.stage2(&rows).unwrap().unwrap();
+    let chosen: Vec<(&str, u32, &str, u32)> = stage2
+        .iter()
+        .map(|(t, c)| (t.method.as_str(), t.trial, c.name.as_str(), c.seeds))
+        .collect();
+    assert_eq!(
+        chosen,
+        [
+            ("softmax", 5, "task1-best-softmax", base.seeds),
+            ("ea-madm", 0, "task1-best-ea-madm", base.seeds)
+        ]
+    );
+    let trials = chosen_trials(&rows);
+    assert_eq!(trials.len(), 2);
+    assert!(trials.iter().all(|c| c.trials == 16 && c.tuning_seeds == 2));
+
+    // Held-out rows of the task's `-best-` experiments are renamed; others are left out.
+    let held_out = [
+        row_of("task1-best-softmax", "softmax", 60.0),
+        row_of("task1-best-ea-madm", "ea-madm", 61.0),
+        row_of("task2-best-softmax", "softmax", 62.0),
+        row_of("task1-best-softmax", "ea-madm", 63.0),
+        row_of("task1", "softmax", 64.0),
+    ];
+    let renamed = at_best_scores("task1", &held_out);
+    let kept: Vec<(&str, &str, f64)> = renamed
+        .iter()
+        .map(|r| (r.task.as_str(), r.method.as_str(), r.final_steps))
+        .collect();
+    assert_eq!(
+        kept,
+        [("task1", "softmax", 60.0), ("task1", "ea-madm", 61.0)]
+    );
+}
