@@ -538,7 +538,12 @@ impl Trial {
                     });
                 }
                 if let Some(episodes) = params.pretrain_episodes {
+                    // With the stopping rule the drawn length is the fewest episodes; the
+                    // rule's cap must stay at least that (docs/paper-notes.md §23).
                     config.pretrain.episodes = episodes;
+                    if let Some(until) = &mut config.pretrain.until {
+                        until.max_episodes = until.max_episodes.max(episodes);
+                    }
                 }
             }
             Method::EpsilonGreedy { epsilon, .. } => *epsilon = params.exploration,
@@ -821,7 +826,7 @@ pub const TUNING_COLUMNS: &[Column] = &[
     Column::new("exploration_floor", FieldType::Number, "The schedule's floor; the constant itself for a constant ε."),
     Column::new("exploration", FieldType::String, "What the schedule is: ε of an ε-greedy policy, or a softmax temperature.").values(&["epsilon", "temperature"]),
     Column::new("tree_threshold", FieldType::Number, "EA-MADM's tree thresholds τₛ = τₐ.").blank_when("the method is not EA-MADM, or keeps its sub-tasks' tables instead of trees"),
-    Column::new("pretrain_episodes", FieldType::Integer, "EA-MADM's sub-task pre-training episodes.").unit("episodes").blank_when("the method is not EA-MADM"),
+    Column::new("pretrain_episodes", FieldType::Integer, "EA-MADM's sub-task pre-training episodes (the fewest, when the stopping rule trains on to convergence; its cap is raised to at least this).").unit("episodes").blank_when("the method is not EA-MADM"),
     Column::new("tuning_seeds", FieldType::Integer, "Seeds the trial ran on (tuning seeds, disjoint from the held-out seeds)."),
     Column::new("first_tuning_seed", FieldType::Integer, "The first tuning seed; the others follow it."),
     Column::new("objective", FieldType::String, "What the trial is scored by: the IQM over tuning seeds of `final_steps` (mazes, lower is better) or the mean of `success_rate` (robot, higher is better).").values(&["final_steps_iqm", "success_rate_mean"]),
