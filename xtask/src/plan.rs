@@ -562,7 +562,10 @@ mod tests {
             ..args()
         };
         let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
-        assert!(matches!(error, ArgumentError::OutNotAFolder { .. }), "{error}");
+        assert!(
+            matches!(error, ArgumentError::OutNotAFolder { .. }),
+            "{error}"
+        );
     }
 
     #[test]

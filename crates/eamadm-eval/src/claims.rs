@@ -1466,7 +1466,8 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
         // A metric comparison that favours the competitor by itself shows the numbers;
         // otherwise the per-seed test that does.
         match by_p(false, &|i, c| {
-            effective[i] == ComparisonOutcome::FavoursCompetitor && c.outcome == ComparisonOutcome::FavoursCompetitor
+            effective[i] == ComparisonOutcome::FavoursCompetitor
+                && c.outcome == ComparisonOutcome::FavoursCompetitor
         }) {
             Some(i) => (Verdict::Contradicted, Some(i), None),
             None => (
@@ -1506,11 +1507,15 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
         // The weakest informative comparison that does not favour the method; else the
         // per-seed test (C3 with uninformative greedy SDs is decided by who reaches stably);
         // else an uninformative comparison.
-        let pick = by_p(true, &|i, _| effective[i] != ComparisonOutcome::FavoursMethod);
+        let pick = by_p(true, &|i, _| {
+            effective[i] != ComparisonOutcome::FavoursMethod
+        });
         match pick {
             Some(i) if comparisons[i].informative => (Verdict::Inconclusive, Some(i), None),
             _ => {
-                match test_by_p(true, Some(ComparisonOutcome::Unsettled)).or_else(|| test_by_p(true, None)) {
+                match test_by_p(true, Some(ComparisonOutcome::Unsettled))
+                    .or_else(|| test_by_p(true, None))
+                {
                     Some(test) => (Verdict::Inconclusive, None, Some(test)),
                     None => (Verdict::Inconclusive, pick, None),
                 }

@@ -7,7 +7,7 @@
 
 use eamadm::dql::Environment;
 use eamadm::wmr_model::{
-    Action, EpisodeSnapshot, FRAME_PIXELS_PER_METRE, EpisodeStatus, Scenario, WmrEnv, render_rgb,
+    Action, EpisodeSnapshot, EpisodeStatus, FRAME_PIXELS_PER_METRE, Scenario, WmrEnv, render_rgb,
 };
 use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -147,7 +147,11 @@ fn metrics_of<'py>(py: Python<'py>, env: &WmrEnv) -> PyResult<Bound<'py, PyDict>
 fn render_of(env: &WmrEnv) -> String {
     let (x, y, heading) = pose_of(env);
     let m = env.metrics();
-    let sensor_values: Vec<String> = env.sensor_values().iter().map(|r| format!("{r:.2}")).collect();
+    let sensor_values: Vec<String> = env
+        .sensor_values()
+        .iter()
+        .map(|r| format!("{r:.2}"))
+        .collect();
     format!(
         "t={:.1}s x={x:.3} y={y:.3} heading={heading:.3} state={} proximity=[{}] outcome={}\n",
         m.time,

@@ -13,7 +13,7 @@ use dql::Environment;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use wmr_model::{
-    DEFAULT_TARGET_BINS, ObstacleSpec, EpisodeStatus, Scenario, StateParams, TaskReward, WmrEnv,
+    DEFAULT_TARGET_BINS, EpisodeStatus, ObstacleSpec, Scenario, StateParams, TaskReward, WmrEnv,
 };
 
 const WINDOW: usize = 500;

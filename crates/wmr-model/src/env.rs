@@ -536,7 +536,8 @@ impl WmrEnv {
     /// Reads the sensors (adding the noise to `sensed`) and sets the state.
     fn sense(&mut self) -> f64 {
         self.sensor_values = self.sensed.proximities;
-        self.sensors.add_noise(&mut self.sensor_values, &mut self.rng);
+        self.sensors
+            .add_noise(&mut self.sensor_values, &mut self.rng);
         self.state = self.sensed.state;
         self.sensed.target_distance
     }

@@ -163,7 +163,7 @@ pub use geometry::{Circle, Rect};
 pub use kinematics::{
     FixedArc, RobotParams, Twist, WheelSpeeds, integrate_arc, integrate_arc_centre,
 };
-pub use metrics::{EpisodeMetrics, MetricsParams, EpisodeStatus};
+pub use metrics::{EpisodeMetrics, EpisodeStatus, MetricsParams};
 pub use planner::{
     Plan, PlanError, PlannerParams, TabularPolicy, search, shortest_plan, tabular_policy,
 };
