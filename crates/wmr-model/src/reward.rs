@@ -68,8 +68,8 @@ pub enum RadPenalty {
     Facing,
 }
 
-/// Repaired sensor_values of the sub-task rewards (issue 21 item 4), each off in the paper's
-/// literal value. In TOML (`[reward]`): `repairs = { reach_goal_bonus = true,
+/// Repairs of the sub-task rewards (issue 21 item 4), each off in the paper's
+/// literal reading. In TOML (`[reward]`): `repairs = { reach_goal_bonus = true,
 /// end_penalties = true }`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
