@@ -142,7 +142,7 @@ pub(crate) use eamadm_runs::KeepTrajectories;
 pub(crate) const MAX_SEEDS: u32 = 1000;
 
 /// `--keep-trajectories`: `figures` (only what the figures draw: the evaluation episodes, in
-/// trajectories.csv the first seed's) or `all` (also every seed's evaluation path and every
+/// trajectories.csv.gz the first seed's) or `all` (also every seed's evaluation path and every
 /// training trajectory the config records).
 fn keep_trajectories_values() -> impl clap::builder::TypedValueParser<Value = KeepTrajectories> {
     clap::builder::PossibleValuesParser::new(KeepTrajectories::ALL.map(KeepTrajectories::name))
@@ -155,12 +155,13 @@ pub(crate) struct ReproduceArgs {
     /// Seeds per task and method [default: 20, or 3 with --quick].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SEEDS)))]
     pub(crate) seeds: Option<u32>,
-    /// Run only this task; repeat for several [default: all three].
+    /// Run only this task; repeat for several [default: all five].
     #[arg(long = "task", value_name = "TASK", value_enum)]
     pub(crate) tasks: Vec<Task>,
     /// Run only this method (by label); repeat for several [default: all]. Labels: ea-madm,
     /// epsilon-greedy, epsilon-decreasing, softmax, the ablations ea-madm-table,
-    /// ea-madm-uniform, ea-madm-literal, ea-madm-distance, and the maze tasks' controls
+    /// ea-madm-uniform, ea-madm-literal, ea-madm-distance, the plain aggregators subtasks-mean
+    /// and subtasks-max (every task), and the maze tasks' controls
     /// subtask0-alone, subtask1-alone, COMPETITOR-budget, COMPETITOR-shaped,
     /// ea-madm-tau0.5, ea-madm-tau0.33; the robot's repaired readings ea-madm-goal-bonus,
     /// ea-madm-end-penalties, ea-madm-normalised, ea-madm-repaired, COMPETITOR-shaped-repaired,
@@ -181,7 +182,7 @@ pub(crate) struct ReproduceArgs {
     /// of exiting with an error.
     #[arg(long)]
     pub(crate) wait: bool,
-    /// Which training trajectories to keep in the run store and trajectories.csv.
+    /// Which training trajectories to keep in the run store and trajectories.csv.gz.
     #[arg(long, value_name = "WHICH", value_parser = keep_trajectories_values(), default_value_t)]
     pub(crate) keep_trajectories: KeepTrajectories,
     /// Whether to rerun the selected methods under the other readings of the paper (ε-greedy
@@ -242,12 +243,21 @@ pub(crate) enum Task {
     /// The wheeled robot over the paper's literal state (no target feature).
     #[value(name = "robot-paper-state")]
     RobotPaperState,
+    /// Not the paper's: the positive control, a hand-designed 30×30 maze whose target sits in
+    /// a walled box with its door facing away (issue 32).
+    #[value(name = "aggregation-control")]
+    AggregationControl,
 }
 
 impl Task {
     /// All tasks, in run order.
-    pub(crate) const ALL: [Task; 4] =
-        [Task::Task1, Task::Task2, Task::Robot, Task::RobotPaperState];
+    pub(crate) const ALL: [Task; 5] = [
+        Task::Task1,
+        Task::Task2,
+        Task::Robot,
+        Task::RobotPaperState,
+        Task::AggregationControl,
+    ];
 
     /// The command-line name, also used for output folders (`task1`, `task2`, `robot`,
     /// `robot-paper-state`).
@@ -262,6 +272,7 @@ impl Task {
             Task::Task2 => eamadm::paper::PaperTask::Task2,
             Task::Robot => eamadm::paper::PaperTask::Robot,
             Task::RobotPaperState => eamadm::paper::PaperTask::RobotPaperState,
+            Task::AggregationControl => eamadm::paper::PaperTask::AggregationControl,
         }
     }
 
@@ -272,6 +283,7 @@ impl Task {
             Task::Task2 => "Task II, 39×36 maze",
             Task::Robot => "wheeled robot",
             Task::RobotPaperState => "wheeled robot, the paper's state",
+            Task::AggregationControl => "positive control, 30×30 maze with a walled box",
         }
     }
 }

@@ -182,11 +182,20 @@ mod tests {
     fn presets_are_planned_with_the_given_seeds() {
         let planned = plan_experiments(&Task::ALL, false, None, 2, true, Readings::All).unwrap();
         let names: Vec<&str> = planned.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(names[..4], ["task1", "task2", "robot", "robot-paper-state"]);
-        assert_eq!(base_count(&planned), 4);
-        // Then each reading on each maze task it changes, reading-major.
         assert_eq!(
-            names[4..],
+            names[..5],
+            [
+                "task1",
+                "task2",
+                "robot",
+                "robot-paper-state",
+                "aggregation-control"
+            ]
+        );
+        assert_eq!(base_count(&planned), 5);
+        // Then each reading on each paper maze task it changes, reading-major.
+        assert_eq!(
+            names[5..],
             [
                 "task2-reading-task2-reward-as-task1",
                 "task1-reading-epsilon-greedy-0.95",
@@ -197,11 +206,13 @@ mod tests {
                 "task2-reading-pretrain-half",
                 "task1-reading-pretrain-double",
                 "task2-reading-pretrain-double",
+                "task1-reading-pretrain-fixed",
+                "task2-reading-pretrain-fixed",
                 "task1-reading-temperature-floor-0.1",
                 "task2-reading-temperature-floor-0.1",
             ]
         );
-        for reading in &planned[4..] {
+        for reading in &planned[5..] {
             let (_, base) = reading.reading.unwrap();
             assert_eq!(reading.config().seeds, 2);
             assert_eq!(reading.config().episodes, planned[base].config().episodes);

@@ -23,6 +23,7 @@ use crate::claims_report::{ClaimsReportError, write_claim_outputs};
 use crate::cli::KeepTrajectories;
 use crate::experiments::PlannedExperiment;
 use crate::jobs::Job;
+use crate::oracle_tables::{OracleTablesError, oracle_rows, write_oracle_tables};
 use crate::outputs::{OutputError, experiment_figures, write_figures};
 use eamadm::verdicts::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
@@ -34,7 +35,7 @@ pub(crate) const CURVES_FILE: &str = eamadm_runs::names::CURVES;
 
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Outputs {
+pub(crate) enum Outputs<'a> {
     /// Only the run store (`runs/<experiment>.jsonl.zst`), compacted into job order: a shard's or
     /// `--runs-only`'s output.
     StoreOnly,
@@ -42,6 +43,9 @@ pub(crate) enum Outputs {
     Everything {
         /// Whether the plan is a `--quick` smoke run (the report says so).
         quick: bool,
+        /// The cache of pre-trained sub-tasks (`--pretrained-cache`), from which the oracle
+        /// analysis takes the plan's pre-trained sub-tasks rather than training them again.
+        pretrained_cache: &'a Path,
     },
 }
 
@@ -76,6 +80,9 @@ pub(crate) enum FinishError {
     /// The verdicts or their files failed.
     #[error(transparent)]
     Claims(#[from] ClaimsReportError),
+    /// `oracle.csv` or `pretraining.csv` failed.
+    #[error(transparent)]
+    Oracle(#[from] OracleTablesError),
 }
 
 /// The runs of `jobs` that none of `stores` holds (keeping `keep`'s trajectories), one line
@@ -194,7 +201,7 @@ pub(crate) fn write_outputs(
     jobs: &[Job<'_>],
     stores: &[RunStore],
     keep: KeepTrajectories,
-    outputs: Outputs,
+    outputs: Outputs<'_>,
 ) -> Result<usize, FinishError> {
     let missing = missing_runs(experiments, jobs, stores, keep);
     if !missing.is_empty() {
@@ -209,6 +216,8 @@ pub(crate) fn write_outputs(
     let mut scores: Result<Vec<FinalScore>, ScoresError> = Ok(Vec::new());
     // The final scores of each reading's reruns, judged against the base's at the end.
     let mut readings: Vec<ReadingRuns> = Vec::new();
+    // Each sub-task's pre-training in every run of the base experiments (`pretraining.csv`).
+    let mut pretraining = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
         if let Some((reading, base)) = planned.reading {
@@ -229,7 +238,9 @@ pub(crate) fn write_outputs(
         let mut tables = if everything {
             Some((
                 eamadm_runs::gzip::table_encoder(AtomicFile::create(&folder.join(CURVES_FILE))?),
-                AtomicFile::create(&folder.join(eamadm_runs::names::TRAJECTORIES))?,
+                eamadm_runs::gzip::table_encoder(AtomicFile::create(
+                    &folder.join(eamadm_runs::names::TRAJECTORIES),
+                )?),
             ))
         } else {
             None
@@ -264,6 +275,7 @@ pub(crate) fn write_outputs(
                     }
                 }
                 if let Some((experiment_figures, facts)) = collected.as_mut() {
+                    pretraining.extend(eamadm::oracle::pretraining_rows(&run.record));
                     experiment_figures.push(&run.record);
                     facts.push(&run.record);
                 }
@@ -288,7 +300,14 @@ pub(crate) fn write_outputs(
                     source,
                 })?
                 .commit()?;
-            paths.commit()?;
+            let paths_path = folder.join(eamadm_runs::names::TRAJECTORIES);
+            paths
+                .finish()
+                .map_err(|source| AtomicWriteError {
+                    path: paths_path,
+                    source,
+                })?
+                .commit()?;
         }
         if let Some((experiment_figures, gathered)) = collected {
             let figures = write_figures(out, &planned.name, experiment_figures)?;
@@ -310,7 +329,11 @@ pub(crate) fn write_outputs(
         }
     }
     remove_legacy_files(store_out, experiments)?;
-    if let Outputs::Everything { quick } = outputs {
+    if let Outputs::Everything {
+        quick,
+        pretrained_cache,
+    } = outputs
+    {
         let scores = scores?;
         let mut context = eamadm::paper::report_context(quick);
         context.experiments = facts;
@@ -320,6 +343,13 @@ pub(crate) fn write_outputs(
         let rows = eamadm::sensitivity::sensitivity(&verdicts.scores, &readings, &verdicts.options)
             .map_err(ClaimsReportError::from)?;
         verdicts = verdicts.with_sensitivity(rows);
+        // The oracle and the reach sub-tasks' pre-training enter the findings (and the
+        // report) through the context, so that `eamadm.report(dir)` renders them from
+        // `report-context.toml` too.
+        let oracle = oracle_rows(pretrained_cache, experiments)?;
+        context.oracle = eamadm::oracle::oracle_findings(&oracle, &verdicts.scores);
+        context.pretraining = eamadm::oracle::reach_pretraining(&pretraining);
+        write_oracle_tables(out, &oracle, &pretraining)?;
         write_claim_outputs(out, &context, &verdicts)?;
     }
     Ok(jobs.len())

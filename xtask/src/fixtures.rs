@@ -1,6 +1,8 @@
 //! `cargo xtask regen-fixtures [--check]`: the content of `fixtures/`, made by code only.
 //!
 //! - `mazes/task1.map`, `mazes/task2.map`: the frozen maze layouts ([`Preset::fixture_text`]);
+//!   `mazes/aggregation-control.map`: the positive control's hand-designed map
+//!   (`mazes::aggregation_control_fixture_text`);
 //! - `robot/fig12.toml`: the default robot scenario;
 //! - `reference/<task>/curves.csv` and `reference/<task>/evaluation-paths.csv`: per-episode
 //!   curves and the greedy evaluation path of [`FIXTURE_SEED`] for every method of the task's
@@ -213,6 +215,10 @@ pub(crate) fn generate() -> Result<Vec<FixtureFile>, FixtureError> {
             content: preset.fixture_text(),
         });
     }
+    files.push(FixtureFile {
+        path: format!("mazes/{}", eamadm::mazes::AGGREGATION_CONTROL_FIXTURE),
+        content: eamadm::mazes::aggregation_control_fixture_text(),
+    });
     files.push(FixtureFile {
         path: "robot/fig12.toml".to_owned(),
         content: format!(

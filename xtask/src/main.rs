@@ -26,7 +26,7 @@
 //! [`eamadm_present::figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
 //! and `REPORT.md` (whose text [`eamadm_present::report`] makes), [`sensitivity_report`] the readings'
-//! `sensitivity.csv`, all staged and swapped into the
+//! `sensitivity.csv`, `oracle.csv` and `pretraining.csv` ([`oracle_tables`]), all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
 //! [`text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
@@ -47,6 +47,7 @@ mod finish;
 mod fixtures;
 mod gc;
 mod jobs;
+mod oracle_tables;
 mod outputs;
 mod plan;
 mod progress;

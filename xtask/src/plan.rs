@@ -342,7 +342,7 @@ pub(crate) fn describe_regen_fixtures(check: bool, workspace: &Workspace) -> Str
     let _ = writeln!(text, "  action:   {action}");
     let _ = writeln!(
         text,
-        "  files:    maze layouts (task1, task2), the robot scenario, and reference trajectories \
+        "  files:    maze layouts (task1, task2, aggregation-control), the robot scenario, and reference trajectories \
          and curves for one fixed seed per task and method, each with a header saying how it \
          was made"
     );
@@ -446,10 +446,10 @@ mod tests {
         assert_eq!(plan.methods, default_methods());
         assert_eq!(plan.seeds, DEFAULT_SEEDS);
         assert_eq!(plan.out, ws.root.join("target/reproduce-paper"));
-        // 8 methods and 10 controls (the robot configs have no controls: an upper bound).
+        // Every label on every task (each task runs only the labels it has: an upper bound).
         assert_eq!(
             plan.runs(),
-            4 * default_methods().len() as u64 * u64::from(DEFAULT_SEEDS)
+            Task::ALL.len() as u64 * default_methods().len() as u64 * u64::from(DEFAULT_SEEDS)
         );
         let quick = ReproduceArgs {
             quick: true,

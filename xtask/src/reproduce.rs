@@ -178,7 +178,10 @@ pub(crate) fn reproduce_paper(
             &jobs,
             &[store],
             keep,
-            Outputs::Everything { quick: plan.quick },
+            Outputs::Everything {
+                quick: plan.quick,
+                pretrained_cache: &plan.pretrained_cache,
+            },
         )
         .map_err(Failure::failed)?;
         folder.commit().map_err(Failure::failed)?;
@@ -375,7 +378,10 @@ pub(crate) fn merge(args: &MergeArgs, workspace: &Workspace) -> Result<(), Failu
         &jobs,
         &[own],
         keep,
-        Outputs::Everything { quick: plan.quick },
+        Outputs::Everything {
+            quick: plan.quick,
+            pretrained_cache: &plan.pretrained_cache,
+        },
     )
     .map_err(Failure::failed)?;
     folder.commit().map_err(Failure::failed)?;
@@ -466,9 +472,9 @@ mod tests {
     }
 
     /// Runs per seed of the readings [`small`] plans on Task I (the readings change no robot
-    /// task): γ (EA-MADM and softmax), pre-training half and double (EA-MADM) and the
+    /// task): γ (EA-MADM and softmax), pre-training half, double and fixed (EA-MADM) and the
     /// temperature floor (softmax).
-    const SMALL_READING_RUNS_PER_SEED: usize = 5;
+    const SMALL_READING_RUNS_PER_SEED: usize = 6;
 
     /// A small plan: two methods, two seeds, Task I and the robot, shortened by a config-free
     /// --quick.
@@ -522,7 +528,7 @@ mod tests {
             "REPORT.md",
             "runs/mine.jsonl.zst",
             "mine/curves.csv.gz",
-            "mine/trajectories.csv",
+            "mine/trajectories.csv.gz",
             "mine/steps.svg",
             "mine/return.svg",
             "mine/trajectories.svg",

@@ -96,7 +96,7 @@ mod tests {
         assert!(narrow.iter().all(|job| job.method.label == "softmax"));
         let describe = super::describe_readings(&planned, &jobs);
         assert!(describe.contains("gamma-0.99"), "{describe}");
-        assert!(describe.contains(&format!("{} runs", jobs.len() - 18 * 2 * 2)));
+        assert!(describe.contains(&format!("{} runs", jobs.len() - 20 * 2 * 2)));
     }
 
     #[test]
@@ -205,8 +205,8 @@ mod tests {
             (read(eamadm::output_names::SENSITIVITY), read("REPORT.md"))
         };
         let (csv, report) = run(1);
-        // Task I: C1–C3 under each of the five readings that change Task I.
-        assert_eq!(csv.lines().count(), 1 + 3 * 5, "{csv}");
+        // Task I: C1–C3 under each of the six readings that change Task I.
+        assert_eq!(csv.lines().count(), 1 + 3 * 6, "{csv}");
         assert!(csv.starts_with("claim,task,reading,method,base_verdict,verdict,change"));
         assert!(report.contains("### Sensitivity to the readings of the paper"));
         assert!(report.contains("`pretrain-double`"));

@@ -36,6 +36,9 @@
 //! * [`RewardSignal`]: what the learner learns from ([`TaskRewardSignal`],
 //!   [`SubtaskRewardSignal`], or your own), independent of the task return reported.
 //! * [`run_episode`]: one episode of all of the above.
+//! * [`DeterministicModel`] and [`value_iteration`]: a task's exact optimal action values
+//!   `Q*`, when its model is known, small and deterministic (the fixed point the learners
+//!   approach; the mazes expose theirs).
 //!
 //! Every random draw comes from an RNG the caller passes in; nothing here touches
 //! a global or thread-local generator. Bad hyper-parameters are [`DqlError`]s that
@@ -118,6 +121,7 @@ pub mod env;
 pub mod episode;
 pub mod error;
 pub mod learner;
+pub mod model;
 pub mod policy;
 pub mod q_learning;
 pub mod reward_signal;
@@ -130,6 +134,7 @@ pub use env::{Environment, RgbFrame, Step};
 pub use episode::{EpisodeOptions, EpisodeOutcome, Trajectory, run_episode};
 pub use error::DqlError;
 pub use learner::{ExperienceSample, Learner};
+pub use model::{DeterministicModel, MAX_SWEEPS, Transition, ValueIteration, value_iteration};
 pub use policy::{BuiltinPolicy, EpsilonGreedy, ExplorationPolicy, Greedy, Softmax};
 pub use q_learning::{QLearning, QLearningParams};
 pub use reward_signal::{RewardSignal, SubtaskRewardSignal, TaskRewardSignal};

@@ -406,6 +406,11 @@ mod tests {
             table_bytes: 0,
             greedy_alone: greedy,
             start_values,
+            reached_episodes: 0,
+            converged: None,
+            checks: 0,
+            check_env_steps: 0,
+            last_check_reached: None,
         }
     }
 

@@ -9,7 +9,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::Role;
 use crate::behaviour::MethodBehaviour;
-use crate::claims::{self, ClaimOptions, ClaimsError};
+use crate::claims::{self, ClaimOptions, ClaimsError, Verdict};
+use crate::oracle::{OracleFinding, PretrainingSummary};
 use crate::paper_claims::ReportedNumbers;
 
 /// What the report needs to know beyond the scores: the tasks of the paper, the experiments of
@@ -42,6 +43,35 @@ pub struct ReportContext {
     /// them.
     #[serde(default)]
     pub deviations: Vec<DeviationFacts>,
+    /// The oracle (issue 32, `oracle.csv` read by
+    /// [`oracle_findings`](crate::oracle::oracle_findings)): per task and decision rule what it
+    /// does with the best sub-task values available.
+    #[serde(default)]
+    pub oracle: Vec<OracleFinding>,
+    /// The reach sub-task's pre-training per task and method (`pretraining.csv` read by
+    /// [`reach_pretraining`](crate::oracle::reach_pretraining)).
+    #[serde(default)]
+    pub pretraining: Vec<PretrainingSummary>,
+    /// Predictions written before any run (`eamadm::paper::predictions`), judged against the
+    /// run's outcome.
+    #[serde(default)]
+    pub predictions: Vec<PredictionFacts>,
+}
+
+/// What was predicted for a task before any run of it (docs/paper-notes.md records the
+/// reasoning and the commit that fixed it first).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PredictionFacts {
+    /// The task (experiment name).
+    pub task: String,
+    /// Where the prediction and its reasons are recorded (`§21.2`).
+    pub notes: String,
+    /// EA-MADM's best verdict predicted at most (`inconclusive`: no claim supported).
+    pub best_verdict: Verdict,
+    /// The sub-task alone EA-MADM was predicted to end as on most seeds.
+    pub follows: String,
+    /// Whether its decision with exact sub-task values was predicted to reach.
+    pub oracle_reaches: bool,
 }
 
 /// One way this reproduction differs from the paper that could change a verdict.
@@ -132,7 +162,7 @@ pub struct ExperimentFacts {
     /// The first seed: the runs' seeds are `base_seed .. base_seed + seeds`.
     #[serde(default)]
     pub base_seed: u64,
-    /// Whether its tables (`curves.csv.gz`, `trajectories.csv`) were written beside its
+    /// Whether its tables (`curves.csv.gz`, `trajectories.csv.gz`) were written beside its
     /// figures (the main job writes them; a report of `eamadm.run`'s results has none).
     #[serde(default)]
     pub tables_written: bool,

@@ -32,13 +32,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::Role;
 use crate::claims::{self, Judgement, ReachingComparison, Verdict};
-use crate::facts::{ControlFamily, ReportContext, RewardReference};
+use crate::facts::{ControlFamily, PredictionFacts, ReportContext, RewardReference};
+use crate::oracle::{FailingPart, OracleFinding, OracleValues, PretrainingSummary};
 use crate::scores::{FinalScore, RunOutcome};
 use crate::sensitivity::Change;
 use crate::verdicts::{ControlVerdict, Verdicts, collapsed_seeds};
 
 /// The version of `findings.json`'s layout; a reader refuses another.
-pub const FINDINGS_FORMAT: u32 = 1;
+pub const FINDINGS_FORMAT: u32 = 2;
 
 /// What the report states, per task of the run on which the paper's EA-MADM has verdicts.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -92,9 +93,52 @@ pub struct TaskFindings {
     pub equalities: Vec<Equality>,
     /// Methods whose per-seed scores equal an earlier method's on every seed.
     pub identical: Vec<Identical>,
+    /// The oracle (issue 32): per decision rule (the paper's EA-MADM first, then the plain
+    /// aggregators) what it does with the best sub-task values available; empty when the run
+    /// has no oracle analysis.
+    #[serde(default)]
+    pub oracle: Vec<OracleFinding>,
+    /// The reach sub-task's pre-training (sub-task 0) in the runs of EA-MADM, its variants and
+    /// the plain aggregators.
+    #[serde(default)]
+    pub reach_pretraining: Vec<PretrainingSummary>,
+    /// The plain aggregators' runs against the paper's EA-MADM (OWA with visibility weights).
+    #[serde(default)]
+    pub aggregators: Vec<AggregatorFinding>,
+    /// What was predicted for the task before any run, and whether it held.
+    #[serde(default)]
+    pub prediction: Option<PredictionOutcome>,
     /// The one cause the first screen names, chosen by the numbers; `None` when none stands
     /// out.
     pub cause: Option<Cause>,
+}
+
+/// A plain aggregator's runs beside the paper's EA-MADM's, on the same sub-tasks.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AggregatorFinding {
+    /// Its label (`subtasks-mean`, `subtasks-max`).
+    pub method: String,
+    /// The seeds its greedy policy after training reaches the target on.
+    pub converged: SeedCount,
+    /// The seeds on which EA-MADM ends exactly as it (final-window steps and return, the
+    /// greedy episode and the outcome), of the seeds both ran.
+    pub ends_as_ea_madm: SeedCount,
+}
+
+/// A prediction written before any run ([`PredictionFacts`]) against the run's outcome.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PredictionOutcome {
+    /// What was predicted.
+    pub predicted: PredictionFacts,
+    /// EA-MADM's best verdict on the task.
+    pub best_verdict: Option<Verdict>,
+    /// The seeds on which EA-MADM ends exactly as the predicted sub-task alone.
+    pub ends_as_followed: SeedCount,
+    /// The seeds on which EA-MADM's decision with exact sub-task values and its initial own
+    /// values reaches, of the seeds of the oracle; `None` without an oracle.
+    pub oracle_reaches: Option<SeedCount>,
+    /// Whether each part of the prediction held.
+    pub held: bool,
 }
 
 /// Seeds with an outcome, of seeds run.
@@ -346,7 +390,44 @@ pub struct Identical {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Cause {
-    /// EA-MADM never reaches the target, and the reward reading it learns from values
+    /// With exact sub-task values neither EA-MADM's decision nor any sub-task alone reaches
+    /// the target (the oracle): the sub-tasks carry no route to it, so the decision step has
+    /// nothing to combine.
+    SubtaskValues {
+        /// The decision's seeds reaching with exact values (none), of the oracle's seeds.
+        reaches: SeedCount,
+        /// The sub-task alone the decision follows (the reach sub-task).
+        follows: String,
+        /// The seeds on which the decision's greedy episode equals that sub-task's alone.
+        follows_on: SeedCount,
+        /// The task's optimum (BFS) in steps.
+        optimum_steps: Option<u64>,
+        /// The Manhattan distance from start to target.
+        manhattan_steps: Option<u64>,
+    },
+    /// EA-MADM never reaches the target, and its reach sub-task never reached it in
+    /// pre-training on any seed: a reward for reaching (the goal bonus of a repaired reading)
+    /// is never paid, so nothing the aggregation or the tree does can use it.
+    Pretraining {
+        /// The reach sub-task's pre-training over EA-MADM's seeds.
+        reach: PretrainingSummary,
+        /// Why its rewards do not lead to the target either, when the run diagnoses them.
+        diagnosis: Option<Diagnosis>,
+    },
+    /// The task sits at the Manhattan bound (its shortest path equals the Manhattan distance:
+    /// no obstacle forces a detour), and with exact sub-task values EA-MADM's decision equals
+    /// the distance-shaped reach sub-task alone: there is nothing for a second attribute to add.
+    Ceiling {
+        /// The optimum, equal to the Manhattan distance.
+        optimum_steps: u64,
+        /// The sub-task alone the decision equals.
+        follows: String,
+        /// The seeds on which it does, of the oracle's seeds.
+        follows_on: SeedCount,
+        /// The seeds on which the decision with exact values reaches.
+        reaches: SeedCount,
+    },
+    /// EA-MADM never reaches the target, and the reward reference it learns from values
     /// reaching in no (or too few) sub-tasks.
     Rewards {
         /// The diagnosis.
@@ -505,6 +586,34 @@ fn task_findings(context: &ReportContext, verdicts: &Verdicts, task: &str) -> Op
     let never_reaches = never_reaches(context, scores, task, ea);
     let subtask_pairing = subtask_pairing(context, scores, task, ea);
     let equalities = equalities(context, scores, task);
+    let oracle: Vec<OracleFinding> = context
+        .oracle
+        .iter()
+        .filter(|o| o.task == task)
+        .cloned()
+        .collect();
+    let reach_pretraining: Vec<PretrainingSummary> = context
+        .pretraining
+        .iter()
+        .filter(|p| p.task == task)
+        .cloned()
+        .collect();
+    let aggregators = oracle
+        .iter()
+        .filter(|o| o.decision != ea)
+        .map(|o| {
+            let same = equality(scores, task, ea, &o.decision);
+            AggregatorFinding {
+                method: o.decision.clone(),
+                converged: converged(scores, task, &o.decision),
+                ends_as_ea_madm: SeedCount {
+                    hits: same.end_same,
+                    seeds: same.both,
+                },
+            }
+        })
+        .filter(|a| a.converged.seeds > 0)
+        .collect();
     let mut findings = TaskFindings {
         task: task.to_owned(),
         title: context.task_title(task),
@@ -520,8 +629,17 @@ fn task_findings(context: &ReportContext, verdicts: &Verdicts, task: &str) -> Op
         subtask_pairing,
         equalities,
         identical: identical(scores, task),
+        oracle,
+        reach_pretraining,
+        aggregators,
+        prediction: None,
         cause: None,
     };
+    findings.prediction = context
+        .predictions
+        .iter()
+        .find(|p| p.task == task)
+        .map(|p| prediction_outcome(scores, &findings, p));
     findings.cause = cause(&findings);
     Some(findings)
 }
@@ -745,7 +863,7 @@ fn collapses(
     })
 }
 
-/// The reward reading `method` learns from, when it never reached the target on any seed.
+/// The reward reference `method` learns from, when it never reached the target on any seed.
 fn never_reaches(
     context: &ReportContext,
     scores: &[FinalScore],
@@ -756,14 +874,14 @@ fn never_reaches(
     if seeds.is_empty() || seeds.iter().any(|(_, o)| *o != RunOutcome::NeverReached) {
         return None;
     }
-    let reading: &RewardReference = context
+    let reference: &RewardReference = context
         .experiment(task)?
         .reward_references
         .iter()
         .find(|r| r.methods.iter().any(|m| m == method))?;
     Some(Diagnosis {
-        repairs: reading.repairs.clone(),
-        subtasks: reading
+        repairs: reference.repairs.clone(),
+        subtasks: reference
             .subtasks
             .iter()
             .map(|s| (s.name.clone(), s.reaching_pays()))
@@ -984,10 +1102,91 @@ fn identical(scores: &[FinalScore], task: &str) -> Vec<Identical> {
     found
 }
 
-/// The one cause the first screen names: the rewards when EA-MADM never reaches; a
-/// reward- or budget-matched control that overturns a verdict; a sub-task alone no worse
-/// than EA-MADM; else none.
+/// `predicted` against the run: EA-MADM's best verdict, how often it ends as the sub-task
+/// alone it was predicted to follow, and whether its decision reaches with exact values.
+fn prediction_outcome(
+    scores: &[FinalScore],
+    findings: &TaskFindings,
+    predicted: &PredictionFacts,
+) -> PredictionOutcome {
+    let best_verdict = findings
+        .verdicts
+        .iter()
+        .map(|v| v.verdict)
+        .max_by_key(|v| rank(*v));
+    let same = equality(scores, &findings.task, &findings.method, &predicted.follows);
+    let ends_as_followed = SeedCount {
+        hits: same.end_same,
+        seeds: same.both,
+    };
+    let oracle_reaches = findings
+        .oracle
+        .iter()
+        .find(|o| o.decision == findings.method && o.values == OracleValues::Exact)
+        .map(|o| SeedCount {
+            hits: o.reaches_initial as usize,
+            seeds: o.seeds as usize,
+        });
+    let held = best_verdict.is_none_or(|v| rank(v) <= rank(predicted.best_verdict))
+        && ends_as_followed.seeds > 0
+        && 2 * ends_as_followed.hits > ends_as_followed.seeds
+        && oracle_reaches.is_none_or(|o| (o.hits > 0) == predicted.oracle_reaches);
+    PredictionOutcome {
+        predicted: predicted.clone(),
+        best_verdict,
+        ends_as_followed,
+        oracle_reaches,
+        held,
+    }
+}
+
+/// The oracle finding of EA-MADM's own decision on the task, if the run has one.
+fn ea_madm_oracle(findings: &TaskFindings) -> Option<&OracleFinding> {
+    findings
+        .oracle
+        .iter()
+        .find(|o| o.decision == findings.method)
+}
+
+/// The one cause the first screen names: the sub-task values when even exact ones lead
+/// nowhere (the oracle); pre-training when EA-MADM never reaches and its reach sub-task never
+/// reached in pre-training; the rewards when EA-MADM never reaches; a reward- or
+/// budget-matched control that overturns a verdict; the Manhattan-bound ceiling when exact
+/// values make the decision the reach sub-task alone; a sub-task alone no worse than EA-MADM;
+/// else none.
 fn cause(findings: &TaskFindings) -> Option<Cause> {
+    let oracle = ea_madm_oracle(findings);
+    if let Some(o) = oracle
+        .filter(|o| o.values == OracleValues::Exact && o.failing_part == FailingPart::SubtaskValues)
+        && let Some((follows, _)) = &o.best_subtask_alone
+    {
+        return Some(Cause::SubtaskValues {
+            reaches: SeedCount {
+                hits: o.reaches_initial as usize,
+                seeds: o.seeds as usize,
+            },
+            follows: follows.clone(),
+            follows_on: SeedCount {
+                hits: o.equals_subtask_alone as usize,
+                seeds: o.seeds as usize,
+            },
+            optimum_steps: o.optimum_steps,
+            manhattan_steps: o.manhattan_steps,
+        });
+    }
+    if findings.converged.hits == 0
+        && let Some(reach) = findings
+            .reach_pretraining
+            .iter()
+            .find(|p| p.method == findings.method)
+        && reach.seeds > 0
+        && reach.seeds_reaching == 0
+    {
+        return Some(Cause::Pretraining {
+            reach: reach.clone(),
+            diagnosis: findings.never_reaches.clone(),
+        });
+    }
     if let Some(diagnosis) = &findings.never_reaches {
         return Some(Cause::Rewards {
             diagnosis: diagnosis.clone(),
@@ -1014,6 +1213,27 @@ fn cause(findings: &TaskFindings) -> Option<Cause> {
                 .map(|s| s.claim.clone())
                 .collect(),
             verdict: first.verdict,
+        });
+    }
+    if let Some(o) = oracle.filter(|o| {
+        o.at_manhattan_bound == Some(true)
+            && o.values == OracleValues::Exact
+            && o.seeds > 0
+            && 2 * o.equals_subtask_alone > o.seeds
+    }) && let (Some(optimum_steps), Some((follows, _))) =
+        (o.optimum_steps, &o.best_subtask_alone)
+    {
+        return Some(Cause::Ceiling {
+            optimum_steps,
+            follows: follows.clone(),
+            follows_on: SeedCount {
+                hits: o.equals_subtask_alone as usize,
+                seeds: o.seeds as usize,
+            },
+            reaches: SeedCount {
+                hits: o.reaches_initial as usize,
+                seeds: o.seeds as usize,
+            },
         });
     }
     let alone: Vec<&StrongestControl> = findings

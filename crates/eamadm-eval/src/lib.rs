@@ -20,6 +20,7 @@
 //! | [`facts`] | what the report and figures know beyond the scores: the paper's tasks, the run's experiments, the readings |
 //! | [`columns`] | every column of `final-scores.csv` and `claims.csv` documented: the data package and its Markdown |
 //! | [`sensitivity`] | each verdict judged again under other readings of the paper: holds or flips |
+//! | [`oracle`] | the decision step on exact (or converged) sub-task values, and each sub-task's pre-training: `oracle.csv`, `pretraining.csv` |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
 //! | [`results`] | the full records as JSON, curves and trajectories as CSV |
 //! | [`findings`] | what the report states, as data (`findings.json`): verdicts, deciding comparisons, strongest controls, collapses, equalities, the diagnosis |
@@ -55,6 +56,7 @@ pub mod claims;
 pub mod columns;
 pub mod facts;
 pub mod findings;
+pub mod oracle;
 pub mod paper_claims;
 pub mod reaching;
 pub mod record;

@@ -183,4 +183,21 @@ pub struct SubtaskRecord {
     /// `r / (1 − γ)` for a learner paid `r` per step that learned to idle).
     #[serde(default)]
     pub start_values: Vec<f64>,
+    /// Pre-training episodes (not the stopping rule's checks) that reached the target.
+    #[serde(default)]
+    pub reached_episodes: u64,
+    /// With the stopping rule of pre-training "to convergence": whether it found the sub-task
+    /// converged (`false`: it stopped at its cap of episodes); `None` for a fixed number of
+    /// episodes.
+    #[serde(default)]
+    pub converged: Option<bool>,
+    /// The stopping rule's greedy check episodes (0 without a rule).
+    #[serde(default)]
+    pub checks: u64,
+    /// Environment steps of those checks (included in `env_steps`).
+    #[serde(default)]
+    pub check_env_steps: u64,
+    /// Whether the last check's greedy episode reached the target (`None` without checks).
+    #[serde(default)]
+    pub last_check_reached: Option<bool>,
 }

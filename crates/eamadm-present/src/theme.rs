@@ -104,7 +104,7 @@ pub const OKABE_ITO: [&str; 8] = [
 ];
 
 /// The looks of the methods of the paper's presets, by label.
-const LOOKS: [(&str, usize, Dash); 38] = [
+const LOOKS: [(&str, usize, Dash); 40] = [
     // The paper's methods: EA-MADM blue, its three competitors.
     ("ea-madm", 0, Dash::Solid),
     ("epsilon-greedy", 1, Dash::Solid),
@@ -126,6 +126,9 @@ const LOOKS: [(&str, usize, Dash); 38] = [
     ("softmax-shaped", 3, Dash::DashDot),
     ("ea-madm-tau0.5", 5, Dash::Dotted),
     ("ea-madm-tau0.33", 0, Dash::Dotted),
+    // The plain aggregators (EA-MADM with another aggregation: EA-MADM's blue, and black).
+    ("subtasks-mean", 0, Dash::DashDotDot),
+    ("subtasks-max", 6, Dash::DashDotDot),
     // The robot's repaired readings (ablations, drawn with the four above).
     ("ea-madm-goal-bonus", 1, Dash::Dashed),
     ("ea-madm-end-penalties", 2, Dash::Dashed),
@@ -226,6 +229,10 @@ mod tests {
             ("task1", include_str!("../../eamadm/configs/task1.toml")),
             ("task2", include_str!("../../eamadm/configs/task2.toml")),
             ("robot", include_str!("../../eamadm/configs/robot.toml")),
+            (
+                "aggregation-control",
+                include_str!("../../eamadm/configs/aggregation-control.toml"),
+            ),
         ]
         .into_iter()
         .map(|(name, text)| {

@@ -12,7 +12,8 @@ use std::sync::{Arc, Mutex, mpsc};
 use std::time::Duration;
 
 use eamadm::config::{
-    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+    AGGREGATION_CONTROL_TOML, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML,
+    PAPER_TASK2_TOML,
 };
 use eamadm::paper::PaperTask;
 use eamadm::results::{CURVE_COLUMNS, CurveRow, curve_rows};
@@ -29,8 +30,8 @@ use crate::error::{guard, internal_error, panic_message, value_error};
 /// How long the calling thread waits, GIL released, before it checks for signals again.
 const SIGNAL_CHECK: Duration = Duration::from_millis(50);
 
-/// The embedded paper preset `name` ("task1", "task2", "robot" or "robot-paper-state") as TOML
-/// text.
+/// The embedded paper preset `name` ("task1", "task2", "robot", "robot-paper-state" or the
+/// positive control "aggregation-control") as TOML text.
 #[pyfunction]
 pub(crate) fn paper_config_toml(name: &str) -> PyResult<&'static str> {
     match name {
@@ -38,10 +39,11 @@ pub(crate) fn paper_config_toml(name: &str) -> PyResult<&'static str> {
         "task2" => Ok(PAPER_TASK2_TOML),
         "robot" => Ok(PAPER_ROBOT_TOML),
         "robot-paper-state" => Ok(PAPER_ROBOT_PAPER_STATE_TOML),
+        "aggregation-control" => Ok(AGGREGATION_CONTROL_TOML),
         other => Err(value_error(
             "name",
             format!(
-                "expected \"task1\", \"task2\", \"robot\" or \"robot-paper-state\", got {other:?}"
+                "expected \"task1\", \"task2\", \"robot\", \"robot-paper-state\" or \"aggregation-control\", got {other:?}"
             ),
         )),
     }

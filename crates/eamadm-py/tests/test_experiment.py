@@ -44,7 +44,13 @@ def same(a, b):
 
 
 def test_paper_configs():
-    episodes = {"task1": 200, "task2": 200, "robot": 500, "robot-paper-state": 500}
+    episodes = {
+        "task1": 200,
+        "task2": 200,
+        "robot": 500,
+        "robot-paper-state": 500,
+        "aggregation-control": 200,
+    }
     for name, count in episodes.items():
         config = eamadm.paper_config(name)
         assert isinstance(config, eamadm.Config) and config.name == name
@@ -55,6 +61,7 @@ def test_paper_configs():
         assert eamadm.Config.from_dict(as_dict) == config
         assert eamadm.Config.from_dict(eamadm.Config.from_dict(as_dict).to_dict()) == config
         _native.check_config(config.to_toml())
+    assert sorted(episodes) == sorted(eamadm.experiment.paper_tasks())
     with pytest.raises(ValueError, match="^name: "):
         eamadm.paper_config("task3")
     with pytest.raises(TypeError, match="^name: "):

@@ -21,7 +21,7 @@ use thiserror::Error;
 /// Version of the numbers a run produces, in the resume key: bump it when a change of code
 /// changes results without changing the config or the crate version, so that stored runs are
 /// not reused.
-pub const RESULTS_FORMAT: u32 = 2;
+pub const RESULTS_FORMAT: u32 = 3;
 
 /// What identifies a run for resuming: everything its record depends on.
 #[derive(Debug, Serialize)]

@@ -52,7 +52,7 @@ use crate::store::{MAX_ENTRY_BYTES, StoreError};
 
 /// Version of the artefact layout and of what training a sub-task computes; bump it when
 /// either changes, so that old artefacts are not reused (it is part of every key).
-pub const PRETRAINED_FORMAT: u32 = 1;
+pub const PRETRAINED_FORMAT: u32 = 2;
 
 /// What a trained sub-task depends on; its hash (as [`RunKey::of`]) names the artefact.
 #[derive(Debug, Clone, Serialize)]
@@ -630,7 +630,8 @@ mod tests {
         std::fs::write(&path, crate::gzip::compress(&content).unwrap()).unwrap();
         match store.load(&description) {
             Err(StoreError::Damaged { problem, .. }) => {
-                assert!(problem.contains("format is 2"), "{problem}");
+                let expected = format!("format is {}", PRETRAINED_FORMAT + 1);
+                assert!(problem.contains(&expected), "{problem}");
             }
             other => panic!("{other:?}"),
         }

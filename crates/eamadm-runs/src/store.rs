@@ -91,7 +91,7 @@ use crate::key::{RunDescription, RunKey, canonical_json};
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum KeepTrajectories {
-    /// Only what the figures draw: the evaluation episodes (in trajectories.csv, the first
+    /// Only what the figures draw: the evaluation episodes (in trajectories.csv.gz, the first
     /// seed's).
     #[default]
     Figures,

@@ -5,7 +5,7 @@
 use dql::{
     DoubleQ, DqlError, EpsilonGreedy, ExplorationPolicy, Learner, Schedule, argmax_random_tie,
 };
-use madm_owa::{MadmDecider, MadmError, Normalisation, Weighting};
+use madm_owa::{ColumnSummary, MadmDecider, MadmError, Normalisation, Weighting};
 use rand::Rng;
 
 use crate::prior::PriorTable;
@@ -52,9 +52,11 @@ pub struct EaMadmPolicy {
     decider: MadmDecider,
     /// How each attribute is scaled over the state's rows before OWA (the paper: not at all).
     normalisation: Normalisation,
-    /// Per column (sub-tasks, then the own value): its smallest and largest value in the
+    /// Per column (sub-tasks, then the own value): its summary (extremes, mean, SD) in the
     /// state being evaluated, for `normalisation`.
-    column_range: Vec<(f64, f64)>,
+    column_summary: Vec<ColumnSummary>,
+    /// One column's values in the state being evaluated (scratch, `n_actions` long).
+    column: Vec<f64>,
     /// One row of the decision matrix: the attributes present, then the own value.
     row: Vec<f64>,
     /// Per `(state, action)`: the bits of the own value its `Eq` was last computed with
@@ -202,7 +204,8 @@ impl EaMadmPolicy {
         let pairs = prior.n_states() * n_actions;
         Ok(Self {
             normalisation: Normalisation::None,
-            column_range: vec![(0.0, 0.0); cols],
+            column_summary: vec![ColumnSummary::of(&[0.0]); cols],
+            column: Vec::with_capacity(n_actions),
             row: vec![0.0; cols],
             cached_own: vec![NOT_COMPUTED; pairs],
             cached_value: vec![0.0; pairs],
@@ -254,8 +257,10 @@ impl EaMadmPolicy {
     /// `normalisation` before OWA, over the actions that have a value in it (a sub-task that
     /// abstains for an action does not count in that column's range). The paper does not
     /// normalise ([`Normalisation::None`], the default); [`Normalisation::MinMax`] is the
-    /// repair of issue 21 (paper-notes §6, §8.6). Every row of the state then depends on every
-    /// own value, so rows are recomputed at each decision instead of cached.
+    /// repair of issue 21 (paper-notes §6, §8.6), [`Normalisation::ZScore`] the standardised
+    /// columns of the plain aggregators (issue 32, paper-notes §21.3). Every row of the state
+    /// then depends on every own value, so rows are recomputed at each decision instead of
+    /// cached.
     #[must_use]
     pub fn with_normalisation(mut self, normalisation: Normalisation) -> Self {
         self.normalisation = normalisation;
@@ -380,17 +385,21 @@ impl EaMadmPolicy {
         let n_actions = self.prior.n_actions();
         let m = self.prior.n_subtasks();
         let (answers, present) = self.prior.state_block(state);
-        self.column_range.fill((f64::INFINITY, f64::NEG_INFINITY));
-        for (action, &own) in own_values.iter().enumerate() {
-            for k in 0..m {
-                let at = action * m + k;
-                if present[at] {
-                    let range = &mut self.column_range[k];
-                    *range = (range.0.min(answers[at]), range.1.max(answers[at]));
-                }
+        for k in 0..=m {
+            self.column.clear();
+            if k < m {
+                self.column.extend(
+                    (0..n_actions)
+                        .map(|action| action * m + k)
+                        .filter(|&at| present[at])
+                        .map(|at| answers[at]),
+                );
+            } else {
+                self.column.extend_from_slice(own_values);
             }
-            let range = &mut self.column_range[m];
-            *range = (range.0.min(own), range.1.max(own));
+            if !self.column.is_empty() {
+                self.column_summary[k] = ColumnSummary::of(&self.column);
+            }
         }
         let cached = state * n_actions..(state + 1) * n_actions;
         for (action, &own) in own_values.iter().enumerate() {
@@ -398,13 +407,13 @@ impl EaMadmPolicy {
             for k in 0..m {
                 let at = action * m + k;
                 if present[at] {
-                    let (min, max) = self.column_range[k];
-                    self.row[len] = self.normalisation.scale(answers[at], min, max);
+                    self.row[len] = self
+                        .normalisation
+                        .scale(answers[at], &self.column_summary[k]);
                     len += 1;
                 }
             }
-            let (min, max) = self.column_range[m];
-            self.row[len] = self.normalisation.scale(own, min, max);
+            self.row[len] = self.normalisation.scale(own, &self.column_summary[m]);
             len += 1;
             let slot = cached.start + action;
             self.cached_own[slot] = NOT_COMPUTED;
@@ -504,6 +513,43 @@ mod tests {
         let mut fresh =
             policy(prior, Weighting::default()).with_normalisation(Normalisation::MinMax);
         assert_eq!(first, fresh.evaluations(1, &other));
+    }
+
+    /// The plain aggregators (issue 32): uniform weights on standardised columns value each
+    /// action by the mean of its standard scores, and the max operator (maximum entropy with
+    /// orness 1) by the largest of them.
+    #[test]
+    fn the_plain_aggregators_are_the_mean_and_the_max_of_standard_scores() {
+        let prior = PriorTable::from_fn(1, 4, 2, |k, _, a| {
+            Some(if k == 0 {
+                [5.0, 3.0, 4.0, 1.0][a]
+            } else {
+                [0.0, -100.0, 0.0, 0.0][a]
+            })
+        });
+        let own = [0.2, 0.1, -0.3, 0.0];
+        let mut matrix = Vec::new();
+        for (a, &own) in own.iter().enumerate() {
+            matrix.extend([
+                prior.get(0, a, 0).unwrap(),
+                prior.get(0, a, 1).unwrap(),
+                own,
+            ]);
+        }
+        Normalisation::ZScore.apply(&mut matrix, 4, 3);
+        let rows: Vec<&[f64]> = matrix.chunks(3).collect();
+        let mut mean =
+            policy(prior.clone(), Weighting::Uniform).with_normalisation(Normalisation::ZScore);
+        let mut max = policy(prior, Weighting::MaximumEntropy { orness: 1.0 })
+            .with_normalisation(Normalisation::ZScore);
+        let means = mean.evaluations(0, &own).to_vec();
+        let maxes = max.evaluations(0, &own).to_vec();
+        for (a, row) in rows.iter().enumerate() {
+            let want_mean = row.iter().sum::<f64>() / 3.0;
+            let want_max = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            assert!((means[a] - want_mean).abs() < 1e-12, "{means:?}");
+            assert_eq!(maxes[a], want_max, "{maxes:?}");
+        }
     }
 
     #[test]

@@ -46,6 +46,9 @@ pub const PAPER_TASK2_TOML: &str = include_str!("../configs/task2.toml");
 /// The paper's robot experiment (Sec. VI.B, Table 2) as TOML; parses to
 /// [`paper::robot`](crate::paper::robot).
 pub const PAPER_ROBOT_TOML: &str = include_str!("../configs/robot.toml");
+/// The positive control of issue 32 as TOML; parses to
+/// [`paper::aggregation_control`](crate::paper::aggregation_control).
+pub const AGGREGATION_CONTROL_TOML: &str = include_str!("../configs/aggregation-control.toml");
 /// The robot experiment over the paper's literal state (no target feature) as TOML; parses to
 /// [`paper::robot_paper_state`](crate::paper::robot_paper_state).
 pub const PAPER_ROBOT_PAPER_STATE_TOML: &str = include_str!("../configs/robot-paper-state.toml");
@@ -490,22 +493,63 @@ impl Default for Storage {
 
 /// Sub-task pre-training: each sub-task's own double-Q learner, on its own reward, with an
 /// ε-greedy policy on its own values.
+///
+/// Without `until`, every sub-task trains exactly `episodes` episodes. With `until` (the
+/// stopping rule, docs/paper-notes.md §21.4: Sec. V's "trained to convergence"), `episodes` is
+/// the fewest: training goes on past it until the rule finds the sub-task converged, or stops
+/// at `until.max_episodes`. TOML:
+/// `pretrain = { episodes = 200, epsilon = …, until = { every = 10, stable = 3, max_episodes = 1000 } }`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PretrainConfig {
-    /// Episodes per sub-task.
+    /// Episodes per sub-task: all of them without `until`, the fewest with it.
     pub episodes: u64,
     /// The sub-task learners' exploring rate per episode.
     pub epsilon: Schedule,
+    /// The stopping rule "to convergence"; `None`: a fixed `episodes`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until: Option<Convergence>,
+}
+
+/// The stopping rule of sub-task pre-training (docs/paper-notes.md §21.4): after every
+/// `every`-th pre-training episode the sub-task's greedy policy plays one check episode (ε = 0,
+/// no learning, on its own environment copy and random streams, always from the same start and
+/// with the same tie-breaks, so an unchanged policy plays the same episode). The sub-task has
+/// converged when its last `stable` checks all reached the target, for a sub-task whose goal is
+/// the target (a maze sub-task paid most for reaching it; the robot's "reach the target
+/// faster"), or, for any other sub-task, all returned exactly the same sub-task return. It
+/// stops at the first check at or after `episodes` at which it has converged, and at
+/// `max_episodes` regardless. The check episodes' steps count as pre-training steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Convergence {
+    /// Pre-training episodes between two checks (at least 1).
+    pub every: u64,
+    /// Consecutive checks that must agree (at least 1).
+    pub stable: u32,
+    /// The hard cap on pre-training episodes (at least `episodes`).
+    pub max_episodes: u64,
+}
+
+impl Convergence {
+    /// The presets' rule: a check every 10 episodes, 3 agreeing checks, at most 1000 episodes
+    /// (five times the 200 a fixed pre-training ran; paper-notes §21.4).
+    pub const PRESETS: Self = Self {
+        every: 10,
+        stable: 3,
+        max_episodes: 1000,
+    };
 }
 
 impl Default for PretrainConfig {
     /// 200 episodes of ε-decreasing (0.95, × 0.95 per episode): Table 1's schedule for as
-    /// long as the source task trains.
+    /// long as the source task trains; no stopping rule (the presets add
+    /// [`Convergence::PRESETS`], `paper::pretrain_to_convergence`).
     fn default() -> Self {
         Self {
             episodes: 200,
             epsilon: table1_epsilon_decreasing(),
+            until: None,
         }
     }
 }
@@ -1087,6 +1131,33 @@ fn validate_pretrain(path: &str, config: &PretrainConfig) -> Result<(), ConfigEr
         ));
     }
     EpsilonGreedy::new(config.epsilon).map_err(|e| ConfigError::from_dql(&pretrain, e))?;
+    if let Some(until) = config.until {
+        let until_path = join(&pretrain, "until");
+        if until.every == 0 || until.every > MAX_EPISODES {
+            return Err(ConfigError::invalid(
+                join(&until_path, "every"),
+                until.every,
+                format!("episodes between checks in 1..={MAX_EPISODES}"),
+            ));
+        }
+        if until.stable == 0 {
+            return Err(ConfigError::invalid(
+                join(&until_path, "stable"),
+                until.stable,
+                "at least 1 check",
+            ));
+        }
+        if until.max_episodes < config.episodes || until.max_episodes > MAX_EPISODES {
+            return Err(ConfigError::invalid(
+                join(&until_path, "max_episodes"),
+                until.max_episodes,
+                format!(
+                    "a cap in {}..={MAX_EPISODES} (at least pretrain.episodes, the fewest)",
+                    config.episodes
+                ),
+            ));
+        }
+    }
     Ok(())
 }
 

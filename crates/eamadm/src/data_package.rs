@@ -15,14 +15,15 @@
 use serde_json::Value;
 
 use crate::columns::{self, Resource};
-use crate::output_names::{CLAIMS, FINAL_SCORES};
-use crate::{claims, scores};
+use crate::output_names::{CLAIMS, FINAL_SCORES, ORACLE, PRETRAINING};
+use crate::{claims, oracle, scores};
 
 /// The package's name.
 pub const NAME: &str = "eamadm-results";
 
-/// The package's tables: `final-scores.csv`, then `claims.csv`.
-pub const RESOURCES: [Resource; 2] = [
+/// The package's tables: `final-scores.csv`, `claims.csv`, then `oracle.csv` and
+/// `pretraining.csv`.
+pub const RESOURCES: [Resource; 4] = [
     Resource {
         name: "final-scores",
         path: FINAL_SCORES,
@@ -40,6 +41,27 @@ pub const RESOURCES: [Resource; 2] = [
                       under test with a competitor, then the per-seed outcome rows; computed \
                       from `final-scores.csv` by `eamadm::claims`.",
         columns: claims::CLAIM_COLUMNS,
+    },
+    Resource {
+        name: "oracle",
+        path: ORACLE,
+        title: "The decision step on the best sub-task values available",
+        description: "Per task, decision rule, own column and seed: the greedy episode of \
+                      EA-MADM's decision, of the plain aggregators and of each sub-task alone \
+                      on exact sub-task values (value iteration; the mazes) or on sub-tasks \
+                      pre-trained to convergence (the robot: the best estimate available), with \
+                      the share of states whose decision is a shortest-path action; computed \
+                      by `eamadm::oracle::oracle_rows` (docs/paper-notes.md §21).",
+        columns: oracle::ORACLE_COLUMNS,
+    },
+    Resource {
+        name: "pretraining",
+        path: PRETRAINING,
+        title: "Sub-task pre-training per run",
+        description: "One row per sub-task of every run that pre-trains sub-tasks: episodes, \
+                      steps, reaching episodes and whether the stopping rule found it \
+                      converged; from the run records by `eamadm::oracle::pretraining_rows`.",
+        columns: oracle::PRETRAINING_COLUMNS,
     },
 ];
 

@@ -33,6 +33,7 @@
 //! | [`family`] | the maze family: held-out layouts with structure (perfect mazes, rooms, traps) as experiments, and `layouts.csv` |
 //! | [`tuning`] | the same number of hyperparameter trials per method from stated ranges, on tuning seeds apart from the held-out ones, and `tuning.csv` |
 //! | [`report_facts`] | what a run's report needs of an experiment (its facts and final scores), gathered run by run |
+//! | [`oracle`] | EA-MADM's decision and the plain aggregators on exact (maze) or converged (robot) sub-task values: `oracle.csv`; each sub-task's pre-training: `pretraining.csv` |
 //!
 //! # A first experiment
 //!
@@ -155,8 +156,15 @@
 //!   `ea-madm-table` ablation gives bit-identical runs on the mazes (a test pins this).
 //! * **Exploration and pre-training.** EA-MADM's ε follows Table 1's ε-decreasing schedule
 //!   (0.95 × 0.95 per episode), so it differs from the ε-decreasing competitor only in its
-//!   exploitation step and learning signal. Sub-tasks train for 200 episodes of the same
-//!   schedule ("to convergence": twice as many leave their greedy routes unchanged).
+//!   exploitation step and learning signal. Sub-tasks train on the same schedule "to
+//!   convergence" (Sec. V): in the presets at least 200 episodes, then on until a greedy check
+//!   every 10 episodes agrees three times (the target reached, for the sub-task whose goal it
+//!   is; the same return, for the others), at most 1000 ([`Convergence`],
+//!   [`paper::pretrain_to_convergence`]); the check episodes' steps are counted.
+//! * **Does the decision step help?** [`oracle`] feeds EA-MADM's decision (and the plain
+//!   aggregators, [`paper::aggregators`]) exact sub-task values on the mazes, by value
+//!   iteration on their known model, and the positive control [`paper::aggregation_control`]
+//!   is a maze designed for it (docs/paper-notes.md §21).
 //! * **Counting.** Every cumulative step count includes sub-task pre-training
 //!   ([`EpisodeRecord::env_steps`]); the paper leaves it out.
 //! * **Evaluation.** After training, one greedy episode (ε = 0, no learning) with its
@@ -193,6 +201,7 @@ pub mod diagnosis;
 pub mod error;
 pub mod family;
 pub mod margins;
+pub mod oracle;
 pub mod output_names;
 pub mod paper;
 pub mod pretrain;
@@ -209,15 +218,15 @@ pub use agent::{EaMadmPolicy, PolicyError};
 // `behaviour` (the function) comes with the module of the same name above.
 pub use behaviour::{BehaviourAccumulator, Endings, MethodBehaviour, SubtaskBehaviour};
 pub use config::{
-    CompetitorSignal, CompetitorTraining, ConfigError, DEFAULT_EVALUATION_EVERY, EaMadmConfig,
-    EvaluationConfig, ExperimentConfig, MAX_INPUT_FILE_BYTES, Method, MethodSpec,
-    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
-    PretrainConfig, RESERVED_NAMES, Role, Storage, SubtaskGreedyConfig, TaskConfig,
-    TrajectoryConfig, is_safe_slug, read_input_file,
+    AGGREGATION_CONTROL_TOML, CompetitorSignal, CompetitorTraining, ConfigError, Convergence,
+    DEFAULT_EVALUATION_EVERY, EaMadmConfig, EvaluationConfig, ExperimentConfig,
+    MAX_INPUT_FILE_BYTES, Method, MethodSpec, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML,
+    PAPER_TASK1_TOML, PAPER_TASK2_TOML, PretrainConfig, RESERVED_NAMES, Role, Storage,
+    SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, is_safe_slug, read_input_file,
 };
 pub use diagnosis::{SubtaskDiagnosis, subtask_diagnosis};
 pub use error::{RunError, RunFailure};
-pub use pretrain::{PretrainedSubtask, pretrain_subtask, pretrain_subtasks};
+pub use pretrain::{PretrainedSubtask, SubtaskGoals, pretrain_subtask, pretrain_subtasks};
 pub use prior::{PriorTable, build_prior};
 pub use record::{
     AgreementCounts, AgreementRecord, EpisodeRecord, RobotEpisodeMetrics, RunRecord, SubtaskRecord,

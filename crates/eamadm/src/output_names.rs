@@ -51,8 +51,9 @@ pub const FINDINGS: &str = "findings.json";
 pub const LEGACY_RESULTS: &str = "results.json";
 /// Each experiment's per-episode table, `<out>/<experiment>/curves.csv.gz`.
 pub const CURVES: &str = "curves.csv.gz";
-/// Each experiment's evaluation paths, `<out>/<experiment>/trajectories.csv`.
-pub const TRAJECTORIES: &str = "trajectories.csv";
+/// Each experiment's evaluation paths, `<out>/<experiment>/trajectories.csv.gz` (gzip, as the
+/// curves: the paths of a policy looping to the step cap compress about twentyfold).
+pub const TRAJECTORIES: &str = "trajectories.csv.gz";
 /// The output folder's lock file.
 pub const LOCK_FILE: &str = ".reproduce-paper.lock";
 /// Where a set of outputs is written before it is committed.
@@ -65,10 +66,16 @@ pub const MANIFEST: &str = ".outputs";
 /// deleted.
 pub const SET_ASIDE: &str = ".set-aside";
 
+/// `oracle.csv`: the decision step on exact (maze) or converged (robot) sub-task values
+/// ([`crate::oracle`]).
+pub const ORACLE: &str = "oracle.csv";
+/// `pretraining.csv`: each sub-task's pre-training per run ([`crate::oracle::PretrainingRow`]).
+pub const PRETRAINING: &str = "pretraining.csv";
+
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 9] = [
+pub const TOP_LEVEL: [&str; 11] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -78,6 +85,8 @@ pub const TOP_LEVEL: [&str; 9] = [
     SENSITIVITY,
     REPORT_CONTEXT,
     FINDINGS,
+    ORACLE,
+    PRETRAINING,
 ];
 
 /// The device names Windows reserves: a file or folder of that name cannot be made there.

@@ -28,20 +28,22 @@ use wmr_model::{Action, SubtaskRepairs};
 
 use crate::facts::{
     ControlFamily, DeviationFacts, ExperimentFacts, Figures, FinalEpsilon, MethodFacts,
-    PaperFigures, PaperTaskFacts, ReadingFacts, ReportContext,
+    PaperFigures, PaperTaskFacts, PredictionFacts, ReadingFacts, ReportContext,
 };
 use crate::output_names;
 
 use ea_tree::EaTreeConfig;
 
-use crate::config::{
-    CompetitorSignal, CompetitorTraining, DEFAULT_SCENARIO, EaMadmConfig, EvaluationConfig,
-    ExperimentConfig, Method, MethodSpec, PretrainConfig, Role, Storage, SubtaskGreedyConfig,
-    TaskConfig, TrajectoryConfig, table1_epsilon_decreasing, table1_learner, table1_temperature,
-};
 #[cfg(doc)]
 use crate::config::{
-    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+    AGGREGATION_CONTROL_TOML, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML,
+    PAPER_TASK2_TOML,
+};
+use crate::config::{
+    CompetitorSignal, CompetitorTraining, Convergence, DEFAULT_SCENARIO, EaMadmConfig,
+    EvaluationConfig, ExperimentConfig, Method, MethodSpec, PretrainConfig, Role, Storage,
+    SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, table1_epsilon_decreasing, table1_learner,
+    table1_temperature,
 };
 
 /// Seeds per method of every preset. The paper shows single runs; 20 seeds give the bootstrap
@@ -62,11 +64,20 @@ pub enum PaperTask {
     Robot,
     /// The same robot task over the paper's literal state (no target feature).
     RobotPaperState,
+    /// Not the paper's: the positive control of issue 32, a hand-designed maze on which
+    /// distance shaping alone walks into a wall ([`aggregation_control`]).
+    AggregationControl,
 }
 
 impl PaperTask {
-    /// All three, in run order.
-    pub const ALL: [Self; 4] = [Self::Task1, Self::Task2, Self::Robot, Self::RobotPaperState];
+    /// Every experiment, in run order.
+    pub const ALL: [Self; 5] = [
+        Self::Task1,
+        Self::Task2,
+        Self::Robot,
+        Self::RobotPaperState,
+        Self::AggregationControl,
+    ];
 
     /// The experiment's name: its config's `name`, output folder and `task` column
     /// (`task1`, `task2`, `robot`).
@@ -77,6 +88,7 @@ impl PaperTask {
             Self::Task2 => "task2",
             Self::Robot => "robot",
             Self::RobotPaperState => "robot-paper-state",
+            Self::AggregationControl => "aggregation-control",
         }
     }
 
@@ -88,6 +100,7 @@ impl PaperTask {
             Self::Task2 => "Task II",
             Self::Robot => "Robot",
             Self::RobotPaperState => "Robot (paper's state)",
+            Self::AggregationControl => "Aggregation control",
         }
     }
 
@@ -105,6 +118,7 @@ impl PaperTask {
             Self::Task2 => task2(),
             Self::Robot => robot(),
             Self::RobotPaperState => robot_paper_state(),
+            Self::AggregationControl => aggregation_control(),
         }
     }
 
@@ -124,7 +138,9 @@ impl PaperTask {
                 steps: figure(10),
                 task_return: figure(11),
             },
-            Self::Robot | Self::RobotPaperState => PaperFigures::default(),
+            Self::Robot | Self::RobotPaperState | Self::AggregationControl => {
+                PaperFigures::default()
+            }
         }
     }
 
@@ -140,7 +156,7 @@ impl PaperTask {
                 steps: 86.0,
                 task_return: -71.0,
             }),
-            Self::Robot | Self::RobotPaperState => None,
+            Self::Robot | Self::RobotPaperState | Self::AggregationControl => None,
         }
     }
 }
@@ -181,7 +197,27 @@ pub fn report_context(quick: bool) -> ReportContext {
             })
             .collect(),
         deviations: deviations(),
+        oracle: Vec::new(),
+        pretraining: Vec::new(),
+        predictions: predictions(),
     }
+}
+
+/// What was predicted before any run (docs/paper-notes.md §21.2, committed in 0b067f4 before
+/// the positive control was first run): on `aggregation-control` no verdict of EA-MADM better
+/// than inconclusive, EA-MADM ending as its reach sub-task alone (`subtask0-alone`) on most
+/// seeds, and its decision with exact sub-task values never reaching (it follows the reach
+/// sub-task into the walled box). The report judges it against the run
+/// (`eamadm_eval::findings::PredictionOutcome`).
+#[must_use]
+pub fn predictions() -> Vec<PredictionFacts> {
+    vec![PredictionFacts {
+        task: PaperTask::AggregationControl.name().to_owned(),
+        notes: "§21.2".to_owned(),
+        best_verdict: crate::claims::Verdict::Inconclusive,
+        follows: "subtask0-alone".to_owned(),
+        oracle_reaches: false,
+    }]
 }
 
 /// How this reproduction differs from the paper wherever the difference could change a
@@ -279,11 +315,17 @@ pub fn deviations() -> Vec<DeviationFacts> {
         ),
         deviation(
             "Sub-task pre-training",
-            "the paper does not say how long the sub-tasks are trained; ours train 200 episodes \
-             each, and every step of it counts in EA-MADM's budget",
-            "§6",
+            "the paper trains the sub-tasks \"to convergence\" without a rule; ours stop when \
+             3 greedy checks 10 episodes apart agree (reaching, for a sub-task paid for the \
+             target), after at least 200 and at most 1000 episodes, and every step of it \
+             counts in EA-MADM's budget",
+            "§6, §21.4",
             &[],
-            &[Reading::PretrainHalf.name(), Reading::PretrainDouble.name()],
+            &[
+                Reading::PretrainHalf.name(),
+                Reading::PretrainDouble.name(),
+                Reading::PretrainFixed.name(),
+            ],
             &[],
         ),
         deviation(
@@ -518,8 +560,35 @@ pub fn robot_paper_state() -> ExperimentConfig {
             reach_radius: Some(ROBOT_REACH_RADIUS),
             distance_bins: Some(ROBOT_DISTANCE_BINS),
         },
-        methods: methods(),
+        methods: [methods(), aggregators()].concat(),
         ..robot()
+    }
+}
+
+/// EA-MADM's mean sub-task pre-training on `aggregation-control`, in environment steps,
+/// rounded: the budget of its budget-matched controls (measured over seeds 0–19 with
+/// [`pretrain_to_convergence`]: mean 2 639 499, range 2 637 634–2 640 000; the reach sub-task
+/// runs to the cap of 1000 episodes of 2000 steps on every seed).
+pub const AGGREGATION_CONTROL_PRETRAIN_BUDGET: u64 = 2_640_000;
+
+/// The positive control of issue 32 (not the paper's; docs/paper-notes.md §21.2): the
+/// hand-designed maze [`mazes::AGGREGATION_CONTROL_MAP`] (the target in a walled box whose door
+/// faces away from the start) with Task II's rewards and sub-tasks, 200 episodes, [`SEEDS`]
+/// seeds, Table 1's learner, [`methods`] and the maze [`controls`]. Equal to
+/// [`AGGREGATION_CONTROL_TOML`] parsed.
+#[must_use]
+pub fn aggregation_control() -> ExperimentConfig {
+    ExperimentConfig {
+        task: TaskConfig::MazeText {
+            map: mazes::AGGREGATION_CONTROL_MAP.to_owned(),
+            rewards: Preset::Task2,
+            step_cap: None,
+        },
+        ..maze(
+            "aggregation-control",
+            Preset::Task2,
+            AGGREGATION_CONTROL_PRETRAIN_BUDGET,
+        )
     }
 }
 
@@ -603,6 +672,41 @@ pub fn methods() -> Vec<MethodSpec> {
     ]
 }
 
+/// The presets' sub-task pre-training: Table 1's ε schedule, at least 200 episodes, then on
+/// until the stopping rule [`Convergence::PRESETS`] finds the sub-task converged, at most 1000
+/// (Sec. V's "trained to convergence"; docs/paper-notes.md §21.4).
+#[must_use]
+pub fn pretrain_to_convergence() -> PretrainConfig {
+    PretrainConfig {
+        until: Some(Convergence::PRESETS),
+        ..PretrainConfig::default()
+    }
+}
+
+/// The plain aggregators (issue 32 item 3; docs/paper-notes.md §21.3), `role = "control"`:
+/// EA-MADM in every respect but the aggregation of a decision-matrix row, which is the mean
+/// (`subtasks-mean`) or the largest (`subtasks-max`) of its standardised attributes (each
+/// column's z-score over the state's actions, [`Normalisation::ZScore`]) instead of OWA with
+/// visibility weights.
+#[must_use]
+pub fn aggregators() -> Vec<MethodSpec> {
+    [
+        ("subtasks-mean", Weighting::Uniform),
+        ("subtasks-max", Weighting::MaximumEntropy { orness: 1.0 }),
+    ]
+    .into_iter()
+    .map(|(label, weighting)| MethodSpec {
+        label: label.to_owned(),
+        role: Role::Control,
+        method: Method::EaMadm(EaMadmConfig {
+            weighting,
+            normalisation: Normalisation::ZScore,
+            ..paper_ea_madm()
+        }),
+    })
+    .collect()
+}
+
 /// EA-MADM as the paper presets run it.
 fn paper_ea_madm() -> EaMadmConfig {
     EaMadmConfig {
@@ -610,18 +714,20 @@ fn paper_ea_madm() -> EaMadmConfig {
         weighting: Weighting::default(),
         standardisation: Standardisation::Running,
         storage: Storage::default(),
-        pretrain: PretrainConfig::default(),
+        pretrain: pretrain_to_convergence(),
         normalisation: Normalisation::None,
         subtask_rewards: SubtaskRepairs::PAPER,
     }
 }
 
 /// EA-MADM's sub-task pre-training on Task I, in environment steps: the mean over seeds
-/// 0–19 of the two sub-tasks' steps (200 episodes each, Table 1's schedule), rounded. The
+/// 0–19 of the two sub-tasks' steps ([`pretrain_to_convergence`], Table 1's schedule; the
+/// stopping rule's check episodes included), rounded: 463 868, range 454 487–495 889. The
 /// budget-matched controls of [`task1`] warm up for this many steps.
-pub const TASK1_PRETRAIN_BUDGET: u64 = 420_000;
-/// As [`TASK1_PRETRAIN_BUDGET`], on Task II.
-pub const TASK2_PRETRAIN_BUDGET: u64 = 492_000;
+pub const TASK1_PRETRAIN_BUDGET: u64 = 464_000;
+/// As [`TASK1_PRETRAIN_BUDGET`], on Task II: mean 895 620 (median 472 025, range 464 275–2 593
+/// 707: on four seeds the reach sub-task trains to the cap of 1000 episodes).
+pub const TASK2_PRETRAIN_BUDGET: u64 = 896_000;
 
 /// The controls of the maze presets (`role = "control"`; comparisons the paper does not run),
 /// after [`methods`] in report order:
@@ -636,7 +742,8 @@ pub const TASK2_PRETRAIN_BUDGET: u64 = 492_000;
 ///   ([`CompetitorSignal::Standardised`]);
 /// - `ea-madm-tau0.5`, `ea-madm-tau0.33`: EA-MADM with both tree thresholds at τ < 1 (on a
 ///   maze, whose state similarities are 0, 1/3 or 1, τ = 0.5 is still exact and τ = 0.33
-///   aggregates the states of a row or a column).
+///   aggregates the states of a row or a column);
+/// - `subtasks-mean`, `subtasks-max`: the plain [`aggregators`].
 #[must_use]
 pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
     let competitors: Vec<(String, Method)> = methods()
@@ -671,7 +778,7 @@ pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
                 subtask,
                 epsilon: table1_epsilon_decreasing(),
                 learn: false,
-                pretrain: PretrainConfig::default(),
+                pretrain: pretrain_to_convergence(),
             }),
         ));
     }
@@ -700,6 +807,7 @@ pub fn controls(pretrain_budget: u64) -> Vec<MethodSpec> {
             Method::EaMadm(config),
         ));
     }
+    methods.extend(aggregators());
     methods
 }
 
@@ -788,10 +896,11 @@ pub fn robot_repairs() -> Vec<MethodSpec> {
 }
 
 /// EA-MADM's mean sub-task pre-training on the `robot` preset, in environment steps, rounded:
-/// the budget of the robot's budget-matched controls. Measured over seeds 0–19 (three sub-tasks
-/// × 200 episodes; mean 34 434, range 4 438–38 140: its sub-task episodes mostly end within a
-/// few steps by losing the target).
-pub const ROBOT_PRETRAIN_BUDGET: u64 = 34_000;
+/// the budget of the robot's budget-matched controls. Measured over seeds 0–19 with
+/// [`pretrain_to_convergence`] (three sub-tasks; mean 52 611, range 20 938–59 545: the reach
+/// sub-task trains to the cap of 1000 episodes, most of them ending within ten steps by losing
+/// the target).
+pub const ROBOT_PRETRAIN_BUDGET: u64 = 53_000;
 
 /// The robot's controls (issue 21 item 2), as on the mazes, all `role = "control"`:
 ///
@@ -800,7 +909,8 @@ pub const ROBOT_PRETRAIN_BUDGET: u64 = 34_000;
 /// - `COMPETITOR-budget`: each competitor warmed up on the task for `pretrain_budget` steps;
 /// - `COMPETITOR-shaped`: each competitor learning from EA-MADM's standardised sub-task signal,
 ///   and `COMPETITOR-shaped-sum` from the plain sum of the sub-task rewards: the reward
-///   information EA-MADM's sub-tasks get, instead of the task reward with its goal bonus.
+///   information EA-MADM's sub-tasks get, instead of the task reward with its goal bonus;
+/// - `subtasks-mean`, `subtasks-max`: the plain [`aggregators`].
 ///
 /// The τ < 1 controls of the mazes are left out: they exercise aggregation, not the robot.
 #[must_use]
@@ -817,7 +927,7 @@ pub fn robot_controls(pretrain_budget: u64) -> Vec<MethodSpec> {
                     subtask,
                     epsilon: table1_epsilon_decreasing(),
                     learn,
-                    pretrain: PretrainConfig::default(),
+                    pretrain: pretrain_to_convergence(),
                 }),
             });
         }
@@ -841,6 +951,7 @@ pub fn robot_controls(pretrain_budget: u64) -> Vec<MethodSpec> {
             methods.push(spec);
         }
     }
+    methods.extend(aggregators());
     methods
 }
 
@@ -869,10 +980,15 @@ pub enum Reading {
     EpsilonGreedy095,
     /// γ = 0.99 instead of Table 1's 0.95, for every learner.
     Gamma099,
-    /// EA-MADM's sub-tasks pre-trained for half as many episodes (100 instead of 200).
+    /// EA-MADM's sub-tasks pre-trained for at least half as many episodes (100 instead of 200),
+    /// then on until converged as ours.
     PretrainHalf,
-    /// EA-MADM's sub-tasks pre-trained for twice as many episodes (400 instead of 200).
+    /// EA-MADM's sub-tasks pre-trained for at least twice as many episodes (400 instead of
+    /// 200), then on until converged as ours.
     PretrainDouble,
+    /// EA-MADM's sub-tasks pre-trained for exactly 200 episodes, without the stopping rule
+    /// "to convergence" (our earlier reading, docs/paper-notes.md §21.4).
+    PretrainFixed,
     /// softmax's temperature floor at Table 1's maximum, 0.1, instead of its minimum 0.01: a
     /// constant T = 0.1.
     TemperatureFloor01,
@@ -883,12 +999,13 @@ const PAPER_METHODS: [&str; 4] = ["ea-madm", "epsilon-greedy", "epsilon-decreasi
 
 impl Reading {
     /// Every reading, in report order.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 7] = [
         Self::Task2RewardAsTask1,
         Self::EpsilonGreedy095,
         Self::Gamma099,
         Self::PretrainHalf,
         Self::PretrainDouble,
+        Self::PretrainFixed,
         Self::TemperatureFloor01,
     ];
 
@@ -901,6 +1018,7 @@ impl Reading {
             Self::Gamma099 => "gamma-0.99",
             Self::PretrainHalf => "pretrain-half",
             Self::PretrainDouble => "pretrain-double",
+            Self::PretrainFixed => "pretrain-fixed",
             Self::TemperatureFloor01 => "temperature-floor-0.1",
         }
     }
@@ -915,8 +1033,18 @@ impl Reading {
             }
             Self::EpsilonGreedy095 => "ε of ε-greedy: 0.1 (ours) → 0.95",
             Self::Gamma099 => "γ of every learner: 0.95 (ours) → 0.99",
-            Self::PretrainHalf => "EA-MADM's sub-task pre-training: 200 episodes (ours) → 100",
-            Self::PretrainDouble => "EA-MADM's sub-task pre-training: 200 episodes (ours) → 400",
+            Self::PretrainHalf => {
+                "EA-MADM's sub-task pre-training: at least 200 episodes, then until converged \
+                 (ours) → at least 100, then until converged"
+            }
+            Self::PretrainDouble => {
+                "EA-MADM's sub-task pre-training: at least 200 episodes, then until converged \
+                 (ours) → at least 400, then until converged"
+            }
+            Self::PretrainFixed => {
+                "EA-MADM's sub-task pre-training: at least 200 episodes, then until converged \
+                 (ours) → exactly 200 episodes"
+            }
             Self::TemperatureFloor01 => "softmax's temperature floor: 0.01 (ours) → 0.1",
         }
     }
@@ -939,8 +1067,13 @@ impl Reading {
                  lets the target's value reach the start."
             }
             Self::PretrainHalf | Self::PretrainDouble => {
-                "The paper never says how long the sub-tasks are pre-trained; we give each as \
-                 many episodes as the source task (200)."
+                "The paper never says how long the sub-tasks are pre-trained beyond \"to \
+                 convergence\"; we give each at least as many episodes as the source task (200)."
+            }
+            Self::PretrainFixed => {
+                "Sec. V: \"Each sub-task is trained to convergence\"; we read it as a stopping \
+                 rule (a greedy check every 10 episodes, 3 agreeing checks, at most 1000 \
+                 episodes), where a fixed 200 episodes was our earlier stand-in."
             }
             Self::TemperatureFloor01 => {
                 "Table 1 lists a maximum (0.1) and a minimum (0.01) temperature and one \
@@ -967,7 +1100,7 @@ impl Reading {
         match self {
             Self::Task2RewardAsTask1 | Self::Gamma099 => &PAPER_METHODS,
             Self::EpsilonGreedy095 => &["epsilon-greedy"],
-            Self::PretrainHalf | Self::PretrainDouble => &["ea-madm"],
+            Self::PretrainHalf | Self::PretrainDouble | Self::PretrainFixed => &["ea-madm"],
             Self::TemperatureFloor01 => &["softmax"],
         }
     }
@@ -1004,7 +1137,10 @@ impl Reading {
                 }
             }
             Self::Gamma099 => config.learner.gamma = 0.99,
-            Self::EpsilonGreedy095 | Self::PretrainHalf | Self::PretrainDouble => {
+            Self::EpsilonGreedy095
+            | Self::PretrainHalf
+            | Self::PretrainDouble
+            | Self::PretrainFixed => {
                 for spec in &mut config.methods {
                     match (&mut spec.method, self) {
                         (Method::EpsilonGreedy { epsilon, .. }, Self::EpsilonGreedy095) => {
@@ -1015,7 +1151,12 @@ impl Reading {
                         }
                         (Method::EaMadm(ea), Self::PretrainDouble) => {
                             ea.pretrain.episodes = ea.pretrain.episodes.saturating_mul(2);
+                            // the cap stays at least the fewest episodes
+                            if let Some(until) = ea.pretrain.until.as_mut() {
+                                until.max_episodes = until.max_episodes.max(ea.pretrain.episodes);
+                            }
                         }
+                        (Method::EaMadm(ea), Self::PretrainFixed) => ea.pretrain.until = None,
                         _ => {}
                     }
                 }

@@ -32,6 +32,11 @@ pub(crate) enum Stream {
     Pretrain(usize),
     /// The seeds handed to the environment's `reset` in sub-task `k`'s episodes.
     PretrainEnvironment(usize),
+    /// The tie-breaks of sub-task `k`'s convergence checks (the stopping rule; the same at
+    /// every check, so an unchanged policy plays the same check episode).
+    PretrainCheck(usize),
+    /// The seed handed to the environment's `reset` in sub-task `k`'s convergence checks.
+    PretrainCheckEnvironment(usize),
 }
 
 impl Stream {
@@ -49,6 +54,8 @@ impl Stream {
             Self::PretrainEnvironment(k) => 2 << 32 | wide(k),
             Self::PeriodicEvaluation(n) => 3 << 32 | (n & 0xFFFF_FFFF),
             Self::PeriodicEvaluationEnvironment(n) => 4 << 32 | (n & 0xFFFF_FFFF),
+            Self::PretrainCheck(k) => 5 << 32 | wide(k),
+            Self::PretrainCheckEnvironment(k) => 6 << 32 | wide(k),
         }
     }
 }
@@ -84,6 +91,10 @@ mod tests {
             Stream::Pretrain(1),
             Stream::PretrainEnvironment(0),
             Stream::PretrainEnvironment(1),
+            Stream::PretrainCheck(0),
+            Stream::PretrainCheck(1),
+            Stream::PretrainCheckEnvironment(0),
+            Stream::PretrainCheckEnvironment(1),
         ];
         let mut seen = std::collections::HashSet::new();
         for stream in all {

@@ -108,6 +108,23 @@ impl Experiment {
         seed: u64,
         shared: &SharedPretraining,
     ) -> Result<RunRecord, RunError> {
+        self.run_with_learner(method, seed, shared)
+            .map(|(record, _)| record)
+    }
+
+    /// [`run_shared`](Self::run_shared), also returning the source task's learner as training
+    /// left it (for EA-MADM, the own values of its decision matrix; for a sub-task alone, the
+    /// sub-task's learner): what the run learned, for analyses the record does not hold
+    /// (`eamadm::oracle`). The record is the one [`run`](Self::run) returns.
+    ///
+    /// # Errors
+    /// As [`run`](Self::run).
+    pub fn run_with_learner(
+        &self,
+        method: &MethodSpec,
+        seed: u64,
+        shared: &SharedPretraining,
+    ) -> Result<(RunRecord, DoubleQ), RunError> {
         let fail = |source: RunFailure| RunError::new(&method.label, seed, source);
         method
             .validate("method")
@@ -397,14 +414,18 @@ impl SharedPretraining {
         }
     }
 
-    fn subtask(&self, pretrain: &PretrainConfig, k: usize) -> Option<&PretrainedSubtask> {
+    pub(crate) fn subtask(
+        &self,
+        pretrain: &PretrainConfig,
+        k: usize,
+    ) -> Option<&PretrainedSubtask> {
         self.subtasks
             .iter()
             .find(|shared| shared.k == k && shared.pretrain == *pretrain)
             .map(|shared| &shared.subtask)
     }
 
-    fn prior(
+    pub(crate) fn prior(
         &self,
         pretrain: &PretrainConfig,
         storage: &Storage,
@@ -509,7 +530,13 @@ fn fits_training<E: TaskEnv>(
         && kept.learner.n_actions() == prototype.n_actions()
         && *kept.learner.params() == config.learner
         && kept.name == name
-        && kept.episodes == pretrain.episodes
+        && match pretrain.until {
+            None => kept.episodes == pretrain.episodes && kept.converged.is_none(),
+            Some(rule) => {
+                (pretrain.episodes..=rule.max_episodes).contains(&kept.episodes)
+                    && kept.converged.is_some()
+            }
+        }
 }
 
 /// One run of `method` with `seed` in the experiment `config` (see [`Experiment::run`]).
@@ -598,7 +625,7 @@ fn run_on<E: TaskEnv>(
     seed: u64,
     optimum_steps: Option<u64>,
     shared: &SharedPretraining,
-) -> Result<RunRecord, RunFailure> {
+) -> Result<(RunRecord, DoubleQ), RunFailure> {
     let mut init_rng = stream_rng(seed, Stream::SourceInit);
     let learner = DoubleQ::new(
         prototype.n_states(),
@@ -642,6 +669,11 @@ fn run_on<E: TaskEnv>(
                     table_bytes,
                     greedy_alone: Some(session.greedy_alone(&subtask.learner)?),
                     start_values: start_values(prototype, &subtask.learner),
+                    reached_episodes: subtask.reached_episodes,
+                    converged: subtask.converged,
+                    checks: subtask.checks,
+                    check_env_steps: subtask.check_env_steps,
+                    last_check_reached: subtask.last_check_reached,
                 });
             }
             let pretrain_env_steps = subtasks.iter().map(|s| s.env_steps).sum();
@@ -715,6 +747,11 @@ fn run_on<E: TaskEnv>(
                 table_bytes,
                 greedy_alone: Some(session.greedy_alone(&pretrained.learner)?),
                 start_values: start_values(prototype, &pretrained.learner),
+                reached_episodes: pretrained.reached_episodes,
+                converged: pretrained.converged,
+                checks: pretrained.checks,
+                check_env_steps: pretrained.check_env_steps,
+                last_check_reached: pretrained.last_check_reached,
             };
             let pretrain_env_steps = pretrained.env_steps;
             // The source task's episodes act (and, with `learn`, learn) on the sub-task's own
@@ -749,7 +786,7 @@ fn run_on<E: TaskEnv>(
         actions,
         agreement,
     } = outcome;
-    Ok(RunRecord {
+    let record = RunRecord {
         experiment: config.name.clone(),
         method: spec.label.clone(),
         seed,
@@ -765,7 +802,8 @@ fn run_on<E: TaskEnv>(
         final_window_episodes: window,
         final_window_actions: actions,
         agreement,
-    })
+    };
+    Ok((record, session.learner))
 }
 
 /// Every sub-task of `prototype` trained with `pretrain`: taken from `shared` where it holds
@@ -1095,7 +1133,7 @@ impl<E: TaskEnv> Session<'_, E> {
 
 /// One greedy episode of `learner` without learning, numbered `episode`, on the evaluation
 /// streams of `seed`; its record counts only its own steps in `env_steps`.
-fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
+pub(crate) fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
     env: &mut Counting<E>,
     learner: &mut DoubleQ,
     policy: &mut P,
@@ -1122,7 +1160,7 @@ fn greedy_episode<E: TaskEnv, P: ExplorationPolicy>(
     Ok((outcome, record))
 }
 
-fn episode_record<E: TaskEnv>(
+pub(crate) fn episode_record<E: TaskEnv>(
     env: &Counting<E>,
     episode: u64,
     outcome: &EpisodeOutcome,

@@ -5,8 +5,10 @@
 //! [`ExperimentConfig::shortened`] applies a [`Shortening`]:
 //!
 //! - **episodes**: the source task trains `min(episodes, config.episodes)` episodes; every
-//!   pre-training (EA-MADM's sub-tasks, a sub-task alone) at most `episodes`; the trajectory
-//!   episodes past the new end are dropped;
+//!   pre-training (EA-MADM's sub-tasks, a sub-task alone) at most `episodes`, and a
+//!   pre-training stopping rule's cap (`Convergence::max_episodes`) in the same proportion
+//!   as its fewest episodes, `⌊cap · fewest_after / fewest_before⌋`, never below the new
+//!   fewest; the trajectory episodes past the new end are dropped;
 //! - **warm-up budgets** of ε-greedy and softmax competitors shrink in proportion to the
 //!   episodes, `⌊budget · episodes_after / episodes_before⌋` (a budget written for the full run,
 //!   as pre-training shrinks with it), then are capped at `max_warmup_env_steps`;
@@ -27,7 +29,7 @@
 //! assert_eq!((shorter.episodes, shorter.task.step_cap()), (30, None));
 //! ```
 
-use crate::config::{ExperimentConfig, Method, TaskConfig};
+use crate::config::{ExperimentConfig, Method, PretrainConfig, TaskConfig};
 
 /// Seeds per method of a `--quick` run (and of Python's `run(..., quick=True)`).
 pub const QUICK_SEEDS: u32 = 3;
@@ -114,10 +116,8 @@ fn shorten_episodes(config: &mut ExperimentConfig, episodes: u64) {
     config.trajectories.episodes.retain(|&e| e < episodes_now);
     for spec in &mut config.methods {
         match &mut spec.method {
-            Method::EaMadm(ea) => ea.pretrain.episodes = ea.pretrain.episodes.min(episodes),
-            Method::SubtaskGreedy(alone) => {
-                alone.pretrain.episodes = alone.pretrain.episodes.min(episodes);
-            }
+            Method::EaMadm(ea) => shorten_pretraining(&mut ea.pretrain, episodes),
+            Method::SubtaskGreedy(alone) => shorten_pretraining(&mut alone.pretrain, episodes),
             // A budget written for the full run shrinks with the episodes, as pre-training
             // does (only roughly matched in a shortened run, whose step caps differ too).
             Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
@@ -128,6 +128,21 @@ fn shorten_episodes(config: &mut ExperimentConfig, episodes: u64) {
                 .unwrap_or(u64::MAX);
             }
         }
+    }
+}
+
+/// At most `episodes` pre-training episodes; a stopping rule's cap shrinks in the same
+/// proportion, `⌊cap · fewest_after / fewest_before⌋`, never below the new fewest (so the
+/// rule still validates).
+fn shorten_pretraining(pretrain: &mut PretrainConfig, episodes: u64) {
+    let before = pretrain.episodes;
+    pretrain.episodes = before.min(episodes);
+    if let Some(until) = pretrain.until.as_mut() {
+        let scaled = u128::from(until.max_episodes) * u128::from(pretrain.episodes)
+            / u128::from(before.max(1));
+        until.max_episodes = u64::try_from(scaled)
+            .unwrap_or(u64::MAX)
+            .max(pretrain.episodes);
     }
 }
 
@@ -143,8 +158,15 @@ mod tests {
         assert_eq!(config.task.step_cap(), Some(500));
         for spec in &config.methods {
             match &spec.method {
-                Method::EaMadm(ea) => assert_eq!(ea.pretrain.episodes, 30),
-                Method::SubtaskGreedy(alone) => assert_eq!(alone.pretrain.episodes, 30),
+                Method::EaMadm(ea) => {
+                    assert_eq!(ea.pretrain.episodes, 30);
+                    // the stopping rule's cap shrinks with it: 1000 × 30 / 200
+                    assert_eq!(ea.pretrain.until.map(|u| u.max_episodes), Some(150));
+                }
+                Method::SubtaskGreedy(alone) => {
+                    assert_eq!(alone.pretrain.episodes, 30);
+                    assert_eq!(alone.pretrain.until.map(|u| u.max_episodes), Some(150));
+                }
                 Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
                     assert!(training.warmup_env_steps <= paper::TASK1_PRETRAIN_BUDGET * 30 / 200);
                 }

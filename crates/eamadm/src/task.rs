@@ -243,7 +243,9 @@ impl Task {
 }
 
 /// What the runner reads from a task's environment besides [`Environment`].
-pub(crate) trait TaskEnv: Environment + Clone + Send + Sync {
+pub(crate) trait TaskEnv:
+    Environment + Clone + Send + Sync + crate::pretrain::SubtaskGoals
+{
     /// The last step was a collision (a bump, a hit).
     fn collided(&self) -> bool;
 

@@ -17,8 +17,8 @@
 //!   without allocating after its first call. [`Weighting`] (a serde config value) selects the
 //!   weights it applies.
 //! * **Per-attribute normalisation** (not in the paper; standard MADM practice): [`Normalisation`]
-//!   scales each column of a decision matrix onto `[0, 1]` before aggregation, a repair the
-//!   caller opts into.
+//!   scales each column of a decision matrix onto `[0, 1]` (min–max) or to its standard score
+//!   (z-score, [`ColumnSummary`]) before aggregation, a repair the caller opts into.
 //!
 //! # The paper's procedure, and what we changed
 //!
@@ -85,7 +85,7 @@ mod weights;
 
 pub use decision::{MadmDecider, Weighting};
 pub use error::MadmError;
-pub use normalise::Normalisation;
+pub use normalise::{ColumnSummary, Normalisation};
 pub use owa::{WEIGHT_SUM_TOLERANCE, andness, orness, owa, owa_sorted, validate_weights};
 pub use support::{DEFAULT_EPSILON, Support, visibility_weights_into};
 pub use visibility::{is_visible, natural_visibility_graph};

@@ -6,11 +6,11 @@
 //! two table loads and two comparisons: it copies no rewards and allocates nothing, and
 //! `subtask_rewards()` returns the row of the last step's event.
 
-use dql::{Environment, Step};
+use dql::{DeterministicModel, Environment, Step, Transition};
 
 use crate::geometry::{Action, N_ACTIONS, Pos};
 use crate::maze::Maze;
-use crate::reward::{Event, SpecError, TaskSpec};
+use crate::reward::{Event, RewardScheme, SpecError, TaskSpec};
 
 /// The low bits of a packed transition hold the event.
 const EVENT_BITS: u32 = 2;
@@ -179,6 +179,56 @@ impl MazeEnv {
     #[must_use]
     pub fn last_event(&self) -> Option<Event> {
         self.cursor_last_event(&self.cursor)
+    }
+
+    /// The maze as a [`dql::DeterministicModel`] paying `scheme` for each step's [`Event`]:
+    /// the same states (every tile), actions and successors as the environment, each step
+    /// paying `scheme.reward(event)`, and a step onto the target terminal (reaching it ends the
+    /// episode). The step cap is not part of it: it truncates, and the learners bootstrap on a
+    /// truncated step, so their fixed point is this model's infinite-horizon `Q*`
+    /// ([`dql::value_iteration`]). Tiles the agent never stands on (obstacles, the target)
+    /// keep the environment's moves out of them, so their values are those of starting there.
+    ///
+    /// # Errors
+    /// [`SpecError`] when `scheme` has a reward that is not finite or too large
+    /// ([`RewardScheme::validate`], field `scheme`).
+    pub fn model(&self, scheme: &RewardScheme) -> Result<DeterministicModel, SpecError> {
+        scheme.validate("scheme")?;
+        let rewards = scheme.by_event();
+        let transitions = self
+            .transitions
+            .iter()
+            .flat_map(|row| row.iter())
+            .map(|&packed| {
+                let event = (packed & EVENT_MASK) as usize;
+                Transition {
+                    next: (packed >> EVENT_BITS) as usize,
+                    reward: rewards[event],
+                    terminal: event == Event::Target.index(),
+                }
+            })
+            .collect();
+        Ok(
+            DeterministicModel::new(self.maze.n_tiles(), N_ACTIONS, transitions)
+                .expect("successors are tiles and the validated rewards are finite"),
+        )
+    }
+
+    /// The model of the task's own reward ([`model`](Self::model) of `spec().reward`).
+    #[must_use]
+    pub fn task_model(&self) -> DeterministicModel {
+        self.model(&self.spec.reward)
+            .expect("the spec was validated when the environment was made")
+    }
+
+    /// The model of sub-task `k`'s reward ([`model`](Self::model) of its scheme); `None` when
+    /// the task has no sub-task `k`.
+    #[must_use]
+    pub fn subtask_model(&self, k: usize) -> Option<DeterministicModel> {
+        self.spec.subtasks.get(k).map(|subtask| {
+            self.model(&subtask.reward)
+                .expect("the spec was validated when the environment was made")
+        })
     }
 
     /// A new episode's cursor: on the start tile, no step taken.

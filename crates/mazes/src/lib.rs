@@ -98,6 +98,19 @@
 //! seeds and frozen as `fixtures/mazes/task1.map` and `task2.map`
 //! ([`Preset::fixture_text`] writes their exact content).
 //!
+//! The positive control of the reproduction, `aggregation-control`, is a hand-designed map
+//! ([`AGGREGATION_CONTROL_MAP`]): the target in a walled box whose only door faces away from
+//! the start, so that distance shaping alone walks into the wall (BFS 64 moves against a
+//! Manhattan distance of 24).
+//!
+//! # Exact values
+//!
+//! A maze is small and deterministic, so its exact optimal action values are computable:
+//! [`MazeEnv::model`] gives the task as a [`dql::DeterministicModel`] paying any
+//! [`RewardScheme`] (the task's, [`MazeEnv::task_model`], or a sub-task's,
+//! [`MazeEnv::subtask_model`]), and [`dql::value_iteration`] solves it. The learners converge
+//! to those values (`tests/it/model.rs`).
+//!
 //! # Example
 //!
 //! ```
@@ -177,6 +190,7 @@
 //! Task II: 39 × 36, +10/−1; the sub-tasks "reach the target faster" and "do not hit
 //! obstacles"; trajectories in Fig. 6 and 9).
 
+mod control;
 mod env;
 mod generate;
 mod geometry;
@@ -190,6 +204,10 @@ mod render_svg;
 mod render_text;
 mod reward;
 
+pub use control::{
+    AGGREGATION_CONTROL_FIXTURE, AGGREGATION_CONTROL_MAP, aggregation_control_fixture_text,
+    aggregation_control_maze,
+};
 pub use env::{EpisodeError, MazeCursor, MazeEnv};
 pub use generate::{DEFAULT_MAX_ATTEMPTS, GeneratorParams, generate, generate_seeded};
 pub use geometry::{Action, N_ACTIONS, Pos};

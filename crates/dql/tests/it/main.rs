@@ -10,3 +10,4 @@ mod learners;
 mod maximisation_bias;
 mod pinned;
 mod serde_forms;
+mod value_iteration;

@@ -4,12 +4,14 @@
 use eamadm_eval::Role;
 use eamadm_eval::claims::{ClaimOptions, Margin, Margins, Verdict, claim_columns};
 use eamadm_eval::facts::{
-    ControlFamily, ExperimentFacts, Figures, MethodFacts, PaperFigures, ReportContext,
-    RewardReference, SubtaskReference,
+    ControlFamily, ExperimentFacts, Figures, MethodFacts, PaperFigures, PredictionFacts,
+    ReportContext, RewardReference, SubtaskReference,
 };
 use eamadm_eval::findings::{
-    Cause, Deciding, Estimand, FINDINGS_FORMAT, Findings, Rejudgement, SeedCount, Test,
+    AggregatorFinding, Cause, Deciding, Estimand, FINDINGS_FORMAT, Findings, Rejudgement,
+    SeedCount, Test,
 };
+use eamadm_eval::oracle::{FailingPart, OracleFinding, OracleValues, PretrainingSummary};
 use eamadm_eval::scores::{FinalScore, RunOutcome};
 use eamadm_eval::sensitivity::{Change, SensitivityRow};
 use eamadm_eval::stats::{Bootstrap, SignFlipTest};
@@ -107,6 +109,9 @@ fn context(reward_references: Vec<RewardReference>) -> ReportContext {
             tables_written: false,
         }],
         readings: Vec::new(),
+        oracle: Vec::new(),
+        pretraining: Vec::new(),
+        predictions: Vec::new(),
         deviations: Vec::new(),
     }
 }
@@ -402,4 +407,185 @@ fn findings_read_back_from_json_and_refuse_another_format() {
     );
     let error = Findings::from_json(&other).unwrap_err();
     assert!(error.to_string().contains("findings format 999"), "{error}");
+}
+
+/// An oracle finding of `decision` on Task I (8 seeds): reaching with exact values on
+/// `reaches` seeds, the same episode as the reach sub-task alone on `follows` seeds, at the
+/// Manhattan bound when `bound`.
+fn oracle(
+    decision: &str,
+    reaches: u64,
+    follows: u64,
+    bound: bool,
+    part: FailingPart,
+) -> OracleFinding {
+    OracleFinding {
+        task: "task1".to_owned(),
+        decision: decision.to_owned(),
+        values: OracleValues::Exact,
+        seeds: 8,
+        optimum_steps: Some(58),
+        manhattan_steps: Some(if bound { 58 } else { 24 }),
+        at_manhattan_bound: Some(bound),
+        reaches_initial: reaches,
+        reaches_learned: reaches,
+        median_steps_initial: Some(if reaches > 4 { 58.0 } else { 2000.0 }),
+        median_steps_learned: Some(58.0),
+        optimal_share_initial: Some(0.9),
+        optimal_share_learned: Some(0.9),
+        best_subtask_alone: Some(("lonely".to_owned(), reaches)),
+        equals_subtask_alone: follows,
+        runs_converged: Some(8),
+        failing_part: part,
+    }
+}
+
+fn reach_pretraining(method: &str, seeds_reaching: u64) -> PretrainingSummary {
+    PretrainingSummary {
+        task: "task1".to_owned(),
+        method: method.to_owned(),
+        subtask: 0,
+        name: "reach".to_owned(),
+        seeds: 8,
+        converged_seeds: Some(0),
+        seeds_reaching,
+        reaching_episodes: seeds_reaching * 3,
+        greedy_alone_reaching: 0,
+        mean_episodes: 1000.0,
+        mean_env_steps: 8600.0,
+    }
+}
+
+#[test]
+fn the_oracle_names_the_ceiling_at_the_manhattan_bound_and_the_aggregators_are_compared() {
+    let mut context = context(Vec::new());
+    context.oracle = vec![
+        oracle("ea-madm", 8, 8, true, FailingPart::Neither),
+        oracle("ea-madm-table", 8, 8, true, FailingPart::Neither),
+    ];
+    let findings = findings_of(scores(60.0, &[], 150.0), &context);
+    let task = &findings.tasks[0];
+    // At the bound, with the decision the reach sub-task's episode on every seed, the cause is
+    // the ceiling, not the sub-task alone (which the same numbers named before the oracle).
+    assert_eq!(
+        task.cause,
+        Some(Cause::Ceiling {
+            optimum_steps: 58,
+            follows: "lonely".to_owned(),
+            follows_on: SeedCount { hits: 8, seeds: 8 },
+            reaches: SeedCount { hits: 8, seeds: 8 },
+        })
+    );
+    assert_eq!(task.oracle.len(), 2);
+    // Every decision of the oracle but EA-MADM's is compared with it as a plain aggregator.
+    assert_eq!(
+        task.aggregators,
+        vec![AggregatorFinding {
+            method: "ea-madm-table".to_owned(),
+            converged: SeedCount { hits: 8, seeds: 8 },
+            ends_as_ea_madm: SeedCount { hits: 8, seeds: 8 },
+        }]
+    );
+    // Off the bound, or following the sub-task on fewer than half the seeds: no ceiling.
+    for other in [
+        oracle("ea-madm", 8, 8, false, FailingPart::Neither),
+        oracle("ea-madm", 8, 4, true, FailingPart::Neither),
+    ] {
+        context.oracle = vec![other];
+        let findings = findings_of(scores(60.0, &[], 150.0), &context);
+        assert!(
+            matches!(findings.tasks[0].cause, Some(Cause::SubtaskAlone { .. })),
+            "{:?}",
+            findings.tasks[0].cause
+        );
+    }
+    // A reward-matched control that overturns a verdict still comes first (shaping).
+    context.oracle = vec![oracle("ea-madm", 8, 8, true, FailingPart::Neither)];
+    let shaped = findings_of(scores(60.0, &[], 10.0), &context);
+    assert!(matches!(
+        shaped.tasks[0].cause,
+        Some(Cause::MatchedControl { .. })
+    ));
+}
+
+#[test]
+fn exact_values_that_lead_nowhere_and_pre_training_that_never_reaches_are_causes() {
+    let mut rows = scores(250.0, &[], 150.0);
+    for r in rows.iter_mut().filter(|r| r.kind == "ea_madm") {
+        r.outcome = RunOutcome::NeverReached;
+        r.greedy_reached = false;
+    }
+    let mut context = context(Vec::new());
+    // The reach sub-task never reached in pre-training on any seed: pre-training is the cause.
+    context.pretraining = vec![reach_pretraining("ea-madm", 0)];
+    let findings = findings_of(rows.clone(), &context);
+    let Some(Cause::Pretraining { reach, diagnosis }) = &findings.tasks[0].cause else {
+        panic!("{:?}", findings.tasks[0].cause);
+    };
+    assert_eq!((reach.seeds_reaching, reach.seeds), (0, 8));
+    assert!(diagnosis.is_none());
+    // Once it reaches on a seed, it is not.
+    context.pretraining = vec![reach_pretraining("ea-madm", 1)];
+    let findings = findings_of(rows.clone(), &context);
+    assert!(!matches!(
+        findings.tasks[0].cause,
+        Some(Cause::Pretraining { .. })
+    ));
+    // Exact sub-task values with which nothing reaches come before pre-training.
+    context.pretraining = vec![reach_pretraining("ea-madm", 0)];
+    context.oracle = vec![oracle("ea-madm", 0, 8, false, FailingPart::SubtaskValues)];
+    let findings = findings_of(rows, &context);
+    assert_eq!(
+        findings.tasks[0].cause,
+        Some(Cause::SubtaskValues {
+            reaches: SeedCount { hits: 0, seeds: 8 },
+            follows: "lonely".to_owned(),
+            follows_on: SeedCount { hits: 8, seeds: 8 },
+            optimum_steps: Some(58),
+            manhattan_steps: Some(24),
+        })
+    );
+}
+
+#[test]
+fn a_prediction_is_judged_against_the_run() {
+    let predicted = PredictionFacts {
+        task: "task1".to_owned(),
+        notes: "§21.2".to_owned(),
+        best_verdict: Verdict::Inconclusive,
+        follows: "lonely".to_owned(),
+        oracle_reaches: false,
+    };
+    let mut context = context(Vec::new());
+    context.predictions = vec![predicted.clone()];
+    context.oracle = vec![oracle("ea-madm", 0, 8, false, FailingPart::SubtaskValues)];
+    // EA-MADM beats the competitors (supported) while it ends as the sub-task alone: the
+    // verdict part of the prediction fails.
+    let findings = findings_of(scores(60.0, &[], 150.0), &context);
+    let outcome = findings.tasks[0].prediction.as_ref().unwrap();
+    assert_eq!(outcome.best_verdict, Some(Verdict::Supported));
+    assert_eq!(outcome.ends_as_followed, SeedCount { hits: 8, seeds: 8 });
+    assert_eq!(
+        outcome.oracle_reaches,
+        Some(SeedCount { hits: 0, seeds: 8 })
+    );
+    assert!(!outcome.held);
+    // EA-MADM worse than the competitors: no verdict better than inconclusive, and the rest
+    // holds.
+    let findings = findings_of(scores(130.0, &[], 150.0), &context);
+    let outcome = findings.tasks[0].prediction.as_ref().unwrap();
+    assert!(
+        outcome
+            .best_verdict
+            .is_some_and(|v| eamadm_eval::findings::rank(v) <= 1),
+        "{outcome:?}"
+    );
+    assert!(outcome.held, "{outcome:?}");
+    // A decision that reaches with exact values contradicts it.
+    context.oracle = vec![oracle("ea-madm", 8, 8, false, FailingPart::Neither)];
+    let findings = findings_of(scores(130.0, &[], 150.0), &context);
+    assert!(!findings.tasks[0].prediction.as_ref().unwrap().held);
+    // The findings read back from JSON with all of it.
+    let json = findings.to_json().unwrap();
+    assert_eq!(Findings::from_json(&json).unwrap(), findings);
 }

@@ -234,6 +234,63 @@ pub(crate) fn never_reaches_sentence(diagnosis: &Diagnosis) -> String {
 /// The cause in one sentence, opening with **Why:**.
 fn cause_sentence(cause: &Cause) -> String {
     let text = match cause {
+        Cause::SubtaskValues {
+            reaches,
+            follows,
+            follows_on,
+            optimum_steps,
+            manhattan_steps,
+        } => {
+            let detour = match (optimum_steps, manhattan_steps) {
+                (Some(optimum), Some(manhattan)) if optimum > manhattan => format!(
+                    " (the shortest path, {optimum} steps, is a detour from the Manhattan \
+                     distance {manhattan})"
+                ),
+                _ => String::new(),
+            };
+            format!(
+                "even with exact sub-task values its decision reaches on {} of {} seeds and is \
+                 the same episode as `{follows}` on {} of {}: the sub-tasks carry no route to \
+                 the target{detour}, so the decision step has nothing to combine",
+                reaches.hits, reaches.seeds, follows_on.hits, follows_on.seeds
+            )
+        }
+        Cause::Pretraining { reach, diagnosis } => {
+            let rewards = diagnosis.as_ref().map_or_else(String::new, |d| {
+                format!("; besides, {}", never_reaches_sentence(d))
+            });
+            let converged = reach.converged_seeds.map_or_else(String::new, |c| {
+                format!(
+                    ", the stopping rule finding it converged on {c} of {}",
+                    reach.seeds
+                )
+            });
+            format!(
+                "pre-training: its reach sub-task (`{}`) never reached the target in {} \
+                 pre-training episodes per seed on mean, on {} of {} seeds ({} reaching \
+                 episodes{converged}), so a reward for reaching, such as a repaired reading's \
+                 goal bonus, is never paid and neither the aggregation nor the tree has \
+                 anything to pass on{rewards}",
+                reach.name,
+                super::format::number(reach.mean_episodes),
+                reach.seeds - reach.seeds_reaching,
+                reach.seeds,
+                reach.reaching_episodes
+            )
+        }
+        Cause::Ceiling {
+            optimum_steps,
+            follows,
+            follows_on,
+            reaches,
+        } => format!(
+            "a ceiling: the layout is at the Manhattan bound (shortest path {optimum_steps} = \
+             Manhattan distance), so the distance-shaped reach sub-task alone is already \
+             optimal; with exact sub-task values the decision reaches on {} of {} seeds and is \
+             the same episode as `{follows}` on {} of {}: there is nothing for a second \
+             attribute to add",
+            reaches.hits, reaches.seeds, follows_on.hits, follows_on.seeds
+        ),
         Cause::Rewards { diagnosis } => format!(
             "it never reaches the target: {}",
             never_reaches_sentence(diagnosis)
@@ -295,6 +352,12 @@ pub(crate) fn task_answer(task: &TaskFindings) -> String {
     sentences.extend(readings_sentence(task));
     sentences.extend(task.collapses.as_ref().map(collapse_sentence));
     sentences.extend(task.cause.as_ref().map(cause_sentence));
+    sentences.extend(super::oracle::oracle_sentence(task));
+    sentences.extend(
+        task.prediction
+            .as_ref()
+            .map(super::oracle::prediction_sentence),
+    );
     format!("**{}.** {}", task.title, sentences.join(" "))
 }
 

@@ -56,6 +56,7 @@ mod answer;
 pub mod format;
 mod glossary;
 mod margins;
+mod oracle;
 mod outcomes;
 mod paper_numbers;
 mod robot;
@@ -135,6 +136,7 @@ pub fn render(context: &ReportContext, verdicts: &Verdicts, findings: &Findings)
             findings.task(&experiment.name),
         );
     }
+    oracle::write_oracle(&mut text, findings);
     paper_numbers::write_paper_numbers(&mut text, context, verdicts);
     let _ = writeln!(
         text,
@@ -309,9 +311,12 @@ pub(crate) mod tests {
                 .map(str::to_owned)
                 .to_vec(),
             curves_file: "curves.csv.gz".to_owned(),
-            trajectories_file: "trajectories.csv".to_owned(),
+            trajectories_file: "trajectories.csv.gz".to_owned(),
             experiments: vec![experiment("task1", "Task I")],
             readings: Vec::new(),
+            oracle: Vec::new(),
+            pretraining: Vec::new(),
+            predictions: Vec::new(),
             deviations: vec![
                 DeviationFacts {
                     what: "Generated mazes".to_owned(),
@@ -470,6 +475,88 @@ pub(crate) mod tests {
 
     /// The first screen as a reader sees it: a reward-matched control that overturns the
     /// verdicts, a collapse that decides nothing, the readings not run.
+    /// [`context`] with what the oracle of issue 32 adds: EA-MADM's decision on exact
+    /// sub-task values (Task I, at the Manhattan bound, the reach sub-task's episode on every
+    /// seed), its reach sub-task's pre-training, and a prediction.
+    pub(crate) fn context_with_oracle() -> ReportContext {
+        use eamadm_eval::facts::PredictionFacts;
+        use eamadm_eval::oracle::{FailingPart, OracleFinding, OracleValues, PretrainingSummary};
+        let mut context = context();
+        context.oracle = vec![OracleFinding {
+            task: "task1".to_owned(),
+            decision: "ea-madm".to_owned(),
+            values: OracleValues::Exact,
+            seeds: 8,
+            optimum_steps: Some(58),
+            manhattan_steps: Some(58),
+            at_manhattan_bound: Some(true),
+            reaches_initial: 8,
+            reaches_learned: 7,
+            median_steps_initial: Some(58.0),
+            median_steps_learned: Some(58.0),
+            optimal_share_initial: Some(0.998),
+            optimal_share_learned: Some(0.9904),
+            best_subtask_alone: Some(("subtask0-alone".to_owned(), 8)),
+            equals_subtask_alone: 8,
+            runs_converged: Some(6),
+            failing_part: FailingPart::Learning,
+        }];
+        context.pretraining = vec![PretrainingSummary {
+            task: "task1".to_owned(),
+            method: "ea-madm".to_owned(),
+            subtask: 0,
+            name: "reach".to_owned(),
+            seeds: 8,
+            converged_seeds: Some(8),
+            seeds_reaching: 8,
+            reaching_episodes: 1571,
+            greedy_alone_reaching: 8,
+            mean_episodes: 200.0,
+            mean_env_steps: 23_190.5,
+        }];
+        context.predictions = vec![PredictionFacts {
+            task: "task1".to_owned(),
+            notes: "§21.2".to_owned(),
+            best_verdict: Verdict::Inconclusive,
+            follows: "subtask0-alone".to_owned(),
+            oracle_reaches: false,
+        }];
+        context
+    }
+
+    #[test]
+    fn the_oracle_section_and_its_first_screen_sentences_read_as_pinned() {
+        let with_oracle = context_with_oracle();
+        let verdicts =
+            Verdicts::compute(scores(60.0, &[], 150.0), &options(), &with_oracle).unwrap();
+        let findings = Findings::of(&with_oracle, &verdicts);
+        let report = render(&with_oracle, &verdicts, &findings);
+        let start = report.find(oracle::ORACLE_HEADING).unwrap();
+        let end = start + 1 + report[start + 1..].find("\n## ").unwrap();
+        insta::assert_snapshot!(&report[start..end]);
+        // The first screen names the oracle, the cause through the slot (the ceiling), and the
+        // prediction against the outcome, within 50 lines.
+        let screen = first_screen(&report);
+        assert!(screen.lines().count() <= 50, "{screen}");
+        let answer = &findings.tasks[0];
+        assert!(matches!(
+            answer.cause,
+            Some(eamadm_eval::findings::Cause::Ceiling { .. })
+        ));
+        for said in [
+            "**Why:** A ceiling: the layout is at the Manhattan bound (shortest path 58",
+            "**Oracle:** with exact sub-task values",
+            "reaches on 8 of 8 seeds in a median of 58 steps",
+            "the prediction failed",
+        ] {
+            assert!(screen.contains(said), "{said}\n{screen}");
+        }
+        // Without an oracle the section is absent.
+        let (verdicts, findings) = judged(scores(60.0, &[], 150.0));
+        let plain = render(&context(), &verdicts, &findings);
+        assert!(!plain.contains(oracle::ORACLE_HEADING));
+    }
+
     #[test]
     fn the_first_screen_reads_as_pinned() {
         insta::assert_snapshot!(first_screen(&report_of(scores(60.0, &[3], 10.0))));

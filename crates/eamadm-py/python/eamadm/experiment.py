@@ -243,12 +243,13 @@ def paper_config(name: str, *, as_dict: Literal[True]) -> Dict[str, Any]: ...
 
 def paper_config(name: str, *, as_dict: bool = False) -> Union[Config, Dict[str, Any]]:
     """The paper's preset ``"task1"``, ``"task2"``, ``"robot"`` or ``"robot-paper-state"``
-    (Tables 1 and 2) as a :class:`Config`, or as a dict when ``as_dict`` is true (edit it and
-    pass it to :func:`run`).
+    (Tables 1 and 2), or the positive control ``"aggregation-control"`` (a maze on which
+    combining sub-tasks should help; paper-notes §21), as a :class:`Config`, or as a dict when
+    ``as_dict`` is true (edit it and pass it to :func:`run`).
 
     Raises:
         TypeError: ``name`` is not a str.
-        ValueError: ``name`` is not one of the four presets.
+        ValueError: ``name`` is not one of the five presets.
     """
     if not isinstance(name, str):
         raise TypeError(f"name: expected a str, got {_args.type_name(name)}")

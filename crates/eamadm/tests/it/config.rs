@@ -7,7 +7,8 @@
 )]
 
 use eamadm::config::{
-    PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML, PAPER_TASK2_TOML,
+    AGGREGATION_CONTROL_TOML, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML,
+    PAPER_TASK2_TOML,
 };
 use eamadm::{ConfigError, Experiment, ExperimentConfig};
 
@@ -29,11 +30,19 @@ fn embedded_toml_files_are_the_named_constructors() {
         ExperimentConfig::from_toml_str(PAPER_ROBOT_PAPER_STATE_TOML).unwrap(),
         eamadm::paper::robot_paper_state()
     );
+    assert_eq!(
+        ExperimentConfig::from_toml_str(AGGREGATION_CONTROL_TOML).unwrap(),
+        eamadm::paper::aggregation_control()
+    );
 }
 
 #[test]
 fn presets_round_trip_through_toml() {
-    for config in [eamadm::paper::task1(), eamadm::paper::task2()] {
+    for config in [
+        eamadm::paper::task1(),
+        eamadm::paper::task2(),
+        eamadm::paper::aggregation_control(),
+    ] {
         let text = config.to_toml_string().unwrap();
         assert_eq!(
             ExperimentConfig::from_toml_str(&text).unwrap(),
@@ -45,12 +54,17 @@ fn presets_round_trip_through_toml() {
 
 #[test]
 fn presets_load() {
-    for config in [eamadm::paper::task1(), eamadm::paper::task2()] {
+    for config in [
+        eamadm::paper::task1(),
+        eamadm::paper::task2(),
+        eamadm::paper::aggregation_control(),
+    ] {
         let experiment = Experiment::new(config).unwrap();
-        // The paper's 4 methods, 4 ablations and 10 controls, `paper::SEEDS` seeds each.
+        // The paper's 4 methods, 4 ablations and 12 controls (the two aggregators among
+        // them), `paper::SEEDS` seeds each.
         assert_eq!(
             experiment.jobs().len(),
-            (8 + 10) * eamadm::paper::SEEDS as usize
+            (8 + 12) * eamadm::paper::SEEDS as usize
         );
     }
 }
@@ -211,6 +225,40 @@ fn the_pretraining_schedule_is_checked_under_its_own_path() {
     };
     let error = config.validate().unwrap_err();
     assert_eq!(error.field(), Some("methods[0].pretrain.epsilon.floor"));
+}
+
+/// The stopping rule's parameters are checked under their own path: a check interval and a
+/// window of at least 1, a cap no smaller than the fewest episodes.
+#[test]
+fn the_stopping_rule_is_checked_under_its_own_path() {
+    let rule = "until = { every = 10, stable = 3, max_episodes = 1000 }";
+    for (bad, field, value) in [
+        (
+            "until = { every = 0, stable = 3, max_episodes = 1000 }",
+            "methods[0].pretrain.until.every",
+            "0",
+        ),
+        (
+            "until = { every = 10, stable = 0, max_episodes = 1000 }",
+            "methods[0].pretrain.until.stable",
+            "0",
+        ),
+        (
+            "until = { every = 10, stable = 3, max_episodes = 150 }",
+            "methods[0].pretrain.until.max_episodes",
+            "150",
+        ),
+    ] {
+        let error = ExperimentConfig::from_toml_str(&edited(rule, bad)).unwrap_err();
+        assert_eq!(error.field(), Some(field), "{error}");
+        assert!(error.to_string().contains(value), "{error}");
+    }
+    // An unknown key of the rule is named too.
+    let message = error_of(&edited(
+        rule,
+        "until = { every = 10, stable = 3, max_episodes = 1000, patience = 2 }",
+    ));
+    assert!(message.contains("patience"), "{message}");
 }
 
 #[test]

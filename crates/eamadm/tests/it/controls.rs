@@ -6,24 +6,34 @@
 
 use eamadm::paper::controls;
 use eamadm::{
-    CompetitorSignal, Experiment, ExperimentConfig, Method, MethodSpec, Role, RunRecord, Storage,
+    CompetitorSignal, Convergence, Experiment, ExperimentConfig, Method, MethodSpec, Role,
+    RunRecord, Storage,
 };
 
 use crate::common::{only, small_config};
 
 const EPISODES: u64 = 30;
 
-/// The small maze with EA-MADM, the competitors and every control (pre-training as long as
-/// training), `budget` warm-up steps for the budget-matched ones.
+/// The small maze with EA-MADM, the competitors and every control (pre-training at least as
+/// long as training, with a bounded stopping rule), `budget` warm-up steps for the
+/// budget-matched ones.
 fn config_with_controls(seeds: u32, budget: u64) -> ExperimentConfig {
     let mut config = small_config(EPISODES, seeds);
     config.methods.extend(controls(budget));
     for spec in &mut config.methods {
-        match &mut spec.method {
-            Method::EaMadm(ea) => ea.pretrain.episodes = EPISODES,
-            Method::SubtaskGreedy(alone) => alone.pretrain.episodes = EPISODES,
-            _ => {}
-        }
+        let pretrain = match &mut spec.method {
+            Method::EaMadm(ea) => &mut ea.pretrain,
+            Method::SubtaskGreedy(alone) => &mut alone.pretrain,
+            _ => continue,
+        };
+        pretrain.episodes = EPISODES;
+        // the presets' stopping rule, bounded for a test: a check every 5 episodes, at most
+        // twice as many
+        pretrain.until = Some(Convergence {
+            every: 5,
+            stable: 3,
+            max_episodes: 2 * EPISODES,
+        });
     }
     config
 }
@@ -39,22 +49,26 @@ fn the_controls_are_marked_as_controls() {
         .into_iter()
         .map(|spec| (spec.label, spec.role))
         .collect();
-    assert_eq!(labels.len(), 10);
+    assert_eq!(labels.len(), 12);
     assert!(labels.iter().all(|(_, role)| *role == Role::Control));
-    for config in [eamadm::paper::task1(), eamadm::paper::task2()] {
+    for config in [
+        eamadm::paper::task1(),
+        eamadm::paper::task2(),
+        eamadm::paper::aggregation_control(),
+    ] {
         let n = config
             .methods
             .iter()
             .filter(|spec| spec.role == Role::Control)
             .count();
-        assert_eq!(n, 10, "{}", config.name);
+        assert_eq!(n, 12, "{}", config.name);
     }
 }
 
 #[test]
 fn action_and_agreement_counts_add_up() {
     let config = config_with_controls(2, 500);
-    for record in Experiment::new(config).unwrap().run_all().unwrap() {
+    for record in Experiment::new(config.clone()).unwrap().run_all().unwrap() {
         let window = usize::try_from(record.final_window_episodes).unwrap();
         let window_steps: u64 = record.episodes[record.episodes.len() - window..]
             .iter()
@@ -67,7 +81,10 @@ fn action_and_agreement_counts_add_up() {
             record.method
         );
         assert_eq!(record.final_window_actions.len(), 4);
-        let is_ea_madm = record.method.starts_with("ea-madm");
+        let is_ea_madm = matches!(
+            config.method(&record.method).unwrap().method,
+            Method::EaMadm(_)
+        );
         assert_eq!(record.agreement.is_some(), is_ea_madm, "{}", record.method);
         if let Some(agreement) = &record.agreement {
             for counts in [&agreement.final_window, &agreement.training] {
@@ -161,7 +178,7 @@ fn budget_matched_competitors_spend_the_budget_first() {
 #[test]
 fn a_warmup_beyond_the_limit_is_refused_naming_the_field() {
     let text = eamadm::PAPER_TASK1_TOML.replacen(
-        "warmup_env_steps = 420000",
+        "warmup_env_steps = 464000",
         "warmup_env_steps = 1000000000000",
         1,
     );

@@ -16,6 +16,7 @@ mod fuzz_inputs;
 mod input_files;
 mod mutate;
 mod names;
+mod oracle;
 mod pairing;
 mod robot_refusals;
 mod run;

@@ -62,15 +62,21 @@ fn run_through(experiment: &Experiment, cache: &MemoryCache) -> Vec<eamadm::RunR
         .collect()
 }
 
-/// `config` cut short: few episodes and pre-training episodes, two seeds, every method.
+/// `config` cut short: few episodes and pre-training episodes (the stopping rule checking
+/// every 2, capped at 12), two seeds, every method.
 fn short(mut config: ExperimentConfig) -> ExperimentConfig {
     config.episodes = 6;
     config.seeds = 2;
     for spec in &mut config.methods {
-        match &mut spec.method {
-            Method::EaMadm(ea) => ea.pretrain.episodes = 6,
-            Method::SubtaskGreedy(alone) => alone.pretrain.episodes = 6,
-            _ => {}
+        let pretrain = match &mut spec.method {
+            Method::EaMadm(ea) => &mut ea.pretrain,
+            Method::SubtaskGreedy(alone) => &mut alone.pretrain,
+            _ => continue,
+        };
+        pretrain.episodes = 6;
+        if let Some(until) = pretrain.until.as_mut() {
+            until.every = 2;
+            until.max_episodes = 12;
         }
     }
     config

@@ -82,3 +82,23 @@ fn preset_shortest_paths() {
     "
     );
 }
+
+/// The positive control's frozen map is the code's, byte for byte, and parses to it.
+#[test]
+fn the_control_map_is_frozen() {
+    let path = format!(
+        "{}/../../{FIXTURE_DIR}/{}",
+        env!("CARGO_MANIFEST_DIR"),
+        mazes::AGGREGATION_CONTROL_FIXTURE
+    );
+    let text =
+        std::fs::read_to_string(&path).unwrap_or_else(|error| panic!("reading {path}: {error}"));
+    assert!(
+        text == mazes::aggregation_control_fixture_text(),
+        "{path} differs from mazes::AGGREGATION_CONTROL_MAP; run `cargo xtask regen-fixtures`"
+    );
+    assert_eq!(
+        Maze::parse(&text).unwrap(),
+        mazes::aggregation_control_maze()
+    );
+}

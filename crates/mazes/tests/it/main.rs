@@ -8,6 +8,7 @@ mod fixtures;
 mod generation;
 mod layouts;
 mod map_text;
+mod model;
 mod path;
 mod render;
 mod subtasks;

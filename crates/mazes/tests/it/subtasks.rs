@@ -2,41 +2,19 @@
 //! γ = 0.95 as in Table 1) achieves that sub-task's goal on the preset mazes, and the
 //! task's own optimal policy reaches the target without bumping.
 
-use mazes::{Action, Event, Maze, Pos, Preset, RewardScheme};
+use mazes::{Action, Event, Maze, MazeEnv, Pos, Preset, RewardScheme, TaskSpec};
 
 const GAMMA: f64 = 0.95;
 
-/// Optimal action values under `scheme` on `maze`'s dynamics, the target terminal.
+/// Optimal action values under `scheme` on `maze`'s dynamics, the target terminal: the
+/// library's model and value iteration.
 fn optimal_q(maze: &Maze, scheme: &RewardScheme) -> Vec<[f64; 4]> {
-    let mut q = vec![[0.0; 4]; maze.n_tiles()];
-    for _ in 0..2000 {
-        let value: Vec<f64> = q
-            .iter()
-            .map(|row| row.iter().copied().fold(f64::MIN, f64::max))
-            .collect();
-        let mut change = 0.0f64;
-        for (state, row) in q.iter_mut().enumerate() {
-            let from = maze.pos_of(state).expect("one row per tile");
-            if !maze.is_free(from) || from == maze.target() {
-                continue;
-            }
-            for action in Action::ALL {
-                let (next, event) = maze.transition(from, action);
-                let future = if event == Event::Target {
-                    0.0
-                } else {
-                    GAMMA * value[maze.state_of(next).expect("successors are tiles")]
-                };
-                let updated = scheme.reward(event) + future;
-                change = change.max((updated - row[action.index()]).abs());
-                row[action.index()] = updated;
-            }
-        }
-        if change < 1e-9 {
-            break;
-        }
-    }
-    q
+    let env = MazeEnv::new(maze.clone(), TaskSpec::task1()).expect("task I's spec is valid");
+    let model = env.model(scheme).expect("the presets' schemes are valid");
+    let q = dql::value_iteration(&model, GAMMA, 1e-10).expect("γ < 1").q;
+    (0..maze.n_tiles())
+        .map(|s| [q.get(s, 0), q.get(s, 1), q.get(s, 2), q.get(s, 3)])
+        .collect()
 }
 
 /// Follows the greedy policy (first best action) from the start for at most `limit`

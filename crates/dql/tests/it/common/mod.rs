@@ -118,27 +118,26 @@ impl TableMdp {
         (0..self.n_states).filter(|&s| live[s]).collect()
     }
 
-    /// Q* by value iteration (to machine precision).
+    /// The task as a [`dql::DeterministicModel`] (its reward, its terminal transitions).
+    pub fn model(&self) -> dql::DeterministicModel {
+        dql::DeterministicModel::from_fn(self.n_states, self.n_actions, |s, a| {
+            let i = s * self.n_actions + a;
+            dql::Transition {
+                next: self.next[i],
+                reward: self.reward[i],
+                terminal: self.terminal[i],
+            }
+        })
+        .expect("the grid's table is a valid model")
+    }
+
+    /// Q* by [`dql::value_iteration`], row-major, to within 1e-13.
     pub fn optimal_q(&self, gamma: f64) -> Vec<f64> {
-        let mut q = vec![0.0; self.next.len()];
-        for _ in 0..10_000 {
-            let mut delta: f64 = 0.0;
-            let mut new_q = q.clone();
-            for i in 0..q.len() {
-                let s2 = self.next[i];
-                let best_next = (0..self.n_actions)
-                    .map(|a| q[s2 * self.n_actions + a])
-                    .fold(f64::NEG_INFINITY, f64::max);
-                let bootstrap = if self.terminal[i] { 0.0 } else { best_next };
-                new_q[i] = self.reward[i] + gamma * bootstrap;
-                delta = delta.max((new_q[i] - q[i]).abs());
-            }
-            q = new_q;
-            if delta == 0.0 {
-                break;
-            }
-        }
-        q
+        dql::value_iteration(&self.model(), gamma, 1e-13)
+            .expect("γ < 1 and a positive tolerance")
+            .q
+            .as_slice()
+            .to_vec()
     }
 }
 

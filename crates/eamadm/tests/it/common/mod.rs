@@ -27,12 +27,14 @@ pub(crate) fn small_map() -> String {
 }
 
 /// The paper's methods on the small maze with Task I's rewards: `episodes` episodes (and as
-/// many pre-training episodes per sub-task), a step cap of 300, `seeds` seeds.
+/// many pre-training episodes per sub-task, a fixed number: without the presets' stopping rule,
+/// which tests of its own exercise), a step cap of 300, `seeds` seeds.
 pub(crate) fn small_config(episodes: u64, seeds: u32) -> ExperimentConfig {
     let mut methods: Vec<MethodSpec> = paper_methods();
     for spec in &mut methods {
         if let Method::EaMadm(ea) = &mut spec.method {
             ea.pretrain.episodes = episodes;
+            ea.pretrain.until = None;
         }
     }
     ExperimentConfig {
