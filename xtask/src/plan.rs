@@ -33,7 +33,7 @@ pub(crate) fn default_methods() -> Vec<String> {
 
 /// Arguments that cannot work.
 #[derive(Debug, Error)]
-pub(crate) enum PlanError {
+pub(crate) enum ArgumentError {
     /// A `--method` label no config defines.
     #[error("--method {method:?}: unknown method; the methods are: {}", known.join(", "))]
     UnknownMethod {
@@ -179,7 +179,7 @@ impl ReproducePlan {
         args: &ReproduceArgs,
         known_methods: &[String],
         workspace: &Workspace,
-    ) -> Result<Self, PlanError> {
+    ) -> Result<Self, ArgumentError> {
         let tasks = if args.tasks.is_empty() {
             Task::ALL.to_vec()
         } else {
@@ -195,7 +195,7 @@ impl ReproducePlan {
         }
         for method in &args.methods {
             if !known_methods.contains(method) {
-                return Err(PlanError::UnknownMethod {
+                return Err(ArgumentError::UnknownMethod {
                     method: method.clone(),
                     known: known_methods.to_vec(),
                 });
@@ -217,10 +217,10 @@ impl ReproducePlan {
         };
         let fixtures = workspace.fixtures();
         if resolve_links(&out).starts_with(resolve_links(&fixtures)) {
-            return Err(PlanError::OutInsideFixtures { out, fixtures });
+            return Err(ArgumentError::OutInsideFixtures { out, fixtures });
         }
         if out.exists() && !out.is_dir() {
-            return Err(PlanError::OutNotAFolder { out });
+            return Err(ArgumentError::OutNotAFolder { out });
         }
         // The folder will be created: everything on its path that exists must be a folder.
         if let Some(blocker) = out
@@ -228,7 +228,7 @@ impl ReproducePlan {
             .skip(1)
             .find(|ancestor| ancestor.exists() && !ancestor.is_dir())
         {
-            return Err(PlanError::OutUnderAFile {
+            return Err(ArgumentError::OutUnderAFile {
                 blocker: blocker.to_path_buf(),
                 out,
             });
@@ -239,7 +239,7 @@ impl ReproducePlan {
             Some(cache) => lexically_normal(&workspace.current_dir.join(cache)),
         };
         if resolve_links(&pretrained_cache).starts_with(resolve_links(&out)) {
-            return Err(PlanError::CacheInsideOut {
+            return Err(ArgumentError::CacheInsideOut {
                 cache: pretrained_cache,
                 out,
             });
@@ -506,7 +506,7 @@ mod tests {
             };
             let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
             assert!(
-                matches!(error, PlanError::OutInsideFixtures { .. }),
+                matches!(error, ArgumentError::OutInsideFixtures { .. }),
                 "{out}: {error}"
             );
             assert!(error.to_string().contains("must not be inside"), "{error}");
@@ -531,7 +531,7 @@ mod tests {
         };
         let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
         assert!(
-            matches!(error, PlanError::OutInsideFixtures { .. }),
+            matches!(error, ArgumentError::OutInsideFixtures { .. }),
             "{error}"
         );
     }
@@ -563,7 +563,10 @@ mod tests {
             ..args()
         };
         let error = ReproducePlan::from_args(&bad, &default_methods(), &ws).unwrap_err();
-        assert!(matches!(error, PlanError::OutNotAFolder { .. }), "{error}");
+        assert!(
+            matches!(error, ArgumentError::OutNotAFolder { .. }),
+            "{error}"
+        );
     }
 
     #[test]

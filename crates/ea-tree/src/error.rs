@@ -54,19 +54,6 @@ pub enum EaTreeError {
     },
 }
 
-/// Saving a tree failed (the previous file, if any, is left untouched).
-#[derive(Debug, thiserror::Error)]
-pub enum SaveError {
-    /// Creating, writing or renaming the file failed.
-    #[error("cannot save the tree to {path}: {source}")]
-    Io {
-        /// The destination.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
-}
-
 /// Loading a tree failed; every malformed input ends here, never in a panic.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {

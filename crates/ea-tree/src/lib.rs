@@ -88,7 +88,7 @@ pub use bulk::{AnswerTable, TableEntry};
 pub use cluster::{ActionCentre, ClusterId, StateCentre, StateOverlap};
 pub use config::EaTreeConfig;
 pub use encoding::{MAX_FEATURES, Token, set_jaccard, state_tokens};
-pub use error::{EaTreeError, LoadError, SaveError};
+pub use error::{EaTreeError, LoadError};
 pub use index::IndexKind;
 pub use similarity::{Similarity, SimilarityProperties, WeightedJaccard};
 pub use stats::TreeStats;

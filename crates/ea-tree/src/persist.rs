@@ -1,4 +1,8 @@
-//! Saving and loading trees as JSON (atomic save, validated load, index rebuilt on load).
+//! A tree as JSON text and back (validated load, index rebuilt on load).
+//!
+//! This crate writes no file: [`EaTree::to_json`] is the saved form, and whoever stores it
+//! writes it (in this workspace atomically, through `eamadm_runs::atomic::write_atomic`, the one
+//! atomic-write implementation: docs/paper-notes.md §25). [`EaTree::load`] reads a file back.
 //!
 //! The file is one JSON object, one cluster per line:
 //!
@@ -20,7 +24,6 @@
 //! children are cluster indices. Floats are written in shortest round-trip form and read back
 //! exactly, so a round trip is lossless. The lookup index is not saved: it is rebuilt.
 
-use std::io::Write as _;
 use std::path::Path;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -28,14 +31,10 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use crate::cluster::{ActionCount, Cluster, ClusterId, TokenCount};
 use crate::config::EaTreeConfig;
 use crate::encoding::Token;
-use crate::error::{LoadError, SaveError};
+use crate::error::LoadError;
 use crate::index::WalkIndex;
 use crate::similarity::Similarity;
 use crate::tree::{EaTree, index_kind};
-
-/// Unix permissions of a saved tree: owner read-write, everyone else read (what xtask gives its
-/// outputs, and what `std::fs::write` gives under the usual umask 022).
-pub const SAVED_FILE_MODE: u32 = 0o644;
 
 const FORMAT: &str = "ea-tree";
 const VERSION: u32 = 1;
@@ -150,42 +149,8 @@ impl<S: Similarity> EaTree<S> {
         Self::from_file(file, similarity)
     }
 
-    /// Writes the tree to `path` atomically: into a temporary file in the same folder, then
-    /// renamed over `path`, so readers see the old file or the new one, never a part.
-    ///
-    /// # Errors
-    /// [`SaveError::Io`] naming `path`.
-    pub fn save(&self, path: impl AsRef<Path>) -> Result<(), SaveError> {
-        let path = path.as_ref();
-        let io = |source| SaveError::Io {
-            path: path.to_owned(),
-            source,
-        };
-        let folder = match path.parent() {
-            Some(parent) if !parent.as_os_str().is_empty() => parent,
-            _ => Path::new("."),
-        };
-        let mut builder = tempfile::Builder::new();
-        // Saved trees are for everyone to read, like the files xtask writes and those
-        // `std::fs::write` makes (tempfile's default is owner-only, 0600).
-        #[cfg(unix)]
-        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(
-            SAVED_FILE_MODE,
-        ));
-        let mut file = builder.tempfile_in(folder).map_err(io)?;
-        file.write_all(self.to_json().as_bytes()).map_err(io)?;
-        file.as_file().sync_all().map_err(io)?;
-        file.persist(path).map_err(|e| io(e.error))?;
-        // The rename lives in the folder: sync it too, or a crash right after `save` returned
-        // could lose the completed write.
-        #[cfg(unix)]
-        std::fs::File::open(folder)
-            .and_then(|dir| dir.sync_all())
-            .map_err(io)?;
-        Ok(())
-    }
-
-    /// Reads a tree saved by [`save`](Self::save), built with `similarity`.
+    /// Reads a tree from a file holding its [`to_json`](Self::to_json) text, built with
+    /// `similarity`.
     ///
     /// # Errors
     /// [`LoadError::Io`] naming `path`, or an error of [`from_json_with`](Self::from_json_with).

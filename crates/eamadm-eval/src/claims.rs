@@ -291,7 +291,7 @@ impl Verdict {
 /// What one comparison settles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Outcome {
+pub enum ComparisonOutcome {
     /// Significantly better for the method under test (the claim's way).
     FavoursMethod,
     /// Significantly better for the competitor.
@@ -328,7 +328,7 @@ pub struct Comparison {
     /// in the verdict it settles nothing and is not equivalent.
     pub informative: bool,
     /// What it settles.
-    pub outcome: Outcome,
+    pub outcome: ComparisonOutcome,
     /// IQM(method) − IQM(competitor) over all seeds with a value, with its bootstrap interval:
     /// descriptive (the IQM trims the seeds at the step cap that the mean counts).
     pub iqm_difference: Interval,
@@ -556,7 +556,7 @@ pub struct ReachingComparison {
     pub p_holm: f64,
     /// What it settles: the side that reaches on more seeds is favoured when `p_holm` is
     /// below α.
-    pub outcome: Outcome,
+    pub outcome: ComparisonOutcome,
 }
 
 /// The `metric` of the `claims.csv` rows of a [`ReachingComparison`].
@@ -610,11 +610,11 @@ pub fn per_seed_words(column: &str) -> &'static str {
 /// (C3): a side is favoured when either favours it and the other does not favour the other
 /// side; when they favour opposite sides, nothing is settled.
 #[must_use]
-pub fn combine(metric: Outcome, per_seed: Outcome) -> Outcome {
+pub fn combine(metric: ComparisonOutcome, per_seed: ComparisonOutcome) -> ComparisonOutcome {
     match (metric, per_seed) {
-        (x, Outcome::Unsettled) | (Outcome::Unsettled, x) => x,
+        (x, ComparisonOutcome::Unsettled) | (ComparisonOutcome::Unsettled, x) => x,
         (x, y) if x == y => x,
-        _ => Outcome::Unsettled,
+        _ => ComparisonOutcome::Unsettled,
     }
 }
 
@@ -668,7 +668,7 @@ pub fn per_seed_tests(
                 discordant: (wins, losses),
                 p_value: stats::sign_test(wins, losses),
                 p_holm: 1.0,
-                outcome: Outcome::Unsettled,
+                outcome: ComparisonOutcome::Unsettled,
             });
         }
     }
@@ -774,7 +774,7 @@ pub fn judge_by_reaching(
     let against = tests
         .iter()
         .enumerate()
-        .filter(|(_, t)| t.outcome == Outcome::FavoursCompetitor)
+        .filter(|(_, t)| t.outcome == ComparisonOutcome::FavoursCompetitor)
         .min_by(|(i, a), (j, b)| a.p_holm.total_cmp(&b.p_holm).then(i.cmp(j)))
         .map(|(i, _)| i);
     judgement.verdict = if against.is_some() {
@@ -1420,7 +1420,7 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
     let comparisons = &judgement.comparisons;
     let tests = &judgement.reaching;
     let test_of = |versus: &str| tests.iter().find(|t| t.versus == versus);
-    let effective: Vec<Outcome> = comparisons
+    let effective: Vec<ComparisonOutcome> = comparisons
         .iter()
         .map(|c| test_of(&c.versus).map_or(c.outcome, |t| combine(c.outcome, t.outcome)))
         .collect();
@@ -1451,7 +1451,7 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
         best(true).or_else(|| best(false))
     };
     // The per-seed test that decides when no metric comparison can (ties: the earlier one).
-    let test_by_p = |pick_max: bool, outcome: Option<Outcome>| {
+    let test_by_p = |pick_max: bool, outcome: Option<ComparisonOutcome>| {
         tests
             .iter()
             .enumerate()
@@ -1462,26 +1462,27 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
             })
             .map(|(_, t)| t)
     };
-    let (verdict, deciding, test) = if all().any(|o| o == Outcome::FavoursCompetitor) {
+    let (verdict, deciding, test) = if all().any(|o| o == ComparisonOutcome::FavoursCompetitor) {
         // A metric comparison that favours the competitor by itself shows the numbers;
         // otherwise the per-seed test that does.
         match by_p(false, &|i, c| {
-            effective[i] == Outcome::FavoursCompetitor && c.outcome == Outcome::FavoursCompetitor
+            effective[i] == ComparisonOutcome::FavoursCompetitor
+                && c.outcome == ComparisonOutcome::FavoursCompetitor
         }) {
             Some(i) => (Verdict::Contradicted, Some(i), None),
             None => (
                 Verdict::Contradicted,
                 None,
-                test_by_p(false, Some(Outcome::FavoursCompetitor)),
+                test_by_p(false, Some(ComparisonOutcome::FavoursCompetitor)),
             ),
         }
-    } else if all().all(|o| o == Outcome::FavoursMethod) {
-        match by_p(true, &|_, c| c.outcome == Outcome::FavoursMethod) {
+    } else if all().all(|o| o == ComparisonOutcome::FavoursMethod) {
+        match by_p(true, &|_, c| c.outcome == ComparisonOutcome::FavoursMethod) {
             Some(i) => (Verdict::Supported, Some(i), None),
             None => (
                 Verdict::Supported,
                 None,
-                test_by_p(true, Some(Outcome::FavoursMethod)),
+                test_by_p(true, Some(ComparisonOutcome::FavoursMethod)),
             ),
         }
     } else if alone.is_empty()
@@ -1506,11 +1507,15 @@ fn decide(judgement: &mut Judgement, alpha: f64) {
         // The weakest informative comparison that does not favour the method; else the
         // per-seed test (C3 with uninformative greedy SDs is decided by who reaches stably);
         // else an uninformative comparison.
-        let pick = by_p(true, &|i, _| effective[i] != Outcome::FavoursMethod);
+        let pick = by_p(true, &|i, _| {
+            effective[i] != ComparisonOutcome::FavoursMethod
+        });
         match pick {
             Some(i) if comparisons[i].informative => (Verdict::Inconclusive, Some(i), None),
             _ => {
-                match test_by_p(true, Some(Outcome::Unsettled)).or_else(|| test_by_p(true, None)) {
+                match test_by_p(true, Some(ComparisonOutcome::Unsettled))
+                    .or_else(|| test_by_p(true, None))
+                {
                     Some(test) => (Verdict::Inconclusive, None, Some(test)),
                     None => (Verdict::Inconclusive, pick, None),
                 }
@@ -1561,7 +1566,7 @@ pub fn compare(
         p_holm: p_value,
         margin,
         informative,
-        outcome: Outcome::Unsettled,
+        outcome: ComparisonOutcome::Unsettled,
         iqm_difference,
         p_improvement,
     };
@@ -1573,29 +1578,29 @@ pub fn compare(
 /// the comparison is informative and its Holm-adjusted p that the mean paired difference lies
 /// beyond the margin is below `alpha` — its interval then lies beyond the margin — on that
 /// side.
-fn outcome(comparison: &Comparison, alpha: f64) -> Outcome {
+fn outcome(comparison: &Comparison, alpha: f64) -> ComparisonOutcome {
     let estimate = comparison.paired.estimate;
     if !comparison.informative || comparison.p_holm >= alpha {
-        Outcome::Unsettled
+        ComparisonOutcome::Unsettled
     } else if comparison.metric.direction.favours(estimate) {
-        Outcome::FavoursMethod
+        ComparisonOutcome::FavoursMethod
     } else if comparison.metric.direction.favours(-estimate) {
-        Outcome::FavoursCompetitor
+        ComparisonOutcome::FavoursCompetitor
     } else {
-        Outcome::Unsettled
+        ComparisonOutcome::Unsettled
     }
 }
 
 /// What a per-seed test settles at level `alpha`: the side with the property on more
 /// discordant seeds, when its Holm p is below `alpha`.
-fn per_seed_outcome(test: &ReachingComparison, alpha: f64) -> Outcome {
+fn per_seed_outcome(test: &ReachingComparison, alpha: f64) -> ComparisonOutcome {
     let (wins, losses) = test.discordant;
     if test.p_holm >= alpha || wins == losses {
-        Outcome::Unsettled
+        ComparisonOutcome::Unsettled
     } else if wins > losses {
-        Outcome::FavoursMethod
+        ComparisonOutcome::FavoursMethod
     } else {
-        Outcome::FavoursCompetitor
+        ComparisonOutcome::FavoursCompetitor
     }
 }
 
@@ -1641,7 +1646,7 @@ pub struct ClaimRow {
     /// Probability of improvement (comparisons only).
     pub p_improvement: Option<f64>,
     /// What the comparison settles (`favours_method`, `favours_competitor`, `unsettled`).
-    pub outcome: Option<Outcome>,
+    pub outcome: Option<ComparisonOutcome>,
     /// The claim × task × method verdict (rows of a method under test only; empty on the rows
     /// of a secondary metric, which does not decide it).
     pub verdict: Option<Verdict>,
@@ -1948,7 +1953,7 @@ pub const CLAIM_COLUMNS: &[Column] = &[
     Column::new("versus_set", FieldType::String, "Which competitors the method is judged against: `paper` (the paper's competitors on the task reward; every method), or `same_rewards` (a repaired robot reading judged a second time against the competitors trained on its own sub-task rewards).").values(&["paper", "same_rewards"]).blank_when("the row carries no verdict: a single-method row of a method not under test on the claim, or an outcome row"),
     Column::new("n", FieldType::Integer, "Seeds with a value of the method (the paired seeds in a reaching test or an outcome comparison).").unit("seeds"),
     Column::new("n_versus", FieldType::Integer, "Seeds with a value of the competitor.").unit("seeds").blank_when("the row is a single-method row"),
-    Column::new("estimate", FieldType::Number, "Single-method row: the interquartile mean (IQM) of the metric over seeds (descriptive), or for claim `outcome` the share of seeds that converged. Comparison: the mean over paired seeds of the difference method − versus, the estimand that decides the row. Per-seed test (`reached`, `stable_reaching`): share of paired seeds the method has the property on minus the competitor's. Outcome comparison: (seeds only the method converged on − seeds only `versus` did) / paired seeds. In the metric's unit (a share for `reached`, `stable_reaching` and `converged`).").blank_when("the row is a single-method row and no seed of the method has a value (a C4 metric of a method that never reached the target)"),
+    Column::new("estimate", FieldType::Number, "Single-method row: the interquartile mean (IQM) of the metric over seeds (descriptive), or for claim `outcome` the share of seeds that converged. Comparison: the mean over paired seeds of the difference method − versus, the estimand that decides the row. Per-seed test (`reached`, `stable_reaching`): share of paired seeds the method has the property on minus the competitor's. ComparisonOutcome comparison: (seeds only the method converged on − seeds only `versus` did) / paired seeds. In the metric's unit (a share for `reached`, `stable_reaching` and `converged`).").blank_when("the row is a single-method row and no seed of the method has a value (a C4 metric of a method that never reached the target)"),
     Column::new("ci_low", FieldType::Number, "Lower end of the estimate's 95 % interval: a bootstrap interval for an IQM, a Wilson interval for a share of converged seeds, and for a comparison the exact sign-flip interval of the mean paired difference (the means of all 2ⁿ − 1 non-empty subsets of the paired differences ranked, the one at rank ⌊0.025 · 2ⁿ⌋ from each end: the inversion of the sign-flip test, no resampling; drawn sign vectors beyond 24 pairs, see `exact`).").blank_when("the row is a per-seed test or an outcome comparison (they carry an exact test instead), no seed has a value, or the comparison has fewer than 6 paired seeds (no sign-flip test reaches the 95 % level, so the interval is unbounded)"),
     Column::new("ci_high", FieldType::Number, "Upper end of that interval.").blank_when("as `ci_low`"),
     Column::new("p_value", FieldType::Number, "Comparison: the two-sided sign-flip p-value that the mean paired difference lies beyond ±`margin` on one side, 2 min(p(mean < −margin), p(mean > margin)) — at most α exactly when the 95 % interval lies beyond the margin; without a margin, the two-sided test of 0. Per-seed test or outcome comparison: the exact sign test on discordant seeds (McNemar's exact test).").blank_when("the row is a single-method row"),

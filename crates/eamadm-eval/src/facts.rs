@@ -1,6 +1,6 @@
 //! What the report and the figures know beyond the scores: the paper's tasks, the experiments
 //! of a run (their episodes, seeds, methods with their roles, the figures written, the robot's
-//! behaviour and reward readings, the equivalence margins) and the readings of the paper. Plain
+//! behaviour and reward references, the equivalence margins) and the readings of the paper. Plain
 //! data, so that this crate needs no other crate of the workspace: `eamadm::paper` fills the
 //! paper's part and `eamadm`'s report facts the experiments'; `report-context.toml` holds it
 //! as TOML beside a run's outputs.
@@ -137,9 +137,11 @@ pub struct ExperimentFacts {
     pub figures: Figures,
     /// Each method's behaviour, for a robot experiment; empty where there is none.
     pub behaviour: Vec<MethodBehaviour>,
-    /// The robot's sub-task rewards as each reading of them values three ways to play
-    /// (`eamadm::diagnosis`), the paper's reading first; empty for a maze.
-    pub reward_readings: Vec<RewardReading>,
+    /// The robot's sub-task rewards under each set of repairs its methods learn from, with
+    /// what they value three ways to play (`eamadm::diagnosis`), the paper's rewards first;
+    /// empty for a maze. (Written as `reward_readings` before issue 36; still read.)
+    #[serde(alias = "reward_readings")]
+    pub reward_references: Vec<RewardReference>,
     /// The exploring rate ε of each method that explores ε-greedily, over the final window.
     pub final_epsilon: Vec<FinalEpsilon>,
     /// The equivalence margin of each metric its task defines one for, with its reason
@@ -227,11 +229,11 @@ pub struct FinalEpsilon {
     pub last: f64,
 }
 
-/// One reading of the robot's sub-task rewards (the paper's Eq. 6–8, or with repairs): what
+/// The robot's sub-task rewards under one set of repairs (none: the paper's Eq. 6–8): what
 /// each sub-task's reward definition makes of reaching, of ending the episode at once and of
 /// idling, discounted at the learners' γ, and the methods that learn from it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RewardReading {
+pub struct RewardReference {
     /// The repairs, as a reader names them (`goal bonus for reach`, `end penalties`); empty
     /// for the paper's rewards.
     pub repairs: Vec<String>,
@@ -247,7 +249,7 @@ pub struct RewardReading {
     pub subtasks: Vec<SubtaskReference>,
 }
 
-/// One sub-task's reward definition under a [`RewardReading`]: `Σ γᵗ rₜ` of three ways to
+/// One sub-task's reward definition under a [`RewardReference`]: `Σ γᵗ rₜ` of three ways to
 /// play an episode (`wmr_model::ReferenceValues`), and the controls that run it alone.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SubtaskReference {

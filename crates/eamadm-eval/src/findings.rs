@@ -9,7 +9,7 @@
 //!
 //! Everything here is computed from [`Verdicts`] (the judged scores) and the run's
 //! [`ReportContext`] (methods' roles and control families from their configs, the robot's
-//! reward readings): a pure function, so the same run gives the same findings bit for bit.
+//! reward references): a pure function, so the same run gives the same findings bit for bit.
 //!
 //! A verdict's deciding comparison is a small self-describing [`Deciding`]: which estimand it
 //! estimates (`paired_mean_difference`, the one every metric comparison decides on, or
@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Role;
 use crate::claims::{self, Judgement, ReachingComparison, Verdict};
-use crate::facts::{ControlFamily, PredictionFacts, ReportContext, RewardReading};
+use crate::facts::{ControlFamily, PredictionFacts, ReportContext, RewardReference};
 use crate::oracle::{FailingPart, OracleFinding, OracleValues, PretrainingSummary};
 use crate::scores::{FinalScore, RunOutcome};
 use crate::sensitivity::Change;
@@ -136,7 +136,7 @@ pub struct TaskFindings {
     /// The seeds EA-MADM collapsed on and the verdicts judged again without them; `None`
     /// when it collapsed on none.
     pub collapses: Option<Collapses>,
-    /// Why EA-MADM never reaches the target, from the reward reading it learns from; `None`
+    /// Why EA-MADM never reaches the target, from the sub-task rewards it learns from; `None`
     /// when it reaches on some seed or learns from no sub-task rewards the run diagnoses.
     pub never_reaches: Option<Diagnosis>,
     /// EA-MADM paired by seed on converging with its strongest frozen sub-task acting alone.
@@ -373,7 +373,7 @@ pub struct Rejudgement {
 }
 
 /// Why a method never reaches the target: what each sub-task's reward definition under the
-/// reading it learns from values most, and what its learners learned.
+/// repairs it learns from values most, and what its learners learned.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Diagnosis {
     /// The repairs of the sub-task rewards it learns from; empty for the paper's (Eq. 6–8).
@@ -479,7 +479,7 @@ pub enum Cause {
         /// The seeds on which the decision with exact values reaches.
         reaches: SeedCount,
     },
-    /// EA-MADM never reaches the target, and the reward reading it learns from values
+    /// EA-MADM never reaches the target, and the reward reference it learns from values
     /// reaching in no (or too few) sub-tasks.
     Rewards {
         /// The diagnosis.
@@ -980,7 +980,7 @@ fn collapses(
     })
 }
 
-/// The reward reading `method` learns from, when it never reached the target on any seed.
+/// The reward reference `method` learns from, when it never reached the target on any seed.
 fn never_reaches(
     context: &ReportContext,
     scores: &[FinalScore],
@@ -991,14 +991,14 @@ fn never_reaches(
     if seeds.is_empty() || seeds.iter().any(|(_, o)| *o != RunOutcome::NeverReached) {
         return None;
     }
-    let reading: &RewardReading = context
+    let reference: &RewardReference = context
         .experiment(task)?
-        .reward_readings
+        .reward_references
         .iter()
         .find(|r| r.methods.iter().any(|m| m == method))?;
     Some(Diagnosis {
-        repairs: reading.repairs.clone(),
-        subtasks: reading
+        repairs: reference.repairs.clone(),
+        subtasks: reference
             .subtasks
             .iter()
             .map(|s| (s.name.clone(), s.reaching_pays()))

@@ -7,7 +7,7 @@
 
 use eamadm::dql::Environment;
 use eamadm::wmr_model::{
-    Action, EpisodeSnapshot, FRAME_PIXELS_PER_METRE, Outcome, Scenario, WmrEnv, render_rgb,
+    Action, EpisodeSnapshot, EpisodeStatus, FRAME_PIXELS_PER_METRE, Scenario, WmrEnv, render_rgb,
 };
 use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -94,13 +94,13 @@ fn build_scenario(
     Ok(scenario)
 }
 
-fn outcome_name(outcome: Outcome) -> &'static str {
-    match outcome {
-        Outcome::Running => "running",
-        Outcome::Reached => "reached",
-        Outcome::Hit => "hit",
-        Outcome::LostTarget => "lost_target",
-        Outcome::Truncated => "truncated",
+fn status_name(status: EpisodeStatus) -> &'static str {
+    match status {
+        EpisodeStatus::Running => "running",
+        EpisodeStatus::Reached => "reached",
+        EpisodeStatus::Hit => "hit",
+        EpisodeStatus::LostTarget => "lost_target",
+        EpisodeStatus::Truncated => "truncated",
     }
 }
 
@@ -135,7 +135,7 @@ fn metrics_of<'py>(py: Python<'py>, env: &WmrEnv) -> PyResult<Bound<'py, PyDict>
     dict.set_item("time", m.time)?;
     dict.set_item("task_return", m.task_return)?;
     dict.set_item("subtask_returns", m.subtask_returns.to_vec())?;
-    dict.set_item("outcome", outcome_name(m.outcome))?;
+    dict.set_item("outcome", status_name(m.status))?;
     dict.set_item("time_to_reach", m.time_to_reach)?;
     dict.set_item("retention_time", m.retention_time)?;
     dict.set_item("path_length", m.path_length)?;
@@ -143,17 +143,21 @@ fn metrics_of<'py>(py: Python<'py>, env: &WmrEnv) -> PyResult<Bound<'py, PyDict>
     Ok(dict)
 }
 
-/// One line of text: time, pose, state, proximity readings and outcome.
+/// One line of text: time, pose, state, proximity values and outcome.
 fn render_of(env: &WmrEnv) -> String {
     let (x, y, heading) = pose_of(env);
     let m = env.metrics();
-    let readings: Vec<String> = env.readings().iter().map(|r| format!("{r:.2}")).collect();
+    let sensor_values: Vec<String> = env
+        .sensor_values()
+        .iter()
+        .map(|r| format!("{r:.2}"))
+        .collect();
     format!(
         "t={:.1}s x={x:.3} y={y:.3} heading={heading:.3} state={} proximity=[{}] outcome={}\n",
         m.time,
         env.state(),
-        readings.join(" "),
-        outcome_name(m.outcome)
+        sensor_values.join(" "),
+        status_name(m.status)
     )
 }
 
@@ -270,7 +274,7 @@ impl RobotCore {
         metrics_of(py, &self.env)
     }
 
-    /// One line of text: time, pose, state, proximity readings and outcome.
+    /// One line of text: time, pose, state, proximity values and outcome.
     fn render(&self) -> String {
         render_of(&self.env)
     }

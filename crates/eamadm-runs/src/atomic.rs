@@ -375,6 +375,37 @@ mod tests {
         assert_eq!(entries(dir.path()), vec!["REPORT.md"]);
     }
 
+    /// An EA tree is saved as its JSON text through this one atomic write (`ea-tree` writes no
+    /// file since issue 36): the file is readable by everyone (0644, not the temporary file's
+    /// 0600), replacing it leaves one file, and it loads back as the same tree.
+    #[test]
+    fn a_saved_ea_tree_is_readable_by_everyone_and_loads_back() {
+        use eamadm::ea_tree::{EaTree, EaTreeConfig, Sample};
+        let mut tree: EaTree = EaTree::new(EaTreeConfig::new(0.3, 0.5).unwrap()).unwrap();
+        for (state, action, q1, q2) in [([0_u32, 0], 0, 1.0, 2.0), ([2, 2], 1, -1.5, 0.0)] {
+            tree.insert(Sample {
+                state: &state,
+                action,
+                q1,
+                q2,
+            })
+            .unwrap();
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("tree.json");
+        write_atomic(&path, tree.to_json().as_bytes()).unwrap();
+        write_atomic(&path, tree.to_json().as_bytes()).unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt as _;
+            let mode = std::fs::metadata(&path).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode, 0o644);
+        }
+        assert_eq!(entries(dir.path()), vec!["tree.json"]);
+        let back: EaTree = EaTree::load(&path).unwrap();
+        assert!(back == tree);
+    }
+
     #[test]
     fn failure_names_the_path_and_leaves_nothing() {
         let dir = tempfile::tempdir().unwrap();

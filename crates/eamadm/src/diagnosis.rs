@@ -12,7 +12,7 @@ use serde::Serialize;
 use wmr_model::{ReferenceEpisode, ReferenceValues, SUBTASK_COUNT, SUBTASK_NAMES, SubtaskRepairs};
 
 use crate::config::{CompetitorSignal, Method};
-use crate::facts::{RewardReading, SubtaskReference};
+use crate::facts::{RewardReference, SubtaskReference};
 use crate::record::RunRecord;
 use crate::runner::Experiment;
 use crate::task::Task;
@@ -134,12 +134,12 @@ fn repair_names(repairs: SubtaskRepairs) -> Vec<String> {
     names
 }
 
-/// The report's [`RewardReading`]s of a robot `experiment`: one per distinct repair of the
+/// The report's [`RewardReference`]s of a robot `experiment`: one per distinct repair of the
 /// sub-task rewards among its methods that learn from them, the paper's rewards first (always
 /// present on the robot), each with its methods and the controls that run a sub-task alone.
 /// Empty for a maze. The values are discounted at the experiment's learner γ.
 #[must_use]
-pub fn reward_readings(experiment: &Experiment) -> Vec<RewardReading> {
+pub fn reward_references(experiment: &Experiment) -> Vec<RewardReference> {
     let config = experiment.config();
     let mut repairs_seen = vec![SubtaskRepairs::PAPER];
     for spec in &config.methods {
@@ -160,7 +160,7 @@ pub fn reward_readings(experiment: &Experiment) -> Vec<RewardReading> {
                     .iter()
                     .filter(move |spec| learns_from_subtask_rewards(&spec.method) == Some(repairs))
             };
-            Some(RewardReading {
+            Some(RewardReference {
                 repairs: repair_names(repairs),
                 methods: learners().map(|spec| spec.label.clone()).collect(),
                 reach_steps: episode.reach_steps(),
@@ -232,20 +232,20 @@ mod tests {
     }
 
     #[test]
-    fn the_robot_preset_has_one_reading_per_repair_with_its_learners() {
+    fn the_robot_preset_has_one_reward_reference_per_repair_with_its_learners() {
         let mut config = crate::paper::robot();
         config.seeds = 1;
         let experiment = Experiment::new(config).unwrap();
-        let readings = reward_readings(&experiment);
+        let references = reward_references(&experiment);
         // The paper's rewards, goal bonus, end penalties and both.
-        assert_eq!(readings.len(), 4);
-        let paper = &readings[0];
+        assert_eq!(references.len(), 4);
+        let paper = &references[0];
         assert!(paper.repairs.is_empty());
         assert!(paper.methods.iter().any(|m| m == "ea-madm"));
         assert!(paper.methods.iter().any(|m| m == "softmax-shaped"));
-        // The competitors on the task reward learn from none of the readings.
+        // The competitors on the task reward learn from none of the repaired rewards.
         assert!(
-            readings
+            references
                 .iter()
                 .all(|r| !r.methods.iter().any(|m| m == "softmax"))
         );
@@ -258,11 +258,11 @@ mod tests {
                 ("subtask0-alone-learning".to_owned(), true)
             ]
         );
-        let both = readings.iter().find(|r| r.repairs.len() == 2).unwrap();
+        let both = references.iter().find(|r| r.repairs.len() == 2).unwrap();
         assert!(both.methods.iter().any(|m| m == "ea-madm-repaired"));
         assert!(both.subtasks[0].reach > both.subtasks[0].lose_at_once);
         // A maze has none.
         let maze = Experiment::new(crate::paper::task1()).unwrap();
-        assert!(reward_readings(&maze).is_empty());
+        assert!(reward_references(&maze).is_empty());
     }
 }

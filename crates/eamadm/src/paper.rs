@@ -396,7 +396,7 @@ pub fn experiment_title(name: &str) -> String {
 
 /// The report's facts of one experiment (folder `name`, `title`, and from `config` its
 /// episodes, seeds and γ), with no figures, no behaviour and no reward readings yet (see
-/// [`diagnosis::reward_readings`](crate::diagnosis::reward_readings)).
+/// [`diagnosis::reward_references`](crate::diagnosis::reward_references)).
 #[must_use]
 pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> ExperimentFacts {
     ExperimentFacts {
@@ -407,7 +407,7 @@ pub fn experiment_facts(name: &str, title: &str, config: &ExperimentConfig) -> E
         gamma: config.learner.gamma,
         figures: Figures::default(),
         behaviour: Vec::new(),
-        reward_readings: Vec::new(),
+        reward_references: Vec::new(),
         final_epsilon: final_epsilon(config),
         margins: Vec::new(),
         methods: config.methods.iter().map(method_facts).collect(),

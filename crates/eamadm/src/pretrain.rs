@@ -10,7 +10,7 @@ use mazes::{Event, MazeEnv};
 use rand::RngExt;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use wmr_model::{Outcome, WmrEnv};
+use wmr_model::{EpisodeStatus, WmrEnv};
 
 use crate::config::{Convergence, PretrainConfig};
 use crate::rng::{Stream, stream_rng};
@@ -56,7 +56,7 @@ impl SubtaskGoals for WmrEnv {
     }
 
     fn reached_goal(&self, _terminated: bool) -> bool {
-        self.outcome() == Outcome::Reached
+        self.status() == EpisodeStatus::Reached
     }
 }
 

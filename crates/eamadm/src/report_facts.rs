@@ -57,7 +57,7 @@ impl<'a> ReportFacts<'a> {
         let config = experiment.config();
         let mut facts =
             crate::paper::experiment_facts(name, &crate::paper::experiment_title(name), config);
-        facts.reward_readings = crate::diagnosis::reward_readings(experiment);
+        facts.reward_references = crate::diagnosis::reward_references(experiment);
         facts.margins = experiment.task().equivalence_margins();
         Self {
             experiment,
@@ -168,9 +168,9 @@ mod tests {
         let experiment = Experiment::new(config).unwrap();
         let records = experiment.run_all().unwrap();
         let (facts, scores) = experiment.report_facts(&records).unwrap();
-        assert!(!facts.reward_readings.is_empty());
+        assert!(!facts.reward_references.is_empty());
         assert!(
-            facts.reward_readings[0]
+            facts.reward_references[0]
                 .methods
                 .iter()
                 .any(|m| m == "ea-madm")

@@ -703,7 +703,7 @@ fn run_on<E: TaskEnv>(
             if let Some(error) = greedy.failure() {
                 return Err(RunFailure::Decision(error.clone()));
             }
-            Outcome {
+            RunParts {
                 subtasks,
                 pretrain_env_steps,
                 trained,
@@ -768,7 +768,7 @@ fn run_on<E: TaskEnv>(
                 alone.learn,
             )?;
             let evaluation = session.evaluate(&mut Greedy, trained.env_steps)?;
-            Outcome {
+            RunParts {
                 subtasks: vec![subtask],
                 pretrain_env_steps,
                 trained,
@@ -778,7 +778,7 @@ fn run_on<E: TaskEnv>(
             }
         }
     };
-    let Outcome {
+    let RunParts {
         subtasks,
         pretrain_env_steps,
         trained,
@@ -826,7 +826,7 @@ fn shared_subtasks<'s, E: TaskEnv>(
 }
 
 /// What one method's run produced, before it becomes a [`RunRecord`].
-struct Outcome {
+struct RunParts {
     subtasks: Vec<SubtaskRecord>,
     pretrain_env_steps: u64,
     trained: Trained,
@@ -948,7 +948,7 @@ impl<E: TaskEnv> Session<'_, E> {
         policy: P,
         training: CompetitorTraining,
         final_from: u64,
-    ) -> Result<Outcome, RunFailure> {
+    ) -> Result<RunParts, RunFailure> {
         let mut signal = CompetitorReward::new(training.signal, self.env.n_subtasks())?;
         let mut policy = ActionTally::new(policy, self.env.n_actions(), final_from);
         let warmup_env_steps =
@@ -961,7 +961,7 @@ impl<E: TaskEnv> Session<'_, E> {
             true,
         )?;
         let evaluation = self.evaluate(&mut Greedy, trained.env_steps)?;
-        Ok(Outcome {
+        Ok(RunParts {
             subtasks: Vec::new(),
             pretrain_env_steps: warmup_env_steps,
             trained,

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use dql::{Environment, Step, Trajectory};
 use mazes::{Event, Maze, MazeEnv, Preset};
-use wmr_model::{Outcome, PlannerParams, Scenario, WmrEnv};
+use wmr_model::{EpisodeStatus, PlannerParams, Scenario, WmrEnv};
 
 use crate::config::{ConfigError, DEFAULT_SCENARIO, TaskConfig, read_input_file};
 use crate::record::RobotEpisodeMetrics;
@@ -288,11 +288,11 @@ impl TaskEnv for MazeEnv {
 impl TaskEnv for WmrEnv {
     #[inline]
     fn collided(&self) -> bool {
-        self.outcome() == Outcome::Hit
+        self.status() == EpisodeStatus::Hit
     }
 
     fn reached(&self, _terminated: bool) -> bool {
-        self.outcome() == Outcome::Reached
+        self.status() == EpisodeStatus::Reached
     }
 
     fn positions(&self, _trajectory: &Trajectory) -> Vec<[f64; 2]> {

@@ -47,7 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 plan.actions.len(),
                 plan.duration(scenario.control_period),
                 plan.expanded,
-                m.outcome,
+                m.status,
                 m.task_return,
                 m.average_reward(),
                 m.retention_time
@@ -71,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                  {:.2}/s, retention {:.1} s",
                 table.actions.iter().flatten().count(),
                 m.steps,
-                m.outcome,
+                m.status,
                 m.task_return,
                 m.average_reward(),
                 m.retention_time
@@ -89,7 +89,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         env.reset(Some(episode));
         while !env.step(rng.random_range(0..5)).done() {}
         steps += env.metrics().steps;
-        *outcomes.entry(format!("{:?}", env.outcome())).or_insert(0) += 1;
+        *outcomes.entry(format!("{:?}", env.status())).or_insert(0) += 1;
         if episode < 3 {
             paths.push((env.path().to_vec(), format!("random {episode}")));
         }

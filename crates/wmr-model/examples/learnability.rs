@@ -13,7 +13,7 @@ use dql::Environment;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use wmr_model::{
-    DEFAULT_TARGET_BINS, ObstacleSpec, Outcome, Scenario, StateParams, TaskReward, WmrEnv,
+    DEFAULT_TARGET_BINS, EpisodeStatus, ObstacleSpec, Scenario, StateParams, TaskReward, WmrEnv,
 };
 
 const WINDOW: usize = 500;
@@ -74,7 +74,7 @@ fn learn(
                 break;
             }
         }
-        let reached = env.outcome() == Outcome::Reached;
+        let reached = env.status() == EpisodeStatus::Reached;
         learnt.reached += usize::from(reached);
         if episode + WINDOW >= episodes {
             learnt.reached_in_window += usize::from(reached);
@@ -89,7 +89,7 @@ fn learn(
             break;
         }
     }
-    learnt.greedy_reaches = env.outcome() == Outcome::Reached;
+    learnt.greedy_reaches = env.status() == EpisodeStatus::Reached;
     Ok(learnt)
 }
 

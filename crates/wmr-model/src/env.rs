@@ -22,7 +22,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::action::Action;
 use crate::camera::{Camera, CameraView};
 use crate::kinematics::FixedArc;
-use crate::metrics::{EpisodeMetrics, Outcome};
+use crate::metrics::{EpisodeMetrics, EpisodeStatus};
 use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES, TaskStep};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::sensors::{DistanceSensors, SENSOR_COUNT};
@@ -35,7 +35,7 @@ pub const DEFAULT_SEED: u64 = 0;
 /// Everything the robot senses from one pose, without noise.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Observation {
-    /// Noise-free proximity readings `C_1 … C_8` in `[0, 1]`.
+    /// Noise-free proximity values `C_1 … C_8` in `[0, 1]`.
     pub proximities: [f64; SENSOR_COUNT],
     /// What the camera sees.
     pub view: CameraView,
@@ -187,7 +187,7 @@ pub struct WmrEnv {
     rng: ChaCha8Rng,
     pose: Isometry2<f64>,
     state: usize,
-    readings: [f64; SENSOR_COUNT],
+    sensor_values: [f64; SENSOR_COUNT],
     subtask_rewards: [f64; SUBTASK_COUNT],
     metrics: EpisodeMetrics,
     path: Vec<Point2<f64>>,
@@ -205,7 +205,8 @@ pub struct EpisodeSnapshot {
     pose: Isometry2<f64>,
     clearance: Option<f64>,
     state: usize,
-    readings: [f64; SENSOR_COUNT],
+    #[serde(alias = "readings")]
+    sensor_values: [f64; SENSOR_COUNT],
     subtask_rewards: [f64; SUBTASK_COUNT],
     metrics: EpisodeMetrics,
     path: Vec<Point2<f64>>,
@@ -289,7 +290,7 @@ impl WmrEnv {
             rng: ChaCha8Rng::seed_from_u64(DEFAULT_SEED),
             pose: start,
             state: 0,
-            readings: [0.0; SENSOR_COUNT],
+            sensor_values: [0.0; SENSOR_COUNT],
             subtask_rewards: [0.0; SUBTASK_COUNT],
             metrics: EpisodeMetrics::default(),
             path: Vec::with_capacity(scenario.step_cap as usize + 1),
@@ -341,10 +342,10 @@ impl WmrEnv {
         self.state
     }
 
-    /// The last (noisy) sensor readings.
+    /// The last (noisy) sensor values.
     #[must_use]
-    pub fn readings(&self) -> &[f64; SENSOR_COUNT] {
-        &self.readings
+    pub fn sensor_values(&self) -> &[f64; SENSOR_COUNT] {
+        &self.sensor_values
     }
 
     /// What the camera saw last.
@@ -359,10 +360,10 @@ impl WmrEnv {
         &self.metrics
     }
 
-    /// The current episode's outcome so far.
+    /// How the current episode stands.
     #[must_use]
-    pub fn outcome(&self) -> Outcome {
-        self.metrics.outcome
+    pub fn status(&self) -> EpisodeStatus {
+        self.metrics.status
     }
 
     /// Positions of the robot's centre this episode: the start, then one per step.
@@ -379,7 +380,7 @@ impl WmrEnv {
             pose: self.pose,
             clearance: self.clearance,
             state: self.state,
-            readings: self.readings,
+            sensor_values: self.sensor_values,
             subtask_rewards: self.subtask_rewards,
             metrics: self.metrics,
             path: self.path.clone(),
@@ -387,7 +388,7 @@ impl WmrEnv {
     }
 
     /// Puts back an episode saved by [`snapshot`](Self::snapshot) on an environment of the
-    /// same scenario: every later step, reading and metric equals the original's, bit for bit
+    /// same scenario: every later step, sensor value and metric equals the original's, bit for bit
     /// (what the robot senses at the pose is measured again; it is a pure function of the pose).
     ///
     /// # Errors
@@ -423,7 +424,7 @@ impl WmrEnv {
             "clearance",
             &snapshot.clearance.into_iter().collect::<Vec<_>>(),
         )?;
-        finite("readings", &snapshot.readings)?;
+        finite("sensor_values", &snapshot.sensor_values)?;
         finite("subtask_rewards", &snapshot.subtask_rewards)?;
         let m = &snapshot.metrics;
         finite(
@@ -449,7 +450,7 @@ impl WmrEnv {
         self.pose = snapshot.pose;
         self.clearance = snapshot.clearance;
         self.state = snapshot.state;
-        self.readings = snapshot.readings;
+        self.sensor_values = snapshot.sensor_values;
         self.subtask_rewards = snapshot.subtask_rewards;
         self.metrics = snapshot.metrics;
         self.path.clone_from(&snapshot.path);
@@ -534,22 +535,23 @@ impl WmrEnv {
 
     /// Reads the sensors (adding the noise to `sensed`) and sets the state.
     fn sense(&mut self) -> f64 {
-        self.readings = self.sensed.proximities;
-        self.sensors.add_noise(&mut self.readings, &mut self.rng);
+        self.sensor_values = self.sensed.proximities;
+        self.sensors
+            .add_noise(&mut self.sensor_values, &mut self.rng);
         self.state = self.sensed.state;
         self.sensed.target_distance
     }
 
     /// Applies `action` (see [`Environment::step`]).
     pub fn step_action(&mut self, action: Action) -> Step {
-        let outcome = self.metrics.outcome;
-        if outcome.is_done() {
+        let status = self.metrics.status;
+        if status.is_done() {
             self.subtask_rewards = [0.0; SUBTASK_COUNT];
             return Step {
                 next_state: self.state,
                 reward: 0.0,
-                terminated: outcome.is_terminal(),
-                truncated: outcome == Outcome::Truncated,
+                terminated: status.is_terminal(),
+                truncated: status == EpisodeStatus::Truncated,
             };
         }
         let dt = self.scenario.control_period;
@@ -566,7 +568,7 @@ impl WmrEnv {
         let reward = &self.scenario.reward;
         let inputs = RewardInputs {
             target_distance: distance,
-            readings: &self.readings,
+            sensor_values: &self.sensor_values,
             noise: self.scenario.sensors.noise,
             rad: self
                 .sensed
@@ -609,23 +611,23 @@ impl WmrEnv {
             let retention = m.retention_steps as f64 * dt;
             m.retention_time = retention;
         }
-        m.outcome = if motion.hit {
-            Outcome::Hit
+        m.status = if motion.hit {
+            EpisodeStatus::Hit
         } else if reached {
             m.time_to_reach = Some(time);
-            Outcome::Reached
+            EpisodeStatus::Reached
         } else if lost {
-            Outcome::LostTarget
+            EpisodeStatus::LostTarget
         } else if m.steps >= self.scenario.step_cap as usize {
-            Outcome::Truncated
+            EpisodeStatus::Truncated
         } else {
-            Outcome::Running
+            EpisodeStatus::Running
         };
         Step {
             next_state: self.state,
             reward: task_reward,
-            terminated: m.outcome.is_terminal(),
-            truncated: m.outcome == Outcome::Truncated,
+            terminated: m.status.is_terminal(),
+            truncated: m.status == EpisodeStatus::Truncated,
         }
     }
 }

@@ -13,7 +13,7 @@
 //!
 //! ```
 //! use dql::Environment;
-//! use wmr_model::{Outcome, PlannerParams, RenderedPath, Scenario, WmrEnv, render_svg, shortest_plan};
+//! use wmr_model::{EpisodeStatus, PlannerParams, RenderedPath, Scenario, WmrEnv, render_svg, shortest_plan};
 //!
 //! // The embedded default scenario, the analogue of Fig. 12.
 //! let scenario = Scenario::default_scenario();
@@ -32,7 +32,7 @@
 //!     // reaching; the shortest route never steps away.
 //!     assert!(step.reward == 1.0 || step.reward == 100.0);
 //! }
-//! assert_eq!(env.outcome(), Outcome::Reached);
+//! assert_eq!(env.status(), EpisodeStatus::Reached);
 //! let metrics = env.metrics();
 //! assert_eq!(metrics.task_return, 33.0 + 100.0);
 //! println!(
@@ -54,7 +54,7 @@
 //! |---|---|
 //! | e-puck, differential drive | [`kinematics`]: exact arcs; [`RobotParams`] defaults are the Webots e-puck's |
 //! | forward, backward, stop, left-forward, right-forward (Sec. III.B) | [`Action`], wheel speeds in [`ActionSet`] |
-//! | 8 distance sensors (Table 2) | [`sensors`]: rays at the e-puck headings, proximity readings, noise `C_noise` |
+//! | 8 distance sensors (Table 2) | [`sensors`]: rays at the e-puck headings, proximity values, noise `C_noise` |
 //! | RGB-D camera, feature point, Eq. 5 | [`camera`]: [`image_ratio`] is Eq. 5; [`Camera::observe`] |
 //! | state `N_D × N_O × N_A` (Sec. III.B) | [`state`]: [`Discretiser`], plus the target's image position (`N_T` bins, not in the paper) |
 //! | Eq. 6, 7, 8 and the task reward | [`reward`]: [`RewardParams`], [`TaskReward`] |
@@ -106,7 +106,7 @@
 //!   step on a 7.8 cm radius.
 //! * **Collisions**: a hit is reported when the body would overlap a wall or an obstacle during
 //!   the step; the robot stops at the contact (never left overlapping) and the step is terminal.
-//! * **Sensors**: reading `C_i = 1 − distance / range` in `[0, 1]` plus `C_noise · ξ`, clamped;
+//! * **Sensors**: value `C_i = 1 − distance / range` in `[0, 1]` plus `C_noise · ξ`, clamped;
 //!   range 7 cm from the rim, `C_noise = 0.02`.
 //! * **Eq. 5 is a side view**: δ is the feature point's height in the image, so it encodes the
 //!   obstacle's distance, and the angle feature its bearing ([`DeltaAxis::Vertical`]; the
@@ -163,7 +163,7 @@ pub use geometry::{Circle, Rect};
 pub use kinematics::{
     FixedArc, RobotParams, Twist, WheelSpeeds, integrate_arc, integrate_arc_centre,
 };
-pub use metrics::{EpisodeMetrics, MetricsParams, Outcome};
+pub use metrics::{EpisodeMetrics, EpisodeStatus, MetricsParams};
 pub use planner::{
     Plan, PlanError, PlannerParams, TabularPolicy, search, shortest_plan, tabular_policy,
 };

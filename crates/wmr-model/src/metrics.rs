@@ -36,7 +36,7 @@ impl Default for MetricsParams {
 /// How an episode stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
-pub enum Outcome {
+pub enum EpisodeStatus {
     /// Still going.
     #[default]
     Running,
@@ -50,7 +50,7 @@ pub enum Outcome {
     Truncated,
 }
 
-impl Outcome {
+impl EpisodeStatus {
     /// Ended inside the task: reached, hit or lost.
     #[must_use]
     pub fn is_terminal(self) -> bool {
@@ -76,7 +76,8 @@ pub struct EpisodeMetrics {
     /// Sums of each sub-task's rewards.
     pub subtask_returns: [f64; SUBTASK_COUNT],
     /// How the episode stands.
-    pub outcome: Outcome,
+    #[serde(alias = "outcome")]
+    pub status: EpisodeStatus,
     /// Time at which the target was reached (s), if it was.
     pub time_to_reach: Option<f64>,
     /// Steps counted as retention (see the module docs).

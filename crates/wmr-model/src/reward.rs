@@ -68,7 +68,7 @@ pub enum RadPenalty {
     Facing,
 }
 
-/// Repaired readings of the sub-task rewards (issue 21 item 4), each off in the paper's
+/// Repairs of the sub-task rewards (issue 21 item 4), each off in the paper's
 /// literal reading. In TOML (`[reward]`): `repairs = { reach_goal_bonus = true,
 /// end_penalties = true }`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -215,8 +215,8 @@ pub const SUBTASK_NAMES: [&str; SUBTASK_COUNT] = [
 pub struct RewardInputs<'a> {
     /// Distance from the robot's centre to the target after the step (m).
     pub target_distance: f64,
-    /// Noisy proximity readings `C_1 … C_8` after the step.
-    pub readings: &'a [f64; SENSOR_COUNT],
+    /// Noisy proximity values `C_1 … C_8` after the step.
+    pub sensor_values: &'a [f64; SENSOR_COUNT],
     /// `C_noise`.
     pub noise: f64,
     /// Unsigned angle to the obstacle in view (rad), π when none is.
@@ -233,11 +233,11 @@ pub struct RewardInputs<'a> {
 impl RewardParams {
     /// `S = Σ_{i=1}^{8} |i − p| · C_i / p`.
     #[must_use]
-    pub fn sensor_term(&self, readings: &[f64; SENSOR_COUNT]) -> f64 {
+    pub fn sensor_term(&self, sensor_values: &[f64; SENSOR_COUNT]) -> f64 {
         let mut sum = 0.0;
         let mut index = 1.0;
-        for reading in readings {
-            sum += (index - self.p).abs() * reading;
+        for value in sensor_values {
+            sum += (index - self.p).abs() * value;
             index += 1.0;
         }
         sum / self.p
@@ -246,10 +246,10 @@ impl RewardParams {
     /// Eq. 6: `−(k·D + S − C_noise)`.
     #[must_use]
     pub fn reach(&self, inputs: &RewardInputs<'_>) -> f64 {
-        self.reach_with(inputs, self.sensor_term(inputs.readings))
+        self.reach_with(inputs, self.sensor_term(inputs.sensor_values))
     }
 
-    /// [`reach`](Self::reach) given the sensor term `S` of `inputs.readings`.
+    /// [`reach`](Self::reach) given the sensor term `S` of `inputs.sensor_values`.
     fn reach_with(&self, inputs: &RewardInputs<'_>, sensor_term: f64) -> f64 {
         -(self.k * inputs.target_distance + sensor_term - inputs.noise)
     }
@@ -257,10 +257,10 @@ impl RewardParams {
     /// Eq. 7: `−(f·Rad + S − C_noise)`, or the hit reward.
     #[must_use]
     pub fn avoid(&self, inputs: &RewardInputs<'_>) -> f64 {
-        self.avoid_with(inputs, self.sensor_term(inputs.readings))
+        self.avoid_with(inputs, self.sensor_term(inputs.sensor_values))
     }
 
-    /// [`avoid`](Self::avoid) given the sensor term `S` of `inputs.readings`.
+    /// [`avoid`](Self::avoid) given the sensor term `S` of `inputs.sensor_values`.
     fn avoid_with(&self, inputs: &RewardInputs<'_>, sensor_term: f64) -> f64 {
         if inputs.hit {
             return self.hit;
@@ -295,7 +295,7 @@ impl RewardParams {
             return [penalty; SUBTASK_COUNT];
         }
         // Eq. 6 and 7 share `S`: taken once, the same value.
-        let sensor_term = self.sensor_term(inputs.readings);
+        let sensor_term = self.sensor_term(inputs.sensor_values);
         let reach = if self.repairs.reach_goal_bonus && inputs.reached {
             self.goal_bonus
         } else {
@@ -398,7 +398,7 @@ impl RewardParams {
         let quiet = [0.0; SENSOR_COUNT];
         let free = |distance: f64, lost: bool, reached: bool| RewardInputs {
             target_distance: distance,
-            readings: &quiet,
+            sensor_values: &quiet,
             noise: episode.noise,
             rad: std::f64::consts::PI,
             hit: false,
@@ -444,10 +444,10 @@ impl RewardParams {
 mod tests {
     use super::*;
 
-    fn inputs(readings: &[f64; SENSOR_COUNT]) -> RewardInputs<'_> {
+    fn inputs(sensor_values: &[f64; SENSOR_COUNT]) -> RewardInputs<'_> {
         RewardInputs {
             target_distance: 0.5,
-            readings,
+            sensor_values,
             noise: 0.02,
             rad: 0.3,
             hit: false,
@@ -504,24 +504,24 @@ mod tests {
     #[test]
     fn sensor_weights_follow_index_distance_from_p() {
         let params = RewardParams::default();
-        let mut readings = [0.0; SENSOR_COUNT];
-        readings[0] = 1.0; // sensor 1: |1 − 4.5| / 4.5
-        assert!((params.sensor_term(&readings) - 3.5 / 4.5).abs() < 1e-15);
-        readings = [1.0; SENSOR_COUNT];
+        let mut sensor_values = [0.0; SENSOR_COUNT];
+        sensor_values[0] = 1.0; // sensor 1: |1 − 4.5| / 4.5
+        assert!((params.sensor_term(&sensor_values) - 3.5 / 4.5).abs() < 1e-15);
+        sensor_values = [1.0; SENSOR_COUNT];
         // 2 · (3.5 + 2.5 + 1.5 + 0.5) / 4.5 = 16 / 4.5.
-        assert!((params.sensor_term(&readings) - 16.0 / 4.5).abs() < 1e-15);
+        assert!((params.sensor_term(&sensor_values) - 16.0 / 4.5).abs() < 1e-15);
         let integer_p = RewardParams { p: 4.0, ..params };
         // |i − 4| = 3, 2, 1, 0, 1, 2, 3, 4 ⇒ 16 / 4.
-        assert!((integer_p.sensor_term(&readings) - 4.0).abs() < 1e-15);
+        assert!((integer_p.sensor_term(&sensor_values) - 4.0).abs() < 1e-15);
     }
 
     #[test]
     fn eq6_7_8_by_hand() {
         let params = RewardParams::default();
-        let mut readings = [0.0; SENSOR_COUNT];
-        readings[7] = 0.5; // sensor 8: weight 3.5 / 4.5
+        let mut sensor_values = [0.0; SENSOR_COUNT];
+        sensor_values[7] = 0.5; // sensor 8: weight 3.5 / 4.5
         let s = 0.5 * 3.5 / 4.5;
-        let i = inputs(&readings);
+        let i = inputs(&sensor_values);
         assert!((params.reach(&i) - -(0.5 + s - 0.02)).abs() < 1e-15);
         assert!((params.avoid(&i) - -(0.1 * 0.3 + s - 0.02)).abs() < 1e-15);
         assert_eq!(params.view(&i), 2.0);
@@ -553,14 +553,14 @@ mod tests {
     fn literal_rad_penalty_prefers_facing_the_obstacle() {
         // The degeneracy we keep by default: a smaller angle to the obstacle pays more.
         let params = RewardParams::default();
-        let readings = [0.0; SENSOR_COUNT];
+        let sensor_values = [0.0; SENSOR_COUNT];
         let facing = RewardInputs {
             rad: 0.0,
-            ..inputs(&readings)
+            ..inputs(&sensor_values)
         };
         let away = RewardInputs {
             rad: 0.7,
-            ..inputs(&readings)
+            ..inputs(&sensor_values)
         };
         assert!(params.avoid(&facing) > params.avoid(&away));
         let repaired = RewardParams {
@@ -620,11 +620,11 @@ mod tests {
         // One full-speed step (2.5 cm) towards or away from the target in free space: under
         // SubtaskSum the two differ only through Eq. 6's k·D, by 2 · k · 0.025 = 0.05 on a
         // reward of about +1.2; under Progress they differ by 2.
-        let readings = [0.0; SENSOR_COUNT];
+        let sensor_values = [0.0; SENSOR_COUNT];
         let at = |target_distance| RewardInputs {
             target_distance,
             rad: std::f64::consts::PI,
-            ..inputs(&readings)
+            ..inputs(&sensor_values)
         };
         let sum = RewardParams {
             task: TaskReward::SubtaskSum,

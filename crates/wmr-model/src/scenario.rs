@@ -19,7 +19,7 @@
 //! | `step_cap` | ≤ [`MAX_STEP_CAP`] (100 000) | each episode keeps its path (16 bytes a step) |
 //! | `control_period` | ≤ [`MAX_CONTROL_PERIOD`] (10 s) | one step stays one manoeuvre |
 //! | `state.*_bins` | ≤ [`MAX_BINS`] | with the state count ≤ [`MAX_STATES`], the tables fit |
-//! | `sensors.noise` | in `[0, 1]` | readings lie in `[0, 1]`; more noise is meaningless |
+//! | `sensors.noise` | in `[0, 1]` | sensor values lie in `[0, 1]`; more noise is meaningless |
 //! | `reward.*` constants | magnitude ≤ [`MAX_REWARD_MAGNITUDE`] (10⁶) | sums over an episode stay finite |
 //! | `reward.p` | in `[0.01, 100]` | Eq. 6–7 divide by `p` |
 //!

@@ -1,12 +1,12 @@
-//! The eight ray-cast distance sensors and their reading model.
+//! The eight ray-cast distance sensors and their sensor model.
 //!
 //! Sensor `i` sits on the rim of the body at heading `θ_i` (robot frame, 0 = forward,
 //! counter-clockwise positive) and looks outward along that heading. Its ray is cast against
-//! walls and obstacles up to `range`; the noise-free reading is the *proximity*
-//! `1 − distance / range`: 0 when nothing is within range, 1 at contact. The noisy reading adds
+//! walls and obstacles up to `range`; the noise-free value is the *proximity*
+//! `1 − distance / range`: 0 when nothing is within range, 1 at contact. The noisy value adds
 //! `C_noise · ξ` with ξ an approximately standard normal draw (see [`standard_normalish`]) and
 //! clamps to `[0, 1]`, so an idle sensor reads a small positive noise floor, like a real IR
-//! sensor. These readings are the `C_n` of Eq. 6 and 7.
+//! sensor. These values are the `C_n` of Eq. 6 and 7.
 
 use nalgebra::{Isometry2, Point2, Vector2};
 use rand::Rng;
@@ -21,7 +21,7 @@ pub const SENSOR_COUNT: usize = 8;
 pub const EPUCK_SENSOR_HEADINGS_DEG: [f64; SENSOR_COUNT] =
     [-17.0, -46.0, -90.0, -151.5, 151.5, 90.0, 46.0, 17.0];
 
-/// Sensor layout and reading model.
+/// Sensor layout and sensor model.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SensorParams {
@@ -29,7 +29,7 @@ pub struct SensorParams {
     pub headings: [f64; SENSOR_COUNT],
     /// Range of each sensor, measured from the body's rim (m). e-puck: about 0.07.
     pub range: f64,
-    /// `C_noise`: standard deviation of the additive reading noise (proximity units), also the
+    /// `C_noise`: standard deviation of the additive sensor noise (proximity units), also the
     /// constant of Eq. 6 and 7. Default 0.02, 2 % of full scale.
     pub noise: f64,
 }
@@ -61,7 +61,7 @@ impl DistanceSensors {
         }
     }
 
-    /// The layout and reading model.
+    /// The layout and sensor model.
     #[must_use]
     pub fn params(&self) -> &SensorParams {
         &self.params
@@ -86,7 +86,7 @@ impl DistanceSensors {
         world.ray_cast_fan(&centre, body_radius, &directions, self.params.range)
     }
 
-    /// Noise-free proximity readings `1 − distance / range`, each in `[0, 1]`.
+    /// Noise-free proximity values `1 − distance / range`, each in `[0, 1]`.
     #[must_use]
     pub fn proximities(
         &self,
@@ -108,19 +108,19 @@ impl DistanceSensors {
         proximities
     }
 
-    /// Adds `C_noise · ξ` to each reading and clamps to `[0, 1]`.
-    pub fn add_noise<R: Rng + ?Sized>(&self, readings: &mut [f64; SENSOR_COUNT], rng: &mut R) {
+    /// Adds `C_noise · ξ` to each value and clamps to `[0, 1]`.
+    pub fn add_noise<R: Rng + ?Sized>(&self, sensor_values: &mut [f64; SENSOR_COUNT], rng: &mut R) {
         if self.params.noise == 0.0 {
             return;
         }
         // The draws first, in order, then the arithmetic over them: a loop without calls,
-        // which the compiler can run two readings at a time. Same draws, same operations.
+        // which the compiler can run two values at a time. Same draws, same operations.
         let mut draws = [0; SENSOR_COUNT];
         for draw in &mut draws {
             *draw = rng.next_u64();
         }
-        for (reading, bits) in readings.iter_mut().zip(draws) {
-            *reading = (*reading + self.params.noise * normalish_from_bits(bits)).clamp(0.0, 1.0);
+        for (value, bits) in sensor_values.iter_mut().zip(draws) {
+            *value = (*value + self.params.noise * normalish_from_bits(bits)).clamp(0.0, 1.0);
         }
     }
 }

@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+mod architecture;
 mod concurrent_store;
 mod kill_resume;
 mod markdown;

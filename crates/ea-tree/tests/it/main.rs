@@ -12,5 +12,4 @@ mod fuzz_load;
 mod indexed_vs_literal;
 mod laws;
 mod persistence;
-mod saved_files;
 mod snapshots;

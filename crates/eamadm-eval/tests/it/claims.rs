@@ -3,7 +3,7 @@
 //! judgements are bit-identical with one and two threads.
 
 use eamadm_eval::Role;
-use eamadm_eval::claims::{self, ClaimOptions, Outcome, Verdict, VersusSet};
+use eamadm_eval::claims::{self, ClaimOptions, ComparisonOutcome, Verdict, VersusSet};
 use eamadm_eval::paper_claims::{self as paper, CLAIMS};
 use eamadm_eval::scores::{COLUMNS, FinalScore};
 use eamadm_eval::stats::Bootstrap;
@@ -106,7 +106,7 @@ fn the_verdict_flips_when_the_numbers_flip() {
         .find(|j| j.claim.id == "C1")
         .unwrap();
     let deciding = judgement.deciding_comparison().unwrap();
-    assert_eq!(deciding.outcome, Outcome::FavoursCompetitor);
+    assert_eq!(deciding.outcome, ComparisonOutcome::FavoursCompetitor);
     assert!(deciding.paired.low.unwrap() > 2.0, "{deciding:?}");
     assert!(deciding.p_holm < 0.05);
 }
@@ -152,7 +152,7 @@ fn c3_counts_a_seed_stuck_at_the_cap_as_a_failure_not_as_stability() {
     let test = &judgement.reaching[0];
     assert_eq!(test.metric, claims::STABLE_REACHING);
     assert_eq!((test.reached, test.discordant), ((10, 0), (10, 0)));
-    assert_eq!(test.outcome, Outcome::FavoursMethod);
+    assert_eq!(test.outcome, ComparisonOutcome::FavoursMethod);
     assert!(
         judgement
             .reason
@@ -167,7 +167,7 @@ fn c3_counts_a_seed_stuck_at_the_cap_as_a_failure_not_as_stability() {
     assert!(
         secondary
             .iter()
-            .all(|c| c.paired.estimate == 30.0 && c.outcome != Outcome::FavoursMethod),
+            .all(|c| c.paired.estimate == 30.0 && c.outcome != ComparisonOutcome::FavoursMethod),
         "{secondary:?}"
     );
     // claims.csv: the stable-reaching row carries the verdict, the secondary rows do not.
@@ -227,7 +227,7 @@ fn c3_counts_a_seed_stuck_at_the_cap_as_a_failure_not_as_stability() {
 
 #[test]
 fn c3_combines_the_two_tests_and_conflicts_settle_nothing() {
-    use Outcome::{FavoursCompetitor as Y, FavoursMethod as X, Unsettled as U};
+    use ComparisonOutcome::{FavoursCompetitor as Y, FavoursMethod as X, Unsettled as U};
     assert_eq!(claims::combine(X, U), X);
     assert_eq!(claims::combine(U, Y), Y);
     assert_eq!(claims::combine(X, X), X);
@@ -276,7 +276,7 @@ fn a_return_metric_is_judged_equivalent_within_its_margin_on_its_task() {
     let comparison = &c2.comparisons[0];
     assert_eq!(comparison.metric.column, "final_return");
     assert_eq!(comparison.margin, Some(2.0));
-    assert_eq!(comparison.outcome, Outcome::Unsettled);
+    assert_eq!(comparison.outcome, ComparisonOutcome::Unsettled);
     let paired = &comparison.paired;
     assert_eq!(paired.estimate, 1.5);
     assert_eq!(paired.p_equivalence, Some(2.0 / 1024.0));
@@ -319,7 +319,7 @@ fn an_effect_within_the_margin_never_favours_a_side() {
     let comparison = &c1.comparisons[0];
     assert!(comparison.paired.p_value < 0.05 && comparison.paired.high.unwrap() < 0.0);
     assert!(comparison.p_holm >= 0.05 && !comparison.paired.lies_beyond(Some(2.0)));
-    assert_eq!(comparison.outcome, Outcome::Unsettled);
+    assert_eq!(comparison.outcome, ComparisonOutcome::Unsettled);
     assert_eq!(c1.verdict, Verdict::Equivalent);
     // Without a margin the same comparison favours EA-MADM.
     let none = ClaimOptions {
@@ -331,7 +331,7 @@ fn an_effect_within_the_margin_never_favours_a_side() {
         .into_iter()
         .find(|j| j.claim.id == "C1")
         .unwrap();
-    assert_eq!(c1.comparisons[0].outcome, Outcome::FavoursMethod);
+    assert_eq!(c1.comparisons[0].outcome, ComparisonOutcome::FavoursMethod);
     assert_eq!(c1.verdict, Verdict::Supported);
 }
 
@@ -490,8 +490,8 @@ fn a_method_that_never_reaches_while_a_competitor_does_is_contradicted_by_a_sign
     assert_eq!((greedy.reached, greedy.discordant), ((0, 3), (0, 3)));
     assert!((greedy.p_value - 0.25).abs() < 1e-15);
     assert!((greedy.p_holm - 0.25).abs() < 1e-15);
-    assert_eq!(softmax.outcome, Outcome::FavoursCompetitor);
-    assert_eq!(greedy.outcome, Outcome::Unsettled);
+    assert_eq!(softmax.outcome, ComparisonOutcome::FavoursCompetitor);
+    assert_eq!(greedy.outcome, ComparisonOutcome::Unsettled);
     // claims.csv carries each reaching test as a `reached` row with the verdict.
     let rows = claims::rows(std::slice::from_ref(&judgement), &[]);
     let reached: Vec<_> = rows

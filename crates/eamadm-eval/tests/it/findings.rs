@@ -5,7 +5,7 @@ use eamadm_eval::Role;
 use eamadm_eval::claims::{ClaimOptions, Margin, Margins, Verdict, claim_columns};
 use eamadm_eval::facts::{
     ControlFamily, ExperimentFacts, Figures, MethodFacts, PaperFigures, PredictionFacts,
-    ReportContext, RewardReading, SubtaskReference,
+    ReportContext, RewardReference, SubtaskReference,
 };
 use eamadm_eval::findings::{
     AggregatorFinding, Cause, Deciding, Estimand, FINDINGS_FORMAT, Findings, Rejudgement,
@@ -84,7 +84,7 @@ fn methods() -> Vec<MethodFacts> {
     ]
 }
 
-fn context(reward_readings: Vec<RewardReading>) -> ReportContext {
+fn context(reward_references: Vec<RewardReference>) -> ReportContext {
     ReportContext {
         quick: false,
         paper_tasks: Vec::new(),
@@ -100,7 +100,7 @@ fn context(reward_readings: Vec<RewardReading>) -> ReportContext {
             gamma: 0.95,
             figures: Figures::default(),
             behaviour: Vec::new(),
-            reward_readings,
+            reward_references,
             final_epsilon: Vec::new(),
             margins: Vec::new(),
             methods: methods(),
@@ -360,7 +360,7 @@ fn the_readings_say_which_verdicts_flip_under_which_reading() {
 /// and that is the cause.
 #[test]
 fn a_method_that_never_reaches_is_explained_by_its_rewards() {
-    let reading = RewardReading {
+    let reading = RewardReference {
         repairs: Vec::new(),
         methods: vec!["ea-madm".to_owned()],
         reach_steps: 14,

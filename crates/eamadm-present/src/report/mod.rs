@@ -71,7 +71,7 @@ mod words;
 pub use answer::readme_answer;
 pub use eamadm_eval::facts::{
     ExperimentFacts, Figures, FinalEpsilon, NotDrawn, PaperTaskFacts, Play, ReadingFacts,
-    ReportContext, RewardReading, SubtaskReference,
+    ReportContext, RewardReference, SubtaskReference,
 };
 pub use verdicts::readme_verdicts;
 
@@ -243,7 +243,7 @@ pub(crate) mod tests {
             gamma: 0.95,
             figures: Figures::default(),
             behaviour: Vec::new(),
-            reward_readings: Vec::new(),
+            reward_references: Vec::new(),
             final_epsilon: Vec::new(),
             margins: Vec::new(),
             methods: vec![

@@ -3,15 +3,15 @@
 //! evidence (per-seed reaching, the exact test, and why from the diagnosis), "why each method
 //! behaves as it does" from [`MethodBehaviour`] (success with its Wilson interval, the final
 //! window's endings and action shares, and for EA-MADM its agreement with each sub-task's best
-//! action), and the diagnosis: what each sub-task's reward definition (Eq. 6–8, and each
-//! repaired reading) makes of reaching, ending the episode at once and idling, beside what
-//! its learner learned to expect from the start ([`RewardReading`]).
+//! action), and the diagnosis: what each sub-task's reward definition (Eq. 6–8, and with each set of
+//! repairs) makes of reaching, ending the episode at once and idling, beside what
+//! its learner learned to expect from the start ([`RewardReference`]).
 
 use std::fmt::Write as _;
 
 use super::format::{Align, MarkdownTable, format_fixed, interval, number, p_value};
 use super::task::estimate_cell;
-use super::{ExperimentFacts, Play, RewardReading, SubtaskReference, Verdicts};
+use super::{ExperimentFacts, Play, RewardReference, SubtaskReference, Verdicts};
 use eamadm_eval::Role;
 use eamadm_eval::behaviour::MethodBehaviour;
 use eamadm_eval::claims::{Judgement, MethodOverview, Verdict};
@@ -214,8 +214,8 @@ fn write_c4_verdicts(
 
 /// One method's C4 verdict in words: reproduced or not, the per-seed reaching counts with the
 /// exact test when it is judged on reaching (else the deciding comparison), and for a method
-/// that never reaches the diagnosis of its sub-task rewards. `explained` holds `(reading,
-/// method)` of the readings already explained in the list, so a later method on the same
+/// that never reaches the diagnosis of its sub-task rewards. `explained` holds `(rewards,
+/// method)` of the references already explained in the list, so a later method on the same
 /// sub-task rewards refers to the first instead of repeating it.
 pub(crate) fn c4_sentence(
     judgement: &Judgement,
@@ -260,17 +260,17 @@ pub(crate) fn c4_sentence(
     let never = overviews
         .iter()
         .any(|o| o.method == judgement.method && never_reaches(o));
-    let reading = experiment
-        .reward_readings
+    let rewards = experiment
+        .reward_references
         .iter()
         .find(|r| r.methods.iter().any(|m| m == &judgement.method))
-        .map(reading_name);
-    let why = match reading {
-        Some(reading) if never => {
-            if let Some((_, first)) = explained.iter().find(|(r, _)| *r == reading) {
+        .map(rewards_name);
+    let why = match rewards {
+        Some(rewards) if never => {
+            if let Some((_, first)) = explained.iter().find(|(r, _)| *r == rewards) {
                 format!(" Why: the same sub-task rewards as {first} above.")
             } else {
-                explained.push((reading, method_title(&judgement.method)));
+                explained.push((rewards, method_title(&judgement.method)));
                 why_never(experiment, &judgement.method)
                     .map_or_else(String::new, |why| format!(" {why}"))
             }
@@ -284,57 +284,57 @@ pub(crate) fn c4_sentence(
     )
 }
 
-/// How a sentence names a reading of the sub-task rewards.
-fn reading_name(reading: &RewardReading) -> String {
-    if reading.repairs.is_empty() {
+/// How a sentence names a version of the sub-task rewards.
+fn rewards_name(rewards: &RewardReference) -> String {
+    if rewards.repairs.is_empty() {
         "the paper's sub-task rewards (Eq. 6–8)".to_owned()
     } else {
-        format!("the sub-task rewards with {}", join(&reading.repairs))
+        format!("the sub-task rewards with {}", join(&rewards.repairs))
     }
 }
 
-/// A reading's name in a table cell.
-fn reading_cell(reading: &RewardReading) -> String {
-    if reading.repairs.is_empty() {
+/// A rewards's name in a table cell.
+fn rewards_cell(rewards: &RewardReference) -> String {
+    if rewards.repairs.is_empty() {
         "paper (Eq. 6–8)".to_owned()
     } else {
-        reading.repairs.join(" + ")
+        rewards.repairs.join(" + ")
     }
 }
 
-/// The behaviour whose sub-tasks learned from `reading`: `preferred` when it is one of them
-/// and has sub-tasks, else the first of the reading's methods that has.
+/// The behaviour whose sub-tasks learned from `rewards`: `preferred` when it is one of them
+/// and has sub-tasks, else the first of the rewards's methods that has.
 fn learner_of<'a>(
     experiment: &'a ExperimentFacts,
-    reading: &RewardReading,
+    rewards: &RewardReference,
     preferred: Option<&str>,
 ) -> Option<&'a MethodBehaviour> {
     let with_subtasks = |label: &str| {
         experiment
             .behaviour
             .iter()
-            .find(|b| b.method == label && b.subtasks.len() == reading.subtasks.len())
+            .find(|b| b.method == label && b.subtasks.len() == rewards.subtasks.len())
     };
     preferred
-        .filter(|p| reading.methods.iter().any(|m| m == p))
+        .filter(|p| rewards.methods.iter().any(|m| m == p))
         .and_then(with_subtasks)
-        .or_else(|| reading.methods.iter().find_map(|m| with_subtasks(m)))
+        .or_else(|| rewards.methods.iter().find_map(|m| with_subtasks(m)))
 }
 
-/// Why `method` (which never reaches) does not, from the reading of the sub-task rewards it
+/// Why `method` (which never reaches) does not, from the version of the sub-task rewards it
 /// learns from; `None` when it learns from none.
 pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<String> {
-    let reading = experiment
-        .reward_readings
+    let rewards = experiment
+        .reward_references
         .iter()
         .find(|r| r.methods.iter().any(|m| m == method))?;
-    let values: Vec<String> = reading
+    let values: Vec<String> = rewards
         .subtasks
         .iter()
         .map(|s| format!("*{}* {}", s.name, s.best_play().words()))
         .collect();
-    let learned = learner_of(experiment, reading, Some(method)).map_or_else(String::new, |b| {
-        let closest: Vec<String> = reading
+    let learned = learner_of(experiment, rewards, Some(method)).map_or_else(String::new, |b| {
+        let closest: Vec<String> = rewards
             .subtasks
             .iter()
             .zip(&b.subtasks)
@@ -351,7 +351,7 @@ pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<St
             join(&closest)
         )
     });
-    let paying = reading
+    let paying = rewards
         .subtasks
         .iter()
         .filter(|s| s.reaching_pays())
@@ -361,7 +361,7 @@ pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<St
             "Why: under {} no sub-task's reward values reaching above both ending the episode \
              at once and idling (each values most: {}){learned}, so no aggregation of their \
              values leads to the target (the diagnosis below).",
-            reading_name(reading),
+            rewards_name(rewards),
             join(&values)
         )
     } else {
@@ -369,9 +369,9 @@ pub(crate) fn why_never(experiment: &ExperimentFacts, method: &str) -> Option<St
             "Why: under {} {} of {} sub-tasks value reaching most (each values most: {}){learned}; \
              the aggregation of their values still does not lead to the target (the diagnosis \
              below).",
-            reading_name(reading),
+            rewards_name(rewards),
             paying,
-            reading.subtasks.len(),
+            rewards.subtasks.len(),
             join(&values)
         )
     })
@@ -438,7 +438,7 @@ fn share_of(count: u64, total: u64) -> f64 {
 /// Appends the behaviour section of a robot experiment to `text`: its methods' behaviour
 /// (`experiment.behaviour`, from [`behaviour()`](eamadm_eval::behaviour()) or a
 /// [`BehaviourAccumulator`](eamadm_eval::BehaviourAccumulator) fed its runs), how their episodes end,
-/// EA-MADM's sub-tasks, and the diagnosis of the sub-task rewards (`experiment.reward_readings`);
+/// EA-MADM's sub-tasks, and the diagnosis of the sub-task rewards (`experiment.reward_references`);
 /// `action_names` in the order of the action shares; `ea` is the paper's EA-MADM, whose
 /// sub-tasks are detailed. A method that scores as an earlier one on every seed (`found`) is
 /// one row of the table: its group's.
@@ -505,7 +505,7 @@ pub(crate) fn write_robot_behaviour(
     write_diagnosis(text, experiment, overviews, ea);
 }
 
-/// The diagnosis: per reading of the sub-task rewards, what each sub-task's reward definition
+/// The diagnosis: per version of the sub-task rewards (the paper's, or with repairs), what each sub-task's reward definition
 /// makes of three ways to play beside what its learner learned, then sentences from it.
 fn write_diagnosis(
     text: &mut String,
@@ -513,7 +513,7 @@ fn write_diagnosis(
     overviews: &[&MethodOverview],
     ea: Option<&str>,
 ) {
-    let Some(first) = experiment.reward_readings.first() else {
+    let Some(first) = experiment.reward_references.first() else {
         return;
     };
     let _ = writeln!(
@@ -539,14 +539,14 @@ fn write_diagnosis(
         ("closest to", Align::Left),
         ("learned by", Align::Left),
     ]);
-    for reading in &experiment.reward_readings {
-        let learner = learner_of(experiment, reading, ea);
-        for (k, s) in reading.subtasks.iter().enumerate() {
+    for rewards in &experiment.reward_references {
+        let learner = learner_of(experiment, rewards, ea);
+        for (k, s) in rewards.subtasks.iter().enumerate() {
             let learned = learner
                 .and_then(|b| b.subtasks.get(k))
                 .map(|b| b.learned_start_value);
             let _ = table.push_row([
-                reading_cell(reading),
+                rewards_cell(rewards),
                 s.name.clone(),
                 number(s.reach),
                 number(s.lose_at_once),
@@ -560,10 +560,10 @@ fn write_diagnosis(
     }
     text.push_str(&table.render());
     text.push('\n');
-    for reading in &experiment.reward_readings {
-        let learner = learner_of(experiment, reading, ea);
-        if reading.repairs.is_empty() {
-            for (k, s) in reading.subtasks.iter().enumerate() {
+    for rewards in &experiment.reward_references {
+        let learner = learner_of(experiment, rewards, ea);
+        if rewards.repairs.is_empty() {
+            for (k, s) in rewards.subtasks.iter().enumerate() {
                 let learned = learner
                     .and_then(|b| b.subtasks.get(k))
                     .map(|b| b.learned_start_value);
@@ -574,7 +574,7 @@ fn write_diagnosis(
                 );
             }
         }
-        let _ = writeln!(text, "- {}", reading_outcome(reading, overviews));
+        let _ = writeln!(text, "- {}", rewards_outcome(rewards, overviews));
     }
     text.push('\n');
 }
@@ -625,12 +625,12 @@ pub(crate) fn subtask_sentence(
     sentence
 }
 
-/// Which of the methods learning from `reading` reach the target at all (any seed, training
-/// or greedy), and whether the reading's rewards value reaching.
-pub(crate) fn reading_outcome(reading: &RewardReading, overviews: &[&MethodOverview]) -> String {
+/// Which of the methods learning from `rewards` reach the target at all (any seed, training
+/// or greedy), and whether those rewards value reaching.
+pub(crate) fn rewards_outcome(rewards: &RewardReference, overviews: &[&MethodOverview]) -> String {
     let learners: Vec<&&MethodOverview> = overviews
         .iter()
-        .filter(|o| reading.methods.iter().any(|m| m == &o.method))
+        .filter(|o| rewards.methods.iter().any(|m| m == &o.method))
         .collect();
     let reaching: Vec<String> = learners
         .iter()
@@ -644,13 +644,13 @@ pub(crate) fn reading_outcome(reading: &RewardReading, overviews: &[&MethodOverv
             )
         })
         .collect();
-    let paying: Vec<String> = reading
+    let paying: Vec<String> = rewards
         .subtasks
         .iter()
         .filter(|s| s.reaching_pays())
         .map(|s| format!("*{}*", s.name))
         .collect();
-    let rewards = if paying.is_empty() {
+    let values = if paying.is_empty() {
         "no sub-task's reward values reaching most".to_owned()
     } else {
         format!(
@@ -675,11 +675,11 @@ pub(crate) fn reading_outcome(reading: &RewardReading, overviews: &[&MethodOverv
             join(&reaching)
         ),
     };
-    let mut first = reading_name(reading);
+    let mut first = rewards_name(rewards);
     if let Some(c) = first.get(..1) {
         first = c.to_uppercase() + &first[1..];
     }
-    format!("{first}: {rewards}, and {outcome}.")
+    format!("{first}: {values}, and {outcome}.")
 }
 
 fn write_subtasks(
@@ -801,7 +801,7 @@ mod tests {
 
     fn experiment(
         behaviour: Vec<MethodBehaviour>,
-        readings: Vec<RewardReading>,
+        references: Vec<RewardReference>,
     ) -> ExperimentFacts {
         ExperimentFacts {
             name: "robot".to_owned(),
@@ -811,7 +811,7 @@ mod tests {
             gamma: 0.95,
             figures: super::super::Figures::default(),
             behaviour,
-            reward_readings: readings,
+            reward_references: references,
             final_epsilon: Vec::new(),
             margins: Vec::new(),
             methods: Vec::new(),
@@ -845,13 +845,13 @@ mod tests {
         }
     }
 
-    /// The paper's reading with the literal values of the default run (docs/paper-notes.md
-    /// §8.6), and a goal-bonus reading under which *reach* values reaching most.
-    fn readings() -> Vec<RewardReading> {
+    /// The paper's rewards with the literal values of the default run (docs/paper-notes.md
+    /// §8.6), and the goal-bonus repair under which *reach* values reaching most.
+    fn references() -> Vec<RewardReference> {
         let mut reach = reference("reach", [-4.6, -0.78, -15.6]);
         reach.alone = vec![("subtask0-alone-learning".to_owned(), true)];
         vec![
-            RewardReading {
+            RewardReference {
                 repairs: Vec::new(),
                 methods: vec!["ea-madm".to_owned(), "subtask0-alone-learning".to_owned()],
                 reach_steps: 14,
@@ -862,7 +862,7 @@ mod tests {
                     reference("view", [20.5, -10.0, 40.0]),
                 ],
             },
-            RewardReading {
+            RewardReference {
                 repairs: vec!["goal bonus for reach".to_owned()],
                 methods: vec!["ea-madm-goal-bonus".to_owned()],
                 reach_steps: 14,
@@ -955,7 +955,7 @@ mod tests {
     fn c4_is_not_reproduced_with_the_counts_the_test_and_why() {
         let v = verdicts(&PAPER_SET);
         let overviews: Vec<&MethodOverview> = v.overviews.iter().collect();
-        let facts = experiment(behaviour(), readings());
+        let facts = experiment(behaviour(), references());
         let judgement = |method: &str| {
             v.judgements
                 .iter()
@@ -984,7 +984,7 @@ mod tests {
             paper.contains("*reach* ending the episode at once, *avoid* ending the episode at once and *view* idling to the step cap"),
             "{paper}"
         );
-        // The repaired reading: one sub-task values reaching, and the learned values follow
+        // The repaired rewards: one sub-task values reaching, and the learned values follow
         // the variant's own sub-tasks.
         let bonus = c4_sentence(
             judgement("ea-madm-goal-bonus"),
@@ -1010,7 +1010,7 @@ mod tests {
             again.ends_with(" Why: the same sub-task rewards as EA-MADM above."),
             "{again}"
         );
-        // Without a reading (a method on no sub-task rewards) there is no why.
+        // Without sub-task rewards (a method on no sub-task rewards) there is no why.
         assert_eq!(
             why_never(&experiment(behaviour(), Vec::new()), "ea-madm"),
             None
@@ -1049,7 +1049,7 @@ mod tests {
     }
 
     #[test]
-    fn the_answers_why_names_the_reading_and_whether_any_sub_task_values_reaching() {
+    fn the_answers_why_names_the_rewards_and_whether_any_sub_task_values_reaching() {
         let diagnosis = |repairs: &[&str], paying: [bool; 3]| eamadm_eval::findings::Diagnosis {
             repairs: repairs.iter().map(|r| (*r).to_owned()).collect(),
             subtasks: ["reach", "avoid", "view"]
@@ -1085,7 +1085,7 @@ mod tests {
         assert!(j.reaching.is_empty());
         let sentence = c4_sentence(
             j,
-            &experiment(behaviour(), readings()),
+            &experiment(behaviour(), references()),
             &overviews,
             &mut Vec::new(),
         );
@@ -1116,7 +1116,7 @@ mod tests {
     #[test]
     fn each_subtask_sentence_names_what_its_reward_values_most() {
         let [reach, avoid, view] =
-            <[SubtaskReference; 3]>::try_from(readings()[0].subtasks.clone()).unwrap();
+            <[SubtaskReference; 3]>::try_from(references()[0].subtasks.clone()).unwrap();
         let sentence = subtask_sentence(&reach, Some(-1.19), &behaviour());
         assert_eq!(
             sentence,
@@ -1137,19 +1137,19 @@ mod tests {
     }
 
     #[test]
-    fn a_readings_outcome_lists_its_learners_that_reach_or_none() {
+    fn a_rewards_outcome_lists_its_learners_that_reach_or_none() {
         let v = verdicts(&PAPER_SET);
         let overviews: Vec<&MethodOverview> = v.overviews.iter().collect();
-        let paper = reading_outcome(&readings()[0], &overviews);
+        let paper = rewards_outcome(&references()[0], &overviews);
         assert_eq!(
             paper,
             "The paper's sub-task rewards (Eq. 6–8): no sub-task's reward values reaching most, \
              and none of its 2 learners (`ea-madm`, `subtask0-alone-learning`) reaches the \
              target on any seed."
         );
-        let mut reading = readings()[1].clone();
-        reading.methods.push("softmax".to_owned());
-        let bonus = reading_outcome(&reading, &overviews);
+        let mut rewards = references()[1].clone();
+        rewards.methods.push("softmax".to_owned());
+        let bonus = rewards_outcome(&rewards, &overviews);
         assert!(bonus.starts_with("The sub-task rewards with goal bonus for reach: *reach* values reaching most, and of its 2 learners, 1 reaches the target: softmax (8/8 seeds in training)."), "{bonus}");
     }
 
@@ -1174,7 +1174,7 @@ mod tests {
     fn the_robot_sections_read_as_pinned() {
         let v = verdicts(&PAPER_SET);
         let overviews: Vec<&MethodOverview> = v.overviews.iter().collect();
-        let facts = experiment(behaviour(), readings());
+        let facts = experiment(behaviour(), references());
         let names: Vec<String> = ["forward", "left", "right", "back", "stop"]
             .map(str::to_owned)
             .to_vec();

@@ -9,7 +9,9 @@ use super::format::{
 };
 use super::{ExperimentFacts, Figures, FinalEpsilon, ReportContext, Verdicts};
 use eamadm_eval::Role;
-use eamadm_eval::claims::{self, ControlComparison, Estimate, Judgement, MethodOverview, Outcome};
+use eamadm_eval::claims::{
+    self, ComparisonOutcome, ControlComparison, Estimate, Judgement, MethodOverview,
+};
 use eamadm_eval::facts::ControlFamily;
 use eamadm_eval::findings::TaskFindings;
 use eamadm_eval::paper_claims::method_title;
@@ -299,12 +301,16 @@ fn write_comparisons(text: &mut String, task: &str, verdicts: &Verdicts) {
                 format_fixed(c.p_improvement, 2),
                 match c.outcome {
                     _ if !c.informative => "nothing: one value on both sides".to_owned(),
-                    Outcome::FavoursMethod => "EA-MADM better".to_owned(),
-                    Outcome::FavoursCompetitor => format!("{} better", method_title(&c.versus)),
-                    Outcome::Unsettled if claims::is_equivalent(c, verdicts.options.alpha) => {
+                    ComparisonOutcome::FavoursMethod => "EA-MADM better".to_owned(),
+                    ComparisonOutcome::FavoursCompetitor => {
+                        format!("{} better", method_title(&c.versus))
+                    }
+                    ComparisonOutcome::Unsettled
+                        if claims::is_equivalent(c, verdicts.options.alpha) =>
+                    {
                         "equivalent".to_owned()
                     }
-                    Outcome::Unsettled => "nothing".to_owned(),
+                    ComparisonOutcome::Unsettled => "nothing".to_owned(),
                 },
                 interval(&c.iqm_difference),
             ]);

@@ -6,7 +6,7 @@ use nalgebra::Vector2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use wmr_model::{
-    Action, Outcome, PlannerParams, Scenario, StateParams, TaskReward, WmrEnv, shortest_plan,
+    Action, EpisodeStatus, PlannerParams, Scenario, StateParams, TaskReward, WmrEnv, shortest_plan,
     tabular_policy,
 };
 
@@ -33,20 +33,20 @@ fn default_scenario_is_valid_and_sized_as_documented() {
     );
     // The start sees the target and no obstacle is closer than the planner's route needs.
     assert!(env.camera_view().target_in_view);
-    assert_eq!(env.outcome(), Outcome::Running);
+    assert_eq!(env.status(), EpisodeStatus::Running);
 }
 
 /// Replays `actions` from a fresh episode and returns the final outcome, checking the
 /// episode does not end early.
-fn replay(env: &mut WmrEnv, actions: &[Action]) -> Outcome {
+fn replay(env: &mut WmrEnv, actions: &[Action]) -> EpisodeStatus {
     env.reset(Some(11));
     for (i, action) in actions.iter().enumerate() {
         let step = env.step(action.index());
         assert!(step.reward.is_finite());
         let last = i + 1 == actions.len();
-        assert_eq!(step.done(), last, "step {i}: {:?}", env.outcome());
+        assert_eq!(step.done(), last, "step {i}: {:?}", env.status());
     }
-    env.outcome()
+    env.status()
 }
 
 #[test]
@@ -55,7 +55,7 @@ fn the_planner_route_reaches_the_target_in_the_environment() {
     let plan = shortest_plan(&scenario, &PlannerParams::default()).expect("solvable");
     assert_eq!(plan.actions.len(), 34);
     let mut env = WmrEnv::default();
-    assert_eq!(replay(&mut env, &plan.actions), Outcome::Reached);
+    assert_eq!(replay(&mut env, &plan.actions), EpisodeStatus::Reached);
     let metrics = env.metrics();
     assert_eq!(metrics.steps, 34);
     assert!((metrics.time_to_reach.expect("reached") - 34.0 * 0.2).abs() < 1e-9);
@@ -102,7 +102,7 @@ fn a_scripted_waypoint_controller_reaches_the_target() {
             break;
         }
     }
-    assert_eq!(env.outcome(), Outcome::Reached);
+    assert_eq!(env.status(), EpisodeStatus::Reached);
     assert!(env.metrics().steps <= 40, "{}", env.metrics().steps);
 }
 
@@ -122,7 +122,7 @@ fn a_deterministic_table_over_the_discrete_state_solves_the_task() {
             break;
         }
     }
-    assert_eq!(env.outcome(), Outcome::Reached);
+    assert_eq!(env.status(), EpisodeStatus::Reached);
     assert_eq!(steps, table.plan.actions.len());
 }
 
@@ -144,7 +144,7 @@ fn random_policy_episodes_are_short_and_well_formed() {
                 break;
             }
         }
-        assert!(env.outcome().is_done());
+        assert!(env.status().is_done());
         total_steps += env.metrics().steps;
         // Stepping a finished episode is harmless.
         let after = env.step(0);
@@ -216,7 +216,7 @@ fn the_planner_refuses_unusable_resolutions() {
 
 /// Discounted return (γ = 0.95) of `actions` replayed from the start under `task`, and the
 /// outcome.
-fn discounted_return(task: TaskReward, actions: &[Action]) -> (f64, Outcome) {
+fn discounted_return(task: TaskReward, actions: &[Action]) -> (f64, EpisodeStatus) {
     let mut scenario = Scenario::default_scenario();
     scenario.reward.task = task;
     let mut env = WmrEnv::new(scenario).expect("the default scenario is valid");
@@ -230,7 +230,7 @@ fn discounted_return(task: TaskReward, actions: &[Action]) -> (f64, Outcome) {
         }
     }
     let value = rewards.iter().rev().fold(0.0, |acc, r| r + 0.95 * acc);
-    (value, env.outcome())
+    (value, env.status())
 }
 
 #[test]
@@ -251,9 +251,9 @@ fn the_subtask_sum_pays_about_as_much_for_standing_still_as_for_reaching() {
     };
     let sum = TaskReward::SubtaskSum;
     let (stay, route, by_table) = (
-        value(sum, &stop, Outcome::Truncated),
-        value(sum, &plan.actions, Outcome::Reached),
-        value(sum, &table.plan.actions, Outcome::Reached),
+        value(sum, &stop, EpisodeStatus::Truncated),
+        value(sum, &plan.actions, EpisodeStatus::Reached),
+        value(sum, &table.plan.actions, EpisodeStatus::Reached),
     );
     // Standing still is worth two thirds of the best route and as much as the table's run.
     assert!(stay > 20.0 && stay > 0.6 * route, "{stay} vs {route}");
@@ -261,9 +261,9 @@ fn the_subtask_sum_pays_about_as_much_for_standing_still_as_for_reaching() {
 
     let progress = TaskReward::default();
     let (stay, route, by_table) = (
-        value(progress, &stop, Outcome::Truncated),
-        value(progress, &plan.actions, Outcome::Reached),
-        value(progress, &table.plan.actions, Outcome::Reached),
+        value(progress, &stop, EpisodeStatus::Truncated),
+        value(progress, &plan.actions, EpisodeStatus::Reached),
+        value(progress, &table.plan.actions, EpisodeStatus::Reached),
     );
     assert!((stay + 20.0).abs() < 1e-3, "{stay}");
     assert!(route > 30.0 && by_table > 0.0, "{route}, {by_table}");

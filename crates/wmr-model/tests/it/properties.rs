@@ -153,7 +153,7 @@ proptest! {
             prop_assert!(env.world().clearance(&centre(env.pose()), radius) >= 0.0);
             prop_assert!(step.next_state < env.n_states());
             prop_assert!(step.reward.is_finite());
-            prop_assert!(env.readings().iter().all(|c| (0.0..=1.0).contains(c)));
+            prop_assert!(env.sensor_values().iter().all(|c| (0.0..=1.0).contains(c)));
             if step.done() {
                 break;
             }
@@ -348,11 +348,11 @@ proptest! {
         }
     }
 
-    /// `add_noise` (draws first, then the arithmetic) adds `C_noise · ξ` reading by reading,
-    /// each ξ a `standard_normalish` draw in reading order, and clamps, bit for bit.
+    /// `add_noise` (draws first, then the arithmetic) adds `C_noise · ξ` value by value,
+    /// each ξ a `standard_normalish` draw in sensor order, and clamps, bit for bit.
     #[test]
     fn noise_is_added_draw_by_draw(
-        readings in prop::array::uniform8(0.0..=1.0),
+        sensor_values in prop::array::uniform8(0.0..=1.0),
         noise in prop_oneof![Just(0.02), 0.0..1.0],
         seed in any::<u64>(),
         skip in 0usize..3,
@@ -363,13 +363,13 @@ proptest! {
             rng.next_u32();
         }
         let mut same = rng.clone();
-        let mut noisy = readings;
+        let mut noisy = sensor_values;
         sensors.add_noise(&mut noisy, &mut rng);
-        for (reading, noisy) in readings.iter().zip(noisy) {
+        for (value, noisy) in sensor_values.iter().zip(noisy) {
             let plain = if noise == 0.0 {
-                *reading
+                *value
             } else {
-                (reading + noise * standard_normalish(&mut same)).clamp(0.0, 1.0)
+                (value + noise * standard_normalish(&mut same)).clamp(0.0, 1.0)
             };
             prop_assert_eq!(noisy.to_bits(), plain.to_bits());
         }
@@ -604,7 +604,7 @@ fn everything_shown(env: &WmrEnv, step: &dql::Step) -> String {
     format!(
         "{step:?} {:?} {:?} {:?} {:?} {:?} {:?} {}",
         env.pose(),
-        env.readings(),
+        env.sensor_values(),
         env.camera_view(),
         env.subtask_rewards(),
         env.metrics(),
@@ -637,7 +637,7 @@ proptest! {
             actions.extend(tail);
             let mut fresh = WmrEnv::new(scenario.clone()).unwrap();
             prop_assert_eq!(seasoned.reset(Some(seed)), fresh.reset(Some(seed)));
-            prop_assert_eq!(format!("{:?}", seasoned.readings()), format!("{:?}", fresh.readings()));
+            prop_assert_eq!(format!("{:?}", seasoned.sensor_values()), format!("{:?}", fresh.sensor_values()));
             for action in actions {
                 let (a, b) = (seasoned.step(action), fresh.step(action));
                 prop_assert_eq!(everything_shown(&seasoned, &a), everything_shown(&fresh, &b));
@@ -649,7 +649,7 @@ proptest! {
     }
 
     /// Without noise, what the robot senses after every step (remembered or not) is what
-    /// `observe` measures from its pose: the readings are the proximities, the view is the
+    /// `observe` measures from its pose: the sensor values are the proximities, the view is the
     /// view, bit for bit.
     #[test]
     fn what_the_robot_senses_is_what_it_observes_from_its_pose(
@@ -665,7 +665,7 @@ proptest! {
                 env.reset(None);
             }
             let seen = env.observe(env.pose());
-            prop_assert_eq!(format!("{:?}", env.readings()), format!("{:?}", seen.proximities));
+            prop_assert_eq!(format!("{:?}", env.sensor_values()), format!("{:?}", seen.proximities));
             prop_assert_eq!(format!("{:?}", env.camera_view()), format!("{:?}", seen.view));
         }
     }
@@ -674,7 +674,7 @@ proptest! {
     /// and `avoid`, bit for bit.
     #[test]
     fn subtask_rewards_are_eq_6_and_7(
-        readings in prop::array::uniform8(0.0..=1.0),
+        sensor_values in prop::array::uniform8(0.0..=1.0),
         (k, p, f) in (0.0..5.0, 0.1..9.0, 0.0..1.0),
         (target_distance, rad) in (0.0..3.0, 0.0..3.2),
         (hit, lost, reached) in (any::<bool>(), any::<bool>(), any::<bool>()),
@@ -682,7 +682,7 @@ proptest! {
         let reward = RewardParams { k, p, f, ..RewardParams::default() };
         let inputs = RewardInputs {
             target_distance,
-            readings: &readings,
+            sensor_values: &sensor_values,
             noise: 0.02,
             rad,
             hit,

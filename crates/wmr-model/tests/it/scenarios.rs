@@ -246,7 +246,7 @@ fn the_task_reward_is_chosen_in_the_reward_section() {
 #[test]
 fn end_penalty_repair_charges_every_sub_task_for_losing_the_target() {
     use dql::Environment;
-    use wmr_model::{Action, Outcome, SubtaskRepairs, WmrEnv};
+    use wmr_model::{Action, EpisodeStatus, SubtaskRepairs, WmrEnv};
     let mut repaired = wmr_model::Scenario::default_scenario();
     repaired.reward.repairs = SubtaskRepairs {
         end_penalties: true,
@@ -260,12 +260,12 @@ fn end_penalty_repair_charges_every_sub_task_for_losing_the_target() {
     for _ in 0..200 {
         paper.step_action(Action::LeftForward);
         ended.step_action(Action::LeftForward);
-        if ended.outcome().is_done() {
+        if ended.status().is_done() {
             break;
         }
     }
-    assert_eq!(ended.outcome(), Outcome::LostTarget);
-    assert_eq!(paper.outcome(), Outcome::LostTarget);
+    assert_eq!(ended.status(), EpisodeStatus::LostTarget);
+    assert_eq!(paper.status(), EpisodeStatus::LostTarget);
     assert_eq!(ended.subtask_rewards(), &[-10.0; 3]);
     let literal = paper.subtask_rewards();
     assert_eq!(literal[2], -10.0);

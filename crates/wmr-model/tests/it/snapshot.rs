@@ -8,7 +8,7 @@ use wmr_model::{EpisodeSnapshot, Scenario, SnapshotError, WmrEnv};
 
 /// Everything observable after one step, as bits.
 fn observed(env: &WmrEnv, step: Option<Step>) -> Vec<u64> {
-    let mut bits: Vec<u64> = env.readings().iter().map(|r| r.to_bits()).collect();
+    let mut bits: Vec<u64> = env.sensor_values().iter().map(|r| r.to_bits()).collect();
     bits.extend(env.subtask_rewards().iter().map(|r| r.to_bits()));
     let m = env.metrics();
     bits.extend([
@@ -105,4 +105,24 @@ fn a_snapshot_of_another_environment_is_refused_and_changes_nothing() {
     text["path"] = serde_json::json!([]);
     let no_path: EpisodeSnapshot = serde_json::from_value(text).unwrap();
     assert_eq!(env.restore(&no_path), Err(SnapshotError::Path));
+}
+
+/// A snapshot written before issue 36 renamed its fields (`readings` → `sensor_values`,
+/// `metrics.outcome` → `metrics.status`) still reads, as the same snapshot: a pickled Python
+/// environment of an earlier version unpickles.
+#[test]
+fn a_snapshot_with_the_old_field_names_reads_as_the_same_snapshot() {
+    let mut env = WmrEnv::new(Scenario::default_scenario()).unwrap();
+    env.reset(Some(3));
+    env.step(0);
+    let snapshot = env.snapshot();
+    let mut old = serde_json::to_value(&snapshot).unwrap();
+    let object = old.as_object_mut().unwrap();
+    let values = object.remove("sensor_values").unwrap();
+    object.insert("readings".to_owned(), values);
+    let metrics = object["metrics"].as_object_mut().unwrap();
+    let status = metrics.remove("status").unwrap();
+    metrics.insert("outcome".to_owned(), status);
+    let read: EpisodeSnapshot = serde_json::from_value(old).unwrap();
+    assert_eq!(read, snapshot);
 }

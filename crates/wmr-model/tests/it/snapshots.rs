@@ -62,7 +62,7 @@ fn describe(env: &WmrEnv, x: f64, y: f64, heading: f64) -> String {
     let scenario = env.scenario();
     let inputs = RewardInputs {
         target_distance: seen.target_distance,
-        readings: &noisy,
+        sensor_values: &noisy,
         noise: scenario.sensors.noise,
         rad: seen
             .view
