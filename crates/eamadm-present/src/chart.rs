@@ -1430,7 +1430,19 @@ impl LineChart {
             );
         }
         svg.push_str("</g>\n");
-        seeds_axis_label(svg, &frame, room)
+        let y = (frame.top + frame.bottom) / 2.0;
+        let x = frame.left - room + AXIS_FONT;
+        let _ = writeln!(
+            svg,
+            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
+             transform=\"rotate(-90 {} {})\">seeds</text>",
+            px(x),
+            px(y),
+            px(AXIS_FONT),
+            px(x),
+            px(y)
+        );
+        frame.bottom + TICK_FONT + 10.0
     }
 
     /// The panel under `main` of the seeds each line is the IQM of, per episode: a step line
@@ -1496,7 +1508,19 @@ impl LineChart {
             );
         }
         svg.push_str("</g>\n");
-        seeds_axis_label(svg, &frame, room)
+        let y = (frame.top + frame.bottom) / 2.0;
+        let x = frame.left - room + AXIS_FONT;
+        let _ = writeln!(
+            svg,
+            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
+             transform=\"rotate(-90 {} {})\">seeds</text>",
+            px(x),
+            px(y),
+            px(AXIS_FONT),
+            px(x),
+            px(y)
+        );
+        frame.bottom + TICK_FONT + 10.0
     }
 
     /// The strip under `main` of the seeds that collapsed: a row per series with a seed's
@@ -2117,22 +2141,4 @@ mod tests {
             }
         }
     }
-}
-
-/// Closes a strip panel: its rotated "seeds" label left of `frame`, `room` from the axis; returns
-/// where the next panel starts (the one place both strips draw it, so they stay alike).
-fn seeds_axis_label(svg: &mut String, frame: &Frame, room: f64) -> f64 {
-    let y = (frame.top + frame.bottom) / 2.0;
-    let x = frame.left - room + AXIS_FONT;
-    let _ = writeln!(
-        svg,
-        "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
-         transform=\"rotate(-90 {} {})\">seeds</text>",
-        px(x),
-        px(y),
-        px(AXIS_FONT),
-        px(x),
-        px(y)
-    );
-    frame.bottom + TICK_FONT + 10.0
 }
