@@ -1430,19 +1430,7 @@ impl LineChart {
             );
         }
         svg.push_str("</g>\n");
-        let y = (frame.top + frame.bottom) / 2.0;
-        let x = frame.left - room + AXIS_FONT;
-        let _ = writeln!(
-            svg,
-            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
-             transform=\"rotate(-90 {} {})\">seeds</text>",
-            px(x),
-            px(y),
-            px(AXIS_FONT),
-            px(x),
-            px(y)
-        );
-        frame.bottom + TICK_FONT + 10.0
+        seeds_axis_label(svg, &frame, room)
     }
 
     /// The panel under `main` of the seeds each line is the IQM of, per episode: a step line
@@ -1508,19 +1496,7 @@ impl LineChart {
             );
         }
         svg.push_str("</g>\n");
-        let y = (frame.top + frame.bottom) / 2.0;
-        let x = frame.left - room + AXIS_FONT;
-        let _ = writeln!(
-            svg,
-            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
-             transform=\"rotate(-90 {} {})\">seeds</text>",
-            px(x),
-            px(y),
-            px(AXIS_FONT),
-            px(x),
-            px(y)
-        );
-        frame.bottom + TICK_FONT + 10.0
+        seeds_axis_label(svg, &frame, room)
     }
 
     /// The strip under `main` of the seeds that collapsed: a row per series with a seed's
@@ -1655,6 +1631,24 @@ impl LineChart {
 
 fn episode(i: usize) -> f64 {
     (i + 1) as f64
+}
+
+/// Closes a strip panel: its rotated "seeds" label left of `frame`, `room` from the axis; returns
+/// where the next panel starts (the one place both strips draw it, so they stay alike).
+fn seeds_axis_label(svg: &mut String, frame: &Frame, room: f64) -> f64 {
+    let y = (frame.top + frame.bottom) / 2.0;
+    let x = frame.left - room + AXIS_FONT;
+    let _ = writeln!(
+        svg,
+        "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"middle\" fill=\"#222222\" \
+         transform=\"rotate(-90 {} {})\">seeds</text>",
+        px(x),
+        px(y),
+        px(AXIS_FONT),
+        px(x),
+        px(y)
+    );
+    frame.bottom + TICK_FONT + 10.0
 }
 
 #[cfg(test)]
