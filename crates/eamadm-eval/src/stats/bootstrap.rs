@@ -65,7 +65,12 @@ impl Bootstrap {
             draw(&mut rng, &sample, &mut counts);
             replicates.push(&counts);
         }
-        self.percentile_interval(estimate, &mut replicates.finish(), statistic.name())
+        percentile_interval(
+            self.confidence,
+            estimate,
+            &mut replicates.finish(),
+            statistic.name(),
+        )
     }
 
     /// Interval of statistic(x) − statistic(y), x and y resampled independently (stratified by
@@ -105,7 +110,7 @@ impl Bootstrap {
             .zip(of_y.finish())
             .map(|(of_x, of_y)| of_x - of_y)
             .collect();
-        self.percentile_interval(estimate, &mut replicates, "difference")
+        percentile_interval(self.confidence, estimate, &mut replicates, "difference")
     }
 
     /// Stratified bootstrap (rliable): resample within each group (task), pool, take the
@@ -173,26 +178,32 @@ impl Bootstrap {
             }
             replicates.push(&counts);
         }
-        self.percentile_interval(estimate, &mut replicates.finish(), statistic.name())
-    }
-
-    /// The percentile interval of `replicates` (reordered in place) around `estimate`.
-    fn percentile_interval(
-        &self,
-        estimate: f64,
-        replicates: &mut [f64],
-        what: &'static str,
-    ) -> Result<Interval, StatsError> {
-        if replicates.iter().any(|v| !v.is_finite()) {
-            return Err(StatsError::Overflow { what });
-        }
-        let alpha = 1.0 - self.confidence;
-        Ok(Interval {
+        percentile_interval(
+            self.confidence,
             estimate,
-            low: quantile_unsorted(replicates, alpha / 2.0),
-            high: quantile_unsorted(replicates, 1.0 - alpha / 2.0),
-        })
+            &mut replicates.finish(),
+            statistic.name(),
+        )
     }
+}
+
+/// The percentile interval at `confidence` of `replicates` (reordered in place) around
+/// `estimate`: one implementation for the one-level and the two-level bootstrap.
+pub(super) fn percentile_interval(
+    confidence: f64,
+    estimate: f64,
+    replicates: &mut [f64],
+    what: &'static str,
+) -> Result<Interval, StatsError> {
+    if replicates.iter().any(|v| !v.is_finite()) {
+        return Err(StatsError::Overflow { what });
+    }
+    let alpha = 1.0 - confidence;
+    Ok(Interval {
+        estimate,
+        low: quantile_unsorted(replicates, alpha / 2.0),
+        high: quantile_unsorted(replicates, 1.0 - alpha / 2.0),
+    })
 }
 
 /// Draws one resample with replacement of the sorted sample of `sample` (`n` indices below `n`):

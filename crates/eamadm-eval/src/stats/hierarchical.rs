@@ -58,7 +58,8 @@
 //! of the layout values with `across`; one layout gives exactly it of that layout's seeds
 //! with `within`.
 
-use super::location::{Statistic, quantile_unsorted};
+use super::bootstrap::percentile_interval;
+use super::location::Statistic;
 use super::words::Words;
 use super::{
     Interval, StatsError, check_confidence, check_len, check_resamples, finite, sorted_copy,
@@ -179,7 +180,7 @@ impl HierarchicalBootstrap {
         let layouts = Layouts::new(layouts, within)?;
         let estimate = finite(across.of(&layouts.within)?, across.name())?;
         let mut replicates = self.draw_replicates(&layouts, within, across);
-        self.percentile_interval(estimate, &mut replicates, across.name())
+        percentile_interval(self.confidence, estimate, &mut replicates, across.name())
     }
 
     /// The interval of the paired differences `x_{ij} − y_{ij}`: `x[i][j]` and `y[i][j]` are
@@ -236,23 +237,6 @@ impl HierarchicalBootstrap {
             replicates.push(across.of_counts(&values, &ones, a));
         }
         replicates
-    }
-
-    fn percentile_interval(
-        &self,
-        estimate: f64,
-        replicates: &mut [f64],
-        what: &'static str,
-    ) -> Result<Interval, StatsError> {
-        if replicates.iter().any(|v| !v.is_finite()) {
-            return Err(StatsError::Overflow { what });
-        }
-        let alpha = 1.0 - self.confidence;
-        Ok(Interval {
-            estimate,
-            low: quantile_unsorted(replicates, alpha / 2.0),
-            high: quantile_unsorted(replicates, 1.0 - alpha / 2.0),
-        })
     }
 }
 
