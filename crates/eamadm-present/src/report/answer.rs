@@ -266,9 +266,9 @@ fn cause_sentence(cause: &Cause) -> String {
                 )
             });
             format!(
-                "pre-training: its reach sub-task (`{}`) never reached the target in {} \
-                 pre-training episodes per seed on mean, on {} of {} seeds ({} reaching \
-                 episodes{converged}), so a reward for reaching, such as a repaired reading's \
+                "pre-training: its reach sub-task (`{}`) did not reach the target in a mean \
+                 of {} pre-training episodes per seed on {} of {} seeds ({} reaching episodes \
+                 in all{converged}), so a reward for reaching, such as a repaired reading's \
                  goal bonus, is never paid and neither the aggregation nor the tree has \
                  anything to pass on{rewards}",
                 reach.name,

@@ -103,12 +103,13 @@ pub(crate) fn oracle_sentence(task: &TaskFindings) -> Option<String> {
             )
         });
     Some(format!(
-        "**Oracle:** with {} its decision reaches on {} of {} seeds{steps}{follows}; with its \
-         runs' learned own values on {}: {}.",
+        "**Oracle:** with {} its decision reaches on {} of {} seeds{steps}{follows}; with the \
+         own values its runs learned, it reaches on {} of {}. So {}.",
         values_words(o.values),
         o.reaches_initial,
         o.seeds,
         o.reaches_learned,
+        o.seeds,
         failing_words(o)
     ))
 }
@@ -289,15 +290,16 @@ pub(crate) fn write_oracle(text: &mut String, findings: &Findings) {
                 .filter(|p| p.seeds_reaching == 0)
                 .count();
             let summary = if never == task.reach_pretraining.len() {
-                "so in no reading does the reach sub-task ever reach in pre-training, and a \
-                 reward paid for reaching (a goal bonus) is never paid"
+                "so for none of these methods does the reach sub-task ever reach in \
+                 pre-training, and a reward paid for reaching (a goal bonus) is never paid"
                     .to_owned()
             } else if never == 0 {
-                "so in every reading the reach sub-task reaches in pre-training on some seed"
+                "so for every one of these methods the reach sub-task reaches in pre-training \
+                 on some seed"
                     .to_owned()
             } else {
                 format!(
-                    "so in {never} of {} readings the reach sub-task never reaches in \
+                    "so for {never} of these {} methods the reach sub-task never reaches in \
                      pre-training",
                     task.reach_pretraining.len()
                 )
