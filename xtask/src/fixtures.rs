@@ -29,7 +29,7 @@ use crate::atomic::write_atomic;
 use crate::cli::Task;
 use crate::plan::{Workspace, describe_regen_fixtures};
 use crate::readme;
-use crate::text_diff::first_difference;
+use eamadm_present::text_diff::first_difference;
 
 /// The seed of every reference run.
 pub(crate) const FIXTURE_SEED: u64 = 0;

@@ -10,8 +10,10 @@ const CONTEXT: usize = 3;
 const SHOWN: usize = 8;
 
 /// `None` when `expected == actual`; otherwise the first differing line (1-based) and a short
-/// diff around it.
-pub(crate) fn first_difference(expected: &str, actual: &str) -> Option<String> {
+/// diff around it (`xtask regen-fixtures --check` shows it for a generated file that is out of
+/// date).
+#[must_use]
+pub fn first_difference(expected: &str, actual: &str) -> Option<String> {
     if expected == actual {
         return None;
     }
