@@ -6,6 +6,8 @@ use std::path::Path;
 mod architecture;
 mod concurrent_store;
 mod figure_checks;
+mod gc;
+mod jobs;
 mod kill_resume;
 mod markdown;
 mod readings;
