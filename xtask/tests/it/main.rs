@@ -14,6 +14,7 @@ mod readings;
 mod slurm;
 mod store_faults;
 mod tidy;
+mod tuning_suite;
 mod verify;
 
 /// Every file under `folder`: relative path → bytes (the outputs two runs must share).
