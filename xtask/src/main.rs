@@ -29,7 +29,7 @@
 //! `sensitivity.csv`, `oracle.csv` and `pretraining.csv` ([`oracle_tables`]), all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
-//! [`eamadm_present::text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
+//! [`eamadm_present::generated`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
 //! Every file
 //! goes through [`atomic`].
 
