@@ -2,7 +2,11 @@
 //!
 //! An [`ExperimentConfig`] is plain serde data. Every table rejects unknown keys, and
 //! [`ExperimentConfig::validate`] rejects out-of-range values with a [`ConfigError`] naming the
-//! field by its path (`methods[2].epsilon.factor`). The paper's settings are the presets of
+//! field by its path (`methods[2].epsilon.factor`). [`ExperimentConfig::check`] turns a config
+//! into a checked [`Experiment`](crate::Experiment) once (the values, then the task with
+//! [`TaskConfig::check`], then each method against the task); nothing later checks the same
+//! values again, and its errors name the key the user wrote (`task.step_cap`, not the robot
+//! scenario's own field). The paper's settings are the presets of
 //! [`paper`](crate::paper) ([`paper::task1`](crate::paper::task1), …), and the same values ship
 //! as TOML files ([`PAPER_TASK1_TOML`], …; `crates/eamadm/configs/` in the repository).
 //!
