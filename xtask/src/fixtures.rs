@@ -29,7 +29,7 @@ use crate::atomic::write_atomic;
 use crate::cli::Task;
 use crate::plan::{Workspace, describe_regen_fixtures};
 use crate::readme;
-use crate::text_diff::first_difference;
+use eamadm_present::generated::first_difference;
 
 /// The seed of every reference run.
 pub(crate) const FIXTURE_SEED: u64 = 0;
@@ -109,7 +109,7 @@ pub(crate) const OUTPUTS_PAGE: &str = "docs/outputs.md";
 /// `page` (the text of [`OUTPUTS_PAGE`]) with its generated column tables
 /// ([`eamadm::data_package::markdown`], the same tables `datapackage.json` is made from).
 pub(crate) fn outputs_page_text(page: &str) -> Result<String, String> {
-    readme::splice(page, "columns", &eamadm::data_package::markdown())
+    eamadm_present::generated::splice(page, "columns", &eamadm::data_package::markdown())
 }
 
 /// Writes (or with `check` compares) the generated column tables of [`OUTPUTS_PAGE`].
@@ -276,15 +276,8 @@ fn header(task: Task) -> String {
 }
 
 /// `value` rounded to [`SIGNIFICANT_DIGITS`] significant digits, in its shortest form.
-pub(crate) fn round_float(value: f64) -> String {
-    let rounded: f64 = format!("{value:.prec$e}", prec = SIGNIFICANT_DIGITS - 1)
-        .parse()
-        .unwrap_or(value);
-    if rounded == 0.0 {
-        "0".to_owned()
-    } else {
-        rounded.to_string()
-    }
+fn round_float(value: f64) -> String {
+    eamadm::rounding::round_significant(value, SIGNIFICANT_DIGITS)
 }
 
 fn optional(value: Option<f64>) -> String {
@@ -397,15 +390,6 @@ mod tests {
         {
             assert!(committed.contains(&format!("| `{}` |", column.name)));
         }
-    }
-
-    #[test]
-    fn floats_are_rounded_to_six_significant_digits() {
-        assert_eq!(round_float(155.123_456_7), "155.123");
-        assert_eq!(round_float(-0.000_123_456_78), "-0.000123457");
-        assert_eq!(round_float(-0.0), "0");
-        assert_eq!(round_float(1e-30), "0.000000000000000000000000000001");
-        assert_eq!(round_float(2.0), "2");
     }
 
     /// The snapshot regression test: every fixture, recomputed, equals the committed file.

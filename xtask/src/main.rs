@@ -29,7 +29,7 @@
 //! `sensitivity.csv`, `oracle.csv` and `pretraining.csv` ([`oracle_tables`]), all staged and swapped into the
 //! locked output folder by [`eamadm_runs::output_folder`]. [`fixtures`] regenerates and checks
 //! `fixtures/` and, with [`readme`], the README's generated parts, showing differences with
-//! [`text_diff`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
+//! [`eamadm_present::generated`]. [`test_all`] is the one test command; [`wheel`] checks the wheel users install.
 //! Every file
 //! goes through [`atomic`].
 
@@ -41,8 +41,6 @@ mod claims_report;
 mod cli;
 mod execute;
 mod experiments;
-#[cfg(test)]
-mod figure_checks;
 mod finish;
 mod fixtures;
 mod gc;
@@ -55,7 +53,6 @@ mod readme;
 mod reproduce;
 mod sensitivity_report;
 mod test_all;
-mod text_diff;
 mod tuning_suite;
 mod verify;
 mod wheel;

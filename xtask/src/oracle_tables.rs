@@ -4,9 +4,10 @@
 
 use std::path::Path;
 
+use eamadm::RunError;
 use eamadm::oracle::{OracleError, OracleRow, PretrainingRow};
-use eamadm::{Experiment, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError};
-use eamadm_runs::{PretrainedStore, PretrainingDescription};
+use eamadm_runs::PretrainedStore;
+use eamadm_runs::pretrained::ReadOnlyCache;
 use thiserror::Error;
 
 use crate::atomic::{AtomicWriteError, write_atomic};
@@ -32,34 +33,14 @@ pub(crate) enum OracleTablesError {
     Write(#[from] AtomicWriteError),
 }
 
-/// The cache of pre-trained artefacts (`--pretrained-cache`), read only: the oracle repeats
-/// runs whose sub-tasks the plan has already trained and stored there. A missing or damaged artefact is trained again in
-/// memory (the same learner: a pure function of its description).
-struct StoredSubtasks(PretrainedStore);
-
-impl PretrainingCache for StoredSubtasks {
-    fn load(
-        &self,
-        experiment: &Experiment,
-        pretrain: &PretrainConfig,
-        k: usize,
-        seed: u64,
-    ) -> Option<PretrainedSubtask> {
-        let description = PretrainingDescription::new(experiment, pretrain, k, seed);
-        self.0.load(&description).ok().flatten()
-    }
-
-    fn save(&self, _: &Experiment, _: &PretrainConfig, _: usize, _: u64, _: &PretrainedSubtask) {}
-}
-
 /// The oracle rows of every base experiment of the plan (a reading's experiment has none: it
 /// reruns methods under another reading), in plan order, taking pre-trained sub-tasks from the
-/// artefact cache `pretrained_cache`.
+/// artefact cache `pretrained_cache`, read only ([`ReadOnlyCache`]).
 pub(crate) fn oracle_rows(
     pretrained_cache: &Path,
     experiments: &[PlannedExperiment],
 ) -> Result<Vec<OracleRow>, OracleTablesError> {
-    let cache = StoredSubtasks(PretrainedStore::new(pretrained_cache));
+    let cache = ReadOnlyCache(PretrainedStore::new(pretrained_cache));
     let mut rows = Vec::new();
     for planned in experiments
         .iter()

@@ -17,6 +17,7 @@
 use std::path::Path;
 
 use eamadm::findings::Findings;
+use eamadm_present::generated::splice;
 use eamadm_present::report::{readme_answer, readme_verdicts};
 
 /// The README, relative to the workspace root.
@@ -58,43 +59,4 @@ pub(crate) fn read_run(out: &Path) -> Result<DefaultRun, String> {
 pub(crate) fn generate(readme: &str, run: &DefaultRun) -> Result<String, String> {
     let readme = splice(readme, "verdicts", &readme_verdicts(&run.findings)?)?;
     splice(&readme, "answer", &readme_answer(&run.findings)?)
-}
-
-/// `text` with the lines between `<!-- generated:NAME … -->` and `<!-- /generated:NAME -->`
-/// replaced by `content` (the marker lines stay).
-pub(crate) fn splice(text: &str, name: &str, content: &str) -> Result<String, String> {
-    let open = format!("<!-- generated:{name}");
-    let close = format!("<!-- /generated:{name} -->");
-    let missing = |marker: &str| {
-        format!(
-            "README.md lacks the marker line `{marker}`; put the generated part back between `{open} -->` and `{close}`"
-        )
-    };
-    let start = text.find(&open).ok_or_else(|| missing(&open))?;
-    let body = start + text[start..].find('\n').ok_or_else(|| missing(&open))? + 1;
-    let end = body + text[body..].find(&close).ok_or_else(|| missing(&close))?;
-    let mut out = String::with_capacity(text.len() + content.len());
-    out.push_str(&text[..body]);
-    out.push_str(content.trim_end());
-    out.push('\n');
-    out.push_str(&text[end..]);
-    Ok(out)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn splice_replaces_only_between_the_markers_and_names_a_missing_one() {
-        let text = "a\n<!-- generated:x: do not edit -->\nold\nlines\n<!-- /generated:x -->\nb\n";
-        assert_eq!(
-            splice(text, "x", "new\n").unwrap(),
-            "a\n<!-- generated:x: do not edit -->\nnew\n<!-- /generated:x -->\nb\n"
-        );
-        let error = splice("a\n", "x", "new").unwrap_err();
-        assert!(error.contains("`<!-- generated:x`"), "{error}");
-        let error = splice("<!-- generated:x -->\nold\n", "x", "new").unwrap_err();
-        assert!(error.contains("`<!-- /generated:x -->`"), "{error}");
-    }
 }

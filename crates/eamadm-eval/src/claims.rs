@@ -2100,7 +2100,7 @@ pub struct MethodOverview {
     /// Seeds whose greedy evaluation episode ran to the step cap.
     pub greedy_at_cap: usize,
     /// The task's step cap as seen in its runs (any truncated episode), if any was hit.
-    pub step_cap: Option<u64>,
+    pub step_cap: Option<u32>,
     /// Per-seed distribution of `final_steps`, with the seeds at the step cap.
     pub final_steps: stats::Distribution,
     /// Seeds with at least one reaching episode.
@@ -2168,11 +2168,12 @@ pub fn overview(scores: &[FinalScore]) -> Result<Vec<MethodOverview>, ClaimsErro
                 training_success: share(reached, window)?,
                 greedy_success: share(greedy, rows.len() as u64)?,
                 greedy_at_cap: step_cap.map_or(0, |cap| {
-                    rows.iter().filter(|row| row.greedy_steps >= cap).count()
+                    rows.iter()
+                        .filter(|row| row.greedy_steps >= u64::from(cap))
+                        .count()
                 }),
                 step_cap,
-                final_steps: stats::distribution(&steps, step_cap.map(|cap| cap as f64))
-                    .map_err(error)?,
+                final_steps: stats::distribution(&steps, step_cap.map(f64::from)).map_err(error)?,
                 reaching_seeds: rows.iter().filter(|row| row.reaching_episodes > 0).count(),
                 env_steps_total: mean_of(&|row| row.env_steps_total)?,
                 pretrain_env_steps: mean_of(&|row| row.pretrain_env_steps)?,

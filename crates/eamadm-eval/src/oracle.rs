@@ -122,7 +122,7 @@ pub struct OracleRow {
     /// obstacle forces a detour); `None` on the robot.
     pub manhattan_steps: Option<u64>,
     /// The task's episode step cap.
-    pub step_cap: u64,
+    pub step_cap: u32,
 }
 
 /// The columns of `oracle.csv`, in order (the fields of [`OracleRow`]).

@@ -21,6 +21,21 @@ pub fn format_fixed(value: f64, decimals: usize) -> String {
     }
 }
 
+/// `value` rounded to `digits` significant digits (at least 1), in its shortest form: what the
+/// fixtures store (`cargo xtask regen-fixtures`, six digits), so a change in the last bits of a
+/// float does not change a committed file. Zero (either sign) is `0`.
+#[must_use]
+pub fn round_significant(value: f64, digits: usize) -> String {
+    let rounded: f64 = format!("{value:.prec$e}", prec = digits.max(1) - 1)
+        .parse()
+        .unwrap_or(value);
+    if rounded == 0.0 {
+        "0".to_owned()
+    } else {
+        rounded.to_string()
+    }
+}
+
 /// Decimals that show `value` to `significant` significant digits (none for large values).
 pub fn decimals_for(value: f64, significant: i32) -> usize {
     if value == 0.0 || !value.is_finite() {
@@ -28,4 +43,22 @@ pub fn decimals_for(value: f64, significant: i32) -> usize {
     }
     let magnitude = value.abs().log10().floor() as i32;
     (significant - 1 - magnitude).clamp(0, MAX_DECIMALS) as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_are_rounded_to_significant_digits_in_their_shortest_form() {
+        assert_eq!(round_significant(155.123_456_7, 6), "155.123");
+        assert_eq!(round_significant(-0.000_123_456_78, 6), "-0.000123457");
+        assert_eq!(round_significant(-0.0, 6), "0");
+        assert_eq!(
+            round_significant(1e-30, 6),
+            "0.000000000000000000000000000001"
+        );
+        assert_eq!(round_significant(2.0, 6), "2");
+        assert_eq!(round_significant(0.987, 1), "1");
+    }
 }

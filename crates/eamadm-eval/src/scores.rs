@@ -260,7 +260,7 @@ pub struct FinalScore {
     pub pretrain_env_steps: u64,
     /// The task's step cap (an episode is truncated after this many steps): a seed whose
     /// `final_steps` equals it never finished an episode in its final window.
-    pub step_cap: u64,
+    pub step_cap: u32,
     /// The task's optimal route in steps, when known (BFS for a maze, the planner's route for
     /// the robot).
     pub optimum_steps: Option<u64>,
@@ -304,7 +304,7 @@ impl FinalScore {
             "fluctuation_greedy_return" => self.fluctuation_greedy_return,
             "env_steps_total" => Some(self.env_steps_total as f64),
             "pretrain_env_steps" => Some(self.pretrain_env_steps as f64),
-            "step_cap" => Some(self.step_cap as f64),
+            "step_cap" => Some(f64::from(self.step_cap)),
             "optimum_steps" => self.optimum_steps.map(|steps| steps as f64),
             "reaching_episodes" => Some(self.reaching_episodes as f64),
             "reach_average_reward" => self.reach_average_reward,
@@ -325,7 +325,7 @@ pub trait MethodRoles {
     fn role_and_kind(&self, label: &str) -> Option<(Role, &'static str)>;
 
     /// The task's step cap: steps after which an episode is truncated.
-    fn step_cap(&self) -> u64;
+    fn step_cap(&self) -> u32;
 }
 
 /// The final scores of `records`, in record order. `config` is the experiment (for each
@@ -377,7 +377,7 @@ pub fn final_score(
     record: &RunRecord,
     role: Role,
     kind: &str,
-    step_cap: u64,
+    step_cap: u32,
 ) -> Result<FinalScore, ScoresError> {
     let stats_error = |source| ScoresError::Stats {
         task: record.experiment.clone(),

@@ -10,6 +10,7 @@
 //! | [`chart`] | the SVG line chart: IQM over seeds with its bootstrap band, per-seed lines, panels |
 //! | [`figures`] | which figures an experiment gets, collected run by run, with their captions |
 //! | [`checks`] | what a reader's trust in a figure rests on, checked on its SVG |
+//! | [`generated`] | generated text in committed files: a block spliced between its markers, the first line where it differs |
 //!
 //! The figures draw the paper's Fig. 6–11 (steps, return and greedy paths on the mazes) and
 //! Fig. 13–15 (the robot's average reward, reaching time and retention time over reaching
@@ -42,5 +43,6 @@
 pub mod chart;
 pub mod checks;
 pub mod figures;
+pub mod generated;
 pub mod report;
 pub mod theme;

@@ -132,7 +132,7 @@ fn folder_figures(py: Python<'_>, folder: &Path) -> PyResult<Vec<(String, String
         let Some((_, config)) = configs.get(&index).and_then(|c| c.first()) else {
             continue;
         };
-        let task = Task::load(&config.task).map_err(|e| error(e.to_string()))?;
+        let task = config.task.check().map_err(|e| error(e.to_string()))?;
         // This experiment's runs, taken out in order (the later experiments' stay).
         let later = runs.split_off(&(index + 1, 0, 0));
         let records: Vec<RunRecord> = std::mem::replace(&mut runs, later).into_values().collect();

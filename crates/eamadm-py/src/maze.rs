@@ -60,7 +60,7 @@ fn build_env(
         spec.step_cap = cap;
     }
     MazeEnv::new(maze, spec).map_err(|error| match error {
-        SpecError::ZeroStepCap => value_error("step_cap", error),
+        SpecError::StepCapOutOfRange { .. } => value_error("step_cap", error),
         other => value_error("rewards", other),
     })
 }

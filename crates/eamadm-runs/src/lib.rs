@@ -17,6 +17,7 @@
 //! - [`frames`]: the compressed frames of the store's files, read streaming against caps;
 //! - [`gc`]: what no plan needs any more (old formats, old set-aside entries, artefacts of
 //!   other plans);
+//! - [`shard`]: which runs shard `K/N` of a plan holds, by key;
 //! - [`verify`]: stored runs and artefacts recomputed and compared byte for byte, since the
 //!   checksums catch faults, not forgery;
 //! - [`names`]: the name of every file and folder in an output folder (the facade's
@@ -57,6 +58,7 @@ pub mod key;
 pub mod no_follow;
 pub mod output_folder;
 pub mod pretrained;
+pub mod shard;
 pub mod store;
 pub mod verify;
 

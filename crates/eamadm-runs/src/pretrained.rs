@@ -465,6 +465,28 @@ fn artefact_bytes_of(description: &str, subtask: &PretrainedSubtask) -> io::Resu
     crate::gzip::compress(&content)
 }
 
+/// The cache read only, as a [`PretrainingCache`](eamadm::PretrainingCache): runs repeated
+/// after a plan (the oracle's, `eamadm::oracle`) take the sub-tasks it already trained and
+/// stored; a missing or damaged artefact is trained again in memory (the same learner: a pure
+/// function of its description) and not stored.
+#[derive(Debug, Clone)]
+pub struct ReadOnlyCache(pub PretrainedStore);
+
+impl eamadm::PretrainingCache for ReadOnlyCache {
+    fn load(
+        &self,
+        experiment: &Experiment,
+        pretrain: &PretrainConfig,
+        k: usize,
+        seed: u64,
+    ) -> Option<PretrainedSubtask> {
+        let description = PretrainingDescription::new(experiment, pretrain, k, seed);
+        self.0.load(&description).ok().flatten()
+    }
+
+    fn save(&self, _: &Experiment, _: &PretrainConfig, _: usize, _: u64, _: &PretrainedSubtask) {}
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -720,5 +742,23 @@ mod tests {
             "one file, no temporary file left: {files:?}"
         );
         assert_eq!(store.load(&description).unwrap(), Some(subtask));
+    }
+
+    #[test]
+    fn the_read_only_cache_loads_what_is_stored_and_stores_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = PretrainedStore::new(dir.path());
+        let config = config();
+        let experiment = Experiment::new(config.clone()).unwrap();
+        let cache = ReadOnlyCache(store.clone());
+        assert_eq!(cache.load(&experiment, &pretrain(&config), 1, 5), None);
+        let subtask = trained(&config, 1, 5);
+        cache.save(&experiment, &pretrain(&config), 1, 5, &subtask);
+        assert!(store.keys().unwrap().is_empty(), "nothing stored");
+        store.save(&described(&config, 1, 5), &subtask).unwrap();
+        assert_eq!(
+            cache.load(&experiment, &pretrain(&config), 1, 5),
+            Some(subtask)
+        );
     }
 }

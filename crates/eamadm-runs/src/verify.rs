@@ -255,3 +255,26 @@ impl PretrainingCache for Recorder {
         lock(&self.trained).push((*pretrain, k, subtask.clone()));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sample_is_a_seeded_fraction_of_at_least_one() {
+        let keys: Vec<RunKey> = (0..100_u64)
+            .map(|i| RunKey::of(&i).expect("an integer hashes"))
+            .collect();
+        let pick = |fraction, seed| sample(keys.clone(), |key| key, fraction, seed);
+        assert_eq!(pick(Some(0.05), 0).len(), 5);
+        assert_eq!(pick(Some(0.05), 0), pick(Some(0.05), 0));
+        assert_ne!(pick(Some(0.05), 0), pick(Some(0.05), 1));
+        assert_eq!(pick(Some(0.001), 3).len(), 1);
+        assert_eq!(pick(None, 0), keys);
+        // In the given order.
+        let five = pick(Some(0.05), 7);
+        let mut sorted = five.clone();
+        sorted.sort_by_key(|key| keys.iter().position(|k| k == key));
+        assert_eq!(five, sorted);
+    }
+}

@@ -2,7 +2,11 @@
 //!
 //! An [`ExperimentConfig`] is plain serde data. Every table rejects unknown keys, and
 //! [`ExperimentConfig::validate`] rejects out-of-range values with a [`ConfigError`] naming the
-//! field by its path (`methods[2].epsilon.factor`). The paper's settings are the presets of
+//! field by its path (`methods[2].epsilon.factor`). [`ExperimentConfig::check`] turns a config
+//! into a checked [`Experiment`](crate::Experiment) once (the values, then the task with
+//! [`TaskConfig::check`], then each method against the task); nothing later checks the same
+//! values again, and its errors name the key the user wrote (`task.step_cap`, not the robot
+//! scenario's own field). The paper's settings are the presets of
 //! [`paper`](crate::paper) ([`paper::task1`](crate::paper::task1), …), and the same values ship
 //! as TOML files ([`PAPER_TASK1_TOML`], …; `crates/eamadm/configs/` in the repository).
 //!
@@ -938,10 +942,11 @@ impl ExperimentConfig {
         toml::to_string(self)
     }
 
-    /// Checks every value that serde cannot: counts at least 1, schedules, the learner's α, γ,
-    /// ξ and initialisation, OWA weighting parameters, tree thresholds, unique labels, kept
-    /// trajectory episodes. Files named by the task are read only when the task is loaded
-    /// ([`Experiment::new`](crate::Experiment::new)).
+    /// Checks every value that serde cannot and that needs no task: counts at least 1,
+    /// schedules, the learner's α, γ, ξ and initialisation, OWA weighting parameters, tree
+    /// thresholds, unique labels, kept trajectory episodes. The task's own values (its step
+    /// cap, the robot's settings, the files it names) are checked once, when the task is built
+    /// ([`check`](Self::check), [`TaskConfig::check`]).
     ///
     /// # Errors
     /// The first problem found, as [`ConfigError::Invalid`] naming the field's path.
@@ -967,9 +972,6 @@ impl ExperimentConfig {
                 self.base_seed,
                 "a base seed such that base_seed + seeds fits in 64 bits",
             ));
-        }
-        if self.task.step_cap() == Some(0) {
-            return Err(ConfigError::invalid("task.step_cap", 0, "at least 1 step"));
         }
         self.learner
             .validate()
@@ -1012,6 +1014,18 @@ impl ExperimentConfig {
             }
         }
         Ok(())
+    }
+
+    /// Checks the config once and returns it as a checked [`Experiment`](crate::Experiment):
+    /// [`validate`](Self::validate), then the task ([`TaskConfig::check`], reading any file it
+    /// names), then every method against the task. Nothing later checks these values again,
+    /// and a checked experiment runs to its end. Errors name the key the user wrote
+    /// (`task.step_cap`, `methods[2].learner.alpha`, `task.scenario.obstacles[0].radius`).
+    ///
+    /// # Errors
+    /// The first problem found, as a [`ConfigError`] naming its key.
+    pub fn check(self) -> Result<crate::Experiment, ConfigError> {
+        crate::Experiment::from_checked_parts(self)
     }
 
     /// The seeds of the experiment: `base_seed, base_seed + 1, …` (`seeds` of them).

@@ -14,7 +14,7 @@
 //! | [`reward_std`] | reward standardisation (Eq. 10–12, literal and running) |
 //! | [`mazes`] | Task I and Task II (Sec. VI.A), and layouts with structure |
 //! | [`wmr_model`] | the wheeled robot and its scenario (Sec. III, VI.B) |
-//! | [`config`] | experiment configs in TOML |
+//! | [`config`] | experiment configs in TOML; `ExperimentConfig::check` makes a checked [`Experiment`] once, errors naming the key the user wrote |
 //! | [`paper`] | the paper's presets (Table 1 and 2), methods, titles, reported numbers, claims C1–C4 |
 //! | [`pretrain`], [`prior`] | sub-task pre-training and the sub-tasks' stored experience (Fig. 5) |
 //! | [`agent`], [`signal`] | the EA-MADM policy and learning signal (Algorithm 2) |
@@ -248,7 +248,7 @@ impl scores::MethodRoles for Experiment {
             .map(|spec| (spec.role, spec.method.kind_name()))
     }
 
-    fn step_cap(&self) -> u64 {
+    fn step_cap(&self) -> u32 {
         self.task().step_cap()
     }
 }

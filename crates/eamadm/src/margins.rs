@@ -20,7 +20,7 @@
 //!   over the span of the paper's 100 reaching episodes, `2T / 99` per episode.
 //!
 //! ```
-//! let task = eamadm::Task::load(&eamadm::paper::task2().task)?;
+//! let task = eamadm::paper::task2().task.check()?;
 //! let margins = task.equivalence_margins();
 //! let of = |column: &str| margins.iter().find(|m| m.column == column).map(|m| m.value);
 //! assert_eq!(of("final_steps"), Some(2.0)); // the shortest detour
@@ -210,12 +210,11 @@ fn robot_margins(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::TaskConfig;
     use crate::paper::{self, PaperTask};
 
     fn margins_of(task: PaperTask) -> Vec<Margin> {
-        Task::load(&task.config().task)
-            .unwrap()
-            .equivalence_margins()
+        task.config().task.check().unwrap().equivalence_margins()
     }
 
     fn value(margins: &[Margin], column: &str) -> Option<f64> {
@@ -269,7 +268,13 @@ mod tests {
     #[test]
     fn the_robots_margins_come_from_its_control_period_and_route() {
         let margins = margins_of(PaperTask::Robot);
-        let period = paper::ROBOT_CONTROL_PERIOD;
+        let TaskConfig::Robot {
+            control_period: Some(period),
+            ..
+        } = paper::robot().task
+        else {
+            panic!("the robot preset sets its control period");
+        };
         assert_eq!(value(&margins, "reach_time"), Some(2.0 * period));
         assert_eq!(
             value(&margins, "retention_decay"),
@@ -277,7 +282,9 @@ mod tests {
         );
         // The planner's 17-step route returns 16 + 100 over 6.8 s; the same with a 2-step
         // detour (one step not closer, one more closer) returns 116 over 7.6 s.
-        let route = Task::load(&paper::robot().task)
+        let route = paper::robot()
+            .task
+            .check()
             .unwrap()
             .optimum_steps()
             .unwrap();

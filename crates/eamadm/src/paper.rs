@@ -3,8 +3,8 @@
 //! as data that [`claims`](crate::claims) tests.
 //!
 //! Everything here is read off the paper (Sec. VI, Fig. 6–15, Tables 1–2); nothing is computed.
-//! The presets equal the embedded TOML files [`PAPER_TASK1_TOML`], [`PAPER_TASK2_TOML`] and
-//! [`PAPER_ROBOT_TOML`] (a test checks it).
+//! The presets are the embedded TOML files [`PAPER_TASK1_TOML`], [`PAPER_TASK2_TOML`],
+//! [`PAPER_ROBOT_TOML`], … parsed: their values are written once, there.
 //!
 //! ```
 //! use eamadm::paper::{self, Direction, PaperTask};
@@ -34,16 +34,16 @@ use crate::output_names;
 
 use ea_tree::EaTreeConfig;
 
-#[cfg(doc)]
+use std::sync::OnceLock;
+
 use crate::config::{
     AGGREGATION_CONTROL_TOML, PAPER_ROBOT_PAPER_STATE_TOML, PAPER_ROBOT_TOML, PAPER_TASK1_TOML,
     PAPER_TASK2_TOML,
 };
 use crate::config::{
-    CompetitorSignal, CompetitorTraining, Convergence, DEFAULT_SCENARIO, EaMadmConfig,
-    EvaluationConfig, ExperimentConfig, Method, MethodSpec, PretrainConfig, Role, Storage,
-    SubtaskGreedyConfig, TaskConfig, TrajectoryConfig, table1_epsilon_decreasing, table1_learner,
-    table1_temperature,
+    CompetitorSignal, CompetitorTraining, Convergence, EaMadmConfig, ExperimentConfig, Method,
+    MethodSpec, PretrainConfig, Role, Storage, SubtaskGreedyConfig, TaskConfig,
+    table1_epsilon_decreasing, table1_temperature,
 };
 
 /// Seeds per method of every preset. The paper shows single runs; 20 seeds give the bootstrap
@@ -479,135 +479,94 @@ fn final_epsilon(config: &ExperimentConfig) -> Vec<FinalEpsilon> {
         .collect()
 }
 
+/// A preset: its embedded TOML parsed (once per process). The TOML files are the one source
+/// of the presets' values (the robot's open settings, episodes, seeds, budgets): nothing in the
+/// code repeats them; the test `presets_are_built_from_the_method_builders` checks that the
+/// presets' methods are those of [`methods`], [`controls`], [`robot_repairs`],
+/// [`robot_controls`] and [`aggregators`].
+fn embedded(text: &'static str, parsed: &'static OnceLock<ExperimentConfig>) -> ExperimentConfig {
+    parsed
+        .get_or_init(|| {
+            ExperimentConfig::from_toml_str(text)
+                .expect("the embedded presets are valid (test tasks_round_trip_by_name_and_match_their_presets)")
+        })
+        .clone()
+}
+
 /// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`SEEDS`] seeds,
-/// α = 0.1, γ = 0.95, [`methods`] and the [`controls`]. Equal to [`PAPER_TASK1_TOML`] parsed.
+/// α = 0.1, γ = 0.95, [`methods`] and the [`controls`]: [`PAPER_TASK1_TOML`] parsed.
 #[must_use]
 pub fn task1() -> ExperimentConfig {
-    maze("task1", Preset::Task1, TASK1_PRETRAIN_BUDGET)
+    static PARSED: OnceLock<ExperimentConfig> = OnceLock::new();
+    embedded(PAPER_TASK1_TOML, &PARSED)
 }
 
 /// The paper's Task II (Sec. VI.A): the 39 × 36 maze with the +10 / −1 reward, otherwise as
-/// [`task1`]. Equal to [`PAPER_TASK2_TOML`] parsed.
+/// [`task1`]: [`PAPER_TASK2_TOML`] parsed.
 #[must_use]
 pub fn task2() -> ExperimentConfig {
-    maze("task2", Preset::Task2, TASK2_PRETRAIN_BUDGET)
+    static PARSED: OnceLock<ExperimentConfig> = OnceLock::new();
+    embedded(PAPER_TASK2_TOML, &PARSED)
 }
-
-/// Training episodes of the robot presets. The paper's Fig. 13–15 plot 100 episodes that reach
-/// the target; chosen with the other open settings below by the competitors-only sweep of
-/// docs/paper-notes.md §8.5 (500 episodes: the best competitor reaches in 80 % of final-window
-/// episodes and greedily on 16 of 20 seeds; 300 episodes: 74 %, 15 of 20).
-pub const ROBOT_EPISODES: u64 = 500;
-
-/// Control period Δt of the robot presets (s): each action is held 0.4 s, 5 cm at full speed.
-/// The paper leaves it open; chosen by the sweep of docs/paper-notes.md §8.5.
-pub const ROBOT_CONTROL_PERIOD: f64 = 0.4;
-
-/// Episode step cap of the robot presets: 250 steps of [`ROBOT_CONTROL_PERIOD`], the same
-/// 100 s as the scenario's 500 steps of 0.2 s.
-pub const ROBOT_STEP_CAP: u32 = 250;
-
-/// Reach radius of the robot presets (m): the robot's centre within 10 cm of the target. The
-/// paper leaves it open; chosen by the sweep of docs/paper-notes.md §8.5.
-pub const ROBOT_REACH_RADIUS: f64 = 0.10;
-
-/// `N_D`, the distance bins of the robot presets: 30 bins over 1 m. The paper leaves it open;
-/// chosen by the sweep of docs/paper-notes.md §8.5.
-pub const ROBOT_DISTANCE_BINS: u32 = 30;
 
 /// The paper's robot experiment (Sec. VI.B, Table 2): the embedded default scenario (8
 /// distance sensors, the analogue of Fig. 12, whose state includes the target's image
-/// position in [`wmr_model::DEFAULT_TARGET_BINS`] bins) with the open settings the sweep chose
-/// ([`ROBOT_CONTROL_PERIOD`], [`ROBOT_STEP_CAP`], [`ROBOT_REACH_RADIUS`],
-/// [`ROBOT_DISTANCE_BINS`]), [`ROBOT_EPISODES`] episodes, [`SEEDS`]
-/// seeds, α = 0.1, γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, and [`methods`] (no
-/// controls). Equal to [`PAPER_ROBOT_TOML`] parsed.
+/// position in [`wmr_model::DEFAULT_TARGET_BINS`] bins) with the settings the paper leaves
+/// open as the competitors-only sweep of docs/paper-notes.md §8.5 chose them (`task.
+/// control_period`, `step_cap`, `reach_radius`, `distance_bins` and `episodes` of the TOML),
+/// [`SEEDS`] seeds, α = 0.1, γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, [`methods`],
+/// [`robot_repairs`] and [`robot_controls`]: [`PAPER_ROBOT_TOML`] parsed.
 #[must_use]
 pub fn robot() -> ExperimentConfig {
-    ExperimentConfig {
-        name: "robot".to_owned(),
-        task: TaskConfig::Robot {
-            scenario: DEFAULT_SCENARIO.to_owned(),
-            step_cap: Some(ROBOT_STEP_CAP),
-            target_bins: None,
-            control_period: Some(ROBOT_CONTROL_PERIOD),
-            reach_radius: Some(ROBOT_REACH_RADIUS),
-            distance_bins: Some(ROBOT_DISTANCE_BINS),
-        },
-        methods: [
-            methods(),
-            robot_repairs(),
-            robot_controls(ROBOT_PRETRAIN_BUDGET),
-        ]
-        .concat(),
-        episodes: ROBOT_EPISODES,
-        ..maze("robot", Preset::Task1, 0)
-    }
+    static PARSED: OnceLock<ExperimentConfig> = OnceLock::new();
+    embedded(PAPER_ROBOT_TOML, &PARSED)
 }
 
 /// [`robot`] over the paper's literal state (Sec. III.B: distance × obstacle image bin × angle
-/// bin, `target_bins = 0`), named `robot-paper-state`. Equal to [`PAPER_ROBOT_PAPER_STATE_TOML`]
-/// parsed.
+/// bin, `target_bins = 0`), named `robot-paper-state`, with [`methods`] and [`aggregators`]:
+/// [`PAPER_ROBOT_PAPER_STATE_TOML`] parsed.
 #[must_use]
 pub fn robot_paper_state() -> ExperimentConfig {
-    ExperimentConfig {
-        name: "robot-paper-state".to_owned(),
-        task: TaskConfig::Robot {
-            scenario: DEFAULT_SCENARIO.to_owned(),
-            step_cap: Some(ROBOT_STEP_CAP),
-            target_bins: Some(0),
-            control_period: Some(ROBOT_CONTROL_PERIOD),
-            reach_radius: Some(ROBOT_REACH_RADIUS),
-            distance_bins: Some(ROBOT_DISTANCE_BINS),
-        },
-        methods: [methods(), aggregators()].concat(),
-        ..robot()
-    }
+    static PARSED: OnceLock<ExperimentConfig> = OnceLock::new();
+    embedded(PAPER_ROBOT_PAPER_STATE_TOML, &PARSED)
 }
-
-/// EA-MADM's mean sub-task pre-training on `aggregation-control`, in environment steps,
-/// rounded: the budget of its budget-matched controls (measured over seeds 0–19 with
-/// [`pretrain_to_convergence`]: mean 2 639 499, range 2 637 634–2 640 000; the reach sub-task
-/// runs to the cap of 1000 episodes of 2000 steps on every seed).
-pub const AGGREGATION_CONTROL_PRETRAIN_BUDGET: u64 = 2_640_000;
 
 /// The positive control of issue 32 (not the paper's; docs/paper-notes.md §21.2): the
 /// hand-designed maze [`mazes::AGGREGATION_CONTROL_MAP`] (the target in a walled box whose door
 /// faces away from the start) with Task II's rewards and sub-tasks, 200 episodes, [`SEEDS`]
-/// seeds, Table 1's learner, [`methods`] and the maze [`controls`]. Equal to
+/// seeds, Table 1's learner, [`methods`] and the maze [`controls`]:
 /// [`AGGREGATION_CONTROL_TOML`] parsed.
 #[must_use]
 pub fn aggregation_control() -> ExperimentConfig {
-    ExperimentConfig {
-        task: TaskConfig::MazeText {
-            map: mazes::AGGREGATION_CONTROL_MAP.to_owned(),
-            rewards: Preset::Task2,
-            step_cap: None,
-        },
-        ..maze(
-            "aggregation-control",
-            Preset::Task2,
-            AGGREGATION_CONTROL_PRETRAIN_BUDGET,
-        )
-    }
+    static PARSED: OnceLock<ExperimentConfig> = OnceLock::new();
+    embedded(AGGREGATION_CONTROL_TOML, &PARSED)
 }
 
-/// A paper maze task: [`methods`] then [`controls`] with the task's pre-training budget.
-fn maze(name: &str, preset: Preset, pretrain_budget: u64) -> ExperimentConfig {
-    ExperimentConfig {
-        name: name.to_owned(),
-        task: TaskConfig::Maze {
-            preset,
-            rewards: None,
-            step_cap: None,
-        },
-        episodes: 200,
-        seeds: SEEDS,
-        base_seed: 0,
-        learner: table1_learner(),
-        trajectories: TrajectoryConfig::default(),
-        evaluation: EvaluationConfig::default(),
-        methods: [methods(), controls(pretrain_budget)].concat(),
+impl PaperTask {
+    /// EA-MADM's mean sub-task pre-training on the task, in environment steps, rounded: the
+    /// budget its budget-matched controls (`COMPETITOR-budget`) warm up for, read off the
+    /// preset (`warmup_env_steps`); `None` for a preset without them (`robot-paper-state`).
+    /// Measured over seeds 0–19 with [`pretrain_to_convergence`] (the stopping rule's check
+    /// episodes included): Task I 464 000 (mean 463 868, range 454 487–495 889); Task II 896 000
+    /// (mean 895 620, median 472 025, range 464 275–2 593 707: on four seeds the reach sub-task
+    /// trains to the cap of 1000 episodes); the robot 53 000 (three sub-tasks; mean 52 611,
+    /// range 20 938–59 545: the reach sub-task trains to the cap of 1000 episodes, most of them
+    /// ending within ten steps by losing the target); `aggregation-control` 2 640 000 (mean
+    /// 2 639 499, range 2 637 634–2 640 000; the reach sub-task runs to the cap of 1000 episodes
+    /// of 2000 steps on every seed).
+    #[must_use]
+    pub fn pretrain_budget(self) -> Option<u64> {
+        self.config()
+            .methods
+            .iter()
+            .find_map(|spec| match &spec.method {
+                Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. }
+                    if training.warmup_env_steps > 0 =>
+                {
+                    Some(training.warmup_env_steps)
+                }
+                _ => None,
+            })
     }
 }
 
@@ -719,15 +678,6 @@ fn paper_ea_madm() -> EaMadmConfig {
         subtask_rewards: SubtaskRepairs::PAPER,
     }
 }
-
-/// EA-MADM's sub-task pre-training on Task I, in environment steps: the mean over seeds
-/// 0–19 of the two sub-tasks' steps ([`pretrain_to_convergence`], Table 1's schedule; the
-/// stopping rule's check episodes included), rounded: 463 868, range 454 487–495 889. The
-/// budget-matched controls of [`task1`] warm up for this many steps.
-pub const TASK1_PRETRAIN_BUDGET: u64 = 464_000;
-/// As [`TASK1_PRETRAIN_BUDGET`], on Task II: mean 895 620 (median 472 025, range 464 275–2 593
-/// 707: on four seeds the reach sub-task trains to the cap of 1000 episodes).
-pub const TASK2_PRETRAIN_BUDGET: u64 = 896_000;
 
 /// The controls of the maze presets (`role = "control"`; comparisons the paper does not run),
 /// after [`methods`] in report order:
@@ -894,13 +844,6 @@ pub fn robot_repairs() -> Vec<MethodSpec> {
     }
     specs
 }
-
-/// EA-MADM's mean sub-task pre-training on the `robot` preset, in environment steps, rounded:
-/// the budget of the robot's budget-matched controls. Measured over seeds 0–19 with
-/// [`pretrain_to_convergence`] (three sub-tasks; mean 52 611, range 20 938–59 545: the reach
-/// sub-task trains to the cap of 1000 episodes, most of them ending within ten steps by losing
-/// the target).
-pub const ROBOT_PRETRAIN_BUDGET: u64 = 53_000;
 
 /// The robot's controls (issue 21 item 2), as on the mazes, all `role = "control"`:
 ///
@@ -1289,8 +1232,8 @@ mod tests {
     #[test]
     fn task2_read_as_task1_loads_task1_rewards_on_the_task2_map() {
         let rerun = Reading::Task2RewardAsTask1.apply(&task2()).unwrap();
-        let task = crate::task::Task::load(&rerun.task).unwrap();
-        let base = crate::task::Task::load(&task2().task).unwrap();
+        let task = rerun.task.check().unwrap();
+        let base = task2().task.check().unwrap();
         assert_eq!(task.optimum_steps(), base.optimum_steps());
         assert_eq!(task.n_states(), base.n_states());
         let crate::task::TaskKind::Maze(env) = task.kind() else {

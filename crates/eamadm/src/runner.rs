@@ -33,27 +33,32 @@ pub struct Experiment {
 }
 
 impl Experiment {
-    /// Validates `config`, loads its task (reading any file it names) and checks every method
-    /// against the task.
+    /// [`ExperimentConfig::check`]: validates `config`, checks and builds its task (reading
+    /// any file it names) and checks every method against the task.
     ///
     /// # Errors
-    /// Any [`ConfigError`], naming the field.
+    /// Any [`ConfigError`], naming the key.
     pub fn new(config: ExperimentConfig) -> Result<Self, ConfigError> {
+        config.check()
+    }
+
+    /// The one place a config becomes an experiment ([`ExperimentConfig::check`]).
+    pub(crate) fn from_checked_parts(config: ExperimentConfig) -> Result<Self, ConfigError> {
         config.validate()?;
-        let task = Task::load(&config.task)?;
+        let task = config.task.check()?;
         for (index, spec) in config.methods.iter().enumerate() {
             check_method_fits(&task, spec, &format!("methods[{index}]"))?;
         }
         Ok(Self { config, task })
     }
 
-    /// Parses, validates and loads a TOML config ([`ExperimentConfig::from_toml_str`], then
-    /// [`new`](Self::new)).
+    /// Parses a TOML config and checks it ([`ExperimentConfig::check`]).
     ///
     /// # Errors
     /// Any [`ConfigError`].
     pub fn from_toml_str(text: &str) -> Result<Self, ConfigError> {
-        Self::new(ExperimentConfig::from_toml_str(text)?)
+        // Parsed only: `check` validates, once.
+        toml::from_str::<ExperimentConfig>(text)?.check()
     }
 
     /// The config.
@@ -139,16 +144,11 @@ impl Experiment {
             }
             TaskKind::Robot(env) if repairs != SubtaskRepairs::PAPER => {
                 // The repairs change what the environment pays each sub-task: the run gets its
-                // own copy of the task with them (the scenario was validated at loading), and
-                // its own pre-training, since the shared one learned the paper's sub-task rewards.
-                let mut scenario = env.scenario().clone();
-                scenario.reward.repairs = repairs;
-                let repaired = WmrEnv::new(scenario).map_err(|error| {
-                    fail(RunFailure::from(ConfigError::Scenario {
-                        field: "method.subtask_rewards".to_owned(),
-                        source: error,
-                    }))
-                })?;
+                // own copy of the task with them, and its own pre-training, since the shared one
+                // learned the paper's sub-task rewards. The scenario was checked when the task
+                // was built, and repairs are switches no bound reads: it is not checked again.
+                let repaired =
+                    WmrEnv::from_checked(env.checked_scenario().clone().with_repairs(repairs));
                 let unshared = SharedPretraining::none();
                 run_on(&repaired, &self.config, method, seed, optimum, &unshared)
             }

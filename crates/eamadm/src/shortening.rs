@@ -168,7 +168,10 @@ mod tests {
                     assert_eq!(alone.pretrain.until.map(|u| u.max_episodes), Some(150));
                 }
                 Method::EpsilonGreedy { training, .. } | Method::Softmax { training, .. } => {
-                    assert!(training.warmup_env_steps <= paper::TASK1_PRETRAIN_BUDGET * 30 / 200);
+                    assert!(
+                        training.warmup_env_steps
+                            <= paper::PaperTask::Task1.pretrain_budget().unwrap() * 30 / 200
+                    );
                 }
             }
         }

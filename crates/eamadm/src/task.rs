@@ -5,8 +5,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use dql::{Environment, Step, Trajectory};
-use mazes::{Event, Maze, MazeEnv, Preset};
-use wmr_model::{EpisodeStatus, PlannerParams, Scenario, WmrEnv};
+use mazes::{Event, Maze, MazeEnv, Preset, SpecError};
+use wmr_model::{
+    DEFAULT_SCENARIO_TOML, EpisodeStatus, PlannerParams, Scenario, ScenarioError, WmrEnv,
+};
 
 use crate::config::{ConfigError, DEFAULT_SCENARIO, TaskConfig, read_input_file};
 use crate::record::RobotEpisodeMetrics;
@@ -28,9 +30,13 @@ pub(crate) enum TaskKind {
     Robot(Box<WmrEnv>),
 }
 
-impl Task {
-    /// Builds the task a config names: generates a preset maze, reads a map file or parses an
-    /// inline map, and applies the step cap override.
+impl TaskConfig {
+    /// Checks the task config once and builds the task it names: generates a preset maze, reads
+    /// a map file or parses an inline map, or builds the robot's scenario, applying the
+    /// overrides (`step_cap`, …). This is the only place a task config is checked: the [`Task`]
+    /// it returns holds a maze environment whose spec passed `mazes`' validation, or a robot
+    /// environment built from a [`CheckedScenario`](wmr_model::CheckedScenario) (validated once, then its route planned and
+    /// its environment built without validating again).
     ///
     /// A file the config names (`task.path`, `task.scenario`) is read once, here, and the task
     /// is built from those bytes, which [`Task::input_text`] keeps: whoever keys results by
@@ -38,23 +44,28 @@ impl Task {
     /// file that changes afterwards changes neither what this task computes nor the keys its
     /// results are stored under.
     ///
+    /// Errors name the key the user wrote: an override's own key (`task.step_cap`,
+    /// `task.control_period`, `task.reach_radius`, `task.distance_bins`, `task.target_bins`)
+    /// when the value at fault is the override's, otherwise `task.scenario.<field>` for a field
+    /// of the scenario file.
+    ///
     /// # Errors
     /// [`ConfigError::Read`] for a file that cannot be read, [`ConfigError::Maze`] for a map
-    /// that does not parse (both naming the field), [`ConfigError::Invalid`] for a zero step
-    /// cap.
-    pub fn load(config: &TaskConfig) -> Result<Self, ConfigError> {
-        match config {
-            TaskConfig::Maze {
+    /// that does not parse, [`ConfigError::Invalid`] for a value out of range,
+    /// [`ConfigError::Scenario`] for any other scenario error (a target no route reaches).
+    pub fn check(&self) -> Result<Task, ConfigError> {
+        match self {
+            Self::Maze {
                 preset,
                 rewards,
                 step_cap,
-            } => Self::from_maze(
+            } => Task::from_maze(
                 preset.maze(),
                 rewards.unwrap_or(*preset),
                 *step_cap,
                 "task.preset",
             ),
-            TaskConfig::MazeFile {
+            Self::MazeFile {
                 path,
                 rewards,
                 step_cap,
@@ -64,11 +75,11 @@ impl Task {
                     field: "task.path".to_owned(),
                     source,
                 })?;
-                let mut task = Self::from_maze(maze, *rewards, *step_cap, "task.rewards")?;
+                let mut task = Task::from_maze(maze, *rewards, *step_cap, "task.rewards")?;
                 task.input = Some(Arc::from(text));
                 Ok(task)
             }
-            TaskConfig::MazeText {
+            Self::MazeText {
                 map,
                 rewards,
                 step_cap,
@@ -77,9 +88,9 @@ impl Task {
                     field: "task.map".to_owned(),
                     source,
                 })?;
-                Self::from_maze(maze, *rewards, *step_cap, "task.rewards")
+                Task::from_maze(maze, *rewards, *step_cap, "task.rewards")
             }
-            TaskConfig::Robot {
+            Self::Robot {
                 scenario,
                 step_cap,
                 target_bins,
@@ -87,18 +98,26 @@ impl Task {
                 reach_radius,
                 distance_bins,
             } => {
-                let scenario_error = |source| ConfigError::Scenario {
-                    field: "task.scenario".to_owned(),
-                    source,
-                };
-                let mut input = None;
-                let mut scenario = if scenario == DEFAULT_SCENARIO {
-                    Scenario::default_scenario()
+                let (text, input) = if scenario == DEFAULT_SCENARIO {
+                    (Arc::from(DEFAULT_SCENARIO_TOML), None)
                 } else {
-                    let text = read_input_file(Path::new(scenario), "task.scenario")?;
-                    let parsed = Scenario::from_toml_str(&text).map_err(scenario_error)?;
-                    input = Some(Arc::from(text));
-                    parsed
+                    let text: Arc<str> =
+                        Arc::from(read_input_file(Path::new(scenario), "task.scenario")?);
+                    (text.clone(), Some(text))
+                };
+                // Parsed without validation: the scenario is validated once, below, with the
+                // overrides applied (`Scenario::from_toml_str` would validate it twice).
+                let mut scenario: Scenario =
+                    toml::from_str(&text).map_err(|error| ConfigError::Scenario {
+                        field: "task.scenario".to_owned(),
+                        source: ScenarioError::Parse(error),
+                    })?;
+                let overrides = RobotOverrides {
+                    step_cap: step_cap.is_some(),
+                    target_bins: target_bins.is_some(),
+                    control_period: control_period.is_some(),
+                    reach_radius: reach_radius.is_some(),
+                    distance_bins: distance_bins.is_some(),
                 };
                 if let Some(cap) = step_cap {
                     scenario.step_cap = *cap;
@@ -115,23 +134,73 @@ impl Task {
                 if let Some(bins) = distance_bins {
                     scenario.state.distance_bins = *bins;
                 }
-                // Validates the overrides too, then proves the target reachable: a scenario
-                // whose target no route reaches is refused here, not trained on in vain. The
-                // shortest route found is the robot's analogue of a BFS optimum.
-                let plan = scenario
+                let checked = scenario.check().map_err(|error| overrides.blame(error))?;
+                // The target must be reachable: a scenario whose target no route reaches is
+                // refused here, not trained on in vain. The shortest route found is the
+                // robot's analogue of a BFS optimum.
+                let plan = checked
                     .check_route(&PlannerParams::default())
-                    .map_err(scenario_error)?;
-                let optimum_steps = Some(plan.actions.len() as u64);
-                let env = WmrEnv::new(scenario).map_err(scenario_error)?;
-                Ok(Self {
-                    kind: TaskKind::Robot(Box::new(env)),
-                    optimum_steps,
+                    .map_err(|error| overrides.blame(error))?;
+                Ok(Task {
+                    kind: TaskKind::Robot(Box::new(WmrEnv::from_checked(checked))),
+                    optimum_steps: Some(plan.actions.len() as u64),
                     input,
                 })
             }
         }
     }
+}
 
+/// Which robot settings the task config overrides: an error about one of them is the
+/// config's key, not the scenario's.
+struct RobotOverrides {
+    step_cap: bool,
+    target_bins: bool,
+    control_period: bool,
+    reach_radius: bool,
+    distance_bins: bool,
+}
+
+impl RobotOverrides {
+    /// The config key to blame for a scenario error: the override's key when the scenario
+    /// field at fault was overridden (for too many states, the bins the config set),
+    /// otherwise `task.scenario.<field>`.
+    fn key(&self, error: &ScenarioError) -> String {
+        let field = error.field();
+        let overridden = match field.as_deref() {
+            Some("step_cap") if self.step_cap => Some("task.step_cap"),
+            Some("control_period") if self.control_period => Some("task.control_period"),
+            Some("target.reach_radius") if self.reach_radius => Some("task.reach_radius"),
+            Some("state.distance_bins") if self.distance_bins => Some("task.distance_bins"),
+            Some("state.target_bins") if self.target_bins => Some("task.target_bins"),
+            Some("state") if self.distance_bins => Some("task.distance_bins"),
+            Some("state") if self.target_bins => Some("task.target_bins"),
+            _ => None,
+        };
+        match (overridden, field) {
+            (Some(key), _) => key.to_owned(),
+            (None, Some(field)) => format!("task.scenario.{field}"),
+            (None, None) => "task.scenario".to_owned(),
+        }
+    }
+
+    /// The scenario error as a config error naming [`key`](Self::key): a value out of range
+    /// reads as any other config value out of range.
+    fn blame(&self, error: ScenarioError) -> ConfigError {
+        let field = self.key(&error);
+        match error {
+            ScenarioError::OutOfRange {
+                value, expected, ..
+            } => ConfigError::invalid(field, value, expected),
+            ScenarioError::NotFinite { value, .. } => {
+                ConfigError::invalid(field, value, "a finite number")
+            }
+            source => ConfigError::Scenario { field, source },
+        }
+    }
+}
+
+impl Task {
     fn from_maze(
         maze: Maze,
         rewards: Preset,
@@ -142,9 +211,18 @@ impl Task {
         if let Some(cap) = step_cap {
             spec.step_cap = cap;
         }
-        let env = MazeEnv::new(maze, spec).map_err(|source| ConfigError::MazeSpec {
-            field: field.to_owned(),
-            source,
+        // The preset's spec is valid: only the config's step cap can be at fault, and it is
+        // blamed on its own key.
+        let env = MazeEnv::new(maze, spec).map_err(|source| match source {
+            SpecError::StepCapOutOfRange { value } => ConfigError::invalid(
+                "task.step_cap",
+                value,
+                format!("a step cap in 1..={}", mazes::MAX_STEP_CAP),
+            ),
+            source => ConfigError::MazeSpec {
+                field: field.to_owned(),
+                source,
+            },
         })?;
         Ok(Self {
             optimum_steps: u64::try_from(env.maze().shortest_path_len()).ok(),
@@ -202,13 +280,14 @@ impl Task {
     }
 
     /// Steps after which an episode is truncated: the maze's task spec's, or the robot
-    /// scenario's (either with the config's `task.step_cap` applied).
+    /// scenario's (either with the config's `task.step_cap` applied). `u32`, as everywhere a
+    /// step cap is held (`task.step_cap`, the maze's spec, the scenario).
     #[must_use]
-    pub fn step_cap(&self) -> u64 {
-        u64::from(match &self.kind {
+    pub fn step_cap(&self) -> u32 {
+        match &self.kind {
             TaskKind::Maze(env) => env.spec().step_cap,
             TaskKind::Robot(env) => env.scenario().step_cap,
-        })
+        }
     }
 
     /// The maze, for a maze task.

@@ -222,6 +222,6 @@ pub use render_rgb::{TILE_PIXELS, render_rgb};
 pub use render_svg::{PALETTE, SvgOptions, SvgTrajectory, render_svg};
 pub use render_text::{PATH_MARK, render_text};
 pub use reward::{
-    DEFAULT_STEP_CAP, DO_NOT_HIT_NAME, Event, MAX_ABS_REWARD, REACH_FASTER_NAME, RewardScheme,
-    SpecError, Subtask, TaskSpec,
+    DEFAULT_STEP_CAP, DO_NOT_HIT_NAME, Event, MAX_ABS_REWARD, MAX_STEP_CAP, REACH_FASTER_NAME,
+    RewardScheme, SpecError, Subtask, TaskSpec,
 };

@@ -164,6 +164,11 @@ impl RewardScheme {
     }
 }
 
+/// Largest `step_cap`: 100 000 steps. A run keeps whole episodes' trajectories (8 bytes a
+/// step), so an unbounded cap could exhaust memory long after the spec was accepted; the
+/// presets use 2000.
+pub const MAX_STEP_CAP: u32 = 100_000;
+
 /// Largest magnitude of a reward constant: `1e9`.
 ///
 /// The presets use rewards of magnitude at most 10. Bounding them (with the learners' initial
@@ -245,14 +250,17 @@ impl TaskSpec {
         }
     }
 
-    /// Checks the spec: finite rewards, a positive step cap, non-empty distinct names.
+    /// Checks the spec: finite rewards, a step cap in `1..=`[`MAX_STEP_CAP`], non-empty
+    /// distinct names.
     ///
     /// # Errors
     ///
     /// The first problem found, as a [`SpecError`] naming the field.
     pub fn validate(&self) -> Result<(), SpecError> {
-        if self.step_cap == 0 {
-            return Err(SpecError::ZeroStepCap);
+        if !(1..=MAX_STEP_CAP).contains(&self.step_cap) {
+            return Err(SpecError::StepCapOutOfRange {
+                value: self.step_cap,
+            });
         }
         self.reward.validate("reward")?;
         for (index, subtask) in self.subtasks.iter().enumerate() {
@@ -299,9 +307,12 @@ pub enum SpecError {
         /// The largest magnitude accepted.
         limit: f64,
     },
-    /// `step_cap` is 0: no episode could take a single step.
-    #[error("`step_cap` must be at least 1, got 0")]
-    ZeroStepCap,
+    /// `step_cap` is 0 (no episode could take a single step) or above [`MAX_STEP_CAP`].
+    #[error("`step_cap` must be in [1, {MAX_STEP_CAP}], got {value}")]
+    StepCapOutOfRange {
+        /// The value found.
+        value: u32,
+    },
     /// A sub-task has an empty (or all-blank) name.
     #[error("`subtasks[{index}].name` must not be empty")]
     EmptySubtaskName {

@@ -24,7 +24,7 @@ use crate::camera::{Camera, CameraView};
 use crate::kinematics::FixedArc;
 use crate::metrics::{EpisodeMetrics, EpisodeStatus};
 use crate::reward::{RewardInputs, SUBTASK_COUNT, SUBTASK_NAMES, TaskStep};
-use crate::scenario::{Scenario, ScenarioError};
+use crate::scenario::{CheckedScenario, Scenario, ScenarioError};
 use crate::sensors::{DistanceSensors, SENSOR_COUNT};
 use crate::state::{Discretiser, StateBins};
 use crate::world::{Motion, World};
@@ -165,7 +165,7 @@ fn measure(
 /// The robot among its obstacles, as a discrete episodic task with three sub-tasks.
 #[derive(Debug, Clone)]
 pub struct WmrEnv {
-    scenario: Scenario,
+    scenario: CheckedScenario,
     world: World,
     sensors: DistanceSensors,
     camera: Camera,
@@ -248,7 +248,13 @@ impl WmrEnv {
     /// # Errors
     /// The scenario's first validation error.
     pub fn new(scenario: Scenario) -> Result<Self, ScenarioError> {
-        scenario.validate()?;
+        Ok(Self::from_checked(scenario.check()?))
+    }
+
+    /// An environment for a scenario already checked ([`Scenario::check`]), reset with
+    /// [`DEFAULT_SEED`]; it cannot fail, and does not validate again.
+    #[must_use]
+    pub fn from_checked(scenario: CheckedScenario) -> Self {
         let world = scenario.world();
         let robot = scenario.robot;
         let twists = Action::ALL.map(|action| {
@@ -297,12 +303,20 @@ impl WmrEnv {
             scenario,
         };
         env.reset(Some(DEFAULT_SEED));
-        Ok(env)
+        env
     }
 
     /// The scenario.
     #[must_use]
     pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The scenario as checked when the environment was built: another environment of it
+    /// (changed only in ways that keep it checked, [`CheckedScenario::with_repairs`]) is built
+    /// without validating again.
+    #[must_use]
+    pub fn checked_scenario(&self) -> &CheckedScenario {
         &self.scenario
     }
 

@@ -120,8 +120,9 @@
 //!   the field of view; with no obstacle in view, one state per distance bin: 250 states; times
 //!   `N_T = 7` target image-position bins by default (1750 states).
 //! * **Bounds**: scenarios that could not be run, solved or held in memory are refused with an
-//!   error naming the field (see [`scenario`]'s bounds table; [`Scenario::check_route`] refuses
-//!   a target no route reaches).
+//!   error naming the field (see [`scenario`]'s bounds table; [`Scenario::check`] validates
+//!   once into a [`CheckedScenario`], whose [`CheckedScenario::check_route`] refuses a target
+//!   no route reaches and which [`WmrEnv::from_checked`] takes without failing).
 //! * **Eq. 6/7 sum**: `Σ_{i=1}^{8} |i − p| · C_i / p` with `n` read as the sensor index `i`;
 //!   `p = 4.5` weights the front sensors most. `k = 1` per metre, `f = 0.1` (Table 1).
 //! * **`Rad`** is the unsigned angle to the obstacle in view (π when none). Literally, `−f·Rad`
@@ -173,8 +174,9 @@ pub use reward::{
     SUBTASK_NAMES, SubtaskRepairs, TaskReward, TaskStep,
 };
 pub use scenario::{
-    ArenaSpec, DEFAULT_SCENARIO_TOML, MAX_ARENA_SIDE, MAX_CONTROL_PERIOD, MAX_REWARD_MAGNITUDE,
-    MAX_STEP_CAP, ObstacleSpec, Scenario, ScenarioError, StartSpec, TargetSpec,
+    ArenaSpec, CheckedScenario, DEFAULT_SCENARIO_TOML, MAX_ARENA_SIDE, MAX_CONTROL_PERIOD,
+    MAX_REWARD_MAGNITUDE, MAX_STEP_CAP, ObstacleSpec, Scenario, ScenarioError, StartSpec,
+    TargetSpec,
 };
 pub use sensors::{DistanceSensors, SENSOR_COUNT, SensorParams};
 pub use state::{DEFAULT_TARGET_BINS, Discretiser, MAX_BINS, MAX_STATES, StateBins, StateParams};

@@ -7,6 +7,10 @@
 //!
 //! [`Scenario::validate`] turns every mistake it can detect into a [`ScenarioError`] naming
 //! the field (`obstacles[2].radius`, `camera.horizontal_fov`, …) and the offending value.
+//! [`Scenario::check`] validates once and returns a [`CheckedScenario`]: what has passed, which
+//! [`WmrEnv::from_checked`](crate::WmrEnv::from_checked) and [`CheckedScenario::check_route`]
+//! take without validating again (the linfa pattern: checked once, then it cannot fail on the
+//! same value).
 //!
 //! # Bounds
 //!
@@ -36,7 +40,7 @@ use crate::geometry::{Circle, Rect};
 use crate::kinematics::RobotParams;
 use crate::metrics::MetricsParams;
 use crate::planner::{Plan, PlanError, PlannerParams, search};
-use crate::reward::{RewardParams, TaskReward};
+use crate::reward::{RewardParams, SubtaskRepairs, TaskReward};
 use crate::sensors::SensorParams;
 use crate::state::{MAX_BINS, MAX_STATES, StateParams};
 use crate::world::{Obstacle, World};
@@ -274,6 +278,75 @@ pub enum ScenarioError {
     TargetNotInViewAtStart,
 }
 
+impl ScenarioError {
+    /// The scenario field the error is about, as written in the file (`step_cap`,
+    /// `target.reach_radius`, `obstacles[2]`, `state` for too many states); `None` for TOML
+    /// syntax and writing errors. A caller that set the field itself (an override) blames its
+    /// own key for it.
+    #[must_use]
+    pub fn field(&self) -> Option<String> {
+        match self {
+            Self::Parse(_) | Self::Write(_) => None,
+            Self::NotFinite { field, .. } | Self::OutOfRange { field, .. } => Some(field.clone()),
+            Self::TooManyStates { .. } => Some("state".to_owned()),
+            Self::TargetUnreachable { .. } => Some("target".to_owned()),
+            Self::ObstacleOutsideArena { index } | Self::ObstacleOverlapsBody { index, .. } => {
+                Some(format!("obstacles[{index}]"))
+            }
+            Self::BodyOutsideArena { place, .. } => Some((*place).to_owned()),
+            Self::StartAtTarget => Some("target.reach_radius".to_owned()),
+            Self::TargetNotInViewAtStart => Some("start.heading".to_owned()),
+        }
+    }
+}
+
+/// A scenario that passed [`Scenario::validate`], made only by [`Scenario::check`]: every
+/// field lies within its bounds, so an environment of it cannot fail
+/// ([`WmrEnv::from_checked`](crate::WmrEnv::from_checked)) and its route is searched without
+/// validating again ([`check_route`](Self::check_route)). Read it through `Deref` (a
+/// `&Scenario`); change it only through methods that keep it valid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedScenario(Scenario);
+
+impl std::ops::Deref for CheckedScenario {
+    type Target = Scenario;
+
+    fn deref(&self) -> &Scenario {
+        &self.0
+    }
+}
+
+impl CheckedScenario {
+    /// The scenario, to change and check again.
+    #[must_use]
+    pub fn into_scenario(self) -> Scenario {
+        self.0
+    }
+
+    /// The same scenario with these sub-task reward repairs. Still checked: the repairs are
+    /// switches that no bound of [`Scenario::validate`] reads.
+    #[must_use]
+    pub fn with_repairs(mut self, repairs: SubtaskRepairs) -> Self {
+        self.0.reward.repairs = repairs;
+        self
+    }
+
+    /// Runs the planner ([`search`] with `params`) and returns the shortest route it finds: the
+    /// load-time proof that the target can be reached at all. The scenario is not validated
+    /// again.
+    ///
+    /// # Errors
+    /// [`ScenarioError::TargetUnreachable`] when the search ends without reaching the target
+    /// (no route exists, or none within the planner's budget).
+    pub fn check_route(&self, params: &PlannerParams) -> Result<Plan, ScenarioError> {
+        search(&self.0, params).map_err(|reason| ScenarioError::TargetUnreachable {
+            x: self.0.target.x,
+            y: self.0.target.y,
+            reason,
+        })
+    }
+}
+
 /// Collects the checks of one scenario.
 struct Checker;
 
@@ -411,20 +484,14 @@ impl Scenario {
         )
     }
 
-    /// Runs the planner ([`search`] with `params`) and returns the shortest route it finds: the
-    /// load-time proof that the target can be reached at all.
+    /// Validates a clone of the scenario and runs the planner on it
+    /// ([`CheckedScenario::check_route`]); for a scenario already checked, call that instead.
     ///
     /// # Errors
-    /// [`ScenarioError::TargetUnreachable`] when the search ends without reaching the target
-    /// (no route exists, or none within the planner's budget); a validation error first if
-    /// the scenario is invalid.
+    /// A validation error first if the scenario is invalid, then
+    /// [`ScenarioError::TargetUnreachable`] when the search ends without reaching the target.
     pub fn check_route(&self, params: &PlannerParams) -> Result<Plan, ScenarioError> {
-        self.validate()?;
-        search(self, params).map_err(|reason| ScenarioError::TargetUnreachable {
-            x: self.target.x,
-            y: self.target.y,
-            reason,
-        })
+        self.clone().check()?.check_route(params)
     }
 
     /// Checks every field; the first problem found is returned.
@@ -434,6 +501,16 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), ScenarioError> {
         self.validate_numbers()?;
         self.validate_layout()
+    }
+
+    /// Validates the scenario once and keeps it as a [`CheckedScenario`], which later layers
+    /// take without validating again.
+    ///
+    /// # Errors
+    /// As [`validate`](Self::validate).
+    pub fn check(self) -> Result<CheckedScenario, ScenarioError> {
+        self.validate()?;
+        Ok(CheckedScenario(self))
     }
 
     fn validate_numbers(&self) -> Result<(), ScenarioError> {

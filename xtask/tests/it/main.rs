@@ -5,11 +5,17 @@ use std::path::Path;
 
 mod architecture;
 mod concurrent_store;
+mod figure_checks;
+mod gc;
+mod jobs;
 mod kill_resume;
 mod markdown;
+mod readings;
 mod slurm;
 mod store_faults;
 mod tidy;
+mod tuning_suite;
+mod verify;
 
 /// Every file under `folder`: relative path → bytes (the outputs two runs must share).
 pub(crate) fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {

@@ -384,18 +384,50 @@ const LIBRARY_PATTERNS: &[&str] = &[
     "fn moving_average",
     "Bootstrap::new",
     "PermutationTest::new",
+    "fn render_svg",
+    "fn svg_",
 ];
 
-/// Rule `thin-xtask`: `xtask/src` defines no chart and no statistic outside its tests (the
-/// lines after a file's `#[cfg(test)]`, and the test-only modules' files, may recompute
-/// numbers to check them).
+/// The most lines `xtask/src` may hold, tests included (issue 36 item 1: the command line and
+/// file handling only; the target is 4 000). Set to the count reached on branch `checked`; it
+/// only ever goes down.
+const XTASK_SRC_BUDGET: usize = 5999;
+
+/// Rule `xtask-budget`: the files of `xtask/src` (path, line count) hold at most
+/// [`XTASK_SRC_BUDGET`] lines in all.
+fn check_xtask_budget(files: &[(String, usize)]) -> Vec<Violation> {
+    let total: usize = files.iter().map(|(_, lines)| lines).sum();
+    if total <= XTASK_SRC_BUDGET {
+        return Vec::new();
+    }
+    let mut largest: Vec<&(String, usize)> = files.iter().collect();
+    largest.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+    let named: Vec<String> = largest
+        .iter()
+        .take(3)
+        .map(|(path, lines)| format!("{path} ({lines})"))
+        .collect();
+    vec![violation(
+        "xtask/src",
+        0,
+        "xtask-budget",
+        format!(
+            "xtask/src holds {total} lines, over its budget of {XTASK_SRC_BUDGET} (largest: {})",
+            named.join(", ")
+        ),
+        "move library logic (with its tests) into the crate it belongs to, and unit tests of \
+         command-line behaviour into black-box tests in xtask/tests/it",
+    )]
+}
+
+/// Rule `thin-xtask`: `xtask/src` defines no chart and no statistic, in its tests neither
+/// (a test that recomputes numbers belongs beside the statistic, in its library crate).
 fn check_thin_xtask(path: &str, text: &str) -> Vec<Violation> {
     if !path.starts_with("xtask/src/") {
         return Vec::new();
     }
     text.lines()
         .enumerate()
-        .take_while(|(_, line)| !line.starts_with("#[cfg(test)]"))
         .filter(|(_, line)| {
             let code = line.trim_start();
             !code.starts_with("//") && LIBRARY_PATTERNS.iter().any(|p| code.contains(p))
@@ -685,6 +717,15 @@ fn check_workspace(root: &Path) -> Vec<Violation> {
         )),
     }
 
+    let xtask_src: Vec<(String, usize)> = files_under(&root.join("xtask/src"), ".rs")
+        .iter()
+        .map(|file| {
+            let lines = fs::read_to_string(file).map_or(0, |text| text.lines().count());
+            (relative(root, file), lines)
+        })
+        .collect();
+    found.extend(check_xtask_budget(&xtask_src));
+
     for top in ["crates", "xtask", "benches"] {
         for file in files_under(&root.join(top), ".rs") {
             let path = relative(root, &file);
@@ -849,14 +890,32 @@ fn the_pure_eval_rule_flags_file_and_environment_access_only_in_the_evaluation_c
 }
 
 #[test]
-fn the_thin_xtask_rule_flags_charts_and_statistics_outside_tests() {
+fn the_thin_xtask_rule_flags_charts_and_statistics_in_code_and_tests() {
     let source = "//! A module.\n// <svg> in a comment\nfn f() { let _ = \"<polyline points\"; }\n\
                   pub(crate) fn iqm(x: &[f64]) -> f64 { x[0] }\n#[cfg(test)]\nmod tests { fn iqm() {} }\n";
     let found = check_thin_xtask("xtask/src/outputs.rs", source);
     let lines: Vec<usize> = found.iter().map(|v| v.line).collect();
-    assert_eq!(lines, [3, 4], "{found:?}");
+    assert_eq!(lines, [3, 4, 6], "{found:?}");
     assert!(found.iter().all(|v| v.rule == "thin-xtask"));
     assert!(check_thin_xtask("crates/eamadm-present/src/chart.rs", source).is_empty());
+}
+
+#[test]
+fn the_budget_rule_flags_an_xtask_over_its_line_budget_naming_the_largest_files() {
+    let within = [("xtask/src/main.rs".to_owned(), XTASK_SRC_BUDGET)];
+    assert!(check_xtask_budget(&within).is_empty());
+    let over = [
+        ("xtask/src/main.rs".to_owned(), XTASK_SRC_BUDGET),
+        ("xtask/src/big.rs".to_owned(), 1),
+    ];
+    let found = check_xtask_budget(&over);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].rule, "xtask-budget");
+    assert!(
+        found[0].what.contains("xtask/src/main.rs ("),
+        "{}",
+        found[0].what
+    );
 }
 
 #[test]

@@ -12,27 +12,53 @@ use eamadm::config::{
 };
 use eamadm::{ConfigError, Experiment, ExperimentConfig};
 
+/// The presets are their embedded TOML parsed (the TOML holds every value once); their methods
+/// are those the method builders make, with the budgets the presets themselves state.
 #[test]
-fn embedded_toml_files_are_the_named_constructors() {
+fn presets_are_built_from_the_method_builders() {
+    use eamadm::paper::{self, PaperTask};
+    let texts = [
+        (PaperTask::Task1, PAPER_TASK1_TOML),
+        (PaperTask::Task2, PAPER_TASK2_TOML),
+        (PaperTask::Robot, PAPER_ROBOT_TOML),
+        (PaperTask::RobotPaperState, PAPER_ROBOT_PAPER_STATE_TOML),
+        (PaperTask::AggregationControl, AGGREGATION_CONTROL_TOML),
+    ];
+    for (task, text) in texts {
+        assert_eq!(
+            task.config(),
+            ExperimentConfig::from_toml_str(text).unwrap()
+        );
+    }
+    let budget = |task: PaperTask| task.pretrain_budget().unwrap();
+    assert_eq!(budget(PaperTask::Task1), 464_000);
+    assert_eq!(budget(PaperTask::Task2), 896_000);
+    assert_eq!(budget(PaperTask::Robot), 53_000);
+    assert_eq!(budget(PaperTask::AggregationControl), 2_640_000);
+    assert_eq!(PaperTask::RobotPaperState.pretrain_budget(), None);
+    for task in [
+        PaperTask::Task1,
+        PaperTask::Task2,
+        PaperTask::AggregationControl,
+    ] {
+        assert_eq!(
+            task.config().methods,
+            [paper::methods(), paper::controls(budget(task))].concat(),
+            "{task:?}"
+        );
+    }
     assert_eq!(
-        ExperimentConfig::from_toml_str(PAPER_TASK1_TOML).unwrap(),
-        eamadm::paper::task1()
+        paper::robot().methods,
+        [
+            paper::methods(),
+            paper::robot_repairs(),
+            paper::robot_controls(budget(PaperTask::Robot)),
+        ]
+        .concat()
     );
     assert_eq!(
-        ExperimentConfig::from_toml_str(PAPER_TASK2_TOML).unwrap(),
-        eamadm::paper::task2()
-    );
-    assert_eq!(
-        ExperimentConfig::from_toml_str(PAPER_ROBOT_TOML).unwrap(),
-        eamadm::paper::robot()
-    );
-    assert_eq!(
-        ExperimentConfig::from_toml_str(PAPER_ROBOT_PAPER_STATE_TOML).unwrap(),
-        eamadm::paper::robot_paper_state()
-    );
-    assert_eq!(
-        ExperimentConfig::from_toml_str(AGGREGATION_CONTROL_TOML).unwrap(),
-        eamadm::paper::aggregation_control()
+        paper::robot_paper_state().methods,
+        [paper::methods(), paper::aggregators()].concat()
     );
 }
 
@@ -148,68 +174,168 @@ fn unknown_keys_are_rejected_and_named() {
     }
 }
 
+/// One preset's TOML with the first occurrence of `from` replaced by `to`.
+fn edited_preset(preset: &str, from: &str, to: &str) -> String {
+    assert!(preset.contains(from), "{from:?} not in the preset");
+    preset.replacen(from, to, 1)
+}
+
+/// Every family of bad values, each loaded from TOML and checked once
+/// (`Experiment::from_toml_str`, i.e. `ExperimentConfig::check`): the error names exactly the
+/// key the user wrote. The robot's overrides are blamed on their own keys, never on
+/// `task.scenario` (issue 36 item 4).
 #[test]
-fn out_of_range_values_are_rejected_with_their_path() {
+fn a_bad_value_is_blamed_on_the_key_the_user_wrote() {
+    let task1 = |from: &str, to: &str| edited_preset(PAPER_TASK1_TOML, from, to);
+    let robot = |from: &str, to: &str| edited_preset(PAPER_ROBOT_TOML, from, to);
     let cases = [
-        ("episodes = 200", "episodes = 0", "`episodes`"),
-        ("seeds = 20", "seeds = 0", "`seeds`"),
-        ("alpha = 0.1", "alpha = 1.5", "`learner.alpha`"),
-        ("gamma = 0.95", "gamma = -0.1", "`learner.gamma`"),
+        // Counts and seeds.
+        (task1("episodes = 200", "episodes = 0"), "episodes"),
+        (task1("seeds = 20", "seeds = 0"), "seeds"),
         (
-            "init = { kind = \"zero\" }",
-            "init = { kind = \"uniform\", low = 1.0, high = 0.0 }",
-            "`learner.init.high`",
+            task1("base_seed = 0", "base_seed = 18446744073709551615"),
+            "base_seed",
+        ),
+        // The learner.
+        (task1("alpha = 0.1", "alpha = 1.5"), "learner.alpha"),
+        (task1("gamma = 0.95", "gamma = -0.1"), "learner.gamma"),
+        (
+            task1(
+                "init = { kind = \"zero\" }",
+                "init = { kind = \"uniform\", low = 1.0, high = 0.0 }",
+            ),
+            "learner.init.high",
         ),
         (
-            "episodes = []",
-            "episodes = [200]",
-            "`trajectories.episodes[0]`",
+            task1("episodes = []", "episodes = [200]"),
+            "trajectories.episodes[0]",
+        ),
+        // Methods: schedules, weighting, storage, pre-training, labels.
+        (
+            task1(
+                "epsilon = { constant = 0.1 }",
+                "epsilon = { constant = 1.1 }",
+            ),
+            "methods[1].epsilon",
         ),
         (
-            "epsilon = { constant = 0.1 }",
-            "epsilon = { constant = 1.1 }",
-            "`methods[1].epsilon`",
+            task1(
+                "temperature = { exponential = { start = 0.1, factor = 0.95, floor = 0.01 } }",
+                "temperature = { exponential = { start = 0.1, factor = 1.95, floor = 0.01 } }",
+            ),
+            "methods[3].temperature.factor",
         ),
         (
-            "temperature = { exponential = { start = 0.1, factor = 0.95, floor = 0.01 } }",
-            "temperature = { exponential = { start = 0.1, factor = 1.95, floor = 0.01 } }",
-            "`methods[3].temperature.factor`",
+            task1("state_threshold = 1.0", "state_threshold = 1.5"),
+            "methods[0].storage.state_threshold",
         ),
         (
-            "state_threshold = 1.0",
-            "state_threshold = 1.5",
-            "`methods[0].storage.state_threshold`",
+            task1("epsilon = 1e-9", "epsilon = -1.0"),
+            "methods[0].weighting.support.epsilon",
         ),
         (
-            "epsilon = 1e-9",
-            "epsilon = -1.0",
-            "`methods[0].weighting.support.epsilon`",
+            task1("pretrain = { episodes = 200,", "pretrain = { episodes = 0,"),
+            "methods[0].pretrain.episodes",
         ),
         (
-            "pretrain = { episodes = 200,",
-            "pretrain = { episodes = 0,",
-            "`methods[0].pretrain.episodes`",
+            task1("label = \"softmax\"", "label = \"soft max\""),
+            "methods[3].label",
         ),
         (
-            "label = \"softmax\"",
-            "label = \"soft max\"",
-            "`methods[3].label`",
+            task1("label = \"softmax\"", "label = \"ea-madm\""),
+            "methods[3].label",
+        ),
+        // A method that does not fit the task.
+        (task1("subtask = 1", "subtask = 7"), "methods[9].subtask"),
+        // The maze's step cap: zero and too large, on its own key.
+        (
+            task1("preset = \"task1\"", "preset = \"task1\"\nstep_cap = 0"),
+            "task.step_cap",
         ),
         (
-            "label = \"softmax\"",
-            "label = \"ea-madm\"",
-            "`methods[3].label`",
+            task1(
+                "preset = \"task1\"",
+                "preset = \"task1\"\nstep_cap = 4000000000",
+            ),
+            "task.step_cap",
+        ),
+        // The robot's overrides, each on its own key, not on `task.scenario`.
+        (robot("step_cap = 250", "step_cap = 0"), "task.step_cap"),
+        (
+            robot("step_cap = 250", "step_cap = 200000"),
+            "task.step_cap",
         ),
         (
-            "preset = \"task1\"",
-            "preset = \"task1\"\nstep_cap = 0",
-            "`task.step_cap`",
+            robot("control_period = 0.4", "control_period = -0.4"),
+            "task.control_period",
+        ),
+        (
+            robot("control_period = 0.4", "control_period = 60.0"),
+            "task.control_period",
+        ),
+        (
+            robot("reach_radius = 0.10", "reach_radius = 0.0"),
+            "task.reach_radius",
+        ),
+        // So large that the robot starts within reach: a layout error, still the override's.
+        (
+            robot("reach_radius = 0.10", "reach_radius = 5.0"),
+            "task.reach_radius",
+        ),
+        (
+            robot("distance_bins = 30", "distance_bins = 0"),
+            "task.distance_bins",
+        ),
+        // Too many states in all: blamed on the bins the config set.
+        (
+            robot(
+                "distance_bins = 30",
+                "distance_bins = 1000\ntarget_bins = 1000",
+            ),
+            "task.distance_bins",
+        ),
+        (
+            robot(
+                "distance_bins = 30",
+                "distance_bins = 30\ntarget_bins = 5000",
+            ),
+            "task.target_bins",
         ),
     ];
-    for (from, to, field) in cases {
-        let message = error_of(&edited(from, to));
-        assert!(message.contains(field), "{field} not named in: {message}");
+    for (text, key) in &cases {
+        let Err(error) = Experiment::from_toml_str(text) else {
+            panic!("accepted a bad value for {key}");
+        };
+        assert_eq!(error.field(), Some(*key), "{error}");
+        assert!(error.to_string().contains(&format!("`{key}`")), "{error}");
     }
+}
+
+/// A bad value in a scenario file is blamed on `task.scenario.<its field>`; a value the config
+/// overrides is the override's, even where the file's own was fine.
+#[test]
+fn a_bad_value_in_a_scenario_file_is_blamed_under_task_scenario() {
+    let scenario = eamadm::wmr_model::DEFAULT_SCENARIO_TOML.replacen(
+        "[arena]",
+        "[sensors]\nnoise = 2.0\n\n[arena]",
+        1,
+    );
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("blamed-scenario.toml");
+    std::fs::write(&path, scenario).unwrap();
+    let text = edited_preset(
+        PAPER_ROBOT_TOML,
+        "scenario = \"default\"",
+        &format!("scenario = {:?}", path.display().to_string()),
+    );
+    let error = Experiment::from_toml_str(&text).unwrap_err();
+    assert_eq!(
+        error.field(),
+        Some("task.scenario.sensors.noise"),
+        "{error}"
+    );
+    let capped = text.replacen("step_cap = 250", "step_cap = 0", 1);
+    let error = Experiment::from_toml_str(&capped).unwrap_err();
+    assert_eq!(error.field(), Some("task.step_cap"), "{error}");
 }
 
 #[test]

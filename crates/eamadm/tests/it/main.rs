@@ -18,6 +18,7 @@ mod mutate;
 mod names;
 mod oracle;
 mod pairing;
+mod readings;
 mod robot_refusals;
 mod run;
 mod shared;

@@ -66,7 +66,7 @@ fn with_exact_values_the_decision_is_the_reach_subtasks_own() {
             let share = row.optimal_share.unwrap();
             assert!((0.0..=1.0).contains(&share), "{row:?}");
             assert_eq!(row.optimum_steps, experiment.task().optimum_steps());
-            assert!(row.greedy_steps <= row.step_cap);
+            assert!(row.greedy_steps <= u64::from(row.step_cap));
         }
         if reaches {
             // Task I is at the Manhattan bound and the exact reach sub-task walks it.
@@ -76,7 +76,7 @@ fn with_exact_values_the_decision_is_the_reach_subtasks_own() {
         } else {
             assert_eq!(alone.optimum_steps, Some(64));
             assert_eq!(alone.manhattan_steps, Some(24));
-            assert_eq!(alone.greedy_steps, alone.step_cap);
+            assert_eq!(alone.greedy_steps, u64::from(alone.step_cap));
         }
     }
 }

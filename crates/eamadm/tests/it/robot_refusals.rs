@@ -31,23 +31,19 @@ fn robot_config(
     config
 }
 
-/// The scenario error of a refused robot config, after checking it names `task.scenario`.
-fn scenario_error(config: ExperimentConfig) -> ScenarioError {
+/// Why a robot config is refused (it must be).
+fn refusal(config: ExperimentConfig) -> ConfigError {
     match Experiment::new(config) {
-        Err(ConfigError::Scenario { field, source }) => {
-            assert_eq!(field, "task.scenario");
-            source
-        }
-        Err(other) => panic!("expected a scenario error, got {other}"),
+        Err(error) => error,
         Ok(_) => panic!("the config must be refused"),
     }
 }
 
-fn field_of(error: &ScenarioError) -> &str {
-    match error {
-        ScenarioError::OutOfRange { field, .. } | ScenarioError::NotFinite { field, .. } => field,
-        other => panic!("expected a field error, got {other}"),
-    }
+/// The key a refusal blames, as the user wrote it.
+fn key_of(error: &ConfigError) -> &str {
+    error
+        .field()
+        .unwrap_or_else(|| panic!("no key named: {error}"))
 }
 
 #[test]
@@ -69,7 +65,11 @@ fn a_walled_off_target_is_refused_at_load_time() {
          width = 0.02\nheight = 1.0\n"
     );
     let path = scenario_file("walled", &walled);
-    let error = scenario_error(robot_config(path.display().to_string(), None, None));
+    let refused = refusal(robot_config(path.display().to_string(), None, None));
+    assert_eq!(key_of(&refused), "task.scenario.target", "{refused}");
+    let ConfigError::Scenario { source: error, .. } = refused else {
+        panic!("expected a scenario error, got {refused}");
+    };
     assert!(
         matches!(
             error,
@@ -85,16 +85,16 @@ fn a_walled_off_target_is_refused_at_load_time() {
 
 #[test]
 fn overrides_that_cannot_be_held_in_memory_are_refused() {
-    // Used to abort allocating a 64 GB episode buffer.
-    let error = scenario_error(robot_config("default".to_owned(), Some(u32::MAX), None));
-    assert_eq!(field_of(&error), "step_cap");
+    // Used to abort allocating a 64 GB episode buffer; blamed on the key the user wrote.
+    let error = refusal(robot_config("default".to_owned(), Some(u32::MAX), None));
+    assert_eq!(key_of(&error), "task.step_cap", "{error}");
     // Used to abort allocating the state table (here through the target feature).
-    let error = scenario_error(robot_config(
+    let error = refusal(robot_config(
         "default".to_owned(),
         None,
         Some(2_147_483_647),
     ));
-    assert_eq!(field_of(&error), "state.target_bins");
+    assert_eq!(key_of(&error), "task.target_bins", "{error}");
 }
 
 #[test]
@@ -120,8 +120,12 @@ fn scenario_files_with_oversized_numbers_are_refused() {
         let text = DEFAULT_SCENARIO_TOML.replacen(edit.0, edit.1, 1);
         assert_ne!(text, DEFAULT_SCENARIO_TOML, "{name}: the edit applies");
         let path = scenario_file(name, &text);
-        let error = scenario_error(robot_config(path.display().to_string(), None, None));
-        assert_eq!(field_of(&error), field, "{name}: {error}");
+        let error = refusal(robot_config(path.display().to_string(), None, None));
+        assert_eq!(
+            key_of(&error),
+            format!("task.scenario.{field}"),
+            "{name}: {error}"
+        );
     }
 }
 

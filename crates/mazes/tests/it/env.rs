@@ -251,7 +251,15 @@ fn invalid_specs_are_typed_errors() {
     };
     assert_eq!(
         MazeEnv::new(maze.clone(), spec).unwrap_err(),
-        SpecError::ZeroStepCap
+        SpecError::StepCapOutOfRange { value: 0 }
+    );
+    let spec = TaskSpec {
+        step_cap: mazes::MAX_STEP_CAP + 1,
+        ..TaskSpec::task1()
+    };
+    assert_eq!(
+        MazeEnv::new(maze.clone(), spec).unwrap_err().to_string(),
+        "`step_cap` must be in [1, 100000], got 100001"
     );
 
     let mut spec = TaskSpec::task1();

@@ -139,3 +139,65 @@ fn a_walled_off_target_is_refused_by_the_route_check() {
     let open = Scenario::from_toml_str(MINIMAL).expect("valid");
     assert!(open.check_route(&PlannerParams::default()).is_ok());
 }
+
+/// Checked once: `Scenario::check` is `validate` kept as a type; the environment built from a
+/// checked scenario is the one `WmrEnv::new` builds, and a repaired copy stays checked.
+#[test]
+fn a_checked_scenario_builds_the_same_environment_without_failing() {
+    use dql::Environment;
+    let scenario = Scenario::from_toml_str(MINIMAL).expect("valid");
+    let checked = scenario.clone().check().expect("valid");
+    assert_eq!(*checked, scenario);
+    let mut direct = WmrEnv::new(scenario.clone()).expect("valid");
+    let mut built = WmrEnv::from_checked(checked.clone());
+    assert_eq!(built.checked_scenario(), &checked);
+    for (a, b) in [(&mut direct, &mut built)] {
+        a.reset(Some(3));
+        b.reset(Some(3));
+        for action in [0, 3, 4, 0, 1] {
+            assert_eq!(a.step(action), b.step(action));
+        }
+    }
+    let repairs = wmr_model::SubtaskRepairs {
+        reach_goal_bonus: true,
+        end_penalties: true,
+    };
+    let repaired = checked.with_repairs(repairs);
+    assert_eq!(repaired.reward.repairs, repairs);
+    assert!(repaired.validate().is_ok());
+    // What fails the check is what fails `validate`, naming the same field.
+    let bad = MINIMAL.replace("width = 1.0", "width = -1.0");
+    let parsed: Scenario = toml::from_str(&bad).expect("parses");
+    let error = parsed.check().expect_err("refused");
+    assert_eq!(error.field().as_deref(), Some("arena.width"));
+}
+
+/// `ScenarioError::field` names the field a caller would blame, for every kind of error that
+/// is about one.
+#[test]
+fn every_refusal_about_a_field_names_it() {
+    let cases = [
+        ("step_cap = 0", "step_cap"),
+        ("control_period = 20.0", "control_period"),
+        ("[state]\ndistance_bins = 0", "state.distance_bins"),
+        ("[state]\ndistance_bins = 1000\ntarget_bins = 1000", "state"),
+    ];
+    for (extra, field) in cases {
+        // Top-level keys must come before the tables of MINIMAL.
+        let text = if extra.starts_with('[') {
+            format!("{MINIMAL}\n{extra}\n")
+        } else {
+            format!("{extra}\n{MINIMAL}")
+        };
+        let error = Scenario::from_toml_str(&text).expect_err("refused");
+        assert_eq!(error.field().as_deref(), Some(field), "{error}");
+    }
+    // MINIMAL ends inside `[target]`.
+    let near = format!("{MINIMAL}reach_radius = 5.0\n");
+    let error = Scenario::from_toml_str(&near).expect_err("refused");
+    assert_eq!(
+        error.field().as_deref(),
+        Some("target.reach_radius"),
+        "{error}"
+    );
+}

@@ -1,6 +1,8 @@
-//! A short, readable account of how two texts differ: the first differing line with a few
-//! lines of context, marked `-` (expected) and `+` (actual). Enough to review a fixture change
-//! without a diff library.
+//! Generated text and the committed files it goes into (the README's and `docs/outputs.md`'s
+//! generated blocks, `fixtures/`): [`splice`] puts a generated block between its marker lines,
+//! and [`first_difference`] gives a short, readable account of how two texts differ (the first
+//! differing line with a few lines of context, marked `-` expected and `+` actual), enough to
+//! review a fixture change without a diff library.
 
 use std::fmt::Write as _;
 
@@ -10,8 +12,10 @@ const CONTEXT: usize = 3;
 const SHOWN: usize = 8;
 
 /// `None` when `expected == actual`; otherwise the first differing line (1-based) and a short
-/// diff around it.
-pub(crate) fn first_difference(expected: &str, actual: &str) -> Option<String> {
+/// diff around it (`xtask regen-fixtures --check` shows it for a generated file that is out of
+/// date).
+#[must_use]
+pub fn first_difference(expected: &str, actual: &str) -> Option<String> {
     if expected == actual {
         return None;
     }
@@ -57,6 +61,30 @@ pub(crate) fn first_difference(expected: &str, actual: &str) -> Option<String> {
     Some(text)
 }
 
+/// `text` with the lines between `<!-- generated:NAME … -->` and `<!-- /generated:NAME -->`
+/// replaced by `content` (the marker lines stay).
+///
+/// # Errors
+/// A message naming the marker line the text lacks (`README.md lacks …`).
+pub fn splice(text: &str, name: &str, content: &str) -> Result<String, String> {
+    let open = format!("<!-- generated:{name}");
+    let close = format!("<!-- /generated:{name} -->");
+    let missing = |marker: &str| {
+        format!(
+            "README.md lacks the marker line `{marker}`; put the generated part back between `{open} -->` and `{close}`"
+        )
+    };
+    let start = text.find(&open).ok_or_else(|| missing(&open))?;
+    let body = start + text[start..].find('\n').ok_or_else(|| missing(&open))? + 1;
+    let end = body + text[body..].find(&close).ok_or_else(|| missing(&close))?;
+    let mut out = String::with_capacity(text.len() + content.len());
+    out.push_str(&text[..body]);
+    out.push_str(content.trim_end());
+    out.push('\n');
+    out.push_str(&text[end..]);
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -86,5 +114,18 @@ mod tests {
         assert!(diff.contains("- b"), "{diff}");
         let diff = first_difference("a\n", "a").unwrap();
         assert!(diff.contains("line endings or a final newline"), "{diff}");
+    }
+
+    #[test]
+    fn splice_replaces_only_between_the_markers_and_names_a_missing_one() {
+        let text = "a\n<!-- generated:x: do not edit -->\nold\nlines\n<!-- /generated:x -->\nb\n";
+        assert_eq!(
+            splice(text, "x", "new\n").unwrap(),
+            "a\n<!-- generated:x: do not edit -->\nnew\n<!-- /generated:x -->\nb\n"
+        );
+        let error = splice("a\n", "x", "new").unwrap_err();
+        assert!(error.contains("`<!-- generated:x`"), "{error}");
+        let error = splice("<!-- generated:x -->\nold\n", "x", "new").unwrap_err();
+        assert!(error.contains("`<!-- /generated:x -->`"), "{error}");
     }
 }
