@@ -29,8 +29,8 @@ use eamadm::verdicts::Verdicts;
 use eamadm_runs::atomic::{AtomicFile, AtomicWriteError};
 use eamadm_runs::store::{RunStore, StoreError, StoredRun};
 
-/// Each experiment's per-episode table, compressed: about 6–8× smaller than the CSV at gzip
-/// level 4 (`eamadm_runs::gzip`'s table level), and pandas, R and `zcat` read it as it is.
+/// Each experiment's per-episode table, compressed at `eamadm_runs::gzip`'s table level (reals
+/// at single precision, `eamadm::results::CurveRow`); pandas, R and `zcat` read it as it is.
 pub(crate) const CURVES_FILE: &str = eamadm_runs::names::CURVES;
 
 /// What to write.

@@ -17,6 +17,7 @@
 //! behaviour shows up as a reviewable diff.
 
 use std::fmt::Write as _;
+use std::path::Path;
 use std::process::{Command, Stdio};
 
 use eamadm::mazes::Preset;
@@ -157,6 +158,7 @@ fn readme_parts(check: bool, workspace: &Workspace) -> Result<(), Failure> {
             "the default run for the README failed ({status})"
         )));
     }
+    check_footprint(out.path())?;
     let run = readme::read_run(out.path()).map_err(Failure::failed)?;
     let readme_path = workspace.root.join(readme::README);
     let figure_path = workspace.root.join(readme::FIGURE);
@@ -187,6 +189,31 @@ fn readme_parts(check: bool, workspace: &Workspace) -> Result<(), Failure> {
         println!("wrote README.md's generated parts");
         write_atomic(&figure_path, &run.figure).map_err(Failure::failed)?;
         println!("wrote {}", readme::FIGURE);
+    }
+    Ok(())
+}
+
+/// Issue 35's budget for the default run's output folder, as `du -sb` and `find -type f`
+/// count it (docs/paper-notes.md §24.1).
+const DEFAULT_RUN_MAX_BYTES: u64 = 25_000_000;
+const DEFAULT_RUN_MAX_FILES: u64 = 100;
+
+/// Fails when the default run's output folder `out` is over [`DEFAULT_RUN_MAX_BYTES`] or
+/// [`DEFAULT_RUN_MAX_FILES`]; `regen-fixtures --check` (so `cargo xtask test` and CI) runs it.
+fn check_footprint(out: &Path) -> Result<(), Failure> {
+    let footprint = eamadm_runs::output_folder::footprint(out).map_err(Failure::failed)?;
+    println!(
+        "  default run's folder: {} B in {} files (at most {DEFAULT_RUN_MAX_BYTES} B and \
+         {DEFAULT_RUN_MAX_FILES} files)",
+        footprint.bytes, footprint.files
+    );
+    if footprint.bytes > DEFAULT_RUN_MAX_BYTES || footprint.files > DEFAULT_RUN_MAX_FILES {
+        return Err(Failure::failed(format!(
+            "the default run's output folder is {} B in {} files, over issue 35's budget of \
+             {DEFAULT_RUN_MAX_BYTES} B in {DEFAULT_RUN_MAX_FILES} files (`du -sb`, `find -type \
+             f | wc -l`): find the files that grew (docs/timings.md) and shrink them",
+            footprint.bytes, footprint.files
+        )));
     }
     Ok(())
 }

@@ -39,6 +39,15 @@ pub fn read_json<R: Read>(reader: R) -> Result<Vec<RunRecord>, ResultsError> {
 }
 
 /// One row of the curves table: one episode of one run.
+///
+/// The fields hold the run's values exactly; `curves.csv.gz` writes its real columns at single
+/// precision (the shortest text that reads back as the same `f32`, about 7 significant
+/// digits; [`single`]), which keeps the task returns exact (integers below 2²⁴ in
+/// the paper's tasks), writes the robot's times as the short decimals they are (`1.2`, not
+/// `1.2000000000000002`) and rounds the shaped learning return
+/// and the derived robot times, whose last digits are noise and made about 40 % of the robot's
+/// `curves.csv.gz` (docs/paper-notes.md §24.1). The run store keeps every value's bits
+/// (`eamadm.load_runs`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CurveRow {
     /// The experiment's name.
@@ -52,8 +61,10 @@ pub struct CurveRow {
     /// Steps of the episode.
     pub steps: u64,
     /// Task return of the episode.
+    #[serde(serialize_with = "single")]
     pub task_return: f64,
     /// Sum of the learning signal.
+    #[serde(serialize_with = "single")]
     pub learning_return: f64,
     /// Ended inside the task.
     pub terminated: bool,
@@ -68,13 +79,44 @@ pub struct CurveRow {
     /// The optimal route length (BFS for mazes); empty when unknown.
     pub optimum_steps: Option<u64>,
     /// Robot: episode duration in seconds (empty for mazes).
+    #[serde(serialize_with = "single_or_empty")]
     pub time: Option<f64>,
     /// Robot: return per second.
+    #[serde(serialize_with = "single_or_empty")]
     pub average_reward: Option<f64>,
     /// Robot: time to reach the target (empty when not reached).
+    #[serde(serialize_with = "single_or_empty")]
     pub time_to_reach: Option<f64>,
     /// Robot: retention time in seconds.
+    #[serde(serialize_with = "single_or_empty")]
     pub retention_time: Option<f64>,
+}
+
+/// Writes `value` as the nearest `f32` (its shortest round-trip text): the curves table's
+/// precision ([`CurveRow`]).
+#[expect(
+    clippy::cast_possible_truncation,
+    clippy::trivially_copy_pass_by_ref,
+    reason = "single precision is the table's documented precision; serde passes by reference"
+)]
+fn single<S: serde::Serializer>(value: &f64, serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.serialize_f32(*value as f32)
+}
+
+/// [`single`] for an optional value; `None` is an empty cell.
+#[expect(
+    clippy::cast_possible_truncation,
+    clippy::ref_option,
+    reason = "single precision is the table's documented precision; serde passes by reference"
+)]
+fn single_or_empty<S: serde::Serializer>(
+    value: &Option<f64>,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    match value {
+        Some(value) => serializer.serialize_some(&(*value as f32)),
+        None => serializer.serialize_none(),
+    }
 }
 
 /// The curve rows of one run, episode by episode.
@@ -401,6 +443,47 @@ mod tests {
             String::from_utf8(empty).unwrap().trim_end(),
             CURVE_COLUMNS.join(",")
         );
+    }
+
+    #[test]
+    fn curve_reals_are_written_at_single_precision_and_read_back_as_the_same_f32() {
+        let mut record = record();
+        record.episodes.truncate(1);
+        let episode = &mut record.episodes[0];
+        episode.task_return = -26_461.0;
+        episode.learning_return = 2.388_184_499_385_979_5;
+        episode.robot = Some(RobotEpisodeMetrics {
+            time: 3.0 * 0.4,
+            average_reward: -8.333_333_333_333_332,
+            time_to_reach: Some(0.1 + 0.2),
+            retention_time: 0.8,
+        });
+        let mut out = Vec::new();
+        write_curves_csv(&[record.clone()], &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let row = text.lines().nth(1).unwrap();
+        assert_eq!(
+            row,
+            "small,ea-madm,7,0,10,-26461.0,2.3881845,true,false,true,1,100,9,1.2,-8.333333,0.3,0.8"
+        );
+        let cells: Vec<&str> = row.split(',').collect();
+        let episode = &record.episodes[0];
+        let robot = episode.robot.unwrap();
+        for (cell, value) in [
+            (cells[5], episode.task_return),
+            (cells[6], episode.learning_return),
+            (cells[13], robot.time),
+            (cells[14], robot.average_reward),
+            (cells[15], robot.time_to_reach.unwrap()),
+            (cells[16], robot.retention_time),
+        ] {
+            let read: f32 = cell.parse().unwrap();
+            assert_eq!(
+                read.to_bits(),
+                (value as f32).to_bits(),
+                "{cell} against {value}"
+            );
+        }
     }
 
     #[test]

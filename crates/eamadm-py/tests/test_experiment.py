@@ -68,6 +68,10 @@ def test_paper_configs():
         eamadm.paper_config(1)
 
 
+# The curves' real columns: single precision in curves.csv.gz, every bit in the run store.
+REAL_CURVES = ["task_return", "learning_return", "time", "average_reward", "time_to_reach", "retention_time"]
+
+
 def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
     config = small_task1()
     config_file = tmp_path / "task1-small.toml"
@@ -79,6 +83,7 @@ def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
         rust_rows = list(csv.DictReader(file))
 
     ours = eamadm.run(config_file, threads=2, dataframe=False).curves
+    stored_runs = eamadm.load_runs(out, dataframe=False)
     runs = len(config["methods"]) * config["seeds"]
     assert len(rust_rows) == len(ours["episode"]) == runs * 6
     for column in ours:
@@ -92,10 +97,16 @@ def test_python_run_equals_the_rust_runner_bit_for_bit(tmp_path, xtask):
                 if cell == "":
                     assert math.isnan(value), (column, i)
                 else:
-                    # Shortest round-trip text: equal floats parse to the very same bits.
-                    assert float(cell).hex() == float(value).hex(), (column, i, cell, value)
+                    # The table's reals are single precision, shortest round-trip text: equal
+                    # floats parse to the very same f32 bits.
+                    read, single = numpy.float32(cell), numpy.float32(value)
+                    assert read.tobytes() == single.tobytes(), (column, i, cell, value)
             else:
                 assert cell == str(value), (column, i)
+        if column in REAL_CURVES:
+            # The run store keeps every bit: the same doubles, run after run.
+            stored = numpy.concatenate(stored_runs[column])
+            assert [float(v).hex() for v in stored] == [float(v).hex() for v in values], column
 
     # The final scores are the main job's final-scores.csv, byte for byte.
     text = _native.run_config(eamadm.Config.from_dict(config).to_toml())

@@ -4,7 +4,7 @@
 //! encoder's output depends on its level and implementation. Every output here must be a pure
 //! function of the plan (a merge of shards equals an unsharded run byte for byte, on any
 //! machine), so [`encoder`] fixes all of them: modification time 0, operating system 255
-//! ("unknown"), level 1 for store entries and 4 for tables, and flate2's pure-Rust backend
+//! ("unknown"), level 1 for store entries and 6 for tables, and flate2's pure-Rust backend
 //! (`miniz_oxide`), which has no platform-dependent code paths. Any gzip reader (`zcat`, Python's `gzip`, pandas, R) reads
 //! the files.
 
@@ -19,13 +19,16 @@ use flate2::write::GzEncoder;
 /// at level 6 deflate was 27.6 % of a 1000-seed ε-greedy run.
 const LEVEL: u32 = 1;
 
-/// The DEFLATE level of the tables (`curves.csv.gz`): written once per output folder rather
-/// than once per run, so a denser level than the store's pays. Level 4 is the knee, measured on
-/// the four experiments' curves of the default plan (29.7 MB of CSV, `miniz_oxide`, best of 3 on
-/// the 2-core development machine; docs/paper-notes.md §16): level 1 5.4× in 0.18 s, level 4
-/// 6.7× in 0.38 s, level 5 6.8× in 0.44 s, level 6 6.9× in 0.78 s. Level 6 would take twice
-/// level 4's CPU to make the files 1.9 % smaller.
-const TABLE_LEVEL: u32 = 4;
+/// The DEFLATE level of the tables (`curves.csv.gz`, `trajectories.csv.gz`): written once per
+/// output folder rather than once per run, so a denser level than the store's pays. Level 4
+/// was the knee on full-precision curves (docs/paper-notes.md §16: level 6 took twice its CPU
+/// for 1.9 %). Since the curves' reals are written at single precision (§24.1), measured on the
+/// default run's five curves tables (68.1 MB of CSV, `miniz_oxide`, 2-core machine under load):
+/// level 4 9.24 MB in 0.9 s, level 5 9.14 MB in 1.1 s, level 6 9.04 MB in 2.0 s, level 9
+/// 8.99 MB in 4.5 s. Level 6 buys the 0.2 MB that keep the default run's folder under issue
+/// 35's 25 MB for about 1 s of a 70 s run; beyond it the gain is a quarter of that for
+/// twice the time.
+const TABLE_LEVEL: u32 = 6;
 
 /// A gzip encoder writing to `writer` whose bytes depend only on what is written: the run
 /// store's entries, at the fast level.

@@ -349,9 +349,65 @@ fn remove_empty_parents(root: &Path, file: &Path) {
     }
 }
 
+/// How much an output folder takes: what `du -sb` and `find -type f | wc -l` report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Footprint {
+    /// The apparent size of everything under the folder, the folder itself included: files'
+    /// lengths and folders' own sizes (a folder that once listed many files keeps its size).
+    pub bytes: u64,
+    /// The regular files under the folder.
+    pub files: u64,
+}
+
+/// The [`Footprint`] of the folder `root`, symbolic links counted as themselves (never
+/// followed), so the budget of issue 35 (the default run's folder at most 25 MB in 100 files)
+/// is checked as a reader measures it.
+///
+/// # Errors
+/// [`OutputFolderError::Io`] when a folder cannot be listed or an entry's metadata read.
+pub fn footprint(root: &Path) -> Result<Footprint, OutputFolderError> {
+    let mut total = Footprint { bytes: 0, files: 0 };
+    let mut pending = vec![root.to_path_buf()];
+    while let Some(path) = pending.pop() {
+        let metadata =
+            std::fs::symlink_metadata(&path).map_err(io_error("reading the metadata of", &path))?;
+        total.bytes += metadata.len();
+        if metadata.is_file() {
+            total.files += 1;
+        } else if metadata.is_dir() {
+            for entry in std::fs::read_dir(&path).map_err(io_error("listing", &path))? {
+                pending.push(entry.map_err(io_error("listing", &path))?.path());
+            }
+        }
+    }
+    Ok(total)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_footprint_counts_every_file_and_folder_like_du_and_find() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().join("out");
+        write_atomic(&root.join("REPORT.md"), b"12345").unwrap();
+        write_atomic(&root.join("task1/curves.csv.gz"), b"123").unwrap();
+        std::fs::create_dir_all(root.join("runs/loose")).unwrap();
+        let folders: u64 = ["", "task1", "runs", "runs/loose"]
+            .iter()
+            .map(|folder| std::fs::metadata(root.join(folder)).unwrap().len())
+            .sum();
+        assert_eq!(
+            footprint(&root).unwrap(),
+            Footprint {
+                bytes: 8 + folders,
+                files: 2
+            }
+        );
+        let missing = footprint(&root.join("absent")).unwrap_err().to_string();
+        assert!(missing.contains("absent"), "{missing}");
+    }
 
     /// Writes `files` (relative path, contents) into a staging folder and commits them.
     fn write_set(folder: &OutputFolder, files: &[(&str, &str)]) {

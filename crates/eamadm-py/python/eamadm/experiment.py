@@ -4,8 +4,8 @@ A config is the Rust runner's TOML schema: a :class:`Config` (``Config.from_toml
 ``Config.from_file(path)``, ``Config.from_dict(d)``, or :func:`paper_config`), a dict of that
 schema, or the path of a ``.toml`` file (a ``str`` or ``os.PathLike``: a string is always a
 path, never TOML text). :func:`run` returns the same numbers ``cargo xtask reproduce-paper``
-writes to ``<task>/curves.csv.gz`` and ``final-scores.csv`` for the same config and seeds, bit
-for bit.
+stores in ``runs/`` and writes to ``final-scores.csv`` for the same config and seeds, bit for
+bit; ``<task>/curves.csv.gz`` writes the same curves with its reals at single precision.
 """
 
 from __future__ import annotations
