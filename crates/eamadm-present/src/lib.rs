@@ -41,6 +41,7 @@
 
 pub mod chart;
 pub mod checks;
+pub mod family;
 pub mod figures;
 pub mod report;
 pub mod theme;
