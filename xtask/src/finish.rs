@@ -400,6 +400,7 @@ pub(crate) fn write_outputs(
             eamadm_runs::atomic::write_atomic(&path, &bytes)?;
         }
         write_claim_outputs(out, &context, &verdicts, tuning.as_ref())?;
+        crate::family_suite::write_family_outputs(out, experiments, &family, &verdicts)?;
     }
     Ok(jobs.len())
 }

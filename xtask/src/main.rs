@@ -41,6 +41,7 @@ mod claims_report;
 mod cli;
 mod execute;
 mod experiments;
+mod family_suite;
 #[cfg(test)]
 mod figure_checks;
 mod finish;
