@@ -170,9 +170,11 @@ pub(crate) fn reading_experiments(
 
 /// The experiments of `--suite family`: one per layout of the first `size` of the family
 /// ([`eamadm::family::maze_family`]), as [`eamadm::family::FamilyLayout::experiment`] defines
-/// it; shortened and on [`crate::plan::QUICK_SEEDS`] seeds when `quick_run`.
+/// it; shortened when `quick_run`; on `seeds` seeds when given (`--seeds`), else on the
+/// family's own ([`eamadm::family::FAMILY_SEEDS`], [`crate::plan::QUICK_SEEDS`] when quick).
 pub(crate) fn family_experiments(
     size: usize,
+    seeds: Option<u32>,
     quick_run: bool,
 ) -> Result<Vec<PlannedExperiment>, crate::Failure> {
     let family = eamadm::family::maze_family(size)
@@ -184,6 +186,9 @@ pub(crate) fn family_experiments(
             if quick_run {
                 config = quick(&config);
                 config.seeds = crate::plan::QUICK_SEEDS;
+            }
+            if let Some(seeds) = seeds {
+                config.seeds = seeds;
             }
             let name = config.name.clone();
             let experiment = Experiment::new(config)

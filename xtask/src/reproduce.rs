@@ -83,6 +83,7 @@ pub(crate) fn prepare(
         }
         (true, size) => experiments.extend(crate::experiments::family_experiments(
             size.unwrap_or(eamadm::family::DEFAULT_FAMILY_SIZE),
+            args.seeds,
             plan.quick,
         )?),
         (false, None) => {}

@@ -22,7 +22,7 @@ pub struct LayoutPoint {
     pub detour_ratio: f64,
 }
 
-const WIDTH: f64 = 760.0;
+const WIDTH: f64 = 880.0;
 const HEIGHT: f64 = 460.0;
 const LEFT: f64 = 80.0;
 const RIGHT: f64 = 560.0;
@@ -458,7 +458,7 @@ mod tests {
             })
             .collect();
         let mut effects = Vec::new();
-        for competitor in ["epsilon-greedy", "softmax"] {
+        for competitor in ["epsilon-decreasing", "softmax"] {
             for (i, layout) in layouts.iter().enumerate() {
                 effects.push(LayoutEffect {
                     layout: layout.layout.clone(),
@@ -473,7 +473,7 @@ mod tests {
         let pooled = vec![PooledComparison {
             claim: "C1".to_owned(),
             metric: "final_steps".to_owned(),
-            competitor: "softmax".to_owned(),
+            competitor: "epsilon-decreasing".to_owned(),
             layouts: 8,
             pairs: 80,
             effect: 6.25,
@@ -517,10 +517,10 @@ mod tests {
         let paper = vec![("task2".to_owned(), "C1".to_owned(), "equivalent".to_owned())];
         let text = family_report(&verdicts, &layouts, &paper, 6400, 10);
         assert!(text.contains(
-            "| C1 | final_steps | softmax | 8 | 80 | 6.25 | [-3.00, 15.50] | [-2.00, 14.00] | 2.00 | 3/8 | inconclusive |"
+            "| C1 | final_steps | epsilon-decreasing | 8 | 80 | 6.25 | [-3.00, 15.50] | [-2.00, 14.00] | 2.00 | 3/8 | inconclusive |"
         ));
         assert!(
-            text.contains("| C1 | softmax | -20.00 | 6.25 | 32.50 |"),
+            text.contains("| C1 | epsilon-decreasing | -20.00 | 6.25 | 32.50 |"),
             "{text}"
         );
         assert!(text.contains("| task2 | C1 | equivalent |"));

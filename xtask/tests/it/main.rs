@@ -5,6 +5,7 @@ use std::path::Path;
 
 mod architecture;
 mod concurrent_store;
+mod family;
 mod kill_resume;
 mod markdown;
 mod slurm;
