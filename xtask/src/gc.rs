@@ -82,6 +82,7 @@ mod tests {
             readings: Readings::None,
             pretrained_cache: None,
             suites: vec![],
+            family_size: None,
         }
     }
 

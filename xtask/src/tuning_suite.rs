@@ -401,6 +401,7 @@ mod tests {
             readings: Readings::None,
             pretrained_cache: None,
             suites,
+            family_size: None,
         }
     }
 

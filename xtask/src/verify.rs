@@ -154,6 +154,7 @@ mod tests {
             readings: Readings::None,
             pretrained_cache: None,
             suites: vec![],
+            family_size: None,
         }
     }
 
