@@ -90,8 +90,8 @@ fn step(span: f64) -> f64 {
 }
 
 /// The effect-versus-detour-ratio figure of `claim` (`C1`, `C2`) as SVG: one marker per layout
-/// and competitor (colour: the competitor, shape: the layout's kind), the zero line, and the
-/// pooled effect of each competitor as a short dashed line at the right. `None` when there is
+/// and competitor (colour: the competitor, shape: the layout's kind; competitors a few pixels
+/// apart at each layout), the zero line, and each competitor's pooled effect in the legend. `None` when there is
 /// no effect of `claim`.
 #[must_use]
 pub fn effect_figure(
@@ -235,12 +235,23 @@ pub fn effect_figure(
     let mut competitors: Vec<&str> = effects.iter().map(|(e, _)| e.competitor.as_str()).collect();
     competitors.sort_unstable();
     competitors.dedup();
+    // Competitors side by side at a layout (a few pixels apart), so equal effects stay visible.
+    let dodge = |competitor: &str| {
+        let index = competitors
+            .iter()
+            .position(|c| *c == competitor)
+            .unwrap_or(0);
+        (index as f64 - (competitors.len() as f64 - 1.0) / 2.0) * 7.0
+    };
     for (effect, layout) in &effects {
         let colour = method_style(&effect.competitor, Role::Paper).colour;
         marker(
             &mut svg,
             &layout.kind,
-            (sx(layout.detour_ratio), sy(effect.effect)),
+            (
+                sx(layout.detour_ratio) + dodge(&effect.competitor),
+                sy(effect.effect),
+            ),
             colour,
             &effect.competitor,
         );
