@@ -202,13 +202,17 @@ pub(crate) struct ReproduceArgs {
     /// to tuning.csv and the report's "each method at its best" verdicts.
     #[arg(long = "suite", value_name = "SUITE", value_enum)]
     pub(crate) suites: Vec<Suite>,
+    /// Layouts of `--suite family` (1 to 10000) [default: 24]; only with `--suite family`.
+    #[arg(long, value_name = "N")]
+    pub(crate) family_size: Option<usize>,
 }
 
 /// `--suite`: heavier work a plan adds beside the paper's experiments (the README gives each
 /// one's cost).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
 pub(crate) enum Suite {
-    /// The maze family of issue 33 (another branch).
+    /// The maze family of issue 33: every maze method on each of `--family-size` generated
+    /// layouts (Task II's rewards, 6400 episodes, 10 seeds), judged pooled over layouts.
     Family,
     /// The same tuning budget for every method (issue 33 item 3): two stages, trials on the
     /// tuning seeds, then each method's chosen trial on the held-out seeds.
@@ -353,6 +357,7 @@ mod tests {
                 readings: Readings::All,
                 pretrained_cache: None,
                 suites: vec![],
+                family_size: None,
             }
         );
     }
@@ -397,6 +402,7 @@ mod tests {
                 readings: Readings::None,
                 pretrained_cache: Some(PathBuf::from("/tmp/cache")),
                 suites: vec![],
+                family_size: None,
             }
         );
         let Command::RegenFixtures(args) = parse(&["regen-fixtures", "--check"]).unwrap().command

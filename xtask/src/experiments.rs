@@ -49,6 +49,10 @@ pub(crate) struct PlannedExperiment {
     /// experiments come after the others, write no tables or figures of their own and feed
     /// `tuning.csv` and the "each at its best" verdicts; `None` otherwise.
     pub(crate) tuning: Option<crate::tuning_suite::TuningRun>,
+    /// For a layout of `--suite family`: the layout's row of `layouts.csv`. Such experiments
+    /// write no tables or figures of their own (their final scores join `final-scores.csv`
+    /// and the pooled verdicts); `None` otherwise.
+    pub(crate) family: Option<eamadm::family::LayoutRow>,
 }
 
 impl PlannedExperiment {
@@ -123,6 +127,7 @@ pub(crate) fn plan_experiments(
                 experiment,
                 reading: None,
                 tuning: None,
+                family: None,
             })
         })
         .collect::<Result<_, ExperimentError>>()?;
@@ -156,10 +161,48 @@ pub(crate) fn reading_experiments(
                 experiment,
                 reading: Some((reading, index)),
                 tuning: None,
+                family: None,
             });
         }
     }
     Ok(planned)
+}
+
+/// The experiments of `--suite family`: one per layout of the first `size` of the family
+/// ([`eamadm::family::maze_family`]), as [`eamadm::family::FamilyLayout::experiment`] defines
+/// it; shortened when `quick_run`; on `seeds` seeds when given (`--seeds`), else on the
+/// family's own ([`eamadm::family::FAMILY_SEEDS`], [`crate::plan::QUICK_SEEDS`] when quick).
+pub(crate) fn family_experiments(
+    size: usize,
+    seeds: Option<u32>,
+    quick_run: bool,
+) -> Result<Vec<PlannedExperiment>, crate::Failure> {
+    let family = eamadm::family::maze_family(size)
+        .map_err(|error| crate::Failure::invalid(format!("--family-size {size}: {error}")))?;
+    family
+        .iter()
+        .map(|layout| {
+            let mut config = layout.experiment();
+            if quick_run {
+                config = quick(&config);
+                config.seeds = crate::plan::QUICK_SEEDS;
+            }
+            if let Some(seeds) = seeds {
+                config.seeds = seeds;
+            }
+            let name = config.name.clone();
+            let experiment = Experiment::new(config)
+                .map_err(|error| crate::Failure::invalid(format!("{name}: {error}")))?;
+            Ok(PlannedExperiment {
+                title: format!("Family layout {}", layout.name),
+                name,
+                experiment,
+                reading: None,
+                tuning: None,
+                family: Some(layout.row()),
+            })
+        })
+        .collect()
 }
 
 /// The number of base experiments at the front of `experiments` (those that are not a

@@ -223,6 +223,8 @@ pub(crate) fn write_outputs(
     let mut pretraining = Vec::new();
     // The final scores of the tuning suite's runs (`--suite tuning`).
     let mut tuned: Vec<FinalScore> = Vec::new();
+    // The final scores of the maze family's runs (`--suite family`).
+    let mut family: Vec<FinalScore> = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
         if planned.tuning.is_some() {
@@ -233,6 +235,21 @@ pub(crate) fn write_outputs(
                         total: jobs.len(),
                     })?;
                     tuned.push(eamadm::scores::final_score_of(
+                        &run.record,
+                        &planned.experiment,
+                    )?);
+                }
+            }
+            continue;
+        }
+        if planned.family.is_some() {
+            if everything {
+                for job in jobs.iter().filter(|job| job.experiment == index) {
+                    let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
+                        missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
+                        total: jobs.len(),
+                    })?;
+                    family.push(eamadm::scores::final_score_of(
                         &run.record,
                         &planned.experiment,
                     )?);
@@ -383,6 +400,7 @@ pub(crate) fn write_outputs(
             eamadm_runs::atomic::write_atomic(&path, &bytes)?;
         }
         write_claim_outputs(out, &context, &verdicts, tuning.as_ref())?;
+        crate::family_suite::write_family_outputs(out, experiments, &family, &verdicts)?;
     }
     Ok(jobs.len())
 }

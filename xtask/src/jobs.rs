@@ -104,6 +104,9 @@ pub(crate) fn plan_arguments(
     for suite in &args.suites {
         arguments.extend(["--suite".to_owned(), suite.name().to_owned()]);
     }
+    if let Some(size) = args.family_size {
+        arguments.extend(["--family-size".to_owned(), size.to_string()]);
+    }
     if let Some(cache) = &args.pretrained_cache {
         arguments.extend([
             "--pretrained-cache".to_owned(),

@@ -41,6 +41,7 @@ mod claims_report;
 mod cli;
 mod execute;
 mod experiments;
+mod family_suite;
 mod finish;
 mod fixtures;
 mod gc;

@@ -424,6 +424,7 @@ mod tests {
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
             suites: vec![],
+            family_size: None,
         }
     }
 

@@ -73,6 +73,21 @@ pub(crate) fn prepare(
         plan.readings,
     )
     .map_err(Failure::invalid)?;
+    let family = args.suites.contains(&crate::cli::Suite::Family);
+    match (family, args.family_size) {
+        (false, Some(_)) => {
+            return Err(Failure::invalid(
+                "--family-size: only with --suite family (it sets how many layouts the family \
+                 runs); add --suite family or drop --family-size",
+            ));
+        }
+        (true, size) => experiments.extend(crate::experiments::family_experiments(
+            size.unwrap_or(eamadm::family::DEFAULT_FAMILY_SIZE),
+            args.seeds,
+            plan.quick,
+        )?),
+        (false, None) => {}
+    }
     let stage1 =
         crate::tuning_suite::stage1(&args.suites, &experiments, &plan.methods, plan.quick)?;
     experiments.extend(stage1);
@@ -87,6 +102,12 @@ fn task_name(
     experiments: &[PlannedExperiment],
     experiment: usize,
 ) -> &'static str {
+    if experiments
+        .get(experiment)
+        .is_some_and(|planned| planned.family.is_some())
+    {
+        return "family";
+    }
     let experiment = experiments.get(experiment).map_or(experiment, |planned| {
         planned
             .reading
@@ -523,6 +544,7 @@ mod tests {
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
             suites: vec![],
+            family_size: None,
         }
     }
 
@@ -602,6 +624,7 @@ mod tests {
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
             suites: vec![],
+            family_size: None,
         }
     }
 
@@ -785,6 +808,7 @@ mod tests {
             readings: crate::cli::Readings::All,
             pretrained_cache: None,
             suites: vec![],
+            family_size: None,
         };
         reproduce_paper(&command(args, RunModeArgs::default()), &ws).unwrap();
         let out = ws.root.join("out");

@@ -106,6 +106,7 @@ fn planned_experiment(
         experiment,
         reading: None,
         tuning: Some(run),
+        family: None,
     })
 }
 

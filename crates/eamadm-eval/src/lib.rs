@@ -55,6 +55,7 @@ pub mod behaviour;
 pub mod claims;
 pub mod columns;
 pub mod facts;
+pub mod family;
 pub mod findings;
 pub mod oracle;
 pub mod paper_claims;

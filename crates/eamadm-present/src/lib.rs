@@ -42,6 +42,7 @@
 
 pub mod chart;
 pub mod checks;
+pub mod family;
 pub mod figures;
 pub mod generated;
 pub mod report;

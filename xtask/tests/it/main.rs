@@ -5,6 +5,7 @@ use std::path::Path;
 
 mod architecture;
 mod concurrent_store;
+mod family;
 mod figure_checks;
 mod gc;
 mod jobs;

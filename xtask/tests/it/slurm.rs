@@ -11,8 +11,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-/// A small plan (`--quick`, two seeds: 48 runs) so the round trip takes seconds.
-const PLAN_ARGS: &str = "--quick --seeds 2";
+/// A small plan (`--quick`, two seeds) so the round trip takes seconds, with the smallest maze
+/// family (two layouts: 48 more runs, and the family's outputs in `family/`).
+const PLAN_ARGS: &str = "--quick --seeds 2 --suite family --family-size 2";
 
 fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -8,6 +8,7 @@
 mod band;
 mod chains;
 mod claims;
+mod family;
 mod findings;
 mod hierarchical;
 mod margins;

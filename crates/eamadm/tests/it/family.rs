@@ -158,7 +158,7 @@ fn every_layout_is_a_loadable_experiment() {
         ));
         assert_eq!(
             (config.episodes, config.seeds, config.base_seed),
-            (200, 20, 0)
+            (6400, 10, 0)
         );
         let experiment = Experiment::new(config).unwrap();
         assert_eq!(
