@@ -42,7 +42,7 @@ pub fn read_json<R: Read>(reader: R) -> Result<Vec<RunRecord>, ResultsError> {
 ///
 /// The fields hold the run's values exactly; `curves.csv.gz` writes its real columns at single
 /// precision (the shortest text that reads back as the same `f32`, about 7 significant
-/// digits; [`single`]), which keeps the task returns exact (integers below 2²⁴ in
+/// digits; `single`), which keeps the task returns exact (integers below 2²⁴ in
 /// the paper's tasks), writes the robot's times as the short decimals they are (`1.2`, not
 /// `1.2000000000000002`) and rounds the shaped learning return
 /// and the derived robot times, whose last digits are noise and made about 40 % of the robot's
