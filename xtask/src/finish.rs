@@ -227,29 +227,22 @@ pub(crate) fn write_outputs(
     let mut family: Vec<FinalScore> = Vec::new();
     for (index, planned) in experiments.iter().enumerate() {
         let everything = matches!(outputs, Outputs::Everything { .. });
-        if planned.tuning.is_some() {
+        // Tuning trials and family layouts feed their own tables, not an experiment folder.
+        let side_scores = if planned.tuning.is_some() {
+            Some(&mut tuned)
+        } else if planned.family.is_some() {
+            Some(&mut family)
+        } else {
+            None
+        };
+        if let Some(scores) = side_scores {
             if everything {
                 for job in jobs.iter().filter(|job| job.experiment == index) {
                     let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
                         missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
                         total: jobs.len(),
                     })?;
-                    tuned.push(eamadm::scores::final_score_of(
-                        &run.record,
-                        &planned.experiment,
-                    )?);
-                }
-            }
-            continue;
-        }
-        if planned.family.is_some() {
-            if everything {
-                for job in jobs.iter().filter(|job| job.experiment == index) {
-                    let run = load(stores, job, keep)?.ok_or_else(|| FinishError::Missing {
-                        missing: missing_runs(experiments, std::slice::from_ref(job), stores, keep),
-                        total: jobs.len(),
-                    })?;
-                    family.push(eamadm::scores::final_score_of(
+                    scores.push(eamadm::scores::final_score_of(
                         &run.record,
                         &planned.experiment,
                     )?);
