@@ -2,6 +2,7 @@
 //! each preset defines, for every seed, once (moved from xtask's `jobs` unit test; the shard
 //! rule is `eamadm_runs::shard`'s, tested there).
 
+use crate::succeeds;
 use std::collections::HashSet;
 use std::process::{Command, Stdio};
 
@@ -16,13 +17,7 @@ fn the_default_plan_lists_each_preset_method_and_seed_once() {
         .stdin(Stdio::null())
         .output()
         .expect("xtask starts");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let lines: Vec<serde_json::Value> = String::from_utf8(output.stdout)
-        .expect("UTF-8")
+    let lines: Vec<serde_json::Value> = succeeds(&output)
         .lines()
         .map(|line| serde_json::from_str(line).expect("a JSON line"))
         .collect();

@@ -2,6 +2,7 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::process::Output;
 
 mod architecture;
 mod concurrent_store;
@@ -17,6 +18,16 @@ mod store_faults;
 mod tidy;
 mod tuning_suite;
 mod verify;
+
+/// The standard output of a command that must have succeeded (its standard error shown if not).
+pub(crate) fn succeeds(output: &Output) -> String {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
 
 /// Every file under `folder`: relative path → bytes (the outputs two runs must share).
 pub(crate) fn tree(folder: &Path) -> BTreeMap<String, Vec<u8>> {

@@ -3,6 +3,7 @@
 //! base's, and `sensitivity.csv` and the report's section on the readings are the same bytes
 //! at one and two threads (moved from xtask's `sensitivity_report` unit tests).
 
+use crate::succeeds;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -17,13 +18,7 @@ fn jobs(args: &[&str], out: &Path) -> Vec<(String, String)> {
         .stdin(Stdio::null())
         .output()
         .expect("xtask starts");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout)
-        .expect("UTF-8")
+    succeeds(&output)
         .lines()
         .map(|line| {
             let job: serde_json::Value = serde_json::from_str(line).expect("a JSON line");
@@ -96,12 +91,7 @@ fn the_quick_plan_writes_the_same_sensitivity_at_one_and_two_threads() {
             .stdin(Stdio::null())
             .output()
             .expect("xtask starts");
-        assert!(
-            output.status.success(),
-            "{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
-        let plan = String::from_utf8_lossy(&output.stdout).into_owned();
+        let plan = succeeds(&output);
         assert!(plan.contains("readings: "), "{plan}");
         assert!(plan.contains("gamma-0.99"), "{plan}");
         let read =

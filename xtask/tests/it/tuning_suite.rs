@@ -3,6 +3,7 @@
 //! is stored, and the "each at its best" verdicts are the claims judged on the chosen trials
 //! rerun on the held-out seeds.
 
+use crate::succeeds;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -22,15 +23,6 @@ fn xtask(dir: &Path, command: &str, args: &[&str]) -> Output {
         .stdin(Stdio::null())
         .output()
         .expect("xtask starts")
-}
-
-fn succeeds(output: &Output) -> String {
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
 /// A tiny tuning plan into `out`: Task I shortened by --quick, EA-MADM against softmax, two

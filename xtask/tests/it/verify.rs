@@ -2,6 +2,7 @@
 //! record whose numbers were forged and a cached artefact swapped for another, each with its
 //! checksum recomputed.
 
+use crate::succeeds;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
@@ -51,12 +52,7 @@ fn verify_all(dir: &Path) -> Result<(), (Option<i32>, String)> {
 }
 
 fn reproduce(dir: &Path) {
-    let output = xtask("reproduce-paper", dir, &[]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    succeeds(&xtask("reproduce-paper", dir, &[]));
 }
 
 /// Rewrites the bundle `path` with `edit` applied to its lines (without newlines).
