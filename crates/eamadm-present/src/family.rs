@@ -29,6 +29,8 @@ const RIGHT: f64 = 560.0;
 const TOP: f64 = 60.0;
 const BOTTOM: f64 = 390.0;
 const FONT: f64 = 12.0;
+/// How far inside the frame the data range starts (more than a marker's dodge plus its radius).
+const INSET: f64 = 14.0;
 
 /// The marker of a layout kind (so kinds are told apart without colour).
 fn marker(svg: &mut String, kind: &str, (x, y): (f64, f64), colour: &str, method: &str) {
@@ -132,8 +134,11 @@ pub fn effect_figure(
         (x_low / x_step).floor() * x_step,
         (x_high / x_step).ceil() * x_step,
     );
-    let sx = |x: f64| LEFT + (x - x_low) / (x_high - x_low) * (RIGHT - LEFT);
-    let sy = |y: f64| BOTTOM - (y - y_low) / (y_high - y_low) * (BOTTOM - TOP);
+    // The data sit `INSET` pixels inside the frame, so a marker at an end of the range (dodged
+    // sideways, or at the top of the y range) is drawn inside the frame, not across it.
+    let sx = |x: f64| LEFT + INSET + (x - x_low) / (x_high - x_low) * (RIGHT - LEFT - 2.0 * INSET);
+    let sy =
+        |y: f64| BOTTOM - INSET - (y - y_low) / (y_high - y_low) * (BOTTOM - TOP - 2.0 * INSET);
 
     let mut svg = String::new();
     let _ = writeln!(
