@@ -1,25 +1,22 @@
-//! The runs of a plan as jobs: one per (experiment, method, seed), in job order (experiment,
-//! then method as selected, then seed), each with its [`RunKey`] (a job's shard is
-//! [`eamadm_runs::shard`]'s), and the job list as JSON lines for any job engine.
+//! The runs of a plan as jobs ([`eamadm_runs::jobs`]: keys, job order, the job loop) for the
+//! planned experiments, with a progress bar per experiment, and the job list as JSON lines for
+//! any job engine.
 
-use eamadm::MethodSpec;
+use eamadm::Experiment;
+use eamadm_runs::jobs::{ExecuteError, Executed};
+use eamadm_runs::key::ResumeError;
+use eamadm_runs::{KeepTrajectories, PretrainedStore, RunStore};
 use serde::Serialize;
 
 use crate::cli::ReproduceArgs;
 use crate::experiments::PlannedExperiment;
-use eamadm_runs::key::{ResumeError, RunDescription, RunKey};
+use crate::progress::{Progress, TaskProgress};
 
-/// One run to do.
-#[derive(Debug, Clone)]
-pub(crate) struct Job<'a> {
-    /// Index of its experiment in the plan.
-    pub(crate) experiment: usize,
-    /// The method.
-    pub(crate) method: &'a MethodSpec,
-    /// The seed.
-    pub(crate) seed: u64,
-    /// The run's key.
-    pub(crate) key: RunKey,
+pub(crate) use eamadm_runs::jobs::{Job, RunCounts};
+
+/// The loaded experiments of `planned`, in plan order.
+fn loaded(planned: &[PlannedExperiment]) -> Vec<&Experiment> {
+    planned.iter().map(|planned| &planned.experiment).collect()
 }
 
 /// The jobs of `experiments` × `methods` × seeds, in job order.
@@ -27,26 +24,48 @@ pub(crate) fn plan_jobs<'a>(
     experiments: &'a [PlannedExperiment],
     methods: &[String],
 ) -> Result<Vec<Job<'a>>, ResumeError> {
-    let mut jobs = Vec::new();
-    for (index, planned) in experiments.iter().enumerate() {
-        let config = planned.config();
-        for label in methods {
-            // Labels were checked against the config's; a label absent here is skipped.
-            let Some(method) = config.method(label) else {
-                continue;
-            };
-            for seed in config.seed_values() {
-                let key = RunKey::of(&RunDescription::new(&planned.experiment, method, seed))?;
-                jobs.push(Job {
-                    experiment: index,
-                    method,
-                    seed,
-                    key,
-                });
-            }
-        }
+    eamadm_runs::jobs::plan_jobs(&loaded(experiments), methods)
+}
+
+/// Runs the jobs the store lacks ([`eamadm_runs::jobs::run_jobs`]), one progress bar per
+/// experiment counting its stored runs (those resumed counted at once).
+pub(crate) fn run_jobs(
+    experiments: &[PlannedExperiment],
+    jobs: &[Job<'_>],
+    store: &RunStore,
+    artefacts: &PretrainedStore,
+    keep: KeepTrajectories,
+    progress: &Progress,
+    warn: &(dyn Fn(&str) + Sync),
+) -> Result<Executed, ExecuteError> {
+    let bars: Vec<TaskProgress> = experiments
+        .iter()
+        .enumerate()
+        .map(|(index, planned)| {
+            let of_it = jobs.iter().filter(|job| job.experiment == index);
+            let done = of_it
+                .clone()
+                .filter(|job| store.has(&job.key, keep))
+                .count();
+            let bar = progress.start(&planned.name, of_it.count() as u64);
+            bar.skip_already_done(done as u64);
+            bar
+        })
+        .collect();
+    let stored = |job: &Job<'_>| bars[job.experiment].inc();
+    let executed = eamadm_runs::jobs::run_jobs(
+        &loaded(experiments),
+        jobs,
+        store,
+        artefacts,
+        keep,
+        &stored,
+        warn,
+    )?;
+    for bar in &bars {
+        bar.finish();
     }
-    Ok(jobs)
+    Ok(executed)
 }
 
 pub(crate) use eamadm_runs::shard::Shard;

@@ -20,8 +20,8 @@
 //! Exit codes: 0 success, 1 the command failed, 2 invalid arguments or config.
 //!
 //! Modules: [`cli`] parses, [`plan`] and [`experiments`] check the arguments and load the
-//! configs; [`reproduce`] drives a run: [`jobs`] lists and shards the runs, [`execute`] runs
-//! them (resuming by [`eamadm_runs::key`]'s keys from the [`eamadm_runs::store`], showing [`progress`]), [`finish`]
+//! configs; [`reproduce`] drives a run: [`jobs`] lists, shards and runs
+//! them ([`eamadm_runs::jobs`], resuming by [`eamadm_runs::key`]'s keys from the [`eamadm_runs::store`], showing [`progress`]), [`finish`]
 //! streams the store into the outputs: CSV, figures ([`outputs`], drawn by
 //! [`eamadm_present::figures`]), and
 //! [`claims_report`] writes the verdicts, `final-scores.csv`, `claims.csv`, `datapackage.json`
@@ -39,7 +39,6 @@ use clap::Parser as _;
 
 mod claims_report;
 mod cli;
-mod execute;
 mod experiments;
 mod family_suite;
 mod finish;

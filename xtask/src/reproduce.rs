@@ -7,10 +7,9 @@ use std::time::Instant;
 
 use crate::Failure;
 use crate::cli::{KeepTrajectories, MergeArgs, ReproduceArgs, ReproduceCommand, RunJobArgs};
-use crate::execute::run_jobs;
 use crate::experiments::{PlannedExperiment, load_config_file, plan_experiments};
 use crate::finish::{Outputs, write_outputs};
-use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs};
+use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs, run_jobs};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
 use eamadm_runs::output_folder::OutputFolder;
@@ -191,7 +190,7 @@ pub(crate) fn reproduce_paper(
     );
 
     let artefacts = PretrainedStore::new(&plan.pretrained_cache);
-    let mut counts = crate::execute::RunCounts::default();
+    let mut counts = crate::jobs::RunCounts::default();
     // Stage 2 of a tuning suite is planned once stage 1's runs are stored: after this loop's
     // first pass in an unsharded run.
     let mut first_new = 0;
@@ -410,7 +409,7 @@ pub(crate) fn run_job(args: &RunJobArgs, workspace: &Workspace) -> Result<(), Fa
 /// What a command did about pre-training, for its last line: how many sub-tasks it trained
 /// and how many it loaded from the cache of artefacts, which another process, shard or earlier
 /// invocation trained.
-fn describe_pretraining(counts: &crate::execute::RunCounts, cache: &PretrainedStore) -> String {
+fn describe_pretraining(counts: &crate::jobs::RunCounts, cache: &PretrainedStore) -> String {
     format!(
         "sub-tasks pre-trained: {}, loaded from {}: {}",
         counts.pretrained,

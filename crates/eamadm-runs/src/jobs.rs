@@ -1,6 +1,10 @@
-//! Runs every (experiment, method, seed) in parallel with rayon, resuming: a run the run store
-//! under `<out>/runs/` already holds (checked) is skipped, and each finished run is appended to
-//! the store as soon as it completes.
+//! The runs of a plan as jobs, and the loop that runs them into the run store.
+//!
+//! A [`Job`] is one (experiment, method, seed) with its [`RunKey`]; [`plan_jobs`] lists them in
+//! job order (experiment, then method as selected, then seed; a job's shard is [`crate::shard`]'s).
+//! [`run_jobs`] runs every job the store does not hold yet, in parallel with rayon, resuming: a
+//! run the store already holds (checked) is skipped, and each finished run is appended to the
+//! store as soon as it completes.
 //!
 //! Each run is a pure function of (config, method, seed) ([`eamadm::Experiment::run`]) and the
 //! records are returned in job order, so the results do not depend on the number of threads,
@@ -11,20 +15,61 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use eamadm::{
     Experiment, MethodSpec, PretrainConfig, PretrainedSubtask, PretrainingCache, RunError,
 };
-use eamadm_runs::{
-    AppendReceipt, KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription,
-    RunStore, StoreError,
-};
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::experiments::PlannedExperiment;
-use crate::jobs::Job;
-use crate::progress::{Progress, TaskProgress};
+use crate::key::ResumeError;
+use crate::{
+    AppendReceipt, KeepTrajectories, PretrainedStore, PretrainingDescription, RunDescription,
+    RunKey, RunStore, StoreError,
+};
+
+/// One run to do.
+#[derive(Debug, Clone)]
+pub struct Job<'a> {
+    /// Index of its experiment in the plan.
+    pub experiment: usize,
+    /// The method.
+    pub method: &'a MethodSpec,
+    /// The seed.
+    pub seed: u64,
+    /// The run's key.
+    pub key: RunKey,
+}
+
+/// The jobs of `experiments` × `methods` × seeds, in job order. A label an experiment's
+/// config lacks is skipped there (the caller checked the labels against the plan).
+///
+/// # Errors
+/// A run whose description cannot be keyed ([`RunKey::of`]).
+pub fn plan_jobs<'a>(
+    experiments: &[&'a Experiment],
+    methods: &[String],
+) -> Result<Vec<Job<'a>>, ResumeError> {
+    let mut jobs = Vec::new();
+    for (index, experiment) in experiments.iter().enumerate() {
+        let config = experiment.config();
+        for label in methods {
+            let Some(method) = config.method(label) else {
+                continue;
+            };
+            for seed in config.seed_values() {
+                let key = RunKey::of(&RunDescription::new(experiment, method, seed))?;
+                jobs.push(Job {
+                    experiment: index,
+                    method,
+                    seed,
+                    key,
+                });
+            }
+        }
+    }
+    Ok(jobs)
+}
 
 /// A run that failed, or a run file that could not be stored or read.
 #[derive(Debug, Error)]
-pub(crate) enum ExecuteError {
+pub enum ExecuteError {
     /// Learning failed.
     #[error("experiment {experiment}: {source}")]
     Run {
@@ -41,28 +86,28 @@ pub(crate) enum ExecuteError {
 
 /// What [`run_jobs`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub(crate) struct RunCounts {
+pub struct RunCounts {
     /// Runs computed now.
-    pub(crate) ran: usize,
+    pub ran: usize,
     /// Runs found in the store from an earlier invocation.
-    pub(crate) resumed: usize,
+    pub resumed: usize,
     /// Sub-tasks pre-trained now (and stored as artefacts for other processes).
-    pub(crate) pretrained: usize,
+    pub pretrained: usize,
     /// Pre-trained sub-tasks loaded from the store's artefacts instead.
-    pub(crate) pretrained_loaded: usize,
+    pub pretrained_loaded: usize,
 }
 
 /// What [`run_jobs`] did, and the receipts of the runs it stored: with them the store is
 /// reopened without reading those runs back ([`RunStore::open_with_receipts`]).
 #[derive(Debug)]
-pub(crate) struct Executed {
+pub struct Executed {
     /// The counts.
-    pub(crate) counts: RunCounts,
+    pub counts: RunCounts,
     /// One receipt per run computed now, in no particular order.
-    pub(crate) receipts: Vec<AppendReceipt>,
+    pub receipts: Vec<AppendReceipt>,
 }
 
-/// The run store's pre-trained artefacts ([`eamadm_runs::pretrained`]) as the cache of
+/// The run store's pre-trained artefacts ([`crate::pretrained`]) as the cache of
 /// [`eamadm::Experiment::share_pretraining_with`], counting what it loads and what is trained.
 /// A damaged artefact, or one that cannot be written, is a warning: the sub-task is trained
 /// (again), which costs time, never a wrong bit.
@@ -116,32 +161,24 @@ impl PretrainingCache for ArtefactCache<'_> {
 }
 
 /// Runs every job of `jobs` the store does not hold yet, in parallel, appending each finished
-/// run to the store as soon as it completes. Records are dropped once stored, so memory holds
-/// only the runs in flight (and a receipt of each, a few dozen bytes); the outputs are made
-/// afterwards from the store ([`crate::finish`]).
-pub(crate) fn run_jobs(
-    experiments: &[PlannedExperiment],
+/// run to the store as soon as it completes, and calls `stored` with each job stored. Records
+/// are dropped once stored, so memory holds only the runs in flight (and a receipt of each, a
+/// few dozen bytes); the outputs are made afterwards from the store. Pre-trained sub-tasks are
+/// looked for in, and stored to, `artefacts`; a damaged or unwritable artefact is passed to
+/// `warn` and the sub-task trained again.
+///
+/// # Errors
+/// A run that fails ([`ExecuteError::Run`]) or cannot be stored ([`ExecuteError::Store`]);
+/// the runs stored before it stay stored.
+pub fn run_jobs(
+    experiments: &[&Experiment],
     jobs: &[Job<'_>],
     store: &RunStore,
     artefacts: &PretrainedStore,
     keep: KeepTrajectories,
-    progress: &Progress,
+    stored: &(dyn Fn(&Job<'_>) + Sync),
     warn: &(dyn Fn(&str) + Sync),
 ) -> Result<Executed, ExecuteError> {
-    let bars: Vec<TaskProgress> = experiments
-        .iter()
-        .enumerate()
-        .map(|(index, planned)| {
-            let total = jobs.iter().filter(|job| job.experiment == index).count() as u64;
-            let done = jobs
-                .iter()
-                .filter(|job| job.experiment == index && store.has(&job.key, keep))
-                .count() as u64;
-            let bar = progress.start(&planned.name, total);
-            bar.skip_already_done(done);
-            bar
-        })
-        .collect();
     let todo: Vec<&Job<'_>> = jobs
         .iter()
         .filter(|job| !store.has(&job.key, keep))
@@ -171,32 +208,29 @@ pub(crate) fn run_jobs(
     // One sync per batch of runs rather than two per run (a group commit,
     // `eamadm_runs::LooseBatch`): a crash of the machine loses at most the last batches'
     // runs, which the next invocation finds torn or missing and recomputes.
-    let batch = store.batch(eamadm_runs::BatchLimit::default())?;
+    let batch = store.batch(crate::BatchLimit::default())?;
     let receipts = groups
         .par_iter()
         .map(|group| -> Result<Vec<AppendReceipt>, ExecuteError> {
-            let planned = &experiments[group[0].experiment];
+            let experiment = experiments[group[0].experiment];
             let methods: Vec<&MethodSpec> = group.iter().map(|job| job.method).collect();
-            let shared = planned
-                .experiment
-                .share_pretraining_with(&methods, group[0].seed, &cache);
+            let shared = experiment.share_pretraining_with(&methods, group[0].seed, &cache);
             group
                 .par_iter()
                 .map(|job| -> Result<AppendReceipt, ExecuteError> {
-                    let record = planned
-                        .experiment
+                    let record = experiment
                         .run_shared(job.method, job.seed, &shared)
                         .map_err(|source| ExecuteError::Run {
-                            experiment: planned.name.clone(),
+                            experiment: experiment.config().name.clone(),
                             source,
                         })?;
                     let receipt = batch.append(
                         &job.key,
-                        &RunDescription::new(&planned.experiment, job.method, job.seed),
+                        &RunDescription::new(experiment, job.method, job.seed),
                         &record,
                         keep,
                     )?;
-                    bars[job.experiment].inc();
+                    stored(job);
                     Ok(receipt)
                 })
                 .collect()
@@ -206,9 +240,6 @@ pub(crate) fn run_jobs(
     let synced = batch.finish();
     let receipts: Vec<AppendReceipt> = receipts?.into_iter().flatten().collect();
     synced?;
-    for bar in &bars {
-        bar.finish();
-    }
     Ok(Executed {
         counts: RunCounts {
             ran: todo.len(),
@@ -223,9 +254,22 @@ pub(crate) fn run_jobs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::{Readings, Task};
-    use crate::experiments::plan_experiments;
-    use crate::jobs::plan_jobs;
+
+    /// Task I's preset on `seeds` seeds, shortened to `episodes` episodes of at most 60 steps
+    /// (as `reproduce-paper --quick` and then shorter).
+    fn task1(seeds: u32, episodes: u64) -> eamadm::ExperimentConfig {
+        let mut config = eamadm::paper::task1();
+        config.seeds = seeds;
+        config
+            .shortened(&eamadm::Shortening::QUICK)
+            .shortened(&eamadm::Shortening {
+                maze_step_cap: Some(60),
+                ..eamadm::Shortening::episodes(episodes)
+            })
+    }
+
+    /// Counts nothing (what a caller without progress bars passes).
+    fn unseen(_: &Job<'_>) {}
 
     /// The artefact cache of a test's folder `dir` (beside its output folder).
     fn cache(dir: &std::path::Path) -> PretrainedStore {
@@ -234,15 +278,8 @@ mod tests {
 
     #[test]
     fn resumed_runs_are_skipped_and_equal_fresh_ones() {
-        // Task I only, without its readings' experiments.
-        let mut planned =
-            plan_experiments(&[Task::Task1], false, None, 2, true, Readings::None).unwrap();
-        assert_eq!(planned.len(), 1);
-        let config = planned[0].config().shortened(&eamadm::Shortening {
-            maze_step_cap: Some(60),
-            ..eamadm::Shortening::episodes(4)
-        });
-        planned[0].experiment = eamadm::Experiment::new(config).unwrap();
+        let experiment = Experiment::new(task1(2, 4)).unwrap();
+        let planned = [&experiment];
         let methods = vec!["epsilon-greedy".to_owned(), "ea-madm".to_owned()];
         let jobs = plan_jobs(&planned, &methods).unwrap();
         assert_eq!(jobs.len(), 4);
@@ -257,27 +294,27 @@ mod tests {
             &open(),
             &cache(dir.path()),
             keep,
-            &Progress::hidden(),
+            &unseen,
             &quiet,
         )
         .unwrap();
         let counts = executed.counts;
         // One receipt per run computed, and the store reopened with them is the store read in
         // full.
-        let mut received: Vec<&eamadm_runs::RunKey> = executed
+        let mut received: Vec<&crate::RunKey> = executed
             .receipts
             .iter()
-            .map(eamadm_runs::AppendReceipt::key)
+            .map(crate::AppendReceipt::key)
             .collect();
         received.sort();
-        let mut planned_keys: Vec<&eamadm_runs::RunKey> = jobs.iter().map(|job| &job.key).collect();
+        let mut planned_keys: Vec<&crate::RunKey> = jobs.iter().map(|job| &job.key).collect();
         planned_keys.sort();
         assert_eq!(received, planned_keys);
         let trusting =
             RunStore::open_with_receipts(dir.path(), &executed.receipts, &mut |w| panic!("{w}"))
                 .unwrap();
         assert_eq!(trusting.keys(), open().keys());
-        let subtasks = planned[0].experiment.task().subtask_names().len();
+        let subtasks = experiment.task().subtask_names().len();
         assert_eq!(
             counts,
             RunCounts {
@@ -294,7 +331,7 @@ mod tests {
             &store,
             &cache(dir.path()),
             keep,
-            &Progress::hidden(),
+            &unseen,
             &quiet,
         )
         .unwrap()
@@ -309,21 +346,15 @@ mod tests {
         );
         for job in &jobs {
             let stored = store.load(&job.key, keep).unwrap().unwrap();
-            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
-            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+            let fresh = experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, crate::compact(fresh, keep));
         }
     }
 
     /// Task I, shortened, with two EA-MADM methods (which pre-train the same sub-tasks) over
     /// `seeds` seeds: its planned experiment and jobs are made by the caller.
-    fn two_ea_madm_methods(seeds: u32) -> (Vec<PlannedExperiment>, Vec<String>) {
-        let mut planned =
-            plan_experiments(&[Task::Task1], false, None, seeds, true, Readings::None).unwrap();
-        planned.truncate(1);
-        let config = planned[0].config().shortened(&eamadm::Shortening {
-            maze_step_cap: Some(60),
-            ..eamadm::Shortening::episodes(3)
-        });
+    fn two_ea_madm_methods(seeds: u32) -> (Experiment, Vec<String>) {
+        let config = task1(seeds, 3);
         let methods: Vec<String> = config
             .methods
             .iter()
@@ -332,15 +363,14 @@ mod tests {
             .take(2)
             .collect();
         assert_eq!(methods.len(), 2);
-        planned[0].experiment = eamadm::Experiment::new(config).unwrap();
-        (planned, methods)
+        (Experiment::new(config).unwrap(), methods)
     }
 
     fn artefact_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
         let mut files: Vec<_> = std::fs::read_dir(dir.join("cache"))
             .unwrap()
             .map(|e| e.unwrap().path())
-            .filter(|path| !path.ends_with(eamadm_runs::atomic::WRITERS_LOCK_FILE))
+            .filter(|path| !path.ends_with(crate::atomic::WRITERS_LOCK_FILE))
             .collect();
         files.sort();
         files
@@ -348,10 +378,11 @@ mod tests {
 
     #[test]
     fn processes_sharing_a_folder_pretrain_each_subtask_once_and_equal_a_lone_run() {
-        let (planned, methods) = two_ea_madm_methods(2);
+        let (experiment, methods) = two_ea_madm_methods(2);
+        let planned = [&experiment];
         let jobs = plan_jobs(&planned, &methods).unwrap();
         assert_eq!(jobs.len(), 4);
-        let subtasks = planned[0].experiment.task().subtask_names().len();
+        let subtasks = experiment.task().subtask_names().len();
         let dir = tempfile::tempdir().unwrap();
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
@@ -367,7 +398,7 @@ mod tests {
                 &open(),
                 &cache(dir.path()),
                 keep,
-                &Progress::hidden(),
+                &unseen,
                 &quiet,
             )
             .unwrap()
@@ -385,8 +416,8 @@ mod tests {
         assert_eq!(store.len(), 4);
         for job in &jobs {
             let stored = store.load(&job.key, keep).unwrap().unwrap();
-            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
-            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+            let fresh = experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, crate::compact(fresh, keep));
         }
     }
 
@@ -401,14 +432,15 @@ mod tests {
         let map = dir.path().join("maze.map");
         let old_map = eamadm::mazes::Preset::Task1.maze().to_text();
         std::fs::write(&map, &old_map).unwrap();
-        let (mut planned, methods) = two_ea_madm_methods(1);
-        let mut config = planned[0].config().clone();
+        let (experiment, methods) = two_ea_madm_methods(1);
+        let mut config = experiment.config().clone();
         config.task = eamadm::TaskConfig::MazeFile {
             path: map.clone(),
             rewards: eamadm::mazes::Preset::Task1,
             step_cap: Some(60),
         };
-        planned[0].experiment = eamadm::Experiment::new(config.clone()).unwrap();
+        let experiment = Experiment::new(config.clone()).unwrap();
+        let planned = [&experiment];
         let jobs = plan_jobs(&planned, &methods).unwrap();
         // Another map of the same size: one wall moved.
         let new_map = old_map.replacen(".#", "#.", 1);
@@ -424,7 +456,7 @@ mod tests {
             &open(),
             &cache(dir.path()),
             keep,
-            &Progress::hidden(),
+            &unseen,
             &quiet,
         )
         .unwrap();
@@ -432,12 +464,12 @@ mod tests {
         let store = open();
         for job in &jobs {
             let stored = store.load(&job.key, keep).unwrap().unwrap();
-            let fresh = planned[0].experiment.run(job.method, job.seed).unwrap();
-            assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+            let fresh = experiment.run(job.method, job.seed).unwrap();
+            assert_eq!(stored.record, crate::compact(fresh, keep));
         }
         // A plan loaded now reads the new map: other keys, and no artefact of the old map.
-        let mut replanned = planned.clone();
-        replanned[0].experiment = eamadm::Experiment::new(config).unwrap();
+        let reloaded = Experiment::new(config).unwrap();
+        let replanned = [&reloaded];
         let jobs = plan_jobs(&replanned, &methods).unwrap();
         assert!(jobs.iter().all(|job| !store.has(&job.key, keep)));
         let counts = run_jobs(
@@ -446,7 +478,7 @@ mod tests {
             &store,
             &cache(dir.path()),
             keep,
-            &Progress::hidden(),
+            &unseen,
             &quiet,
         )
         .unwrap()
@@ -457,9 +489,10 @@ mod tests {
 
     #[test]
     fn a_damaged_artefact_is_trained_again_with_a_warning() {
-        let (planned, methods) = two_ea_madm_methods(1);
+        let (experiment, methods) = two_ea_madm_methods(1);
+        let planned = [&experiment];
         let jobs = plan_jobs(&planned, &methods).unwrap();
-        let subtasks = planned[0].experiment.task().subtask_names().len();
+        let subtasks = experiment.task().subtask_names().len();
         let dir = tempfile::tempdir().unwrap();
         let keep = KeepTrajectories::Figures;
         let open = || RunStore::open(dir.path(), &mut |w: &str| panic!("{w}")).unwrap();
@@ -470,7 +503,7 @@ mod tests {
             &open(),
             &cache(dir.path()),
             keep,
-            &Progress::hidden(),
+            &unseen,
             &quiet,
         )
         .unwrap()
@@ -487,7 +520,7 @@ mod tests {
             &open(),
             &cache(dir.path()),
             keep,
-            &Progress::hidden(),
+            &unseen,
             &collect,
         )
         .unwrap()
@@ -502,10 +535,7 @@ mod tests {
         // Trained again and stored again: the artefact is whole once more.
         assert_eq!(std::fs::read(&files[0]).unwrap(), whole);
         let stored = open().load(&jobs[1].key, keep).unwrap().unwrap();
-        let fresh = planned[0]
-            .experiment
-            .run(jobs[1].method, jobs[1].seed)
-            .unwrap();
-        assert_eq!(stored.record, eamadm_runs::compact(fresh, keep));
+        let fresh = experiment.run(jobs[1].method, jobs[1].seed).unwrap();
+        assert_eq!(stored.record, crate::compact(fresh, keep));
     }
 }

@@ -17,6 +17,8 @@
 //! - [`frames`]: the compressed frames of the store's files, read streaming against caps;
 //! - [`gc`]: what no plan needs any more (old formats, old set-aside entries, artefacts of
 //!   other plans);
+//! - [`jobs`]: a plan's runs as [`jobs::Job`]s with their keys, in job order, and the loop that
+//!   runs the missing ones into the store in parallel, sharing pre-training per seed;
 //! - [`shard`]: which runs shard `K/N` of a plan holds, by key;
 //! - [`verify`]: stored runs and artefacts recomputed and compared byte for byte, since the
 //!   checksums catch faults, not forgery;
@@ -54,6 +56,7 @@ pub mod atomic;
 pub mod frames;
 pub mod gc;
 pub mod gzip;
+pub mod jobs;
 pub mod key;
 pub mod no_follow;
 pub mod output_folder;

@@ -24,7 +24,8 @@ fn write_config(folder: &Folder, file: &str, name: &str) {
     let mut config = eamadm::paper::task1();
     config.name = name.to_owned();
     config.episodes = 3;
-    std::fs::write(folder.path(file), config.to_toml_string().unwrap()).unwrap();
+    let text = config.to_toml_string().expect("a preset writes as TOML");
+    std::fs::write(folder.path(file), text).expect("a writable folder");
 }
 
 #[test]

@@ -48,8 +48,9 @@ fn merge(out: &str, stores: &[&str], extra: &[&str]) -> Vec<String> {
 
 /// The lines of a bundle (any framing), without their newlines.
 fn bundle_lines(bytes: &[u8]) -> Vec<String> {
-    String::from_utf8(eamadm_runs::frames::decompress(bytes).unwrap())
-        .unwrap()
+    let text = eamadm_runs::frames::decompress(bytes).expect("a readable bundle");
+    String::from_utf8(text)
+        .expect("UTF-8 lines")
         .lines()
         .map(str::to_owned)
         .collect()
@@ -57,18 +58,18 @@ fn bundle_lines(bytes: &[u8]) -> Vec<String> {
 
 /// The keys of the verified runs stored in `out`, and with which trajectories.
 fn stored_runs(out: &Path) -> BTreeMap<String, bool> {
-    let store = RunStore::open(out, &mut |w| panic!("{w}")).unwrap();
+    let store = RunStore::open(out, &mut |w| panic!("{w}")).expect("a readable store");
     let mut runs = BTreeMap::new();
-    for bundle in std::fs::read_dir(out.join("runs")).unwrap() {
-        let bundle = bundle.unwrap().path();
+    for bundle in std::fs::read_dir(out.join("runs")).expect("a store folder") {
+        let bundle = bundle.expect("a folder entry").path();
         if !bundle.to_string_lossy().ends_with(".jsonl.zst") {
             continue;
         }
-        let bytes = std::fs::read(&bundle).unwrap();
+        let bytes = std::fs::read(&bundle).expect("a readable bundle");
         for line in bundle_lines(&bytes) {
-            let header: serde_json::Value =
-                serde_json::from_str(line.split('\t').next().unwrap()).unwrap();
-            let key = header["key"].as_str().unwrap().to_owned();
+            let header = line.split('\t').next().unwrap_or_default();
+            let header: serde_json::Value = serde_json::from_str(header).expect("a JSON header");
+            let key = header["key"].as_str().expect("a key").to_owned();
             let all = header["trajectories"] == "all";
             assert!(
                 store.has(
@@ -88,7 +89,7 @@ fn listed_jobs(folder: &Folder, args: Vec<String>) -> Vec<serde_json::Value> {
     folder
         .succeeds(&with(args, &["--list-jobs"]))
         .lines()
-        .map(|line| serde_json::from_str(line).unwrap())
+        .map(|line| serde_json::from_str(line).expect("a JSON line"))
         .collect()
 }
 
