@@ -26,6 +26,7 @@
 //! | [`claims`] | each claim × task × method tested against the competitors, with a verdict |
 //! | [`reaching`] | the robot's curves over its first 100 reaching episodes (C4) and the seeds behind each point |
 //! | [`behaviour`](mod@behaviour) | action shares, success and sub-task agreement per method |
+//! | [`fixtures`] | the content of `fixtures/`: frozen layouts, the robot scenario, reference runs as CSV |
 //! | [`output_names`] | the name of every file the tooling writes into an output folder |
 //! | [`data_package`], [`columns`] | `datapackage.json`: every column of `final-scores.csv` and `claims.csv` with its type, unit and meaning |
 //! | [`diagnosis`] | per robot sub-task: its learned start value against the value of reaching (Eq. 6–8 at γ) |
@@ -200,6 +201,7 @@ pub mod data_package;
 pub mod diagnosis;
 pub mod error;
 pub mod family;
+pub mod fixtures;
 pub mod margins;
 pub mod oracle;
 pub mod output_names;

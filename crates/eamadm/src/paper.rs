@@ -104,6 +104,18 @@ impl PaperTask {
         }
     }
 
+    /// What the task is, for people: `Task I, 30×30 maze`, `wheeled robot`.
+    #[must_use]
+    pub fn description(self) -> &'static str {
+        match self {
+            Self::Task1 => "Task I, 30×30 maze",
+            Self::Task2 => "Task II, 39×36 maze",
+            Self::Robot => "wheeled robot",
+            Self::RobotPaperState => "wheeled robot, the paper's state",
+            Self::AggregationControl => "positive control, 30×30 maze with a walled box",
+        }
+    }
+
     /// The task whose config `name` this is, if it is one of the paper's.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {

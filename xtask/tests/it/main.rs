@@ -5,6 +5,7 @@ use std::path::Path;
 use std::process::Output;
 
 mod architecture;
+mod arguments;
 mod claims_csv;
 mod concurrent_store;
 mod family;
