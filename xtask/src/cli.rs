@@ -4,8 +4,10 @@
 
 use std::path::PathBuf;
 
+use clap::builder::PossibleValue;
 use clap::builder::TypedValueParser as _;
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use eamadm::paper::PaperTask;
 
 /// eamadm project tooling.
 #[derive(Debug, Parser)]
@@ -149,6 +151,24 @@ fn keep_trajectories_values() -> impl clap::builder::TypedValueParser<Value = Ke
         .map(|name| name.parse().unwrap_or_default())
 }
 
+/// `--task`: the paper's experiments by [`PaperTask::name`] (`task-i` and `task-ii` also name
+/// Task I and II), each shown with its [`PaperTask::description`].
+fn task_values() -> impl clap::builder::TypedValueParser<Value = PaperTask> {
+    let values = PaperTask::ALL.map(|task| {
+        let value = PossibleValue::new(task.name()).help(task.description());
+        match task {
+            PaperTask::Task1 => value.alias("task-i"),
+            PaperTask::Task2 => value.alias("task-ii"),
+            _ => value,
+        }
+    });
+    // The parser admits only these names, so the fallback is never taken.
+    clap::builder::PossibleValuesParser::new(values).map(|name| match name.as_str() {
+        "task-ii" => PaperTask::Task2,
+        other => PaperTask::from_name(other).unwrap_or(PaperTask::Task1),
+    })
+}
+
 /// Options of `reproduce-paper`.
 #[derive(Debug, Clone, PartialEq, Eq, Args)]
 pub(crate) struct ReproduceArgs {
@@ -156,8 +176,8 @@ pub(crate) struct ReproduceArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SEEDS)))]
     pub(crate) seeds: Option<u32>,
     /// Run only this task; repeat for several [default: all five].
-    #[arg(long = "task", value_name = "TASK", value_enum)]
-    pub(crate) tasks: Vec<Task>,
+    #[arg(long = "task", value_name = "TASK", value_parser = task_values())]
+    pub(crate) tasks: Vec<PaperTask>,
     /// Run only this method (by label); repeat for several [default: all]. Labels: ea-madm,
     /// epsilon-greedy, epsilon-decreasing, softmax, the ablations ea-madm-table,
     /// ea-madm-uniform, ea-madm-literal, ea-madm-distance, the plain aggregators subtasks-mean
@@ -256,59 +276,4 @@ pub(crate) struct RegenFixturesArgs {
     /// produces now.
     #[arg(long)]
     pub(crate) check: bool,
-}
-
-/// The paper's three experiments, in the order they are run and reported.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
-pub(crate) enum Task {
-    /// Task I: the 30×30 maze (Sec. VI.A).
-    #[value(name = "task1", alias = "task-i")]
-    Task1,
-    /// Task II: the 39×36 maze (Sec. VI.A).
-    #[value(name = "task2", alias = "task-ii")]
-    Task2,
-    /// The wheeled robot among obstacles (Sec. VI.B), its state with the target's image
-    /// position.
-    #[value(name = "robot")]
-    Robot,
-    /// The wheeled robot over the paper's literal state (no target feature).
-    #[value(name = "robot-paper-state")]
-    RobotPaperState,
-    /// Not the paper's: the positive control, a hand-designed 30×30 maze whose target sits in
-    /// a walled box with its door facing away (issue 32).
-    #[value(name = "aggregation-control")]
-    AggregationControl,
-}
-
-impl Task {
-    /// All tasks, in run order.
-    pub(crate) const ALL: [Task; 5] = [
-        Task::Task1,
-        Task::Task2,
-        Task::Robot,
-        Task::RobotPaperState,
-        Task::AggregationControl,
-    ];
-
-    /// The command-line name, also used for output folders (`task1`, `task2`, `robot`,
-    /// `robot-paper-state`).
-    pub(crate) fn name(self) -> &'static str {
-        self.paper().name()
-    }
-
-    /// The paper's experiment this is.
-    pub(crate) fn paper(self) -> eamadm::paper::PaperTask {
-        match self {
-            Task::Task1 => eamadm::paper::PaperTask::Task1,
-            Task::Task2 => eamadm::paper::PaperTask::Task2,
-            Task::Robot => eamadm::paper::PaperTask::Robot,
-            Task::RobotPaperState => eamadm::paper::PaperTask::RobotPaperState,
-            Task::AggregationControl => eamadm::paper::PaperTask::AggregationControl,
-        }
-    }
-
-    /// What the task is, for people.
-    pub(crate) fn description(self) -> &'static str {
-        self.paper().description()
-    }
 }

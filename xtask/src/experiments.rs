@@ -8,7 +8,8 @@ use eamadm::paper::Reading;
 use eamadm::{ConfigError, Experiment, ExperimentConfig, Shortening};
 use thiserror::Error;
 
-use crate::cli::{Readings, Task};
+use crate::cli::Readings;
+use eamadm::paper::PaperTask;
 
 /// A config that cannot be used.
 #[derive(Debug, Error)]
@@ -86,7 +87,7 @@ pub(crate) fn quick(config: &ExperimentConfig) -> ExperimentConfig {
 /// is [`Readings::All`]; a config file has none (the readings are readings of the paper's
 /// presets).
 pub(crate) fn plan_experiments(
-    tasks: &[Task],
+    tasks: &[PaperTask],
     tasks_given: bool,
     config_file: Option<(&Path, &ExperimentConfig)>,
     seeds: u32,
@@ -103,8 +104,7 @@ pub(crate) fn plan_experiments(
         }
         None => {
             for &task in tasks {
-                let paper_task = task.paper();
-                configs.push((paper_task.title().to_owned(), paper_task.config()));
+                configs.push((task.title().to_owned(), task.config()));
             }
         }
     }

@@ -8,7 +8,8 @@ use std::path::{Component, Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::cli::{Readings, ReproduceArgs, Task};
+use crate::cli::{Readings, ReproduceArgs};
+use eamadm::paper::PaperTask;
 
 /// Seeds per task and method of the default run: the presets' ([`eamadm::paper::SEEDS`]).
 pub(crate) const DEFAULT_SEEDS: u32 = eamadm::paper::SEEDS;
@@ -153,7 +154,7 @@ fn target_dir_of(variable: Option<&std::ffi::OsStr>, root: &Path, current_dir: &
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct ReproducePlan {
     /// Tasks to run, in run order, without repeats.
-    pub(crate) tasks: Vec<Task>,
+    pub(crate) tasks: Vec<PaperTask>,
     /// Method labels to run, in the order given (or the config's order), without repeats.
     pub(crate) methods: Vec<String>,
     /// Seeds per task and method.
@@ -181,7 +182,7 @@ impl ReproducePlan {
         workspace: &Workspace,
     ) -> Result<Self, ArgumentError> {
         let tasks = if args.tasks.is_empty() {
-            Task::ALL.to_vec()
+            PaperTask::ALL.to_vec()
         } else {
             let mut tasks = args.tasks.clone();
             tasks.sort_unstable();
@@ -438,7 +439,7 @@ mod tests {
         insta::assert_snapshot!("reproduce_default", plan.describe());
         let quick = ReproduceArgs {
             quick: true,
-            tasks: vec![Task::Task2],
+            tasks: vec![PaperTask::Task2],
             methods: vec!["ea-madm".into(), "softmax".into()],
             out: Some("results".into()),
             ..args()
@@ -447,7 +448,7 @@ mod tests {
         insta::assert_snapshot!("reproduce_quick", plan.describe());
         let no_readings = ReproduceArgs {
             readings: crate::cli::Readings::None,
-            tasks: vec![Task::Task1],
+            tasks: vec![PaperTask::Task1],
             methods: vec!["epsilon-greedy".into()],
             ..args()
         };
