@@ -412,48 +412,12 @@ mod tests {
         );
     }
 
-    fn args() -> ReproduceArgs {
-        ReproduceArgs {
-            seeds: None,
-            tasks: vec![],
-            methods: vec![],
-            config: None,
-            out: None,
-            quick: false,
-            wait: false,
-            keep_trajectories: crate::cli::KeepTrajectories::Figures,
-            readings: crate::cli::Readings::All,
-            pretrained_cache: None,
-            suites: vec![],
-            family_size: None,
-        }
-    }
-
     #[test]
-    fn plans_read_well() {
+    fn the_regen_fixtures_plan_reads_well() {
         let ws = Workspace {
             root: PathBuf::from("/nonexistent-ws"),
             current_dir: PathBuf::from("/nonexistent-ws"),
         };
-        let plan = ReproducePlan::from_args(&args(), &default_methods(), &ws).unwrap();
-        insta::assert_snapshot!("reproduce_default", plan.describe());
-        let quick = ReproduceArgs {
-            quick: true,
-            tasks: vec![PaperTask::Task2],
-            methods: vec!["ea-madm".into(), "softmax".into()],
-            out: Some("results".into()),
-            ..args()
-        };
-        let plan = ReproducePlan::from_args(&quick, &default_methods(), &ws).unwrap();
-        insta::assert_snapshot!("reproduce_quick", plan.describe());
-        let no_readings = ReproduceArgs {
-            readings: crate::cli::Readings::None,
-            tasks: vec![PaperTask::Task1],
-            methods: vec!["epsilon-greedy".into()],
-            ..args()
-        };
-        let plan = ReproducePlan::from_args(&no_readings, &default_methods(), &ws).unwrap();
-        insta::assert_snapshot!("reproduce_no_readings", plan.describe());
         insta::assert_snapshot!("regen_check", describe_regen_fixtures(true, &ws));
     }
 

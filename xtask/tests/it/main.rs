@@ -14,6 +14,7 @@ mod gc;
 mod jobs;
 mod kill_resume;
 mod markdown;
+mod plan_text;
 mod readings;
 mod reproduce;
 mod shards;
