@@ -239,16 +239,6 @@ pub(crate) enum Suite {
     Tuning,
 }
 
-impl Suite {
-    /// The command-line name.
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Suite::Family => "family",
-            Suite::Tuning => "tuning",
-        }
-    }
-}
-
 /// `--readings`: which readings of the paper a plan reruns besides the presets.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Readings {
@@ -257,16 +247,6 @@ pub(crate) enum Readings {
     All,
     /// None: the presets' experiments only.
     None,
-}
-
-impl Readings {
-    /// The command-line name.
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Readings::All => "all",
-            Readings::None => "none",
-        }
-    }
 }
 
 /// Options of `regen-fixtures`.

@@ -6,7 +6,6 @@ use eamadm::Experiment;
 use eamadm_runs::jobs::{ExecuteError, Executed};
 use eamadm_runs::key::ResumeError;
 use eamadm_runs::{KeepTrajectories, PretrainedStore, RunStore};
-use serde::Serialize;
 
 use crate::cli::ReproduceArgs;
 use crate::experiments::PlannedExperiment;
@@ -70,23 +69,6 @@ pub(crate) fn run_jobs(
 
 pub(crate) use eamadm_runs::shard::Shard;
 
-/// One line of `--list-jobs`.
-#[derive(Debug, Serialize)]
-pub(crate) struct JobLine<'a> {
-    /// The run's key.
-    pub(crate) key: &'a str,
-    /// The experiment (also the bundle and output folder name).
-    pub(crate) experiment: &'a str,
-    /// The task the experiment runs (`task1`, `task2`, `robot`, or `config` for a config file).
-    pub(crate) task: &'a str,
-    /// The method's label.
-    pub(crate) method: &'a str,
-    /// The seed.
-    pub(crate) seed: u64,
-    /// The `cargo xtask` arguments that run exactly this job into the plan's run store.
-    pub(crate) run: Vec<String>,
-}
-
 /// The plan options of `args` as command-line arguments (the same plan when given again), with
 /// relative paths made absolute against `current_dir` so a job runs from any folder.
 pub(crate) fn plan_arguments(
@@ -118,10 +100,10 @@ pub(crate) fn plan_arguments(
         arguments.extend(["--keep-trajectories".to_owned(), "all".to_owned()]);
     }
     if args.readings != crate::cli::Readings::All {
-        arguments.extend(["--readings".to_owned(), args.readings.name().to_owned()]);
+        arguments.extend(["--readings".to_owned(), value_name(args.readings)]);
     }
     for suite in &args.suites {
-        arguments.extend(["--suite".to_owned(), suite.name().to_owned()]);
+        arguments.extend(["--suite".to_owned(), value_name(*suite)]);
     }
     if let Some(size) = args.family_size {
         arguments.extend(["--family-size".to_owned(), size.to_string()]);
@@ -133,4 +115,11 @@ pub(crate) fn plan_arguments(
         ]);
     }
     arguments
+}
+
+/// The command-line name of a `--readings` or `--suite` value (clap's, from its derive).
+fn value_name(value: impl clap::ValueEnum) -> String {
+    value
+        .to_possible_value()
+        .map_or_else(String::new, |value| value.get_name().to_owned())
 }

@@ -9,7 +9,7 @@ use crate::Failure;
 use crate::cli::{KeepTrajectories, MergeArgs, ReproduceArgs, ReproduceCommand, RunJobArgs};
 use crate::experiments::{PlannedExperiment, load_config_file, plan_experiments};
 use crate::finish::{Outputs, write_outputs};
-use crate::jobs::{JobLine, Shard, plan_arguments, plan_jobs, run_jobs};
+use crate::jobs::{Shard, plan_arguments, plan_jobs, run_jobs};
 use crate::plan::{QUICK_SEEDS, ReproducePlan, Workspace, default_methods};
 use crate::progress::Progress;
 use eamadm_runs::output_folder::OutputFolder;
@@ -335,21 +335,9 @@ fn job_lines(
     let arguments = plan_arguments(args, &plan.out, &workspace.current_dir);
     jobs.iter()
         .map(|job| {
-            let mut run = vec![
-                "run-job".to_owned(),
-                "--key".to_owned(),
-                job.key.to_string(),
-            ];
-            run.extend(arguments.iter().cloned());
-            let line = JobLine {
-                key: job.key.as_str(),
-                experiment: &experiments[job.experiment].name,
-                task: task_name(args, plan, experiments, job.experiment),
-                method: &job.method.label,
-                seed: job.seed,
-                run,
-            };
-            serde_json::to_string(&line).map_err(Failure::failed)
+            let experiment = &experiments[job.experiment].name;
+            let task = task_name(args, plan, experiments, job.experiment);
+            serde_json::to_string(&job.line(experiment, task, &arguments)).map_err(Failure::failed)
         })
         .collect()
 }

@@ -37,6 +37,49 @@ pub struct Job<'a> {
     pub key: RunKey,
 }
 
+impl<'a> Job<'a> {
+    /// The job's line in a plan's job list (`reproduce-paper --list-jobs`): its experiment
+    /// (`experiment`, running the task `task`), method and seed, and the command-line
+    /// arguments that run exactly it: `run-job --key KEY` followed by the plan's own
+    /// arguments `plan`.
+    #[must_use]
+    pub fn line(&'a self, experiment: &'a str, task: &'a str, plan: &[String]) -> JobLine<'a> {
+        let mut run = vec![
+            "run-job".to_owned(),
+            "--key".to_owned(),
+            self.key.to_string(),
+        ];
+        run.extend_from_slice(plan);
+        JobLine {
+            key: self.key.as_str(),
+            experiment,
+            task,
+            method: &self.method.label,
+            seed: self.seed,
+            run,
+        }
+    }
+}
+
+/// One line of a plan's job list, for GNU parallel, SLURM or any job engine (serialised as one
+/// JSON object).
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct JobLine<'a> {
+    /// The run's key.
+    pub key: &'a str,
+    /// The experiment (also the bundle and output folder name).
+    pub experiment: &'a str,
+    /// The task the experiment runs (`task1`, `task2`, `robot`, … or `config` for a config
+    /// file, `family` for a family layout).
+    pub task: &'a str,
+    /// The method's label.
+    pub method: &'a str,
+    /// The seed.
+    pub seed: u64,
+    /// The command-line arguments that run exactly this job into the plan's run store.
+    pub run: Vec<String>,
+}
+
 /// The jobs of `experiments` × `methods` × seeds, in job order. A label an experiment's
 /// config lacks is skipped there (the caller checked the labels against the plan).
 ///
@@ -266,6 +309,24 @@ mod tests {
                 maze_step_cap: Some(60),
                 ..eamadm::Shortening::episodes(episodes)
             })
+    }
+
+    #[test]
+    fn a_jobs_line_names_the_run_and_the_arguments_that_run_it() {
+        let experiment = Experiment::new(task1(2, 3)).unwrap();
+        let methods = ["softmax".to_owned()];
+        let jobs = plan_jobs(&[&experiment], &methods).unwrap();
+        assert_eq!(jobs.len(), 2);
+        let plan = ["--seeds".to_owned(), "2".to_owned()];
+        let line = jobs[1].line("task1", "task1", &plan);
+        assert_eq!((line.method, line.seed), ("softmax", jobs[1].seed));
+        assert_eq!(
+            line.run,
+            ["run-job", "--key", jobs[1].key.as_str(), "--seeds", "2"]
+        );
+        let json: serde_json::Value = serde_json::to_value(&line).unwrap();
+        assert_eq!(json["key"], jobs[1].key.as_str());
+        assert_eq!(json["experiment"], "task1");
     }
 
     /// Counts nothing (what a caller without progress bars passes).
