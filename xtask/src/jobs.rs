@@ -100,10 +100,10 @@ pub(crate) fn plan_arguments(
         arguments.extend(["--keep-trajectories".to_owned(), "all".to_owned()]);
     }
     if args.readings != crate::cli::Readings::All {
-        arguments.extend(["--readings".to_owned(), value_name(args.readings)]);
+        arguments.extend(["--readings".to_owned(), value_name(&args.readings)]);
     }
     for suite in &args.suites {
-        arguments.extend(["--suite".to_owned(), value_name(*suite)]);
+        arguments.extend(["--suite".to_owned(), value_name(suite)]);
     }
     if let Some(size) = args.family_size {
         arguments.extend(["--family-size".to_owned(), size.to_string()]);
@@ -118,7 +118,7 @@ pub(crate) fn plan_arguments(
 }
 
 /// The command-line name of a `--readings` or `--suite` value (clap's, from its derive).
-fn value_name(value: impl clap::ValueEnum) -> String {
+fn value_name(value: &impl clap::ValueEnum) -> String {
     value
         .to_possible_value()
         .map_or_else(String::new, |value| value.get_name().to_owned())
