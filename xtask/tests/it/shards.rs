@@ -97,6 +97,25 @@ fn listed_jobs(folder: &Folder, args: Vec<String>) -> Vec<serde_json::Value> {
 fn three_shards_merged_equal_the_unsharded_run_byte_for_byte() {
     let folder = Folder::new();
     folder.succeeds(&small("whole"));
+    // Every run, the readings' reruns too, ran its experiment shortened by --quick (the
+    // facade's shortening: 30 episodes); the runs per seed are counted by the tests below.
+    let mut readings = 0;
+    for bundle in std::fs::read_dir(folder.path("whole/runs")).unwrap() {
+        let bundle = bundle.unwrap().path();
+        if !bundle.to_string_lossy().ends_with(".jsonl.zst") {
+            continue;
+        }
+        readings += usize::from(bundle.to_string_lossy().contains("-reading-"));
+        for line in bundle_lines(&std::fs::read(&bundle).unwrap()) {
+            let description: serde_json::Value =
+                serde_json::from_str(line.split('\t').nth(1).unwrap()).unwrap();
+            let config = &description["config"];
+            assert_eq!(config["episodes"], 30, "{}", bundle.display());
+        }
+    }
+    // Task I's readings of ea-madm and softmax: γ, pre-training half, double and fixed, and
+    // the temperature floor.
+    assert_eq!(readings, 5);
     for k in 1..=3 {
         let out = format!("shard{k}");
         folder.succeeds(&with(small(&out), &["--shard", &format!("{k}/3")]));
