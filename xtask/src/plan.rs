@@ -11,8 +11,6 @@ use thiserror::Error;
 use crate::cli::{Readings, ReproduceArgs};
 use eamadm::paper::PaperTask;
 
-/// Seeds per task and method of the default run: the presets' ([`eamadm::paper::SEEDS`]).
-pub(crate) const DEFAULT_SEEDS: u32 = eamadm::paper::SEEDS;
 /// Seeds per task and method of a `--quick` run: the facade's ([`eamadm::QUICK_SEEDS`]), which
 /// Python's `eamadm.run(..., quick=True)` uses too.
 pub(crate) const QUICK_SEEDS: u32 = eamadm::QUICK_SEEDS;
@@ -252,7 +250,8 @@ impl ReproducePlan {
             seeds: args.seeds.unwrap_or(if args.quick {
                 QUICK_SEEDS
             } else {
-                DEFAULT_SEEDS
+                // The default run's: the presets' seeds.
+                eamadm::paper::seeds()
             }),
             quick: args.quick,
             config,

@@ -11,7 +11,7 @@
 //!
 //! let task1 = paper::task1();
 //! assert_eq!(task1.episodes, 200);
-//! assert_eq!(task1.seeds, paper::SEEDS);
+//! assert_eq!(task1.seeds, paper::seeds());
 //! assert_eq!(PaperTask::Task2.reported().map(|r| r.steps), Some(86.0));
 //! let c1 = paper::claim("C1").unwrap();
 //! assert_eq!(c1.metrics[0].column, "final_steps");
@@ -46,11 +46,15 @@ use crate::config::{
     table1_epsilon_decreasing, table1_temperature,
 };
 
-/// Seeds per method of every preset. The paper shows single runs; 20 seeds give the bootstrap
-/// and permutation statistics of [`claims`](crate::claims) enough resolution (a two-sided
-/// exact permutation test of 20 against 20 can reach p ≈ 1e-11) while the whole default run
-/// stays well under half a minute on two cores.
-pub const SEEDS: u32 = 20;
+/// Seeds per method of every preset, as the embedded configs write it (`seeds = 20` in each;
+/// the test `every_preset_runs_the_same_seeds` checks they agree). The paper shows single runs;
+/// 20 seeds give the bootstrap and permutation statistics of [`claims`](crate::claims) enough
+/// resolution (a two-sided exact permutation test of 20 against 20 can reach p ≈ 1e-11) while
+/// the whole default run stays well under half a minute on two cores.
+#[must_use]
+pub fn seeds() -> u32 {
+    task1().seeds
+}
 
 /// The paper's three experiments, in the order they are run and reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -194,7 +198,7 @@ pub fn report_context(quick: bool) -> ReportContext {
                 reported: task.reported(),
             })
             .collect(),
-        preset_seeds: SEEDS,
+        preset_seeds: seeds(),
         action_names: Action::ALL.map(|a| a.name().to_owned()).to_vec(),
         curves_file: output_names::CURVES.to_owned(),
         trajectories_file: output_names::TRAJECTORIES.to_owned(),
@@ -505,7 +509,7 @@ fn embedded(text: &'static str, parsed: &'static OnceLock<ExperimentConfig>) -> 
         .clone()
 }
 
-/// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`SEEDS`] seeds,
+/// The paper's Task I (Sec. VI.A, Table 1): the 30 × 30 maze, 200 episodes, [`seeds()`] seeds,
 /// α = 0.1, γ = 0.95, [`methods`] and the [`controls`]: [`PAPER_TASK1_TOML`] parsed.
 #[must_use]
 pub fn task1() -> ExperimentConfig {
@@ -526,7 +530,7 @@ pub fn task2() -> ExperimentConfig {
 /// position in [`wmr_model::DEFAULT_TARGET_BINS`] bins) with the settings the paper leaves
 /// open as the competitors-only sweep of docs/paper-notes.md §8.5 chose them (`task.
 /// control_period`, `step_cap`, `reach_radius`, `distance_bins` and `episodes` of the TOML),
-/// [`SEEDS`] seeds, α = 0.1, γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, [`methods`],
+/// [`seeds()`] seeds, α = 0.1, γ = 0.95, ε 0.95 annealed by 0.95, T 0.1 → 0.01, [`methods`],
 /// [`robot_repairs`] and [`robot_controls`]: [`PAPER_ROBOT_TOML`] parsed.
 #[must_use]
 pub fn robot() -> ExperimentConfig {
@@ -545,7 +549,7 @@ pub fn robot_paper_state() -> ExperimentConfig {
 
 /// The positive control of issue 32 (not the paper's; docs/paper-notes.md §21.2): the
 /// hand-designed maze [`mazes::AGGREGATION_CONTROL_MAP`] (the target in a walled box whose door
-/// faces away from the start) with Task II's rewards and sub-tasks, 200 episodes, [`SEEDS`]
+/// faces away from the start) with Task II's rewards and sub-tasks, 200 episodes, [`seeds()`]
 /// seeds, Table 1's learner, [`methods`] and the maze [`controls`]:
 /// [`AGGREGATION_CONTROL_TOML`] parsed.
 #[must_use]
@@ -1141,6 +1145,14 @@ pub fn readings() -> &'static [Reading] {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn every_preset_runs_the_same_seeds() {
+        for task in super::PaperTask::ALL {
+            assert_eq!(task.config().seeds, super::seeds(), "{}", task.name());
+        }
+        assert_eq!(super::seeds(), 20);
+    }
+
     use super::*;
 
     #[test]

@@ -87,10 +87,10 @@ fn presets_load() {
     ] {
         let experiment = Experiment::new(config).unwrap();
         // The paper's 4 methods, 4 ablations and 12 controls (the two aggregators among
-        // them), `paper::SEEDS` seeds each.
+        // them), `paper::seeds()` seeds each.
         assert_eq!(
             experiment.jobs().len(),
-            (8 + 12) * eamadm::paper::SEEDS as usize
+            (8 + 12) * eamadm::paper::seeds() as usize
         );
     }
 }
