@@ -10,6 +10,7 @@ mod claims_csv;
 mod concurrent_store;
 mod family;
 mod figure_checks;
+mod fixtures;
 mod gc;
 mod jobs;
 mod kill_resume;
