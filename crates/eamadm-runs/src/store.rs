@@ -5,14 +5,15 @@
 //!
 //! ```text
 //! runs/<experiment>.jsonl.zst         packed bundle: the experiment's runs, many per Zstandard frame
-//! runs/loose/<key>.<keep>.run.gz      one run just finished, one gzip member of stored blocks (not yet packed)
+//! runs/loose/<key>.<keep>.run.gz      one run stored alone (RunStore::append), one gzip member of stored blocks
+//! runs/loose/batch-<pid>-<time>-<n>.run.gz   the runs of one batch (LooseBatch), one such member each
 //! runs/.set-aside/…                   entries that failed their checks, kept for inspection
 //! runs/.writers.lock                  held shared by writers while they make a temporary file
 //! ```
 //!
 //! A run is one line; store files are compressed frames of whole lines ([`crate::frames`]): a
 //! bundle holds many lines per Zstandard frame (so `zstdcat runs/task1.jsonl.zst` prints the
-//! lines), a loose file one gzip member holding one line. A bundle written before Zstandard
+//! lines), a loose file one gzip member per line (not yet packed). A bundle written before Zstandard
 //! (`runs/<experiment>.jsonl.gz`, one gzip member per run) is read like a bundle and replaced by
 //! the next pack. A line is three tab-separated parts (compact JSON never holds a raw tab):
 //!
@@ -32,7 +33,10 @@
 //!
 //! - **Writers never share a file.** A finished run is written to a temporary file in
 //!   `runs/loose/`, synced, and renamed to its content-addressed name `<key>.<keep>.run.gz`
-//!   ([`RunStore::append`]); two processes storing the same run write the same bytes. Bundles are
+//!   ([`RunStore::append`]); two processes storing the same run write the same bytes. A
+//!   running plan appends its runs to a batch file of its own, published under a unique name
+//!   while locked and locked until closed ([`LooseBatch`]); a locked loose file is read for
+//!   its whole frames but never reported for a frame being written, nor removed. Bundles are
 //!   written only by [`RunStore::pack`], which needs the output folder's lock, and only by an
 //!   atomic rename. This rests on `rename` being atomic within a folder (POSIX; NFS and Lustre
 //!   keep it) and on the folder lock being exclusive (`flock`, which NFS emulates with
