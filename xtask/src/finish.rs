@@ -376,7 +376,7 @@ pub(crate) fn write_outputs(
         // The oracle and the reach sub-tasks' pre-training enter the findings (and the
         // report) through the context, so that `eamadm.report(dir)` renders them from
         // `report-context.toml` too.
-        let oracle = oracle_rows(pretrained_cache, experiments)?;
+        let oracle = oracle_rows(pretrained_cache, experiments, jobs)?;
         context.oracle = eamadm::oracle::oracle_findings(&oracle, &verdicts.scores);
         context.pretraining = eamadm::oracle::reach_pretraining(&pretraining);
         write_oracle_tables(out, &oracle, &pretraining)?;

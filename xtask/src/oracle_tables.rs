@@ -1,6 +1,5 @@
-//! `oracle.csv` and `pretraining.csv` (issue 32): the rows are computed by `eamadm::oracle`
-//! (the decision step on exact or converged sub-task values, each sub-task's pre-training);
-//! this module only feeds it the run store's pre-trained sub-tasks and writes the files.
+//! `oracle.csv` and `pretraining.csv` (issue 32), computed by `eamadm::oracle`; this module
+//! only feeds it the plan's decisions and the cache's pre-trained sub-tasks, and writes them.
 
 use std::path::Path;
 
@@ -33,26 +32,27 @@ pub(crate) enum OracleTablesError {
     Write(#[from] AtomicWriteError),
 }
 
-/// The oracle rows of every base experiment of the plan (a reading's experiment has none: it
-/// reruns methods under another reading), in plan order, taking pre-trained sub-tasks from the
-/// artefact cache `pretrained_cache`, read only ([`ReadOnlyCache`]).
+/// The oracle rows of the plan's base experiments (a reading's has none) for the decisions
+/// `jobs` run, in plan order, with pre-trained sub-tasks read from `pretrained_cache`.
 pub(crate) fn oracle_rows(
     pretrained_cache: &Path,
     experiments: &[PlannedExperiment],
+    jobs: &[crate::jobs::Job<'_>],
 ) -> Result<Vec<OracleRow>, OracleTablesError> {
     let cache = ReadOnlyCache(PretrainedStore::new(pretrained_cache));
     let mut rows = Vec::new();
-    for planned in experiments
-        .iter()
-        .filter(|planned| planned.reading.is_none())
-    {
+    for (index, planned) in experiments.iter().enumerate() {
+        let runs = |label: &str| {
+            let mut own = jobs.iter().filter(|job| job.experiment == index);
+            planned.reading.is_none() && own.any(|job| job.method.label == label)
+        };
         rows.extend(
-            eamadm::oracle::oracle_rows(&planned.experiment, &cache).map_err(|source| {
-                OracleTablesError::Run {
+            eamadm::oracle::oracle_rows_of(&planned.experiment, &cache, runs).map_err(
+                |source| OracleTablesError::Run {
                     experiment: planned.name.clone(),
                     source,
-                }
-            })?,
+                },
+            )?,
         );
     }
     Ok(rows)

@@ -331,6 +331,25 @@ impl AtomicFile {
             .map_err(|persist| error(persist.error))?;
         Ok(())
     }
+
+    /// Flushes the temporary file and renames it to the path, which must not exist yet, and
+    /// returns it still open and still locked, to be appended to: a file that appears complete
+    /// so far and that other processes can tell is being written while it stays locked (the
+    /// run store's batch files, [`crate::store::LooseBatch`]). Neither the file nor the rename
+    /// is synced. Fails, leaving nothing, if the path exists.
+    pub fn publish_locked(self) -> Result<std::fs::File, AtomicWriteError> {
+        let path = self.path;
+        let error = |source| AtomicWriteError {
+            path: path.clone(),
+            source,
+        };
+        let temp = self
+            .writer
+            .into_inner()
+            .map_err(|e| error(e.into_error()))?;
+        temp.persist_noclobber(&path)
+            .map_err(|persist| error(persist.error))
+    }
 }
 
 impl io::Write for AtomicFile {

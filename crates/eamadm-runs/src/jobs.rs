@@ -248,7 +248,7 @@ pub fn run_jobs(
             None => groups.push(vec![job]),
         }
     }
-    // One sync per batch of runs rather than two per run (a group commit,
+    // One file and one sync per batch of runs rather than per run (a group commit,
     // `eamadm_runs::LooseBatch`): a crash of the machine loses at most the last batches'
     // runs, which the next invocation finds torn or missing and recomputes.
     let batch = store.batch(crate::BatchLimit::default())?;

@@ -67,8 +67,24 @@ pub fn oracle_rows(
     experiment: &Experiment,
     cache: &dyn PretrainingCache,
 ) -> Result<Vec<OracleRow>, RunError> {
+    oracle_rows_of(experiment, cache, |_| true)
+}
+
+/// [`oracle_rows`] for the decisions whose label `planned` accepts only: a plan that runs some
+/// of the experiment's methods (`reproduce-paper --method`) has no oracle rows for the others.
+/// Each decision's rows repeat that method's run once per seed, so an oracle of a method the
+/// plan does not run would cost as much as running it (docs/paper-notes.md §24.2).
+///
+/// # Errors
+/// As [`oracle_rows`].
+pub fn oracle_rows_of(
+    experiment: &Experiment,
+    cache: &dyn PretrainingCache,
+    planned: impl Fn(&str) -> bool,
+) -> Result<Vec<OracleRow>, RunError> {
     let decisions: Vec<(&MethodSpec, &EaMadmConfig)> = DECISIONS
         .iter()
+        .filter(|label| planned(label))
         .filter_map(|label| experiment.config().method(label))
         .filter_map(|spec| match &spec.method {
             Method::EaMadm(ea) if ea.subtask_rewards == SubtaskRepairs::PAPER => Some((spec, ea)),

@@ -6,7 +6,7 @@
     reason = "tests may unwrap: a failure is the test failing"
 )]
 
-use eamadm::oracle::{OracleValues, OwnValues, oracle_rows};
+use eamadm::oracle::{OracleValues, OwnValues, oracle_rows, oracle_rows_of};
 use eamadm::{Experiment, ExperimentConfig, Method, NoPretrainingCache, paper};
 
 /// `config` cut to one seed, a few episodes and a short, bounded pre-training.
@@ -123,4 +123,27 @@ fn no_decision_no_rows() {
             .unwrap()
             .is_empty()
     );
+}
+
+/// A plan that runs only some methods (`reproduce-paper --method`) has the oracle rows of the
+/// decisions it runs and no others: each decision's rows repeat its run once per seed, so the
+/// others would cost as much as running them (paper-notes §24.2). The rows it keeps are the
+/// ones the whole experiment's oracle gives.
+#[test]
+fn the_oracle_of_a_narrower_plan_has_only_the_decisions_it_runs() {
+    let experiment = Experiment::new(short(paper::task1(), 5)).unwrap();
+    let all = oracle_rows(&experiment, &NoPretrainingCache).unwrap();
+    let none = oracle_rows_of(&experiment, &NoPretrainingCache, |label| {
+        label == "epsilon-greedy"
+    })
+    .unwrap();
+    assert!(none.is_empty(), "{none:?}");
+    let ea_madm =
+        oracle_rows_of(&experiment, &NoPretrainingCache, |label| label == "ea-madm").unwrap();
+    // EA-MADM's (initial, learned) and the two sub-tasks alone, one seed.
+    assert_eq!(ea_madm.len(), 2 + 2);
+    for row in &ea_madm {
+        assert!(all.contains(row), "{row:?}");
+        assert!(row.decision == "ea-madm" || row.decision.ends_with("-alone"));
+    }
 }
