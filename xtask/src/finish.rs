@@ -392,8 +392,18 @@ pub(crate) fn write_outputs(
             })?;
             eamadm_runs::atomic::write_atomic(&path, &bytes)?;
         }
-        write_claim_outputs(out, &context, &verdicts, tuning.as_ref())?;
-        crate::family_suite::write_family_outputs(out, experiments, &family, &verdicts)?;
+        crate::family_suite::write_layouts(out, experiments)?;
+        let judged = crate::family_suite::judge(out, experiments, &family)?;
+        let findings = write_claim_outputs(
+            out,
+            &context,
+            &verdicts,
+            tuning.as_ref(),
+            judged.as_ref().and_then(|(_, findings)| findings.clone()),
+        )?;
+        if let Some((pooled, _)) = &judged {
+            crate::family_suite::write_family_outputs(out, &family, pooled, &findings)?;
+        }
     }
     Ok(jobs.len())
 }

@@ -74,11 +74,14 @@ pub const SET_ASIDE: &str = ".set-aside";
 pub const ORACLE: &str = "oracle.csv";
 /// `pretraining.csv`: each sub-task's pre-training per run ([`crate::oracle::PretrainingRow`]).
 pub const PRETRAINING: &str = "pretraining.csv";
+/// The maze layouts the run's rows play (`eamadm::family::LAYOUT_COLUMNS`): the paper's two,
+/// the positive control's, the family's.
+pub const LAYOUTS: &str = "layouts.csv";
 
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 12] = [
+pub const TOP_LEVEL: [&str; 13] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -90,6 +93,7 @@ pub const TOP_LEVEL: [&str; 12] = [
     FINDINGS,
     ORACLE,
     PRETRAINING,
+    LAYOUTS,
     TUNING,
 ];
 

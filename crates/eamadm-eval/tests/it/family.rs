@@ -12,6 +12,7 @@ use proptest::prelude::*;
 fn row(task: &str, method: &str, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {
         task: task.to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role: Role::Paper,
         kind: kind.to_owned(),
