@@ -15,9 +15,6 @@ use eamadm_runs::atomic::{AtomicWriteError, write_atomic};
 
 use crate::experiments::PlannedExperiment;
 
-/// The folder of the family's outputs.
-pub(crate) const FOLDER: &str = "family";
-
 /// A table `file` under `folder` made by `make` into bytes, written atomically.
 fn write_table<E: std::error::Error + Send + Sync + 'static>(
     folder: &Path,
@@ -66,7 +63,7 @@ pub(crate) fn judge(
     eamadm::family::judge_family(scores, &rows)
         .map(Some)
         .map_err(|error| AtomicWriteError {
-            path: out.join(FOLDER).join("verdicts.csv"),
+            path: out.join(eamadm::output_names::FAMILY).join("verdicts.csv"),
             source: std::io::Error::other(error),
         })
 }
@@ -80,7 +77,7 @@ pub(crate) fn write_family_outputs(
     verdicts: &FamilyVerdicts,
     findings: &Findings,
 ) -> Result<(), AtomicWriteError> {
-    let folder = out.join(FOLDER);
+    let folder = out.join(eamadm::output_names::FAMILY);
     write_table(&folder, eamadm::output_names::FINAL_SCORES, |bytes| {
         eamadm::scores::write_csv(scores, bytes)
     })?;

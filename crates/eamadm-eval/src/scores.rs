@@ -690,7 +690,7 @@ mod tests {
     fn columns_are_the_fields_in_order() {
         let row = FinalScore {
             task: "t".into(),
-            layout: String::new(),
+            layout: "l".into(),
             method: "m".into(),
             role: Role::Control,
             kind: "softmax".into(),
@@ -730,7 +730,7 @@ mod tests {
         );
         assert_eq!(
             lines.next().unwrap(),
-            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,500,12,0,,,,-0.1"
+            "t,l,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,500,12,0,,,,-0.1"
         );
         assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
         for column in COLUMNS {

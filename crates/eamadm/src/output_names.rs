@@ -77,6 +77,10 @@ pub const PRETRAINING: &str = "pretraining.csv";
 /// The maze layouts the run's rows play (`eamadm::family::LAYOUT_COLUMNS`): the paper's two,
 /// the positive control's, the family's.
 pub const LAYOUTS: &str = "layouts.csv";
+/// The folder of the maze family's outputs (`--suite family`): its runs' final scores, pooled
+/// verdicts, per-layout effects, figures and report. Not in [`TOP_LEVEL`]: the output folder
+/// keeps it as an experiment's folder (a safe slug), which a reserved name could not be.
+pub const FAMILY: &str = "family";
 
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
