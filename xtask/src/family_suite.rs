@@ -14,21 +14,7 @@ use eamadm_present::family::{effect_figure, family_report};
 use eamadm_runs::atomic::{AtomicWriteError, write_atomic};
 
 use crate::experiments::PlannedExperiment;
-
-/// A table `file` under `folder` made by `make` into bytes, written atomically.
-fn write_table<E: std::error::Error + Send + Sync + 'static>(
-    folder: &Path,
-    file: &str,
-    make: impl FnOnce(&mut Vec<u8>) -> Result<(), E>,
-) -> Result<(), AtomicWriteError> {
-    let path = folder.join(file);
-    let mut bytes = Vec::new();
-    make(&mut bytes).map_err(|error| AtomicWriteError {
-        path: path.clone(),
-        source: std::io::Error::other(error),
-    })?;
-    write_atomic(&path, &bytes)
-}
+use crate::finish::write_table;
 
 /// Writes the top-level `layouts.csv`: the paper's two layouts, then every other maze layout
 /// the plan's experiments play (`eamadm::family::layouts_table`).
@@ -46,37 +32,34 @@ pub(crate) fn write_layouts(
     })
 }
 
-/// The family's verdicts and findings from its runs' `scores`; `None` when the plan has no
-/// family layout.
+/// The family's verdicts and findings from its runs' `scores` (no findings without them).
 pub(crate) fn judge(
     out: &Path,
     experiments: &[PlannedExperiment],
     scores: &[FinalScore],
-) -> Result<Option<(FamilyVerdicts, Option<FamilyFindings>)>, AtomicWriteError> {
-    let rows: Vec<eamadm::family::LayoutRow> = experiments
+) -> Result<(FamilyVerdicts, Option<FamilyFindings>), AtomicWriteError> {
+    let rows: Vec<_> = experiments
         .iter()
         .filter_map(|p| p.family.clone())
         .collect();
-    if rows.is_empty() {
-        return Ok(None);
-    }
-    eamadm::family::judge_family(scores, &rows)
-        .map(Some)
-        .map_err(|error| AtomicWriteError {
-            path: out.join(eamadm::output_names::FAMILY).join("verdicts.csv"),
-            source: std::io::Error::other(error),
-        })
+    eamadm::family::judge_family(scores, &rows).map_err(|error| AtomicWriteError {
+        path: out.join(eamadm::output_names::FAMILY),
+        source: std::io::Error::other(error),
+    })
 }
 
 /// Writes `family/`: `final-scores.csv` (the family's runs), `verdicts.csv` (pooled),
 /// `effects.csv` (per layout), `effect-C1.svg`, `effect-C2.svg` and `REPORT.md` (rendered
-/// from `findings`, the run's).
+/// from `findings`, the run's); nothing when the findings have no family.
 pub(crate) fn write_family_outputs(
     out: &Path,
     scores: &[FinalScore],
     verdicts: &FamilyVerdicts,
     findings: &Findings,
 ) -> Result<(), AtomicWriteError> {
+    let (Some(family), Some(text)) = (&findings.family, family_report(findings)) else {
+        return Ok(());
+    };
     let folder = out.join(eamadm::output_names::FAMILY);
     write_table(&folder, eamadm::output_names::FINAL_SCORES, |bytes| {
         eamadm::scores::write_csv(scores, bytes)
@@ -87,17 +70,10 @@ pub(crate) fn write_family_outputs(
     write_table(&folder, "effects.csv", |bytes| {
         write_effects_csv(&verdicts.layouts, bytes)
     })?;
-    let points = findings
-        .family
-        .as_ref()
-        .map_or(&[][..], |family| &family.layouts[..]);
     for claim in ["C1", "C2"] {
-        if let Some(svg) = effect_figure(verdicts, points, claim) {
+        if let Some(svg) = effect_figure(verdicts, &family.layouts, claim) {
             write_atomic(&folder.join(format!("effect-{claim}.svg")), svg.as_bytes())?;
         }
     }
-    match family_report(findings) {
-        Some(text) => write_atomic(&folder.join(eamadm::output_names::REPORT), text.as_bytes()),
-        None => Ok(()),
-    }
+    write_atomic(&folder.join(eamadm::output_names::REPORT), text.as_bytes())
 }

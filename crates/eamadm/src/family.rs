@@ -478,10 +478,10 @@ pub fn layouts_table<'a>(
                 .maze()
                 .map(|maze| LayoutRow::hand_designed(&layout_name(experiment), maze)),
         };
-        if let Some(row) = row {
-            if !rows.iter().any(|known| known.layout == row.layout) {
-                rows.push(row);
-            }
+        if let Some(row) = row
+            && !rows.iter().any(|known| known.layout == row.layout)
+        {
+            rows.push(row);
         }
     }
     rows
