@@ -45,13 +45,14 @@ impl From<ReportError> for ClaimsReportError {
 
 /// Writes `final-scores.csv`, `claims.csv`, `findings.json`, `REPORT.md` and
 /// `report-context.toml` into `out`; `context` holds the paper's tasks and, per experiment, the
-/// figures written and the robot's behaviour.
+/// figures written and the robot's behaviour. Returns the findings written.
 pub(crate) fn write_claim_outputs(
     out: &Path,
     context: &ReportContext,
     verdicts: &Verdicts,
     tuning: Option<&crate::tuning_suite::TuningOutcome>,
-) -> Result<(), ClaimsReportError> {
+    family: Option<eamadm::eamadm_eval::family::FamilyFindings>,
+) -> Result<Findings, ClaimsReportError> {
     write_atomic(
         &out.join(names::FINAL_SCORES),
         verdicts.scores_csv()?.as_bytes(),
@@ -69,7 +70,7 @@ pub(crate) fn write_claim_outputs(
         .as_bytes(),
     )?;
     // What the report states, as data; the report and the README's blocks render from it.
-    let mut findings = Findings::of(context, verdicts);
+    let mut findings = Findings::of(context, verdicts).with_family(family);
     if let Some(tuning) = tuning {
         // "Each at its best": a verdict set of its own beside the paper-setting verdicts.
         findings =
@@ -85,5 +86,5 @@ pub(crate) fn write_claim_outputs(
         &out.join(eamadm::output_names::REPORT_CONTEXT),
         context_text.as_bytes(),
     )?;
-    Ok(())
+    Ok(findings)
 }

@@ -144,6 +144,21 @@ fn remove_legacy_files(out: &Path, experiments: &[PlannedExperiment]) -> Result<
     Ok(())
 }
 
+/// Writes the table `file` under `folder`, made by `make` into bytes, atomically.
+pub(crate) fn write_table<E: std::error::Error + Send + Sync + 'static>(
+    folder: &Path,
+    file: &str,
+    make: impl FnOnce(&mut Vec<u8>) -> Result<(), E>,
+) -> Result<(), AtomicWriteError> {
+    let path = folder.join(file);
+    let mut bytes = Vec::new();
+    make(&mut bytes).map_err(|error| AtomicWriteError {
+        path: path.clone(),
+        source: std::io::Error::other(error),
+    })?;
+    eamadm_runs::atomic::write_atomic(&path, &bytes)
+}
+
 /// Run `job` from the first store holding it.
 fn load(
     stores: &[RunStore],
@@ -382,18 +397,14 @@ pub(crate) fn write_outputs(
         write_oracle_tables(out, &oracle, &pretraining)?;
         let tuning = crate::tuning_suite::outcome(experiments, &tuned)?;
         if let Some(tuning) = &tuning {
-            let mut bytes = Vec::new();
-            let path = out.join(eamadm::output_names::TUNING);
-            eamadm::tuning::write_tuning_csv(&tuning.rows, &mut bytes).map_err(|error| {
-                AtomicWriteError {
-                    path: path.clone(),
-                    source: std::io::Error::other(error),
-                }
+            write_table(out, eamadm::output_names::TUNING, |bytes| {
+                eamadm::tuning::write_tuning_csv(&tuning.rows, bytes)
             })?;
-            eamadm_runs::atomic::write_atomic(&path, &bytes)?;
         }
-        write_claim_outputs(out, &context, &verdicts, tuning.as_ref())?;
-        crate::family_suite::write_family_outputs(out, experiments, &family, &verdicts)?;
+        crate::family_suite::write_layouts(out, experiments)?;
+        let (pooled, found) = crate::family_suite::judge(out, experiments, &family)?;
+        let findings = write_claim_outputs(out, &context, &verdicts, tuning.as_ref(), found)?;
+        crate::family_suite::write_family_outputs(out, &family, &pooled, &findings)?;
     }
     Ok(jobs.len())
 }

@@ -26,9 +26,9 @@
 //! );
 //! let fields = &package["resources"][0]["schema"]["fields"];
 //! assert_eq!(fields[0]["name"], "task");
-//! assert_eq!(fields[7]["name"], "final_steps");
-//! assert_eq!(fields[7]["type"], "number");
-//! assert_eq!(fields[7]["unit"], "steps");
+//! assert_eq!(fields[8]["name"], "final_steps");
+//! assert_eq!(fields[8]["type"], "number");
+//! assert_eq!(fields[8]["unit"], "steps");
 //! ```
 
 use serde_json::{Value, json};

@@ -132,6 +132,167 @@ pub struct FamilyVerdicts {
     pub layouts: Vec<LayoutEffect>,
 }
 
+/// A family layout as the findings, the figure and the report need it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LayoutPoint {
+    /// The layout's name (`f07-trap`).
+    pub layout: String,
+    /// Its kind's data name (`uniform`, `perfect_maze`, `rooms`, `trap`).
+    pub kind: String,
+    /// BFS optimum ÷ Manhattan distance.
+    pub detour_ratio: f64,
+}
+
+/// The mean per-layout effect over the layouts of one kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct KindMean {
+    /// The kind's data name.
+    pub kind: String,
+    /// Layouts of that kind with an effect.
+    pub layouts: usize,
+    /// Their mean effect.
+    pub mean: f64,
+}
+
+/// How one claim × competitor's per-layout effects spread over the family.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EffectSpread {
+    /// `C1` or `C2`.
+    pub claim: String,
+    /// The competitor's label.
+    pub competitor: String,
+    /// Layouts with an effect.
+    pub layouts: usize,
+    /// The smallest per-layout effect.
+    pub min: f64,
+    /// The median per-layout effect.
+    pub median: f64,
+    /// The largest.
+    pub max: f64,
+    /// Per kind present (in the order of the layouts' first appearance), the mean effect.
+    pub by_kind: Vec<KindMean>,
+}
+
+/// What the reports state of the family, as data (`findings.json`'s `family`): the layouts
+/// run, the pooled verdicts and how each comparison's per-layout effects spread.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FamilyFindings {
+    /// Training episodes of every family run.
+    pub episodes: u64,
+    /// Held-out seeds per layout and method (the most any layout has).
+    pub seeds: usize,
+    /// The family's layouts that have runs, in the given order.
+    pub layouts: Vec<LayoutPoint>,
+    /// The pooled comparisons ([`FamilyVerdicts::pooled`]).
+    pub pooled: Vec<PooledComparison>,
+    /// Per pooled comparison, the spread of its per-layout effects (same order).
+    pub spread: Vec<EffectSpread>,
+}
+
+/// The findings of a family judged as `verdicts` from `scores` (rows of other experiments
+/// ignored), `layouts` naming each layout's kind and detour ratio (layouts without runs are
+/// left out). `None` when `scores` holds no family run.
+#[must_use]
+#[expect(
+    clippy::cast_precision_loss,
+    reason = "layout counts are far below 2^52"
+)]
+pub fn family_findings(
+    verdicts: &FamilyVerdicts,
+    layouts: &[LayoutPoint],
+    scores: &[FinalScore],
+) -> Option<FamilyFindings> {
+    let family: Vec<&FinalScore> = scores
+        .iter()
+        .filter(|row| layout_of(&row.task).is_some())
+        .collect();
+    let episodes = family.iter().map(|row| row.episodes).max()?;
+    let mut seeds_of: BTreeMap<&str, Vec<u64>> = BTreeMap::new();
+    for row in &family {
+        let seeds = seeds_of.entry(row.task.as_str()).or_default();
+        if !seeds.contains(&row.seed) {
+            seeds.push(row.seed);
+        }
+    }
+    let seeds = seeds_of.values().map(Vec::len).max().unwrap_or(0);
+    let run: Vec<LayoutPoint> = layouts
+        .iter()
+        .filter(|point| {
+            family
+                .iter()
+                .any(|row| layout_of(&row.task) == Some(point.layout.as_str()))
+        })
+        .cloned()
+        .collect();
+    let kind_of: BTreeMap<&str, &str> = run
+        .iter()
+        .map(|point| (point.layout.as_str(), point.kind.as_str()))
+        .collect();
+    let mut kinds: Vec<&str> = Vec::new();
+    for point in &run {
+        if !kinds.contains(&point.kind.as_str()) {
+            kinds.push(point.kind.as_str());
+        }
+    }
+    let spread = verdicts
+        .pooled
+        .iter()
+        .filter_map(|p| {
+            let effects: Vec<(f64, &str)> = verdicts
+                .layouts
+                .iter()
+                .filter(|e| e.claim == p.claim && e.competitor == p.competitor)
+                .map(|e| {
+                    (
+                        e.effect,
+                        kind_of.get(e.layout.as_str()).copied().unwrap_or(""),
+                    )
+                })
+                .collect();
+            let mut sorted: Vec<f64> = effects.iter().map(|(v, _)| *v).collect();
+            sorted.sort_by(f64::total_cmp);
+            let (&min, &max) = (sorted.first()?, sorted.last()?);
+            let half = sorted.len() / 2;
+            let median = if sorted.len() % 2 == 1 {
+                sorted[half]
+            } else {
+                f64::midpoint(sorted[half - 1], sorted[half])
+            };
+            let by_kind = kinds
+                .iter()
+                .filter_map(|&kind| {
+                    let of: Vec<f64> = effects
+                        .iter()
+                        .filter(|(_, k)| *k == kind)
+                        .map(|(v, _)| *v)
+                        .collect();
+                    (!of.is_empty()).then(|| KindMean {
+                        kind: kind.to_owned(),
+                        layouts: of.len(),
+                        mean: of.iter().sum::<f64>() / of.len() as f64,
+                    })
+                })
+                .collect();
+            Some(EffectSpread {
+                claim: p.claim.clone(),
+                competitor: p.competitor.clone(),
+                layouts: sorted.len(),
+                min,
+                median,
+                max,
+                by_kind,
+            })
+        })
+        .collect();
+    Some(FamilyFindings {
+        episodes,
+        seeds,
+        layouts: run,
+        pooled: verdicts.pooled.clone(),
+        spread,
+    })
+}
+
 /// Values of one method on each layout, by seed.
 type BySeed = BTreeMap<u64, f64>;
 

@@ -33,13 +33,14 @@ use serde::{Deserialize, Serialize};
 use crate::Role;
 use crate::claims::{self, Judgement, ReachingComparison, Verdict};
 use crate::facts::{ControlFamily, PredictionFacts, ReportContext, RewardReference};
+use crate::family::FamilyFindings;
 use crate::oracle::{FailingPart, OracleFinding, OracleValues, PretrainingSummary};
 use crate::scores::{FinalScore, RunOutcome};
 use crate::sensitivity::Change;
 use crate::verdicts::{ControlVerdict, Verdicts, collapsed_seeds};
 
 /// The version of `findings.json`'s layout; a reader refuses another.
-pub const FINDINGS_FORMAT: u32 = 2;
+pub const FINDINGS_FORMAT: u32 = 3;
 
 /// What the report states, per task of the run on which the paper's EA-MADM has verdicts.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -54,6 +55,11 @@ pub struct Findings {
     /// (and left out of `findings.json`) when no tuning ran.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub at_best: Vec<AtBestFindings>,
+    /// The maze family (`--suite family`, docs/paper-notes.md §22): its layouts, EA-MADM's
+    /// pooled verdicts on C1 and C2 and the spread of the per-layout effects. Absent (and left
+    /// out of `findings.json`) when no family ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub family: Option<FamilyFindings>,
 }
 
 impl Default for Findings {
@@ -62,6 +68,7 @@ impl Default for Findings {
             format: FINDINGS_FORMAT,
             tasks: Vec::new(),
             at_best: Vec::new(),
+            family: None,
         }
     }
 }
@@ -524,6 +531,7 @@ impl Findings {
             format: FINDINGS_FORMAT,
             tasks,
             at_best: Vec::new(),
+            family: None,
         }
     }
 
@@ -589,6 +597,13 @@ impl Findings {
         }
         self.at_best = at_best;
         Ok(self)
+    }
+
+    /// These findings with the maze family's (`None`: no family ran).
+    #[must_use]
+    pub fn with_family(mut self, family: Option<FamilyFindings>) -> Self {
+        self.family = family;
+        self
     }
 
     /// The findings of `task`, if it has any.

@@ -611,7 +611,7 @@ mod tests {
 
     fn score(task: &str, method: &str, seed: u64, converged: bool) -> FinalScore {
         let mut row: FinalScore = serde_json::from_value(serde_json::json!({
-            "task": task, "method": method, "role": "paper", "kind": "ea_madm", "seed": seed,
+            "task": task, "layout": task, "method": method, "role": "paper", "kind": "ea_madm", "seed": seed,
             "episodes": 10, "final_window": 10, "final_steps": 58.0, "final_return": 0.0,
             "success_rate": 1.0, "greedy_reached": converged, "greedy_steps": 58,
             "outcome": "converged", "fluctuation_steps": 0.0, "fluctuation_return": 0.0,

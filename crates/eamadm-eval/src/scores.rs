@@ -66,6 +66,7 @@ pub const REACHING_EPISODES: usize = 100;
 /// CSV header with this table).
 pub const COLUMNS: &[Column] = &[
     Column::new("task", FieldType::String, "The experiment's name: `task1`, `task2`, `robot`, `robot-paper-state`, or a custom config's `name`."),
+    Column::new("layout", FieldType::String, "What the run's task is played on: a maze's layout as `layouts.csv` names it (`task1`, `task2`, `aggregation-control`, a family layout `f07-trap`; readings and tuning trials play their task's layout), the robot's scenario by its `name` (`fig12`, the embedded analogue of the paper's Fig. 12), which `layouts.csv` does not list."),
     Column::new("method", FieldType::String, "The method's label in the experiment's config (e.g. `ea-madm`, `softmax`, `subtask0-alone`)."),
     Column::new("role", FieldType::String, "Why the method is in the experiment: one of the paper's methods, an ablation of EA-MADM, or a control the paper does not run.").values(&["paper", "ablation", "control"]),
     Column::new("kind", FieldType::String, "The method's algorithm (`eamadm::Method::kind_name`), e.g. `ea_madm`, `epsilon_greedy`, `epsilon_decreasing`, `softmax`."),
@@ -208,6 +209,9 @@ pub enum ScoresError {
 pub struct FinalScore {
     /// The experiment's name (`task1`, `task2`, `robot`, or a custom config's).
     pub task: String,
+    /// What the run's task is played on ([`MethodRoles::layout`]): a maze's layout as
+    /// `layouts.csv` names it (`task1`, `f07-trap`, …), the robot's scenario (`fig12`).
+    pub layout: String,
     /// The method's label.
     pub method: String,
     /// Why the method is in the experiment: `paper`, `ablation` or `control`.
@@ -326,6 +330,10 @@ pub trait MethodRoles {
 
     /// The task's step cap: steps after which an episode is truncated.
     fn step_cap(&self) -> u32;
+
+    /// What the task is played on: the `layout` of its rows (a maze's layout as
+    /// `layouts.csv` names it, the robot's scenario's name).
+    fn layout(&self) -> String;
 }
 
 /// The final scores of `records`, in record order. `config` is the experiment (for each
@@ -361,11 +369,11 @@ pub fn final_score_of(
                 method: record.method.clone(),
                 seed: record.seed,
             })?;
-    final_score(record, role, kind, config.step_cap())
+    final_score(record, role, kind, config.step_cap(), &config.layout())
 }
 
 /// The final score of one run whose method has this `role` and `kind`, on a task whose
-/// episodes are truncated after `step_cap` steps.
+/// episodes are truncated after `step_cap` steps, played on `layout`.
 ///
 /// # Errors
 /// [`ScoresError::NoEpisodes`]; [`ScoresError::Stats`] for a non-finite return.
@@ -378,6 +386,7 @@ pub fn final_score(
     role: Role,
     kind: &str,
     step_cap: u32,
+    layout: &str,
 ) -> Result<FinalScore, ScoresError> {
     let stats_error = |source| ScoresError::Stats {
         task: record.experiment.clone(),
@@ -442,6 +451,7 @@ pub fn final_score(
         RunOutcome::of(record.evaluation.reached, episodes, FINAL_WINDOW);
     Ok(FinalScore {
         task: record.experiment.clone(),
+        layout: layout.to_owned(),
         method: record.method.clone(),
         role,
         kind: kind.to_owned(),
@@ -641,6 +651,7 @@ mod tests {
             Role::Paper,
             "x",
             2000,
+            "t",
         )
         .unwrap();
         assert_eq!(stuck.greedy_evaluations, 3);
@@ -655,6 +666,7 @@ mod tests {
             Role::Paper,
             "x",
             2000,
+            "t",
         )
         .unwrap();
         assert_eq!(once.stable_reaching, Some(false));
@@ -663,13 +675,14 @@ mod tests {
             Role::Paper,
             "x",
             2000,
+            "t",
         )
         .unwrap();
         assert_eq!(late.stable_reaching, Some(true));
         assert_eq!(late.fluctuation_greedy_steps, Some(2.0));
         assert_eq!(late.fluctuation_greedy_return, Some(2.0));
         // Without evaluations (an old record): nothing to say.
-        let none = final_score(&run_with_greedy(6, &[]), Role::Paper, "x", 2000).unwrap();
+        let none = final_score(&run_with_greedy(6, &[]), Role::Paper, "x", 2000, "t").unwrap();
         assert_eq!((none.greedy_evaluations, none.stable_reaching), (0, None));
     }
 
@@ -677,6 +690,7 @@ mod tests {
     fn columns_are_the_fields_in_order() {
         let row = FinalScore {
             task: "t".into(),
+            layout: "l".into(),
             method: "m".into(),
             role: Role::Control,
             kind: "softmax".into(),
@@ -716,7 +730,7 @@ mod tests {
         );
         assert_eq!(
             lines.next().unwrap(),
-            "t,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,500,12,0,,,,-0.1"
+            "t,l,m,control,softmax,3,10,10,1.5,-2.0,0.5,true,7,converged,,0.25,0.125,3,false,,,99,0,500,12,0,,,,-0.1"
         );
         assert_eq!(read_csv(bytes.as_slice()).unwrap(), vec![row.clone()]);
         for column in COLUMNS {

@@ -6,21 +6,27 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use eamadm_eval::Role;
-use eamadm_eval::family::{FamilyVerdicts, LayoutEffect, PooledComparison, PooledVerdict};
+pub use eamadm_eval::family::LayoutPoint;
+use eamadm_eval::family::{
+    FamilyFindings, FamilyVerdicts, LayoutEffect, PooledComparison, PooledVerdict,
+};
+use eamadm_eval::findings::Findings;
+use mazes::LayoutKind;
 
 use crate::chart::{escape, px, text_element};
 use crate::theme::method_style;
 
-/// A layout as the figure and text need it: name, kind and detour ratio.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LayoutPoint {
-    /// `f07-trap`.
-    pub layout: String,
-    /// `uniform`, `perfect_maze`, `rooms`, `trap`.
-    pub kind: String,
-    /// BFS optimum over Manhattan distance.
-    pub detour_ratio: f64,
+/// A layout kind's data name (`perfect_maze`) as people read it (`perfect maze`).
+#[must_use]
+pub fn kind_title(kind: &str) -> &str {
+    match LayoutKind::from_name(kind) {
+        Some(known) => known.title(),
+        None => kind,
+    }
 }
+
+/// The experiments whose verdicts the family is set beside: the paper's two mazes.
+const PAPER_MAZES: [&str; 2] = ["task1", "task2"];
 
 const WIDTH: f64 = 880.0;
 const HEIGHT: f64 = 460.0;
@@ -298,10 +304,17 @@ pub fn effect_figure(
     }
     ly += 34.0;
     text_element(&mut svg, (lx, ly), FONT, "start", "#111111", "layout kind");
-    for kind in ["uniform", "perfect_maze", "rooms", "trap"] {
+    for kind in LayoutKind::ALL {
         ly += 20.0;
-        marker(&mut svg, kind, (lx + 5.0, ly - 4.0), "#666666", "");
-        text_element(&mut svg, (lx + 16.0, ly), FONT, "start", "#111111", kind);
+        marker(&mut svg, kind.name(), (lx + 5.0, ly - 4.0), "#666666", "");
+        text_element(
+            &mut svg,
+            (lx + 16.0, ly),
+            FONT,
+            "start",
+            "#111111",
+            kind.title(),
+        );
     }
     svg.push_str("</svg>\n");
     Some(svg)
@@ -321,22 +334,18 @@ fn verdict_words(verdict: PooledVerdict) -> &'static str {
     }
 }
 
-/// The "Maze family" report (`family/REPORT.md`): what was run, the pooled verdicts table, how
-/// the per-layout effects are spread, and the paper mazes' verdicts of the same run beside
-/// them (`paper`: (task, claim, verdict) of `ea-madm`, as claims.csv has them).
+/// The "Maze family" report (`family/REPORT.md`), rendered from `findings` (its `family`; the
+/// paper mazes' verdicts from its tasks): what was run, the pooled verdicts table, how the
+/// per-layout effects are spread, and the paper mazes' verdicts of the same run beside them.
+/// `None` when no family ran.
 #[must_use]
-pub fn family_report(
-    verdicts: &FamilyVerdicts,
-    layouts: &[LayoutPoint],
-    paper: &[(String, String, String)],
-    episodes: u64,
-    seeds: u32,
-) -> String {
+pub fn family_report(findings: &Findings) -> Option<String> {
+    let family = findings.family.as_ref()?;
     let mut text = String::from("# The maze family\n\n");
     let _ = writeln!(
         text,
-        "{} generated layouts (docs/paper-notes.md §7.1, §22), Task II's rewards, {episodes} \
-         training episodes and {seeds} seeds for every method on every layout. Each (layout, \
+        "{} generated layouts (docs/paper-notes.md §7.1, §22), Task II's rewards, {} \
+         training episodes and {} seeds for every method on every layout. Each (layout, \
          seed) pairs EA-MADM with a competitor; the effect is the mean over layouts of each \
          layout's mean paired difference (EA-MADM − competitor). Intervals: 95 % two-level \
          bootstrap (layouts, then seeds within each; conservative) and, beside it, the \
@@ -344,13 +353,15 @@ pub fn family_report(
          metric's margin on one side favours that side; wholly inside (−margin, margin) is \
          equivalent; otherwise inconclusive (no Holm adjustment across the three \
          competitors). C3 and C4 are not pooled (§22).\n",
-        layouts.len()
+        family.layouts.len(),
+        family.episodes,
+        family.seeds
     );
     text.push_str(
         "| claim | metric | versus | layouts | pairs | effect | 95 % two-level | 95 % layouts only | margin | layouts EA-MADM better | verdict |\n\
          |---|---|---|---|---|---|---|---|---|---|---|\n",
     );
-    for p in &verdicts.pooled {
+    for p in &family.pooled {
         let _ = writeln!(
             text,
             "| {} | {} | {} | {} | {} | {} | [{}, {}] | [{}, {}] | {} | {}/{} | {} |",
@@ -373,59 +384,38 @@ pub fn family_report(
     text.push_str("\n## Per-layout effects\n\n");
     text.push_str(
         "Spread of the per-layout effects (EA-MADM − competitor), by claim and competitor: \
-         minimum, median, maximum over layouts, and by layout kind the mean effect.\n\n\
-         | claim | versus | min | median | max | uniform | perfect_maze | rooms | trap |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         minimum, median, maximum over layouts, and by layout kind the mean effect.\n\n",
     );
-    let kinds: BTreeMap<&str, &str> = layouts
-        .iter()
-        .map(|l| (l.layout.as_str(), l.kind.as_str()))
-        .collect();
-    for p in &verdicts.pooled {
-        let mut values: Vec<(f64, &str)> = verdicts
-            .layouts
+    let kinds = kinds_of(family);
+    let _ = writeln!(
+        text,
+        "| claim | versus | min | median | max |{}\n|---|---|---|---|---|{}",
+        kinds
             .iter()
-            .filter(|e| e.claim == p.claim && e.competitor == p.competitor)
-            .map(|e| {
-                (
-                    e.effect,
-                    kinds.get(e.layout.as_str()).copied().unwrap_or(""),
-                )
+            .map(|k| format!(" {} |", kind_title(k)))
+            .collect::<String>(),
+        "---|".repeat(kinds.len())
+    );
+    for spread in &family.spread {
+        let by_kind: String = kinds
+            .iter()
+            .map(|kind| {
+                let mean = spread
+                    .by_kind
+                    .iter()
+                    .find(|k| k.kind == *kind)
+                    .map_or_else(|| "—".to_owned(), |k| n(k.mean, 2));
+                format!(" {mean} |")
             })
             .collect();
-        values.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if values.is_empty() {
-            continue;
-        }
-        let median = if values.len() % 2 == 1 {
-            values[values.len() / 2].0
-        } else {
-            f64::midpoint(values[values.len() / 2 - 1].0, values[values.len() / 2].0)
-        };
-        let by_kind = |kind: &str| {
-            let of: Vec<f64> = values
-                .iter()
-                .filter(|(_, k)| *k == kind)
-                .map(|(v, _)| *v)
-                .collect();
-            if of.is_empty() {
-                "—".to_owned()
-            } else {
-                n(of.iter().sum::<f64>() / of.len() as f64, 2)
-            }
-        };
         let _ = writeln!(
             text,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            p.claim,
-            p.competitor,
-            n(values[0].0, 2),
-            n(median, 2),
-            n(values[values.len() - 1].0, 2),
-            by_kind("uniform"),
-            by_kind("perfect_maze"),
-            by_kind("rooms"),
-            by_kind("trap")
+            "| {} | {} | {} | {} | {} |{by_kind}",
+            spread.claim,
+            spread.competitor,
+            n(spread.min, 2),
+            n(spread.median, 2),
+            n(spread.max, 2),
         );
     }
     text.push_str(
@@ -433,6 +423,7 @@ pub fn family_report(
          detour ratio; marker shape = layout kind).\n",
     );
     text.push_str("\n## Beside the paper's two mazes\n\n");
+    let paper = paper_verdicts(findings);
     if paper.is_empty() {
         text.push_str("The paper's mazes were not run in this plan.\n");
     } else {
@@ -446,7 +437,114 @@ pub fn family_report(
             let _ = writeln!(text, "| {task} | {claim} | {verdict} |");
         }
     }
-    text
+    Some(text)
+}
+
+/// The kinds of the family's layouts, in order of first appearance.
+fn kinds_of(family: &FamilyFindings) -> Vec<&str> {
+    let mut kinds: Vec<&str> = Vec::new();
+    for layout in &family.layouts {
+        if !kinds.contains(&layout.kind.as_str()) {
+            kinds.push(layout.kind.as_str());
+        }
+    }
+    kinds
+}
+
+/// EA-MADM's C1 and C2 verdicts on the paper's mazes: (task, claim, verdict).
+fn paper_verdicts(findings: &Findings) -> Vec<(&str, &str, &str)> {
+    findings
+        .tasks
+        .iter()
+        .filter(|t| PAPER_MAZES.contains(&t.task.as_str()))
+        .flat_map(|t| {
+            t.verdicts
+                .iter()
+                .filter(|v| v.claim == "C1" || v.claim == "C2")
+                .map(|v| (t.task.as_str(), v.claim.as_str(), v.verdict.name()))
+        })
+        .collect()
+}
+
+/// The main report's "The maze family" section, rendered from `findings`: what ran, the
+/// pooled verdicts, one sentence setting them beside the paper mazes' verdicts of the same
+/// run, and the link to `family/REPORT.md`. Nothing when no family ran.
+pub fn write_family_section(text: &mut String, findings: &Findings) {
+    let Some(family) = findings.family.as_ref() else {
+        return;
+    };
+    let kinds = kinds_of(family)
+        .into_iter()
+        .map(|kind| {
+            let count = family.layouts.iter().filter(|l| l.kind == kind).count();
+            format!("{count} {}", kind_title(kind))
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let _ = writeln!(
+        text,
+        "## The maze family\n\n\
+         EA-MADM against each of the paper's competitors on {} generated layouts ({kinds}; \
+         Task II's rewards, {} episodes, {} seeds per layout), pooled over layouts: the effect \
+         is the mean over layouts of the mean paired difference EA-MADM − competitor, with its \
+         95 % two-level bootstrap interval (docs/paper-notes.md §22). The per-layout spread \
+         and the effect-against-detour-ratio figures: [family/REPORT.md](family/REPORT.md).\n\n\
+         | claim | versus | effect | 95 % two-level | layouts EA-MADM better | verdict |\n\
+         |---|---|---|---|---|---|",
+        family.layouts.len(),
+        family.episodes,
+        family.seeds
+    );
+    for p in &family.pooled {
+        let _ = writeln!(
+            text,
+            "| {} ({}) | {} | {} | [{}, {}] | {}/{} | {} |",
+            p.claim,
+            p.metric,
+            p.competitor,
+            n(p.effect, 2),
+            n(p.low, 2),
+            n(p.high, 2),
+            p.layouts_favouring_ea_madm,
+            p.layouts,
+            verdict_words(p.verdict)
+        );
+    }
+    let count = |verdict: PooledVerdict| {
+        family
+            .pooled
+            .iter()
+            .filter(|p| p.verdict == verdict)
+            .count()
+    };
+    let pooled = format!(
+        "Pooled over the family, {} of the {} comparisons favour EA-MADM, {} favour the \
+         competitor, {} are equivalent and {} inconclusive",
+        count(PooledVerdict::FavoursEaMadm),
+        family.pooled.len(),
+        count(PooledVerdict::FavoursCompetitor),
+        count(PooledVerdict::Equivalent),
+        count(PooledVerdict::Inconclusive)
+    );
+    let paper = paper_verdicts(findings);
+    if paper.is_empty() {
+        let _ = writeln!(
+            text,
+            "\n{pooled}; the paper's mazes were not run in this plan, so nothing sets them \
+             beside it.\n"
+        );
+    } else {
+        let on_paper = paper
+            .iter()
+            .map(|(task, claim, verdict)| format!("{claim} {verdict} on {task}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let _ = writeln!(
+            text,
+            "\n{pooled}; on the paper's two mazes (both at detour ratio 1) the same run \
+             judges EA-MADM's {on_paper}.\n"
+        );
+    }
 }
 
 /// The pooled comparisons of `claim`, for a caller's own table.
@@ -527,18 +625,76 @@ mod tests {
         assert!(effect_figure(&verdicts, &layouts, "C2").is_none());
     }
 
+    /// The sample's findings: its family (one run row per layout and seed 0..10, 6400
+    /// episodes) beside `paper` findings.
+    fn findings(paper: &Findings) -> Findings {
+        let (verdicts, layouts) = sample();
+        let scores: Vec<eamadm_eval::scores::FinalScore> = layouts
+            .iter()
+            .flat_map(|layout| {
+                (0..10).map(move |seed| {
+                    let mut row = crate::report::tests::row(
+                        &format!("family-{}", layout.layout),
+                        "ea-madm",
+                        Role::Paper,
+                        "ea_madm",
+                        seed,
+                        100.0,
+                    );
+                    row.episodes = 6400;
+                    row
+                })
+            })
+            .collect();
+        paper
+            .clone()
+            .with_family(eamadm_eval::family::family_findings(
+                &verdicts, &layouts, &scores,
+            ))
+    }
+
     #[test]
     fn the_report_has_the_pooled_table_and_the_spread() {
-        let (verdicts, layouts) = sample();
-        let paper = vec![("task2".to_owned(), "C1".to_owned(), "equivalent".to_owned())];
-        let text = family_report(&verdicts, &layouts, &paper, 6400, 10);
+        let (_, mut paper) =
+            crate::report::tests::judged(crate::report::tests::scores(60.0, &[], 10.0));
+        paper.tasks[0].task = "task2".to_owned();
+        let findings = findings(&paper);
+        let text = family_report(&findings).unwrap();
+        assert!(
+            text.starts_with("# The maze family\n\n8 generated layouts"),
+            "{text}"
+        );
+        assert!(text.contains("6400 training episodes and 10 seeds"));
         assert!(text.contains(
             "| C1 | final_steps | epsilon-decreasing | 8 | 80 | 6.25 | [-3.00, 15.50] | [-2.00, 14.00] | 2.00 | 3/8 | inconclusive |"
         ));
+        // Kinds by their display names, as columns in the order the layouts take them.
         assert!(
-            text.contains("| C1 | epsilon-decreasing | -20.00 | 6.25 | 32.50 |"),
+            text.contains(
+                "| claim | versus | min | median | max | uniform | perfect maze | rooms | trap |"
+            ),
             "{text}"
         );
-        assert!(text.contains("| task2 | C1 | equivalent |"));
+        assert!(!text.contains("perfect_maze"));
+        assert!(
+            text.contains(
+                "| C1 | epsilon-decreasing | -20.00 | 6.25 | 32.50 | -5.00 | 2.50 | 10.00 | 17.50 |"
+            ),
+            "{text}"
+        );
+        assert!(text.contains("| task2 | C1 | "), "{text}");
+        assert!(family_report(&paper).is_none());
+    }
+
+    #[test]
+    fn the_main_reports_section_reads_as_pinned() {
+        let (_, mut paper) =
+            crate::report::tests::judged(crate::report::tests::scores(60.0, &[], 10.0));
+        paper.tasks[0].task = "task2".to_owned();
+        let mut text = String::new();
+        write_family_section(&mut text, &paper);
+        assert_eq!(text, "", "no family, no section");
+        write_family_section(&mut text, &findings(&paper));
+        insta::assert_snapshot!(text);
     }
 }

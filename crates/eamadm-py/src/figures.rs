@@ -1,6 +1,7 @@
 //! The main job's figures from Python, drawn by its own code (`eamadm_present::figures`): of
 //! an output folder, from its run store and `report-context.toml` (the same runs in the same
-//! order, so the same bytes as the folder's SVG files), and of runs of
+//! order, so the same bytes as the folder's SVG files; the maze family's effect figures from
+//! `family/final-scores.csv` and `layouts.csv`), and of runs of
 //! [`run_config`](crate::experiment::run_config), drawn beside them.
 
 use std::collections::BTreeMap;
@@ -143,6 +144,16 @@ fn folder_figures(py: Python<'_>, folder: &Path) -> PyResult<Vec<(String, String
                 .into_iter()
                 .map(|(file, svg)| (format!("{}/{file}", facts.name), svg)),
         );
+    }
+    // The maze family's effect figures, from its scores as the main job draws them.
+    if let Some((verdicts, Some(family))) = crate::report::family_of_folder(folder)? {
+        for claim in ["C1", "C2"] {
+            if let Some(svg) =
+                eamadm_present::family::effect_figure(&verdicts, &family.layouts, claim)
+            {
+                files.push((format!("family/effect-{claim}.svg"), svg));
+            }
+        }
     }
     Ok(files)
 }

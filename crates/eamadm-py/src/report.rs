@@ -10,8 +10,9 @@
 
 use std::path::{Path, PathBuf};
 
+use eamadm::eamadm_eval::family::{FamilyFindings, FamilyVerdicts};
 use eamadm::facts::{ExperimentFacts, ReportContext};
-use eamadm::output_names::{FINAL_SCORES, REPORT, REPORT_CONTEXT, SENSITIVITY};
+use eamadm::output_names::{FAMILY, FINAL_SCORES, LAYOUTS, REPORT, REPORT_CONTEXT, SENSITIVITY};
 use eamadm::scores::FinalScore;
 use eamadm::verdicts::Verdicts;
 use eamadm::{Experiment, RunRecord};
@@ -150,10 +151,12 @@ fn folder_report(folder: &Path) -> PyResult<(String, String, String)> {
             ));
         }
     };
+    let family = family_of_folder(folder)?.and_then(|(_, findings)| findings);
     let (report, claims, scores) = render(
         &context,
         scores,
         sensitivity,
+        family,
         &format!("dir {}", folder.display()),
     )?;
     // A folder `python -m eamadm reproduce` made says so, as its own REPORT.md does.
@@ -216,7 +219,7 @@ fn runs_report(
                 .map_err(|error| value_error("results", error))?,
         );
     }
-    let (report, claims, scores) = render(&context, scores, Vec::new(), "results")?;
+    let (report, claims, scores) = render(&context, scores, Vec::new(), None, "results")?;
     let opening = if cli { CLI_OPENING } else { PYTHON_OPENING }
         .replace("{quick}", if quick { QUICK_NOTE } else { "" });
     let context = eamadm::paper::report_context_toml(&context)
@@ -242,12 +245,39 @@ fn with_opening(report: &str, opening: &str) -> PyResult<String> {
     Ok(report.replacen(old, opening, 1))
 }
 
+/// The maze family of the output folder `folder` (`--suite family`), judged again from its
+/// `family/final-scores.csv` and `layouts.csv` as the main job judges it
+/// (`eamadm::family::judge_family`); `None` when the folder has no family.
+pub(crate) fn family_of_folder(
+    folder: &Path,
+) -> PyResult<Option<(FamilyVerdicts, Option<FamilyFindings>)>> {
+    let scores_path = folder.join(FAMILY).join(FINAL_SCORES);
+    if !scores_path.is_file() {
+        return Ok(None);
+    }
+    let error = |file: &Path, error: &dyn std::fmt::Display| {
+        value_error("dir", format!("{}: {error}", file.display()))
+    };
+    let scores = std::fs::read(&scores_path).map_err(|e| error(&scores_path, &e))?;
+    let scores =
+        eamadm::scores::read_csv(scores.as_slice()).map_err(|e| error(&scores_path, &e))?;
+    let layouts_path = folder.join(LAYOUTS);
+    let layouts = std::fs::read(&layouts_path).map_err(|e| error(&layouts_path, &e))?;
+    let layouts = eamadm::family::read_layouts_csv(layouts.as_slice())
+        .map_err(|e| error(&layouts_path, &e))?;
+    eamadm::family::judge_family(&scores, &layouts)
+        .map(Some)
+        .map_err(|e| error(&scores_path, &e))
+}
+
 /// The report, `claims.csv` and `final-scores.csv` of `scores` in `context`, as the main job
-/// writes them (the verdicts judged with the context's margins, as the main job's).
+/// writes them (the verdicts judged with the context's margins, as the main job's), with the
+/// maze family's findings when it ran.
 fn render(
     context: &ReportContext,
     scores: Vec<FinalScore>,
     sensitivity: Vec<eamadm::sensitivity::SensitivityRow>,
+    family: Option<FamilyFindings>,
     argument: &str,
 ) -> PyResult<(String, String, String)> {
     let error = |error: &dyn std::fmt::Display| value_error(argument, error);
@@ -255,7 +285,7 @@ fn render(
     let verdicts = Verdicts::compute(scores, &options, context)
         .map_err(|e| error(&e))?
         .with_sensitivity(sensitivity);
-    let findings = eamadm::findings::Findings::of(context, &verdicts);
+    let findings = eamadm::findings::Findings::of(context, &verdicts).with_family(family);
     let report = eamadm_present::report::render(context, &verdicts, &findings);
     let claims = verdicts.claims_csv().map_err(|e| error(&e))?;
     let scores = verdicts.scores_csv().map_err(|e| error(&e))?;

@@ -96,3 +96,38 @@ def test_report_errors_name_the_argument(tmp_path):
         eamadm.report([])
     with pytest.raises(ValueError, match="^quick: "):
         eamadm.report(tmp_path, quick=True)
+
+
+@pytest.fixture(scope="module")
+def family_folder(tmp_path_factory, xtask):
+    """An output folder of `reproduce-paper --quick --task task2 --readings none --suite family
+    --family-size 2`, made by the Rust tooling."""
+    out = tmp_path_factory.mktemp("family") / "out"
+    run_xtask(
+        xtask,
+        "reproduce-paper",
+        "--quick",
+        "--task",
+        "task2",
+        "--readings",
+        "none",
+        "--suite",
+        "family",
+        "--family-size",
+        "2",
+        "--out",
+        str(out),
+    )
+    return out
+
+
+def test_report_and_figures_of_a_family_folder_are_its_files(family_folder):
+    # The family is judged again from family/final-scores.csv and layouts.csv, as the main job
+    # judges it: the same report (with its "The maze family" section) and the same figures.
+    report = eamadm.report(family_folder)
+    assert report.markdown == (family_folder / "REPORT.md").read_text(encoding="utf-8")
+    assert "## The maze family" in report.markdown
+    drawn = eamadm.figures(family_folder)
+    for name in ("effect-C1.svg", "effect-C2.svg"):
+        path = f"family/{name}"
+        assert drawn[path] == (family_folder / "family" / name).read_text(encoding="utf-8"), path

@@ -15,15 +15,15 @@
 use serde_json::Value;
 
 use crate::columns::{self, Resource};
-use crate::output_names::{CLAIMS, FINAL_SCORES, ORACLE, PRETRAINING, TUNING};
+use crate::output_names::{CLAIMS, FINAL_SCORES, LAYOUTS, ORACLE, PRETRAINING, TUNING};
 use crate::{claims, oracle, scores};
 
 /// The package's name.
 pub const NAME: &str = "eamadm-results";
 
-/// The package's tables: `final-scores.csv`, `claims.csv`, then `oracle.csv` and
-/// `pretraining.csv`.
-pub const RESOURCES: [Resource; 4] = [
+/// The package's tables: `final-scores.csv`, `claims.csv`, then `oracle.csv`,
+/// `pretraining.csv` and `layouts.csv`.
+pub const RESOURCES: [Resource; 5] = [
     Resource {
         name: "final-scores",
         path: FINAL_SCORES,
@@ -63,6 +63,18 @@ pub const RESOURCES: [Resource; 4] = [
                       converged; from the run records by `eamadm::oracle::pretraining_rows`.",
         columns: oracle::PRETRAINING_COLUMNS,
     },
+    Resource {
+        name: "layouts",
+        path: LAYOUTS,
+        title: "The maze layouts the runs play",
+        description: "One row per maze layout of the run: the paper's two always, the \
+                      positive control's hand-designed map when it ran, the family's layouts \
+                      with `--suite family`; how each was made (kind, generator parameters and \
+                      seed), its start, target, obstacles, Manhattan distance, BFS optimum, \
+                      detour ratio and map. The `layout` of `final-scores.csv` names its row \
+                      (the robot's scenario has none); written by `eamadm::family`.",
+        columns: crate::family::LAYOUT_COLUMNS,
+    },
 ];
 
 /// `tuning.csv`, written beside the others by `--suite tuning` (and then in its package).
@@ -93,10 +105,17 @@ pub fn data_package_text() -> String {
 /// [`TUNING_RESOURCE`].
 #[must_use]
 pub fn data_package_text_with_tuning() -> String {
-    let [scores, claims, oracle, pretraining] = RESOURCES;
+    let [scores, claims, oracle, pretraining, layouts] = RESOURCES;
     columns::to_json_text(&columns::data_package(
         NAME,
-        &[scores, claims, oracle, pretraining, TUNING_RESOURCE],
+        &[
+            scores,
+            claims,
+            oracle,
+            pretraining,
+            layouts,
+            TUNING_RESOURCE,
+        ],
     ))
 }
 
@@ -104,6 +123,13 @@ pub fn data_package_text_with_tuning() -> String {
 /// file (spliced into `docs/outputs.md`).
 #[must_use]
 pub fn markdown() -> String {
-    let [scores, claims, oracle, pretraining] = RESOURCES;
-    columns::markdown(&[scores, claims, oracle, pretraining, TUNING_RESOURCE])
+    let [scores, claims, oracle, pretraining, layouts] = RESOURCES;
+    columns::markdown(&[
+        scores,
+        claims,
+        oracle,
+        pretraining,
+        layouts,
+        TUNING_RESOURCE,
+    ])
 }

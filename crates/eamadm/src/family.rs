@@ -43,7 +43,7 @@ use mazes::{
     GeneratorParams, LayoutError, LayoutKind, LayoutSpec, Maze, MazeAlgorithm, PerfectMazeParams,
     Preset, RoomsParams, TrapParams,
 };
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::columns::{Column, FieldType};
@@ -321,16 +321,17 @@ pub fn paper_layout_rows() -> Vec<LayoutRow> {
 }
 
 /// One row of `layouts.csv`: a layout, how it was made and what it is.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LayoutRow {
     /// The layout's name (`f07-trap`, or `task1`, `task2` for the paper's).
     pub layout: String,
-    /// `uniform`, `perfect_maze`, `rooms` or `trap`.
-    pub kind: LayoutKind,
-    /// The generator's parameters as JSON (the `LayoutSpec`, kind tag included).
-    pub parameters: String,
-    /// The generator seed.
-    pub generator_seed: u64,
+    /// `uniform`, `perfect_maze`, `rooms` or `trap`; `None` for a hand-designed map.
+    pub kind: Option<LayoutKind>,
+    /// The generator's parameters as JSON (the `LayoutSpec`, kind tag included); `None` for a
+    /// hand-designed map.
+    pub parameters: Option<String>,
+    /// The generator seed; `None` for a hand-designed map.
+    pub generator_seed: Option<u64>,
     /// Columns.
     pub width: usize,
     /// Rows.
@@ -362,11 +363,23 @@ impl LayoutRow {
     #[must_use]
     pub fn new(layout: &str, spec: &LayoutSpec, seed: u64, maze: &Maze) -> Self {
         Self {
-            layout: layout.to_owned(),
-            kind: spec.kind(),
+            kind: Some(spec.kind()),
             // A LayoutSpec is plain numbers and enums: serialising it cannot fail.
-            parameters: serde_json::to_string(spec).unwrap_or_default(),
-            generator_seed: seed,
+            parameters: serde_json::to_string(spec).ok(),
+            generator_seed: Some(seed),
+            ..Self::hand_designed(layout, maze)
+        }
+    }
+
+    /// The row of a map that no generator made (`aggregation-control`'s, a `--config`'s
+    /// `maze_text` or `maze_file`), named `layout`: no kind, parameters or seed.
+    #[must_use]
+    pub fn hand_designed(layout: &str, maze: &Maze) -> Self {
+        Self {
+            layout: layout.to_owned(),
+            kind: None,
+            parameters: None,
+            generator_seed: None,
             width: maze.width(),
             height: maze.height(),
             start_x: maze.start().x,
@@ -383,12 +396,16 @@ impl LayoutRow {
     }
 }
 
+/// When a generator's column of `layouts.csv` is blank.
+const HAND_DESIGNED: &str =
+    "the map is hand-designed, not generated (`aggregation-control`, a config's own map)";
+
 /// The columns of `layouts.csv`, in order (the fields of [`LayoutRow`]).
 pub const LAYOUT_COLUMNS: &[Column] = &[
     Column::new("layout", FieldType::String, "The layout's name: `f<index>-<kind>` for a family layout (its experiment is `family-<layout>`), `task1` or `task2` for the paper's. The `layout` of `final-scores.csv`'s rows."),
-    Column::new("kind", FieldType::String, "How the layout was made: uniform random obstacles, a perfect maze (corridors and dead ends, possibly braided), rooms joined by doors, or a trap (walls across the direct route with gaps at the far end).").values(&["uniform", "perfect_maze", "rooms", "trap"]),
-    Column::new("parameters", FieldType::String, "The generator's parameters as JSON (`mazes::LayoutSpec`, with its `kind` tag): with `generator_seed` they make the layout again, bit for bit."),
-    Column::new("generator_seed", FieldType::Integer, "The seed of the layout's generator (not a run seed)."),
+    Column::new("kind", FieldType::String, "How the layout was made: uniform random obstacles, a perfect maze (corridors and dead ends, possibly braided), rooms joined by doors, or a trap (walls across the direct route with gaps at the far end).").values(&["uniform", "perfect_maze", "rooms", "trap"]).blank_when(HAND_DESIGNED),
+    Column::new("parameters", FieldType::String, "The generator's parameters as JSON (`mazes::LayoutSpec`, with its `kind` tag): with `generator_seed` they make the layout again, bit for bit.").blank_when(HAND_DESIGNED),
+    Column::new("generator_seed", FieldType::Integer, "The seed of the layout's generator (not a run seed).").blank_when(HAND_DESIGNED),
     Column::new("width", FieldType::Integer, "Columns of the grid.").unit("tiles"),
     Column::new("height", FieldType::Integer, "Rows of the grid.").unit("tiles"),
     Column::new("start_x", FieldType::Integer, "The start's column (0 at the left).").unit("tiles"),
@@ -417,4 +434,99 @@ pub fn write_layouts_csv<W: Write>(rows: &[LayoutRow], writer: W) -> Result<(), 
     }
     csv.flush()?;
     Ok(())
+}
+
+/// Reads a `layouts.csv` written by [`write_layouts_csv`].
+///
+/// # Errors
+/// Unreadable or malformed input (naming the line).
+pub fn read_layouts_csv<R: std::io::Read>(reader: R) -> Result<Vec<LayoutRow>, csv::Error> {
+    csv::Reader::from_reader(reader).deserialize().collect()
+}
+
+/// The `layout` of an experiment's rows ([`scores::MethodRoles::layout`](crate::scores::MethodRoles::layout)):
+/// a paper preset's id (`task1`, `task2`: its readings and tuning trials play it too), a family
+/// layout's name (`family-f07-trap` → `f07-trap`), the robot's scenario by its `name`
+/// (`fig12`), and for any other map (`aggregation-control`, a config's own) the experiment's
+/// name.
+#[must_use]
+pub fn layout_name(experiment: &crate::Experiment) -> String {
+    let config = experiment.config();
+    match (&config.task, experiment.task().scenario()) {
+        (TaskConfig::Maze { preset, .. }, _) => preset.id().to_owned(),
+        (_, Some(scenario)) => scenario.name.clone(),
+        _ => layout_of_experiment(&config.name)
+            .unwrap_or(&config.name)
+            .to_owned(),
+    }
+}
+
+/// The rows of the top-level `layouts.csv`: the paper's two layouts always, then the layout
+/// of each experiment that plays a maze (a family layout's own row when given, so its
+/// generator and seed are kept; a hand-designed row for any other map), each layout once, in
+/// that order. The robot has no row.
+#[must_use]
+pub fn layouts_table<'a>(
+    experiments: impl IntoIterator<Item = (&'a crate::Experiment, Option<&'a LayoutRow>)>,
+) -> Vec<LayoutRow> {
+    let mut rows = paper_layout_rows();
+    for (experiment, family) in experiments {
+        let row = match family {
+            Some(row) => Some(row.clone()),
+            None => experiment
+                .task()
+                .maze()
+                .map(|maze| LayoutRow::hand_designed(&layout_name(experiment), maze)),
+        };
+        if let Some(row) = row
+            && !rows.iter().any(|known| known.layout == row.layout)
+        {
+            rows.push(row);
+        }
+    }
+    rows
+}
+
+/// The equivalence margins of the family's verdicts: Task II's rewards', which every family
+/// layout plays.
+#[must_use]
+pub fn family_margins() -> Vec<crate::claims::Margin> {
+    crate::margins::maze_margins(Preset::Task2.task_spec().reward)
+}
+
+/// The family's pooled verdicts and findings from its runs' `scores` (rows of other
+/// experiments ignored) and the layout table `layouts` (kinds and detour ratios; rows of
+/// layouts without runs ignored): judged with [`family_margins`] and the default two-level
+/// bootstrap, the one path of the main job and of `eamadm.report(dir)`. `None` findings when
+/// no family run is in `scores`.
+///
+/// # Errors
+/// What the bootstrap returns (a non-finite value).
+pub fn judge_family(
+    scores: &[crate::scores::FinalScore],
+    layouts: &[LayoutRow],
+) -> Result<
+    (
+        eamadm_eval::family::FamilyVerdicts,
+        Option<eamadm_eval::family::FamilyFindings>,
+    ),
+    crate::stats::StatsError,
+> {
+    let verdicts = eamadm_eval::family::family_verdicts(
+        scores,
+        &family_margins(),
+        &crate::stats::hierarchical::HierarchicalBootstrap::default(),
+    )?;
+    let points: Vec<eamadm_eval::family::LayoutPoint> = layouts
+        .iter()
+        .filter_map(|row| {
+            row.kind.map(|kind| eamadm_eval::family::LayoutPoint {
+                layout: row.layout.clone(),
+                kind: kind.name().to_owned(),
+                detour_ratio: row.detour_ratio,
+            })
+        })
+        .collect();
+    let findings = eamadm_eval::family::family_findings(&verdicts, &points, scores);
+    Ok((verdicts, findings))
 }

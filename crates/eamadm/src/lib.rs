@@ -253,6 +253,10 @@ impl scores::MethodRoles for Experiment {
     fn step_cap(&self) -> u32 {
         self.task().step_cap()
     }
+
+    fn layout(&self) -> String {
+        family::layout_name(self)
+    }
 }
 
 /// The Rust examples of the workspace's `README.md`, compiled and run as doc tests so that the

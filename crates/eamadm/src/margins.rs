@@ -75,7 +75,7 @@ fn signed(value: f64) -> String {
     }
 }
 
-fn maze_margins(reward: crate::mazes::RewardScheme) -> Vec<Margin> {
+pub(crate) fn maze_margins(reward: crate::mazes::RewardScheme) -> Vec<Margin> {
     let steps_reason = || {
         "the shortest detour on a 4-connected grid (one step off a shortest route and one back)"
             .to_owned()

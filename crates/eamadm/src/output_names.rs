@@ -74,11 +74,18 @@ pub const SET_ASIDE: &str = ".set-aside";
 pub const ORACLE: &str = "oracle.csv";
 /// `pretraining.csv`: each sub-task's pre-training per run ([`crate::oracle::PretrainingRow`]).
 pub const PRETRAINING: &str = "pretraining.csv";
+/// The maze layouts the run's rows play (`eamadm::family::LAYOUT_COLUMNS`): the paper's two,
+/// the positive control's, the family's.
+pub const LAYOUTS: &str = "layouts.csv";
+/// The folder of the maze family's outputs (`--suite family`): its runs' final scores, pooled
+/// verdicts, per-layout effects, figures and report. Not in [`TOP_LEVEL`]: the output folder
+/// keeps it as an experiment's folder (a safe slug), which a reserved name could not be.
+pub const FAMILY: &str = "family";
 
 /// The visible entries the tooling keeps at the top of an output folder, beside the
 /// experiments' folders. (Its bookkeeping entries are hidden names, which no experiment name
 /// can take.)
-pub const TOP_LEVEL: [&str; 12] = [
+pub const TOP_LEVEL: [&str; 13] = [
     RUNS_FOLDER,
     LEGACY_RESULTS,
     REPORT,
@@ -90,6 +97,7 @@ pub const TOP_LEVEL: [&str; 12] = [
     FINDINGS,
     ORACLE,
     PRETRAINING,
+    LAYOUTS,
     TUNING,
 ];
 

@@ -1,6 +1,8 @@
-//! `reproduce-paper --suite family --family-size 2 --quick` end to end: the family's outputs
-//! (`family/layouts.csv`, the family's final scores, the pooled verdicts, the figures, which
-//! pass `eamadm_present::checks`), two shards merged into the same bytes, and `--family-size`
+//! `reproduce-paper --suite family --family-size 2 --quick` end to end: the run's
+//! `layouts.csv` (the paper's two and the family's), the `layout` column of every
+//! `final-scores.csv`, the family in `findings.json` and in the main report, the family's
+//! outputs (its final scores, the pooled verdicts, the figures, which pass
+//! `eamadm_present::checks`), two shards merged into the same bytes, and `--family-size`
 //! refused without `--suite family`.
 
 use crate::tree;
@@ -45,8 +47,9 @@ fn a_small_family_writes_its_outputs_and_merges_from_shards_to_the_same_bytes() 
     args.extend(PLAN);
     ok(&xtask(&args, &whole));
     let family = whole.join("family");
-    let layouts = std::fs::read_to_string(family.join("layouts.csv")).unwrap();
-    // The paper's two mazes, then the family's two layouts.
+    // One layout table, at the top: the paper's two mazes, then the family's two layouts.
+    assert!(!family.join("layouts.csv").exists());
+    let layouts = std::fs::read_to_string(whole.join("layouts.csv")).unwrap();
     let names: Vec<&str> = layouts
         .lines()
         .skip(1)
@@ -54,10 +57,28 @@ fn a_small_family_writes_its_outputs_and_merges_from_shards_to_the_same_bytes() 
         .filter(|name| name.starts_with('f') || name.starts_with("task"))
         .collect();
     assert_eq!(names, ["task1", "task2", "f00-uniform", "f01-perfect"]);
+    let package = std::fs::read_to_string(whole.join("datapackage.json")).unwrap();
+    assert!(package.contains("\"path\": \"layouts.csv\""), "{package}");
     let scores = std::fs::read_to_string(family.join("final-scores.csv")).unwrap();
-    // 2 layouts × 12 methods × 3 quick seeds.
+    // 2 layouts × 12 methods × 3 quick seeds, each row naming its layout.
     assert_eq!(scores.lines().count(), 1 + 72);
-    assert!(scores.lines().skip(1).all(|l| l.starts_with("family-f0")));
+    assert!(scores.starts_with("task,layout,method,"), "{scores}");
+    assert!(
+        scores
+            .lines()
+            .skip(1)
+            .all(|l| l.starts_with("family-f00-uniform,f00-uniform,")
+                || l.starts_with("family-f01-perfect,f01-perfect,"))
+    );
+    // The findings carry the family; the main report has its section, linking family/REPORT.md.
+    let findings = std::fs::read_to_string(whole.join("findings.json")).unwrap();
+    let findings = eamadm::findings::Findings::from_json(&findings).unwrap();
+    let found = findings.family.as_ref().expect("the family's findings");
+    assert_eq!(found.layouts.len(), 2);
+    assert_eq!(found.pooled.len(), 6);
+    let main_report = std::fs::read_to_string(whole.join("REPORT.md")).unwrap();
+    assert!(main_report.contains("## The maze family"), "{main_report}");
+    assert!(main_report.contains("[family/REPORT.md](family/REPORT.md)"));
     let verdicts = std::fs::read_to_string(family.join("verdicts.csv")).unwrap();
     // C1 and C2 against the three paper competitors.
     assert_eq!(verdicts.lines().count(), 1 + 6, "{verdicts}");
@@ -79,6 +100,13 @@ fn a_small_family_writes_its_outputs_and_merges_from_shards_to_the_same_bytes() 
     assert!(!whole.join("family-f00-uniform").exists());
     let paper_scores = std::fs::read_to_string(whole.join("final-scores.csv")).unwrap();
     assert!(!paper_scores.contains("family-"));
+    assert!(paper_scores.starts_with("task,layout,method,"));
+    assert!(
+        paper_scores
+            .lines()
+            .skip(1)
+            .all(|l| l.starts_with("task2,task2,"))
+    );
 
     // Two shards and a merge: the same bytes.
     let mut stores = Vec::new();

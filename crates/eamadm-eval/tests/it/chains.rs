@@ -107,6 +107,7 @@ const C3: [(&str, &str, [C3Seed; 8]); 4] = [
 fn run(task: &str, method: &str, kind: &str, seed: u64) -> FinalScore {
     FinalScore {
         task: task.to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role: Role::Paper,
         kind: kind.to_owned(),

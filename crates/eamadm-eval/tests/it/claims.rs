@@ -11,6 +11,7 @@ use eamadm_eval::stats::Bootstrap;
 fn row(method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {
         task: "task2".to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role,
         kind: kind.to_owned(),

@@ -1,6 +1,8 @@
 //! The maze family's pooled verdicts on hand-made scores: the verdict follows the numbers and
 //! flips with them, a layout-only spread is what the layouts-only interval sees, rows of other
-//! experiments are ignored, and a small snapshot pins the numbers.
+//! experiments are ignored, and a small snapshot pins the numbers; the family's findings (the
+//! layouts run, the spread of the per-layout effects) and `findings.json` with and without
+//! them.
 
 use eamadm_eval::Role;
 use eamadm_eval::claims::Margin;
@@ -12,6 +14,7 @@ use proptest::prelude::*;
 fn row(task: &str, method: &str, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {
         task: task.to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role: Role::Paper,
         kind: kind.to_owned(),
@@ -97,6 +100,79 @@ fn the_verdict_follows_the_numbers() {
     // The paper task's row is not a family layout's.
     assert_eq!(all.layouts.len(), 12);
     assert!(all.layouts.iter().all(|e| e.layout.starts_with('f')));
+}
+
+fn points(layouts: usize) -> Vec<family::LayoutPoint> {
+    (0..layouts)
+        .map(|layout| family::LayoutPoint {
+            layout: format!("f{layout:02}-trap"),
+            kind: if layout % 2 == 0 { "trap" } else { "rooms" }.to_owned(),
+            detour_ratio: 1.0 + layout as f64,
+        })
+        .collect()
+}
+
+#[test]
+fn the_findings_hold_the_layouts_run_and_the_spread_of_their_effects() {
+    // EA-MADM 3 steps worse on every layout of four; a fifth layout has no runs.
+    let rows = scores(4, 3.0);
+    let verdicts = family_verdicts(&rows, &margins(), &quick()).unwrap();
+    let found = family::family_findings(&verdicts, &points(5), &rows).unwrap();
+    assert_eq!(found.episodes, 6400);
+    assert_eq!(found.seeds, 5);
+    let names: Vec<&str> = found.layouts.iter().map(|l| l.layout.as_str()).collect();
+    assert_eq!(names, ["f00-trap", "f01-trap", "f02-trap", "f03-trap"]);
+    assert_eq!(found.pooled, verdicts.pooled);
+    // C1 and C2 against softmax, each layout's effect 3 steps (and −3 in return).
+    assert_eq!(found.spread.len(), 2);
+    let steps = &found.spread[0];
+    assert_eq!(
+        (steps.claim.as_str(), steps.competitor.as_str()),
+        ("C1", "softmax")
+    );
+    assert_eq!(steps.layouts, 4);
+    for value in [steps.min, steps.median, steps.max] {
+        assert!((value - 3.0).abs() < 1e-9, "{steps:?}");
+    }
+    let kinds: Vec<(&str, usize)> = steps
+        .by_kind
+        .iter()
+        .map(|k| (k.kind.as_str(), k.layouts))
+        .collect();
+    assert_eq!(kinds, [("trap", 2), ("rooms", 2)]);
+    assert!((found.spread[1].median + 3.0).abs() < 1e-9);
+    // No family run, no findings.
+    assert!(family::family_findings(&verdicts, &points(5), &rows[..1]).is_none());
+}
+
+#[test]
+fn findings_json_carries_the_family_only_when_it_ran() {
+    use eamadm_eval::findings::{FINDINGS_FORMAT, Findings};
+    let without = Findings::default();
+    let text = without.to_json().unwrap();
+    assert!(!text.contains("\"family\""), "{text}");
+    assert_eq!(Findings::from_json(&text).unwrap(), without);
+    let rows = scores(3, -4.0);
+    let verdicts = family_verdicts(&rows, &margins(), &quick()).unwrap();
+    let with =
+        Findings::default().with_family(family::family_findings(&verdicts, &points(3), &rows));
+    assert_eq!(with.format, FINDINGS_FORMAT);
+    let text = with.to_json().unwrap();
+    assert!(text.contains("\"family\""));
+    let back = Findings::from_json(&text).unwrap();
+    assert_eq!(back, with);
+    assert_eq!(back.family.unwrap().layouts.len(), 3);
+    // An older format is refused, naming what to do.
+    let old = text.replacen(
+        &format!("\"format\": {FINDINGS_FORMAT}"),
+        "\"format\": 2",
+        1,
+    );
+    let error = Findings::from_json(&old).unwrap_err().to_string();
+    assert!(
+        error.contains("rerun `cargo xtask reproduce-paper`"),
+        "{error}"
+    );
 }
 
 #[test]

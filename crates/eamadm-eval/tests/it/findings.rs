@@ -20,6 +20,7 @@ use eamadm_eval::verdicts::Verdicts;
 fn row(method: &str, role: Role, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {
         task: "task1".to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role,
         kind: kind.to_owned(),

@@ -36,6 +36,7 @@ fn row(task: &str, method: &str, kind: &str, seed: u64, steps: f64) -> FinalScor
     let reaches = steps < 2000.0;
     FinalScore {
         task: task.to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role: Role::Paper,
         kind: kind.to_owned(),

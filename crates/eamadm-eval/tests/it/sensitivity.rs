@@ -15,6 +15,7 @@ use eamadm_eval::stats::{Bootstrap, SignFlipTest};
 fn row(task: &str, method: &str, kind: &str, seed: u64, steps: f64) -> FinalScore {
     FinalScore {
         task: task.to_owned(),
+        layout: String::new(),
         method: method.to_owned(),
         role: Role::Paper,
         kind: kind.to_owned(),

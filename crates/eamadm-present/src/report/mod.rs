@@ -130,6 +130,7 @@ pub fn render(context: &ReportContext, verdicts: &Verdicts, findings: &Findings)
         .collect();
     verdicts::write_verdicts(&mut text, &titles, findings);
     at_best::write_at_best(&mut text, findings);
+    crate::family::write_family_section(&mut text, findings);
     for experiment in &context.experiments {
         task::write_task(
             &mut text,
@@ -351,6 +352,7 @@ pub(crate) mod tests {
     ) -> FinalScore {
         FinalScore {
             task: task.to_owned(),
+            layout: String::new(),
             method: method.to_owned(),
             role,
             kind: kind.to_owned(),

@@ -3,7 +3,9 @@
 :func:`figures` returns the SVG figures of an output folder of ``cargo xtask reproduce-paper``
 (drawn again from its run store, byte for byte the folder's own files) or of what
 :func:`eamadm.run` returned (drawn when the runs were made), as ``{path: SVG text}`` with
-paths ``<experiment>/<file>.svg``, and writes them into a folder when asked.
+paths ``<experiment>/<file>.svg`` (a folder with ``--suite family`` adds the maze family's
+``family/effect-C1.svg`` and ``family/effect-C2.svg``, judged again from its scores), and
+writes them into a folder when asked.
 """
 
 from __future__ import annotations

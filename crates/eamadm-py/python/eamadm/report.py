@@ -4,7 +4,9 @@
 nothing of it is re-derived in Python. Given an output folder of ``cargo xtask reproduce-paper``
 it judges the claims again from the folder's ``final-scores.csv`` and renders them with the
 folder's ``report-context.toml`` (tasks, experiments, figures with captions, the robot's
-behaviour), so the text equals the folder's ``REPORT.md`` byte for byte. Given results of
+behaviour) and, for a folder of ``--suite family``, the maze family judged again from
+``family/final-scores.csv`` and ``layouts.csv``, so the text equals the folder's ``REPORT.md``
+byte for byte. Given results of
 :func:`eamadm.run`, it renders the report of those runs with their figures, drawn by the main
 job's code (:attr:`Report.figures`; :meth:`Report.save` writes the report and its figures),
 opening with what made it (``eamadm.report`` in Python, not the main job's command).

@@ -241,3 +241,64 @@ fn the_layout_table_has_its_documented_columns() {
         names.join(",")
     );
 }
+
+/// The `layout` of each experiment's rows: a preset's id (its readings' too), a family
+/// layout's name, the robot's scenario, another map's experiment name; and the run's layout
+/// table: the paper's two, then each other maze layout once (the positive control's map as
+/// hand-designed, a family layout with its generator), the robot none; it reads back.
+#[test]
+fn every_experiment_names_its_layout_and_the_table_lists_each_maze_once() {
+    use eamadm::scores::MethodRoles;
+    let family = maze_family(2).unwrap();
+    let experiment = |config| Experiment::new(config).unwrap();
+    let task2 = experiment(eamadm::paper::task2());
+    let reading = experiment(
+        eamadm::paper::readings()
+            .iter()
+            .find_map(|r| r.apply(&eamadm::paper::task2()))
+            .unwrap(),
+    );
+    let robot = experiment(eamadm::paper::robot());
+    let control = experiment(eamadm::paper::aggregation_control());
+    let layout = experiment(family[1].experiment());
+    let names: Vec<String> = [&task2, &reading, &robot, &control, &layout]
+        .iter()
+        .map(|e| e.layout())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "task2",
+            "task2",
+            "fig12",
+            "aggregation-control",
+            "f01-perfect"
+        ]
+    );
+    let row = family[1].row();
+    let rows = eamadm::family::layouts_table([
+        (&task2, None),
+        (&reading, None),
+        (&robot, None),
+        (&control, None),
+        (&layout, Some(&row)),
+        (&control, None),
+    ]);
+    let names: Vec<&str> = rows.iter().map(|r| r.layout.as_str()).collect();
+    assert_eq!(
+        names,
+        ["task1", "task2", "aggregation-control", "f01-perfect"]
+    );
+    assert_eq!(rows[2].kind, None);
+    assert_eq!((rows[2].optimum_steps, rows[2].manhattan_steps), (64, 24));
+    assert_eq!(rows[3], row);
+    let mut bytes = Vec::new();
+    write_layouts_csv(&rows, &mut bytes).unwrap();
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    // A hand-designed map has no kind, parameters or generator seed: blank cells.
+    assert!(text.contains("\naggregation-control,,,,30,30,"), "{text}");
+    assert_eq!(
+        eamadm::family::read_layouts_csv(bytes.as_slice()).unwrap(),
+        rows
+    );
+}

@@ -122,6 +122,22 @@ impl LayoutKind {
             Self::Trap => "trap",
         }
     }
+
+    /// The kind for people: `uniform`, `perfect maze`, `rooms`, `trap` (what reports and
+    /// figures print; [`name`](Self::name) is the data's).
+    #[must_use]
+    pub const fn title(self) -> &'static str {
+        match self {
+            Self::PerfectMaze => "perfect maze",
+            other => other.name(),
+        }
+    }
+
+    /// The kind whose [`name`](Self::name) is `name`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|kind| kind.name() == name)
+    }
 }
 
 impl LayoutSpec {

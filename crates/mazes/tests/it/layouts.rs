@@ -517,3 +517,16 @@ fn specs_round_trip_through_serde_and_refuse_unknown_keys() {
         r#"["uniform","perfect_maze","rooms","trap"]"#
     );
 }
+
+/// Each kind's data name reads back as the kind; its name for people differs only where the
+/// data name is not a word ("perfect maze").
+#[test]
+fn a_kind_reads_back_from_its_name_and_has_a_title_for_people() {
+    for kind in LayoutKind::ALL {
+        assert_eq!(LayoutKind::from_name(kind.name()), Some(kind));
+        assert!(!kind.title().contains('_'), "{kind:?}");
+    }
+    assert_eq!(LayoutKind::PerfectMaze.title(), "perfect maze");
+    assert_eq!(LayoutKind::Trap.title(), "trap");
+    assert_eq!(LayoutKind::from_name("perfect maze"), None);
+}
