@@ -61,7 +61,7 @@ pub fn table_encoder<W: Write>(writer: W) -> TableEncoder<W> {
     }
 }
 
-/// A table's gzip stream: its bytes are gathered into members of [`TABLE_MEMBER_BYTES`] (the
+/// A table's gzip stream: its bytes are gathered into members of 4 MiB (`TABLE_MEMBER_BYTES`; the
 /// boundaries depend on the bytes written only, not on how the writes were cut), each
 /// compressed by libdeflate at level 6. [`TableEncoder::finish`] writes the last member and
 /// returns the writer.

@@ -1746,7 +1746,7 @@ impl Default for BatchLimit {
 /// stays locked until the batch closes it: so another process never mistakes it for a
 /// finished file. A reader indexes its whole frames and passes over a frame being written;
 /// a pack copies its runs but never removes it while it is locked (see
-/// [`RunStore::pack`]). When the batch reaches its [`BatchLimit`] (or [`BATCH_FILE_BYTES`]),
+/// [`RunStore::pack`]). When the batch reaches its [`BatchLimit`] (or 8 MiB, `BATCH_FILE_BYTES`),
 /// its file is closed and synced on a thread of its own while the next file is written: on
 /// Linux by one `syncfs` of the store's file system, elsewhere by syncing each file and then
 /// the folder once. [`LooseBatch::finish`] closes and syncs the rest and waits for every

@@ -391,7 +391,7 @@ const LIBRARY_PATTERNS: &[&str] = &[
 /// The most lines `xtask/src` may hold, tests included (issue 36 item 1: the command line and
 /// file handling only; the target is 4 000, met on branch `thin`). Set to the count reached
 /// there; it only ever goes down.
-const XTASK_SRC_BUDGET: usize = 3994;
+const XTASK_SRC_BUDGET: usize = 3983;
 
 /// Rule `xtask-budget`: the files of `xtask/src` (path, line count) hold at most
 /// [`XTASK_SRC_BUDGET`] lines in all.
