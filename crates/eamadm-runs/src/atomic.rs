@@ -36,24 +36,6 @@ pub fn write_atomic_among_writers(
     write_to(AtomicFile::create_among_writers(path, writers)?, contents)
 }
 
-/// [`write_atomic_among_writers`] without syncing: the file is written aside and renamed into
-/// place (so no process ever sees it half written, and a killed writer loses nothing the page
-/// cache holds), but neither it nor the rename is forced to disk. A crash of the machine before
-/// the caller syncs may leave the file missing, empty or torn: only for files whose readers
-/// check every byte (the run store's loose runs, by their CRC and checksum) and which a later
-/// sync covers ([`crate::store::LooseBatch`]).
-pub fn write_atomic_among_writers_unsynced(
-    path: &Path,
-    contents: &[u8],
-    writers: &WritersLock,
-) -> Result<(), AtomicWriteError> {
-    let mut file = AtomicFile::create_among_writers(path, writers)?;
-    let at = file.path().to_path_buf();
-    file.write_all(contents)
-        .map_err(|source| AtomicWriteError { path: at, source })?;
-    file.commit_unsynced()
-}
-
 fn write_to(mut file: AtomicFile, contents: &[u8]) -> Result<(), AtomicWriteError> {
     let path = file.path().to_path_buf();
     file.write_all(contents)
@@ -312,23 +294,6 @@ impl AtomicFile {
             _ => Path::new("."),
         };
         sync_folder(folder).map_err(error)?;
-        Ok(())
-    }
-
-    /// Flushes and renames the temporary file over the path without syncing either (see
-    /// [`write_atomic_among_writers_unsynced`]).
-    pub fn commit_unsynced(self) -> Result<(), AtomicWriteError> {
-        let path = self.path;
-        let error = |source| AtomicWriteError {
-            path: path.clone(),
-            source,
-        };
-        let temp = self
-            .writer
-            .into_inner()
-            .map_err(|e| error(e.into_error()))?;
-        temp.persist(&path)
-            .map_err(|persist| error(persist.error))?;
         Ok(())
     }
 
