@@ -993,10 +993,62 @@ pub fn estimates(
     scores: &[FinalScore],
     options: &ClaimOptions,
 ) -> Result<Vec<Estimate>, ClaimsError> {
+    estimates_where(scores, options, |_, _| true)
+}
+
+/// The metrics whose estimate every method's overview states on every task, judged or not:
+/// the final steps and return with their fluctuations (each task's scores table) and the
+/// robot's average reward over reaching episodes (its ranking sentence).
+pub const OVERVIEW_COLUMNS: [&str; 5] = [
+    "final_steps",
+    "final_return",
+    "fluctuation_steps",
+    "fluctuation_return",
+    "reach_average_reward",
+];
+
+/// The estimates [`estimates`] computes that a verdict or the report states: for every method
+/// of every task, the [`OVERVIEW_COLUMNS`] and the metrics of every claim judged on the task
+/// (`judgements`: [`judge`]'s), in [`estimates`]' order. The others (the metrics of a claim
+/// no method is judged on there) are nowhere shown, and each is 10,000 resamples of every
+/// seed: a thousand-seed run without a claim to judge spent a ninth of its time on them
+/// (docs/paper-notes.md §24.3).
+///
+/// # Errors
+/// [`ClaimsError::Stats`] when a statistic fails.
+pub fn stated_estimates(
+    scores: &[FinalScore],
+    judgements: &[Judgement],
+    options: &ClaimOptions,
+) -> Result<Vec<Estimate>, ClaimsError> {
+    estimates_where(scores, options, |task, column| {
+        OVERVIEW_COLUMNS.contains(&column)
+            || judgements.iter().any(|j| {
+                j.task == task
+                    && j.claim
+                        .metrics
+                        .iter()
+                        .chain(j.claim.secondary)
+                        .any(|m| m.column == column)
+            })
+    })
+}
+
+/// The estimates of every method of every task in `scores`, of the claim columns `wanted`
+/// keeps (given the task and the column).
+fn estimates_where(
+    scores: &[FinalScore],
+    options: &ClaimOptions,
+    wanted: impl Fn(&str, &str) -> bool,
+) -> Result<Vec<Estimate>, ClaimsError> {
     let mut jobs = Vec::new();
     for task in tasks(scores) {
+        let columns: Vec<&'static str> = claim_columns()
+            .into_iter()
+            .filter(|column| wanted(task, column))
+            .collect();
         for (method, role, _) in methods(scores, task) {
-            for column in claim_columns() {
+            for &column in &columns {
                 jobs.push((task, method, role, column));
             }
         }

@@ -25,7 +25,8 @@ pub struct Verdicts {
     pub scores: Vec<FinalScore>,
     /// One per claim × task × method under test.
     pub judgements: Vec<Judgement>,
-    /// IQM with interval per task × method × claim metric.
+    /// IQM with interval per task × method × claim metric that a verdict or the report
+    /// states ([`claims::stated_estimates`]).
     pub estimates: Vec<Estimate>,
     /// Success shares, distributions and step budgets per task × method.
     pub overviews: Vec<MethodOverview>,
@@ -87,7 +88,7 @@ impl Verdicts {
         context: &ReportContext,
     ) -> Result<Self, ClaimsError> {
         let judgements = claims::judge(&scores, options)?;
-        let estimates = claims::estimates(&scores, options)?;
+        let estimates = claims::stated_estimates(&scores, &judgements, options)?;
         Ok(Self {
             against_strongest: against_strongest_controls(
                 &scores,

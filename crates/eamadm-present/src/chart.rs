@@ -574,11 +574,60 @@ pub fn escape(text: &str) -> String {
 
 /// A number rounded to a tenth, as SVG coordinates are written.
 pub fn px(value: f64) -> String {
-    let rounded = (value * 10.0).round() / 10.0;
-    if rounded == rounded.trunc() {
-        format!("{rounded:.0}")
-    } else {
-        format!("{rounded:.1}")
+    let mut text = String::new();
+    Px::of(value).write(&mut text);
+    text
+}
+
+/// A number rounded to a tenth, held as its count of tenths where that prints exactly, so a
+/// chart's thousands of coordinates are compared and written without formatting a float each
+/// (a figure of 1000 seeds draws about a million points; docs/paper-notes.md §24.3).
+#[derive(Debug, Clone, PartialEq)]
+enum Px {
+    /// `value × 10` rounded, below [`Px::EXACT_TENTHS`] in size and not −0.
+    Tenths(i64),
+    /// Any other value's text: `{:.0}` of the rounded value when it is whole, else `{:.1}`.
+    Text(String),
+}
+
+impl Px {
+    /// Tenths below this in size print exactly from the integer: a tenth of them is a float
+    /// within far less than 0.05 of the decimal, which `{:.1}` therefore prints, and it is
+    /// whole exactly when the tenths are a multiple of ten.
+    const EXACT_TENTHS: f64 = 1e12;
+
+    fn of(value: f64) -> Self {
+        let tenths = (value * 10.0).round();
+        if tenths.abs() < Self::EXACT_TENTHS && !(tenths == 0.0 && tenths.is_sign_negative()) {
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "a whole number below 10¹² in size converts exactly"
+            )]
+            return Self::Tenths(tenths as i64);
+        }
+        let rounded = tenths / 10.0;
+        Self::Text(if rounded == rounded.trunc() {
+            format!("{rounded:.0}")
+        } else {
+            format!("{rounded:.1}")
+        })
+    }
+
+    fn write(&self, text: &mut String) {
+        match self {
+            Self::Tenths(tenths) => {
+                let (whole, tenth) = (tenths / 10, (tenths % 10).unsigned_abs());
+                if *tenths < 0 && whole == 0 {
+                    text.push('-');
+                }
+                text.push_str(itoa::Buffer::new().format(whole));
+                if tenth != 0 {
+                    text.push('.');
+                    text.push_str(itoa::Buffer::new().format(tenth));
+                }
+            }
+            Self::Text(rounded) => text.push_str(rounded),
+        }
     }
 }
 
@@ -686,13 +735,13 @@ impl Frame {
     /// drawn line is the same, and long runs at one value (a seed at the step cap, a converged
     /// seed) take two points instead of hundreds.
     fn points(&self, points: impl Iterator<Item = (f64, f64)>) -> String {
-        let rounded: Vec<(f64, String, String)> = points
+        let rounded: Vec<(f64, Px, Px)> = points
             .map(|(x, y)| {
                 let (a, b) = self.at(x, y);
-                (a, px(a), px(b))
+                (a, Px::of(a), Px::of(b))
             })
             .collect();
-        let mut text = String::new();
+        let mut text = String::with_capacity(12 * rounded.len());
         for (index, (a, x, y)) in rounded.iter().enumerate() {
             let between = index > 0
                 && rounded.get(index + 1).is_some_and(|(next_a, _, next_y)| {
@@ -702,10 +751,15 @@ impl Frame {
                         && ((previous_a < a && a < next_a) || (next_a < a && a < previous_a))
                 });
             if !between {
-                let _ = write!(text, "{x},{y} ");
+                if !text.is_empty() {
+                    text.push(' ');
+                }
+                x.write(&mut text);
+                text.push(',');
+                y.write(&mut text);
             }
         }
-        text.trim_end().to_owned()
+        text
     }
 
     /// Opens the plot's group, with the data attributes the checks read, and draws its frame,
@@ -2102,6 +2156,59 @@ mod tests {
                 .with_series(success)
                 .shows_nothing()
         );
+    }
+
+    /// The text `px` wrote before coordinates were held as tenths: `{:.0}` of the value
+    /// rounded to a tenth when that is whole, else `{:.1}`.
+    fn px_by_format(value: f64) -> String {
+        let rounded = (value * 10.0).round() / 10.0;
+        if rounded == rounded.trunc() {
+            format!("{rounded:.0}")
+        } else {
+            format!("{rounded:.1}")
+        }
+    }
+
+    #[test]
+    fn px_prints_the_edges_as_formatting_does() {
+        for value in [
+            0.0,
+            -0.0,
+            -0.04,
+            0.05,
+            -0.05,
+            0.25,
+            -0.3,
+            -1.0,
+            1.05,
+            99.95,
+            1e11,
+            -1e11,
+            1e12,
+            123_456_789_012.34,
+            1e300,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ] {
+            assert_eq!(px(value), px_by_format(value), "{value:e}");
+        }
+    }
+
+    proptest::proptest! {
+        /// The law of `Px`: the same text as formatting the float, for every bit pattern and
+        /// for the canvas's range.
+        #[test]
+        fn px_equals_formatting_the_float(bits in proptest::num::u64::ANY, canvas in -2e3..2e3_f64) {
+            let value = f64::from_bits(bits);
+            proptest::prop_assert_eq!(px(value), px_by_format(value));
+            proptest::prop_assert_eq!(px(canvas), px_by_format(canvas));
+            // Equal text exactly when equal held values: `points` compares them.
+            proptest::prop_assert_eq!(
+                Px::of(value) == Px::of(canvas),
+                px(value) == px(canvas)
+            );
+        }
     }
 
     proptest::proptest! {

@@ -59,6 +59,10 @@ pub(crate) fn write_robot(
     write_c4_verdicts(text, experiment, overviews, verdicts, found);
 }
 
+/// The metric the robot's methods are ranked by (an estimate stated for every method:
+/// `claims::OVERVIEW_COLUMNS`).
+pub(crate) const RANKING_METRIC: &str = "reach_average_reward";
+
 /// Which method has the highest point estimate of the robot's average reward, among methods
 /// that reach the target in at least two seeds; never a ranking of methods that do not reach
 /// it. No test compares these methods with each other, and the sentence says so.
@@ -71,7 +75,7 @@ pub(crate) fn robot_ranking(
         .iter()
         .filter_map(|o| {
             verdicts
-                .estimate(task, &o.method, "reach_average_reward")
+                .estimate(task, &o.method, RANKING_METRIC)
                 .filter(|e| e.n >= 2)
                 .and_then(|e| e.iqm)
                 .map(|i| (*o, i))

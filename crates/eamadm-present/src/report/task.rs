@@ -16,6 +16,16 @@ use eamadm_eval::facts::ControlFamily;
 use eamadm_eval::findings::TaskFindings;
 use eamadm_eval::paper_claims::method_title;
 
+/// The metrics of the scores table's interval columns: every method's, judged or not, so each
+/// is one of the estimates the verdicts state for every method
+/// (`claims::OVERVIEW_COLUMNS`; the test below).
+const SCORES_TABLE_METRICS: [&str; 4] = [
+    "final_steps",
+    "final_return",
+    "fluctuation_steps",
+    "fluctuation_return",
+];
+
 pub(crate) fn estimate_cell(verdicts: &Verdicts, task: &str, method: &str, metric: &str) -> String {
     match verdicts.estimate(task, method, metric) {
         Some(Estimate { iqm: Some(i), .. }) => interval(i),
@@ -71,10 +81,10 @@ pub(crate) fn write_task(
         [
             method_title(&o.method),
             role_text(o.role).to_owned(),
-            estimate_cell(verdicts, task, &o.method, "final_steps"),
-            estimate_cell(verdicts, task, &o.method, "final_return"),
-            estimate_cell(verdicts, task, &o.method, "fluctuation_steps"),
-            estimate_cell(verdicts, task, &o.method, "fluctuation_return"),
+            estimate_cell(verdicts, task, &o.method, SCORES_TABLE_METRICS[0]),
+            estimate_cell(verdicts, task, &o.method, SCORES_TABLE_METRICS[1]),
+            estimate_cell(verdicts, task, &o.method, SCORES_TABLE_METRICS[2]),
+            estimate_cell(verdicts, task, &o.method, SCORES_TABLE_METRICS[3]),
             share(&o.training_success),
             share(&o.greedy_success),
             format!(
@@ -593,5 +603,18 @@ mod tests {
              steps, the reward-matched ones (`my-shaped-control`) the same reward information \
              (the controls table above)."
         );
+    }
+
+    #[test]
+    fn the_scores_table_shows_only_estimates_stated_for_every_method() {
+        for metric in SCORES_TABLE_METRICS
+            .iter()
+            .chain([&super::super::robot::RANKING_METRIC])
+        {
+            assert!(
+                eamadm_eval::claims::OVERVIEW_COLUMNS.contains(metric),
+                "{metric}"
+            );
+        }
     }
 }
