@@ -1048,16 +1048,58 @@ fn estimates_where(
             .filter(|column| wanted(task, column))
             .collect();
         for (method, role, _) in methods(scores, task) {
-            for &column in &columns {
-                jobs.push((task, method, role, column));
-            }
+            jobs.push((task, method, role, columns.clone()));
         }
     }
-    jobs.par_iter()
-        .map(|&(task, method, role, metric)| {
-            estimate(scores, task, method, role, metric, &options.bootstrap)
+    let per_method: Vec<Vec<Estimate>> = jobs
+        .par_iter()
+        .map(|(task, method, role, columns)| {
+            method_estimates(scores, task, method, *role, columns, &options.bootstrap)
         })
-        .collect()
+        .collect::<Result<_, _>>()?;
+    Ok(per_method.into_iter().flatten().collect())
+}
+
+/// [`estimate`] of each of `columns` for one method, the bootstrap's draws shared among its
+/// metrics with a value on equally many seeds ([`Bootstrap::intervals`]: the same bits).
+fn method_estimates(
+    scores: &[FinalScore],
+    task: &str,
+    method: &str,
+    role: Role,
+    columns: &[&'static str],
+    bootstrap: &Bootstrap,
+) -> Result<Vec<Estimate>, ClaimsError> {
+    let values: Vec<(Vec<f64>, usize)> = columns
+        .iter()
+        .map(|column| self::values(scores, task, method, column))
+        .collect();
+    let samples: Vec<&[f64]> = values
+        .iter()
+        .map(|(x, _)| x.as_slice())
+        .filter(|x| !x.is_empty())
+        .collect();
+    let Ok(intervals) = bootstrap.intervals(&samples, Statistic::Iqm) else {
+        // Name the metric that fails, as one estimate at a time does.
+        return columns
+            .iter()
+            .map(|&metric| estimate(scores, task, method, role, metric, bootstrap))
+            .collect();
+    };
+    let mut intervals = intervals.into_iter();
+    Ok(columns
+        .iter()
+        .zip(values)
+        .map(|(&metric, (x, seeds))| Estimate {
+            task: task.to_owned(),
+            method: method.to_owned(),
+            role,
+            metric,
+            n: x.len(),
+            seeds,
+            iqm: if x.is_empty() { None } else { intervals.next() },
+        })
+        .collect())
 }
 
 /// The IQM and interval of one method's metric.

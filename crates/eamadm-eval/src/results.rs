@@ -166,17 +166,39 @@ pub fn write_curves_csv<W: Write>(records: &[RunRecord], writer: W) -> Result<()
 
 /// The curves table written run by run, so that a caller streaming records (one at a time from
 /// a run store) never holds them all; the bytes equal [`write_curves_csv`]'s over the same runs.
+///
+/// The bytes are those of `csv`'s serde writer over each run's [`curve_rows`] (a header, then
+/// `itoa` integers, `ryu` singles, `true`/`false`, empty cells for `None`, labels quoted
+/// where `csv` quotes them; the law `the_curves_table_is_the_curve_rows_serialised`), written
+/// without the serde calls and `csv`'s quoting check per cell: a run's labels and seed are
+/// quoted once, as its rows' common start, and the numbers need no quotes. A thousand-seed
+/// table is 200,000 rows (docs/paper-notes.md §24.3).
 pub struct CurvesCsv<W: Write> {
-    csv: csv::Writer<W>,
-    wrote_rows: bool,
+    writer: W,
+    /// Rows not yet handed to `writer` (handed on in pieces of about [`Self::PIECE`] bytes).
+    pending: Vec<u8>,
+    wrote_header: bool,
 }
 
 impl<W: Write> CurvesCsv<W> {
+    /// About how many bytes are handed to the writer at a time.
+    const PIECE: usize = 1 << 16;
+
     /// A table writing to `writer`; nothing is written before the first run or [`Self::finish`].
     pub fn new(writer: W) -> Self {
         Self {
-            csv: csv::Writer::from_writer(writer),
-            wrote_rows: false,
+            writer,
+            pending: Vec::with_capacity(Self::PIECE + 4096),
+            wrote_header: false,
+        }
+    }
+
+    fn header(&mut self) {
+        if !self.wrote_header {
+            self.pending
+                .extend_from_slice(CURVE_COLUMNS.join(",").as_bytes());
+            self.pending.push(b'\n');
+            self.wrote_header = true;
         }
     }
 
@@ -185,34 +207,32 @@ impl<W: Write> CurvesCsv<W> {
     /// # Errors
     /// [`ResultsError::Csv`] when writing fails.
     pub fn push(&mut self, record: &RunRecord) -> Result<(), ResultsError> {
-        // Field by field, as `csv`'s serde writer would write each `CurveRow` (the header,
-        // then `itoa` integers, `ryu` singles, `true`/`false`, empty cells for `None`; the
-        // test `the_curves_table_is_the_curve_rows_serialised` holds the two equal), without
-        // a row's two strings cloned and serde's calls per cell: a thousand-seed table is
-        // 200,000 rows (docs/paper-notes.md §24.3).
-        if !self.wrote_rows && !record.episodes.is_empty() {
-            self.csv.write_record(CURVE_COLUMNS)?;
-            self.wrote_rows = true;
+        if record.episodes.is_empty() {
+            return Ok(());
         }
+        self.header();
+        let start = row_start(record)?;
         let (mut integer, mut real) = (itoa::Buffer::new(), ryu::Buffer::new());
-        let csv = &mut self.csv;
-        let flag = |value: bool| if value { "true" } else { "false" };
         for episode in &record.episodes {
-            csv.write_field(&record.experiment)?;
-            csv.write_field(&record.method)?;
-            csv.write_field(integer.format(record.seed))?;
-            csv.write_field(integer.format(episode.episode))?;
-            csv.write_field(integer.format(episode.steps))?;
-            csv.write_field(real.format(single_precision(episode.task_return)))?;
-            csv.write_field(real.format(single_precision(episode.learning_return)))?;
-            csv.write_field(flag(episode.terminated))?;
-            csv.write_field(flag(episode.truncated))?;
-            csv.write_field(flag(episode.reached))?;
-            csv.write_field(integer.format(episode.collisions))?;
-            csv.write_field(integer.format(episode.env_steps))?;
-            match record.optimum_steps {
-                Some(optimum) => csv.write_field(integer.format(optimum))?,
-                None => csv.write_field("")?,
+            let row = &mut self.pending;
+            row.extend_from_slice(&start);
+            for value in [episode.episode, episode.steps] {
+                row.extend_from_slice(integer.format(value).as_bytes());
+                row.push(b',');
+            }
+            for value in [episode.task_return, episode.learning_return] {
+                row.extend_from_slice(real.format(single_precision(value)).as_bytes());
+                row.push(b',');
+            }
+            for flag in [episode.terminated, episode.truncated, episode.reached] {
+                row.extend_from_slice(if flag { b"true," } else { b"false," });
+            }
+            for value in [episode.collisions, episode.env_steps] {
+                row.extend_from_slice(integer.format(value).as_bytes());
+                row.push(b',');
+            }
+            if let Some(optimum) = record.optimum_steps {
+                row.extend_from_slice(integer.format(optimum).as_bytes());
             }
             let robot = episode.robot;
             for value in [
@@ -221,12 +241,18 @@ impl<W: Write> CurvesCsv<W> {
                 robot.and_then(|r| r.time_to_reach),
                 robot.map(|r| r.retention_time),
             ] {
-                match value {
-                    Some(value) => csv.write_field(real.format(single_precision(value)))?,
-                    None => csv.write_field("")?,
+                row.push(b',');
+                if let Some(value) = value {
+                    row.extend_from_slice(real.format(single_precision(value)).as_bytes());
                 }
             }
-            csv.write_record(None::<&[u8]>)?;
+            row.push(b'\n');
+            if self.pending.len() >= Self::PIECE {
+                self.writer
+                    .write_all(&self.pending)
+                    .map_err(csv::Error::from)?;
+                self.pending.clear();
+            }
         }
         Ok(())
     }
@@ -237,12 +263,28 @@ impl<W: Write> CurvesCsv<W> {
     /// # Errors
     /// [`ResultsError::Csv`] when writing fails.
     pub fn finish(mut self) -> Result<(), ResultsError> {
-        if !self.wrote_rows {
-            self.csv.write_record(CURVE_COLUMNS)?;
-        }
-        self.csv.flush().map_err(csv::Error::from)?;
+        self.header();
+        self.writer
+            .write_all(&self.pending)
+            .and_then(|()| self.writer.flush())
+            .map_err(csv::Error::from)?;
         Ok(())
     }
+}
+
+/// The start every row of `record` shares: its experiment and method as `csv` writes them
+/// (quoted when they hold a comma, a quote or a line break) and its seed, each with its comma.
+fn row_start(record: &RunRecord) -> Result<Vec<u8>, ResultsError> {
+    let mut start = csv::Writer::from_writer(Vec::new());
+    start.write_field(&record.experiment)?;
+    start.write_field(&record.method)?;
+    start.write_field(itoa::Buffer::new().format(record.seed))?;
+    // An empty last field: the record's bytes end with the comma before it.
+    start.write_field("")?;
+    // Not ended: the bytes stop at the comma before that field.
+    start
+        .into_inner()
+        .map_err(|error| csv::Error::from(error.into_error()).into())
 }
 
 /// The column names of the curves table, in order.

@@ -73,6 +73,70 @@ impl Bootstrap {
         )
     }
 
+    /// [`Self::interval`] of each of `samples`, bit for bit, drawing the resamples once for
+    /// all samples of one size: with one seed, `interval` draws the same positions of the
+    /// sorted sample for every sample of a size, so here each resample's positions are drawn
+    /// once and counted into every such sample (one task × method's metrics, whose values
+    /// all come from its seeds). The intervals are in the order of `samples`.
+    ///
+    /// # Errors
+    /// [`StatsError`] as [`Self::interval`] gives for the first sample it fails on.
+    pub fn intervals(
+        &self,
+        samples: &[&[f64]],
+        statistic: Statistic,
+    ) -> Result<Vec<Interval>, StatsError> {
+        self.validate()?;
+        for x in samples {
+            check_sample(x, "x")?;
+            check_len(x.len(), "the sample's size")?;
+        }
+        let mut intervals = vec![None; samples.len()];
+        let mut sizes: Vec<usize> = samples.iter().map(|x| x.len()).collect();
+        sizes.sort_unstable();
+        sizes.dedup();
+        for size in sizes {
+            let members: Vec<usize> = (0..samples.len())
+                .filter(|&i| samples[i].len() == size)
+                .collect();
+            let sorted: Vec<Vec<f64>> = members.iter().map(|&i| sorted_copy(samples[i])).collect();
+            let counted: Vec<CountedSample<'_>> = sorted
+                .iter()
+                .map(|sorted| CountedSample::new(sorted, size))
+                .collect();
+            let estimates = members
+                .iter()
+                .map(|&i| statistic.of(samples[i]))
+                .collect::<Result<Vec<f64>, StatsError>>()?;
+            let mut replicates: Vec<_> = counted
+                .iter()
+                .map(|sample| sample.replicates(statistic, size, self.resamples as usize))
+                .collect();
+            let mut counts: Vec<Vec<u32>> = counted.iter().map(|s| vec![0; s.slots()]).collect();
+            let mut rng = Words::seed_from_u64(self.seed);
+            let mut positions = Vec::with_capacity(size);
+            for _ in 0..self.resamples {
+                positions.clear();
+                rng.uniform_below_each(size as u32, size, |i| positions.push(i));
+                for ((sample, counts), replicates) in
+                    counted.iter().zip(&mut counts).zip(&mut replicates)
+                {
+                    count_positions(sample, &positions, counts);
+                    replicates.push(counts);
+                }
+            }
+            for ((&i, replicates), estimate) in members.iter().zip(replicates).zip(estimates) {
+                intervals[i] = Some(percentile_interval(
+                    self.confidence,
+                    estimate,
+                    &mut replicates.finish(),
+                    statistic.name(),
+                )?);
+            }
+        }
+        Ok(intervals.into_iter().flatten().collect())
+    }
+
     /// Interval of statistic(x) − statistic(y), x and y resampled independently (stratified by
     /// method).
     pub fn difference(
@@ -204,6 +268,21 @@ pub(super) fn percentile_interval(
         low: quantile_unsorted(replicates, alpha / 2.0),
         high: quantile_unsorted(replicates, 1.0 - alpha / 2.0),
     })
+}
+
+/// Counts the resample at `positions` (of the sorted sample) into `counts`, as [`draw`] does.
+fn count_positions(sample: &CountedSample<'_>, positions: &[usize], counts: &mut [u32]) {
+    counts.fill(0);
+    if sample.is_exact() {
+        let slot_of = sample.slot_of();
+        for &i in positions {
+            counts[slot_of[i] as usize] += 1;
+        }
+    } else {
+        for &i in positions {
+            counts[i] += 1;
+        }
+    }
 }
 
 /// Draws one resample with replacement of the sorted sample of `sample` (`n` indices below `n`):

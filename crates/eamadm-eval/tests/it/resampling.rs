@@ -172,6 +172,24 @@ proptest! {
         }
     }
 
+    /// The shared draws of `Bootstrap::intervals` give each sample's own `interval`, bit
+    /// for bit, whatever the mix of sizes and of integer and real samples.
+    #[test]
+    fn intervals_of_many_samples_equal_each_interval_bit_for_bit(
+        samples in prop::collection::vec(sample(1..12), 1..6),
+        seed in 0_u64..1000,
+    ) {
+        let b = Bootstrap::new(101, 0.9, seed).unwrap();
+        let views: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
+        for statistic in Statistic::ALL {
+            let together = b.intervals(&views, statistic).unwrap();
+            prop_assert_eq!(together.len(), samples.len());
+            for (x, interval) in samples.iter().zip(together) {
+                prop_assert_eq!(bits(interval), bits(b.interval(x, statistic).unwrap()));
+            }
+        }
+    }
+
     #[test]
     fn permutation_equals_materialised_splits_bit_for_bit(
         x in sample(8..45),
