@@ -1090,16 +1090,33 @@ fn method_estimates(
     Ok(columns
         .iter()
         .zip(values)
-        .map(|(&metric, (x, seeds))| Estimate {
+        .map(|(&metric, (x, seeds))| {
+            let iqm = if x.is_empty() { None } else { intervals.next() };
+            Estimate::of(task, method, role, metric, (x.len(), seeds), iqm)
+        })
+        .collect())
+}
+
+impl Estimate {
+    /// The estimate of `metric` for `method` on `task`, with a value on `n` of `seeds` seeds.
+    fn of(
+        task: &str,
+        method: &str,
+        role: Role,
+        metric: &'static str,
+        (n, seeds): (usize, usize),
+        iqm: Option<Interval>,
+    ) -> Self {
+        Self {
             task: task.to_owned(),
             method: method.to_owned(),
             role,
             metric,
-            n: x.len(),
+            n,
             seeds,
-            iqm: if x.is_empty() { None } else { intervals.next() },
-        })
-        .collect())
+            iqm,
+        }
+    }
 }
 
 /// The IQM and interval of one method's metric.
@@ -1130,15 +1147,14 @@ pub fn estimate(
                 })?,
         )
     };
-    Ok(Estimate {
-        task: task.to_owned(),
-        method: method.to_owned(),
+    Ok(Estimate::of(
+        task,
+        method,
         role,
         metric,
-        n: x.len(),
-        seeds,
+        (x.len(), seeds),
         iqm,
-    })
+    ))
 }
 
 /// Every claim metric's column (the deciding ones, then the secondary ones, of each claim),
