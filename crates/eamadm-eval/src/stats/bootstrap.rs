@@ -112,17 +112,38 @@ impl Bootstrap {
                 .iter()
                 .map(|sample| sample.replicates(statistic, size, self.resamples as usize))
                 .collect();
-            let mut counts: Vec<Vec<u32>> = counted.iter().map(|s| vec![0; s.slots()]).collect();
+            let mut counts: Vec<Vec<u32>> = counted
+                .iter()
+                .map(|s| {
+                    if s.is_exact() {
+                        vec![0; s.slots()]
+                    } else {
+                        Vec::new()
+                    }
+                })
+                .collect();
+            // Every sample counted per position (not per distinct value) has the same counts
+            // of a resample: they are counted once, into `per_position`.
+            let mut per_position = vec![0; size];
             let mut rng = Words::seed_from_u64(self.seed);
             let mut positions = Vec::with_capacity(size);
             for _ in 0..self.resamples {
                 positions.clear();
                 rng.uniform_below_each(size as u32, size, |i| positions.push(i));
+                let mut counted_per_position = false;
                 for ((sample, counts), replicates) in
                     counted.iter().zip(&mut counts).zip(&mut replicates)
                 {
-                    count_positions(sample, &positions, counts);
-                    replicates.push(counts);
+                    if sample.is_exact() {
+                        count_positions(sample, &positions, counts);
+                        replicates.push(counts);
+                    } else {
+                        if !counted_per_position {
+                            count_positions(sample, &positions, &mut per_position);
+                            counted_per_position = true;
+                        }
+                        replicates.push(&per_position);
+                    }
                 }
             }
             for ((&i, replicates), estimate) in members.iter().zip(replicates).zip(estimates) {
