@@ -1547,22 +1547,32 @@ impl RunStore {
             let mut entries = Vec::with_capacity(keys.len());
             for key in &keys {
                 let at = chosen[*key];
-                let (line, key, trajectories, experiment) = match read_verified(&mut reader, at) {
-                    // The very line verified (or written) earlier: copied as it is.
-                    Some(line) => (line, (*key).clone(), at.trajectories, at.experiment.clone()),
-                    // Changed since (another process's copy of a loose file, or damage):
-                    // checked in full again, and indexed as what it now holds.
-                    None => {
-                        let checked = Self::entry_at(&mut reader, at)?;
-                        let key = RunKey::from_verified_hex(checked.header.key);
-                        (
-                            checked.line,
-                            key,
-                            checked.header.trajectories,
-                            checked.header.experiment,
-                        )
-                    }
-                };
+                let (line, digest, key, trajectories, experiment) =
+                    match read_verified(&mut reader, at) {
+                        // The very line verified (or written) earlier: copied as it is, its
+                        // digest the one it was just checked against.
+                        Some(line) => (
+                            line,
+                            at.digest,
+                            (*key).clone(),
+                            at.trajectories,
+                            at.experiment.clone(),
+                        ),
+                        // Changed since (another process's copy of a loose file, or damage):
+                        // checked in full again, and indexed as what it now holds.
+                        None => {
+                            let checked = Self::entry_at(&mut reader, at)?;
+                            let key = RunKey::from_verified_hex(checked.header.key);
+                            let digest = blake3::hash(&checked.line);
+                            (
+                                checked.line,
+                                digest,
+                                key,
+                                checked.header.trajectories,
+                                checked.header.experiment,
+                            )
+                        }
+                    };
                 let (frame, offset) = frames.push(&line).map_err(write(&path))?;
                 let location = Location {
                     file: Arc::clone(&shared),
@@ -1572,7 +1582,7 @@ impl RunStore {
                     len: line.len() as u64,
                     trajectories,
                     experiment,
-                    digest: blake3::hash(&line),
+                    digest,
                     file_digest: None,
                 };
                 entries.push((key, location));
