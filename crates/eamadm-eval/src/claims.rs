@@ -1010,9 +1010,8 @@ pub const OVERVIEW_COLUMNS: [&str; 5] = [
 /// The estimates [`estimates`] computes that a verdict or the report states: for every method
 /// of every task, the [`OVERVIEW_COLUMNS`] and the metrics of every claim judged on the task
 /// (`judgements`: [`judge`]'s), in [`estimates`]' order. The others (the metrics of a claim
-/// no method is judged on there) are nowhere shown, and each is 10,000 resamples of every
-/// seed: a thousand-seed run without a claim to judge spent a ninth of its time on them
-/// (docs/paper-notes.md §24.3).
+/// no method is judged on there) are nowhere shown, though each is 10,000 resamples of
+/// every seed (docs/paper-notes.md §24.3).
 ///
 /// # Errors
 /// [`ClaimsError::Stats`] when a statistic fails.

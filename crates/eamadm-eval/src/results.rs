@@ -95,12 +95,11 @@ pub struct CurveRow {
 /// Writes `value` as the nearest `f32` (its shortest round-trip text): the curves table's
 /// precision ([`CurveRow`]).
 #[expect(
-    clippy::cast_possible_truncation,
     clippy::trivially_copy_pass_by_ref,
-    reason = "single precision is the table's documented precision; serde passes by reference"
+    reason = "serde passes by reference"
 )]
 fn single<S: serde::Serializer>(value: &f64, serializer: S) -> Result<S::Ok, S::Error> {
-    serializer.serialize_f32(*value as f32)
+    serializer.serialize_f32(single_precision(*value))
 }
 
 /// `value` as the nearest `f32`: the curves table's precision.
@@ -113,17 +112,13 @@ fn single_precision(value: f64) -> f32 {
 }
 
 /// [`single`] for an optional value; `None` is an empty cell.
-#[expect(
-    clippy::cast_possible_truncation,
-    clippy::ref_option,
-    reason = "single precision is the table's documented precision; serde passes by reference"
-)]
+#[expect(clippy::ref_option, reason = "serde passes by reference")]
 fn single_or_empty<S: serde::Serializer>(
     value: &Option<f64>,
     serializer: S,
 ) -> Result<S::Ok, S::Error> {
     match value {
-        Some(value) => serializer.serialize_some(&(*value as f32)),
+        Some(value) => serializer.serialize_some(&single_precision(*value)),
         None => serializer.serialize_none(),
     }
 }
