@@ -113,6 +113,9 @@ pub struct EpisodeOutcome {
     pub trajectory: Option<Trajectory>,
 }
 
+/// Action counts up to which [`run_episode`] keeps the action values on the stack.
+const INLINE_ACTIONS: usize = 8;
+
 /// Runs one episode: reset, then select → step → learn until the episode
 /// terminates or is truncated.
 ///
@@ -120,8 +123,8 @@ pub struct EpisodeOutcome {
 /// actions, calls `signal.begin_episode(env.n_subtasks())` and
 /// `policy.begin_episode(options.episode)`, resets `env` with `options.seed`, then
 /// for each step
-/// 1. writes the learner's action values for the current state into a buffer
-///    allocated once per episode,
+/// 1. writes the learner's action values for the current state into a buffer (on
+///    the stack for up to eight actions, else allocated once per episode),
 /// 2. asks `policy` for an action (given the state, the values and `rng`),
 /// 3. steps `env`, and turns the step and `env.subtask_rewards()` into the
 ///    learning reward with `signal`,
@@ -185,7 +188,16 @@ where
         states: vec![state],
         actions: Vec::new(),
     });
-    let mut action_values = vec![0.0; n_actions];
+    // On the stack for the mazes' four and the robot's five actions: a heap buffer per episode
+    // was a malloc and a free for every one of the runner's short episodes.
+    let mut inline = [0.0; INLINE_ACTIONS];
+    let mut heap = Vec::new();
+    let action_values: &mut [f64] = if n_actions <= INLINE_ACTIONS {
+        &mut inline[..n_actions]
+    } else {
+        heap.resize(n_actions, 0.0);
+        &mut heap
+    };
     let mut outcome = EpisodeOutcome {
         steps: 0,
         task_return: 0.0,
@@ -200,8 +212,8 @@ where
             outcome.truncated = true;
             break;
         }
-        learner.action_values(state, &mut action_values);
-        let action = policy.select(state, &action_values, rng);
+        learner.action_values(state, action_values);
+        let action = policy.select(state, action_values, rng);
         if action >= n_actions {
             return Err(DqlError::ActionOutOfRange {
                 action,
