@@ -11,7 +11,10 @@
 //!    to end, `reproduce-paper --task task1 --method epsilon-greedy` with `--readings none`
 //!    and with its default `--readings all`, store and report included, each divided by the
 //!    steps of every run it executed, when the release `xtask` binary is built) ÷ the
-//!    hand-written [`eamadm_benches::reference_double_q`] loop.
+//!    hand-written [`eamadm_benches::reference_double_q`] loop; and the `--readings none`
+//!    command ÷ what the hand-written loops take for exactly its work, its learning steps at
+//!    the cost of one of that loop's and its greedy evaluation steps at the cost of one of
+//!    [`eamadm_benches::reference_double_q_evaluated`]'s.
 //!
 //! Everything runs on one thread (a one-thread rayon pool, `RAYON_NUM_THREADS=1` for the
 //! subprocess), so the ratios compare work, not scheduling. Times are CPU times where Linux
@@ -234,6 +237,7 @@ fn end_to_end(tiny: bool) {
         _ => 0.1,
     };
     let episodes = config.episodes;
+    let evaluate_every = config.evaluation.every(episodes);
     // The readings that rerun ε-greedy on Task I, as `reproduce-paper` plans them.
     let readings: Vec<eamadm::ExperimentConfig> = eamadm::paper::readings()
         .iter()
@@ -271,6 +275,29 @@ fn end_to_end(tiny: bool) {
         reference_steps += eamadm_benches::reference_double_q(&env, episodes, epsilon, seed);
     }
     let reference_ns = per(start.elapsed(), reference_steps);
+    // The reference's cost of a greedy evaluation step, from the same loop with the runner's
+    // evaluations (its learning episodes are the ones just timed).
+    let (mut reference_greedy_steps, mut reference_greedy_time) = (0, Duration::ZERO);
+    let mut evaluated_training_steps = 0;
+    for seed in 0..u64::from(seeds) {
+        let run = eamadm_benches::reference_double_q_evaluated(
+            &env,
+            episodes,
+            epsilon,
+            seed,
+            Some(evaluate_every),
+        );
+        evaluated_training_steps += run.training_steps;
+        reference_greedy_steps += run.greedy_steps;
+        reference_greedy_time += run.greedy_time;
+    }
+    assert_eq!(
+        evaluated_training_steps, reference_steps,
+        "the greedy evaluations must leave the reference's learning episodes as they are"
+    );
+    let reference_greedy_ns = per(reference_greedy_time, reference_greedy_steps);
+    // What the hand-written loops take for exactly the runner's steps of each kind.
+    let reference_work_ns = reference_ns * steps as f64 + reference_greedy_ns * greedy_steps as f64;
     let executed_ns = per(learning, steps + greedy_steps);
     eprintln!(
         "hand-written double Q: {reference_ns:.1} ns/step; runner (learning only, {seeds} \
@@ -316,6 +343,14 @@ fn end_to_end(tiny: bool) {
                  hand-written loop",
                 steps + greedy_steps,
                 played_ns / reference_ns,
+            );
+            // Like for like: the runner's learning steps at the hand-written loop's cost of a
+            // learning step, and its greedy evaluation steps at the cost of a greedy one.
+            eprintln!(
+                "end to end (reproduce-paper --readings none) ÷ the hand-written loops doing its \
+                 work ({steps} learning steps at {reference_ns:.1} ns, {greedy_steps} greedy \
+                 evaluation steps at {reference_greedy_ns:.1} ns): {:.2}×",
+                whole.as_nanos() as f64 / reference_work_ns,
             );
         }
     }
