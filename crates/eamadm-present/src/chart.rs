@@ -358,6 +358,15 @@ impl Series {
     /// The IQM per episode over the seeds that reach it, and its bootstrap band every `stride`
     /// episodes (and at the last).
     fn drawn(&self, stride: usize) -> Result<Drawn, FigureError> {
+        self.drawn_by(stride, &mut |episode, values| {
+            let interval = band_bootstrap(episode)?.interval(values, Statistic::Iqm)?;
+            Ok((interval.low, interval.high))
+        })
+    }
+
+    /// [`Self::drawn`], with each bootstrap band (low, high) asked of `band_of`, given the
+    /// episode and the values there, in episode order.
+    fn drawn_by(&self, stride: usize, band_of: &mut BandOf<'_>) -> Result<Drawn, FigureError> {
         if let Some(failure) = &self.failure {
             return Err(self.error(failure.clone()));
         }
@@ -385,12 +394,8 @@ impl Series {
             }
             line.push(stats::iqm(&values).map_err(band_error)?);
             if episode % stride == 0 || episode + 1 == longest {
-                let bootstrap = Bootstrap::new(FIGURE_RESAMPLES, 0.95, BAND_SEED + episode as u64)
-                    .map_err(band_error)?;
-                let interval = bootstrap
-                    .interval(&values, Statistic::Iqm)
-                    .map_err(band_error)?;
-                band.push((episode, interval.low, interval.high));
+                let (low, high) = band_of(episode, &values).map_err(band_error)?;
+                band.push((episode, low, high));
             }
         }
         Ok(Drawn { line, band })
@@ -402,6 +407,16 @@ impl Series {
             source,
         }
     }
+}
+
+/// Answers a series' band (low, high) at an episode from the values there
+/// ([`Series::drawn_by`]).
+type BandOf<'a> = dyn FnMut(usize, &[f64]) -> Result<(f64, f64), StatsError> + 'a;
+
+/// The bootstrap of the band at `episode` (0-based): every series' band there draws the same
+/// resamples, whichever chart it is in.
+fn band_bootstrap(episode: usize) -> Result<Bootstrap, StatsError> {
+    Bootstrap::new(FIGURE_RESAMPLES, 0.95, BAND_SEED + episode as u64)
 }
 
 /// Every how many episodes the band of a chart whose longest curve has `longest` episodes and
@@ -825,17 +840,32 @@ impl Frame {
 
 /// The y tick labels of a range, with their values (as [`Frame::open`] draws them).
 fn y_ticks(y: (f64, f64)) -> Vec<(f64, String)> {
-    let step = tick_step(y.1 - y.0, 5.0);
+    let span = y.1 - y.0;
+    // A range wider than the largest float (values near ±f64::MAX) is stepped by halves;
+    // without that the step fell back to 1 and the loop ran over 10^308 ticks.
+    let step = if span.is_finite() {
+        tick_step(span, 5.0)
+    } else {
+        2.0 * tick_step(y.1 / 2.0 - y.0 / 2.0, 5.0)
+    };
     let decimals = tick_decimals(step);
     let mut ticks = Vec::new();
     let mut tick = (y.0 / step).ceil() * step;
-    while tick <= y.1 + step * 1e-9 {
+    // A step too small to move the tick at this magnitude ends the axis too.
+    while tick <= y.1 + step * 1e-9 && ticks.len() < MAX_Y_TICKS {
         let label = format!("{:.*}", decimals, if tick == 0.0 { 0.0 } else { tick });
         ticks.push((tick, label));
-        tick += step;
+        let next = tick + step;
+        if next == tick {
+            break;
+        }
+        tick = next;
     }
     ticks
 }
+
+/// More y ticks than a plot has room for: [`y_ticks`] aims at five.
+const MAX_Y_TICKS: usize = 32;
 
 /// The width of the widest y tick label of a range.
 fn widest_tick(y: (f64, f64)) -> f64 {
@@ -1019,6 +1049,21 @@ impl LineChart {
 
     /// Validates the input and computes each series' IQM line and band.
     fn drawn(&self) -> Result<(Vec<Drawn>, usize), FigureError> {
+        let stride = self.validated_stride()?;
+        let drawn = self
+            .series
+            .iter()
+            .map(|series| {
+                self.check_smoothing(series)?;
+                series.drawn(stride)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((drawn, stride))
+    }
+
+    /// Checks the chart and its series' smoothing, and returns every how many episodes the
+    /// bands are bootstrapped ([`band_stride`]).
+    fn validated_stride(&self) -> Result<usize, FigureError> {
         if self.series.is_empty() {
             return Err(FigureError::NoSeries {
                 title: self.title.clone(),
@@ -1042,22 +1087,23 @@ impl LineChart {
             .flat_map(|s| s.curves.iter().map(Vec::len))
             .max()
             .unwrap_or(1);
-        let stride = band_stride(longest, self.series.iter().map(Series::seeds).max());
-        let drawn = self
-            .series
-            .iter()
-            .map(|series| {
-                if series.smoothing_window != self.smoothing_window {
-                    return Err(FigureError::SmoothingMismatch {
-                        series: series.name.clone(),
-                        series_window: series.smoothing_window,
-                        chart_window: self.smoothing_window,
-                    });
-                }
-                series.drawn(stride)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok((drawn, stride))
+        Ok(band_stride(
+            longest,
+            self.series.iter().map(Series::seeds).max(),
+        ))
+    }
+
+    /// Checks that `series` is smoothed as the chart is (before it is drawn, so that errors
+    /// come series by series).
+    fn check_smoothing(&self, series: &Series) -> Result<(), FigureError> {
+        if series.smoothing_window == self.smoothing_window {
+            return Ok(());
+        }
+        Err(FigureError::SmoothingMismatch {
+            series: series.name.clone(),
+            series_window: series.smoothing_window,
+            chart_window: self.smoothing_window,
+        })
     }
 
     /// The caption's sentences: estimator, band, smoothing, what the thin lines are.
@@ -1117,6 +1163,89 @@ impl LineChart {
         self.render_merged()
     }
 
+    /// Renders each of `charts` as [`Self::render_svg`] does, bit for bit, errors included,
+    /// drawing each episode's band resamples once for all their series: every band at an
+    /// episode has the same bootstrap, so series of as many seeds (one experiment's methods,
+    /// its steps and its return) share the resamples ([`Bootstrap::intervals`]).
+    ///
+    /// # Errors
+    /// The first error of the first chart that [`Self::render_svg`] fails on.
+    pub fn render_svgs(charts: &[&Self]) -> Result<Vec<String>, FigureError> {
+        match Self::render_sharing_bands(charts) {
+            Some(svgs) => Ok(svgs),
+            // Some chart fails: rendered one by one, for the error `render_svg` gives.
+            None => charts.iter().map(|chart| chart.render_svg()).collect(),
+        }
+    }
+
+    /// [`Self::render_svgs`] when no chart fails; `None` when one does.
+    fn render_sharing_bands(charts: &[&Self]) -> Option<Vec<String>> {
+        let merged: Vec<std::borrow::Cow<'_, Self>> = charts
+            .iter()
+            .map(|&chart| {
+                let merged = chart.merged();
+                if merged.series.len() < chart.series.len() {
+                    std::borrow::Cow::Owned(merged)
+                } else {
+                    std::borrow::Cow::Borrowed(chart)
+                }
+            })
+            .collect();
+        // First every line, with the values of each band asked for (in order, per series).
+        let mut asked: Vec<(usize, Vec<f64>)> = Vec::new();
+        let mut drawn_charts = Vec::with_capacity(merged.len());
+        for chart in &merged {
+            let stride = chart.validated_stride().ok()?;
+            let mut drawn = Vec::with_capacity(chart.series.len());
+            for series in &chart.series {
+                chart.check_smoothing(series).ok()?;
+                drawn.push(
+                    series
+                        .drawn_by(stride, &mut |episode, values| {
+                            asked.push((episode, values.to_vec()));
+                            Ok((f64::NAN, f64::NAN))
+                        })
+                        .ok()?,
+                );
+            }
+            drawn_charts.push((drawn, stride));
+        }
+        // Then the bands, episode by episode, each episode's resamples drawn once.
+        let mut by_episode: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+        for (index, (episode, _)) in asked.iter().enumerate() {
+            by_episode.entry(*episode).or_default().push(index);
+        }
+        let mut bands = vec![(f64::NAN, f64::NAN); asked.len()];
+        for (episode, indices) in by_episode {
+            let samples: Vec<&[f64]> = indices.iter().map(|&i| asked[i].1.as_slice()).collect();
+            let intervals = band_bootstrap(episode)
+                .ok()?
+                .intervals(&samples, Statistic::Iqm)
+                .ok()?;
+            for (&i, interval) in indices.iter().zip(intervals) {
+                bands[i] = (interval.low, interval.high);
+            }
+        }
+        // The bands asked for, in the order asked: a series' bootstrap bands are in order.
+        let mut answers = bands.into_iter();
+        for (chart, (drawn, _)) in merged.iter().zip(&mut drawn_charts) {
+            for (series, drawn) in chart.series.iter().zip(drawn) {
+                if series.share {
+                    continue;
+                }
+                for point in &mut drawn.band {
+                    let (low, high) = answers.next()?;
+                    (point.1, point.2) = (low, high);
+                }
+            }
+        }
+        merged
+            .iter()
+            .zip(drawn_charts)
+            .map(|(chart, (drawn, stride))| chart.render_drawn(&drawn, stride).ok())
+            .collect()
+    }
+
     /// This chart with series that draw exactly the same thing ([`Series::draws_as`]) as
     /// one: the first, named with all of their names (`EA-MADM = ea-madm-table`) and listing
     /// the others' methods in `also`.
@@ -1147,6 +1276,12 @@ impl LineChart {
     /// Renders the chart (its series merged already).
     fn render_merged(&self) -> Result<String, FigureError> {
         let (drawn, stride) = self.drawn()?;
+        self.render_drawn(&drawn, stride)
+    }
+
+    /// The SVG of this chart with its series' lines and bands `drawn` (bands every `stride`
+    /// episodes).
+    fn render_drawn(&self, drawn: &[Drawn], stride: usize) -> Result<String, FigureError> {
         let width = f64::from(self.width);
         let mut body = String::new();
 
@@ -1238,9 +1373,9 @@ impl LineChart {
             x: x_range,
             y: main_y,
         };
-        let widths = line_widths(&drawn, &order, main.y, 0);
+        let widths = line_widths(drawn, &order, main.y, 0);
         let lines = Lines {
-            drawn: &drawn,
+            drawn,
             order: &order,
             widths: &widths,
         };
@@ -1266,9 +1401,9 @@ impl LineChart {
                 y,
                 ..main
             };
-            let widths = line_widths(&drawn, &order, zoomed.y, from);
+            let widths = line_widths(drawn, &order, zoomed.y, from);
             let lines = Lines {
-                drawn: &drawn,
+                drawn,
                 order: &order,
                 widths: &widths,
             };
@@ -2241,5 +2376,126 @@ mod tests {
                 proptest::prop_assert!((high - point.wilson.high).abs() < 1e-12);
             }
         }
+    }
+
+    /// A chart of `runs` per series (seeds × episodes), the series named after methods, one of
+    /// them a share series when `share`, smoothed over `window` (`series_window` for the last
+    /// series, so that a mismatch can be made).
+    fn chart_of(
+        runs: &[Vec<Vec<f64>>],
+        window: usize,
+        series_window: usize,
+        share: bool,
+    ) -> LineChart {
+        let methods = ["ea-madm", "epsilon-greedy", "softmax", "epsilon-decreasing"];
+        let mut chart = LineChart::new("c", "episode", "y").with_smoothing(window);
+        for (index, (seeds, method)) in runs.iter().zip(methods).enumerate() {
+            let last = index + 1 == runs.len();
+            let shares = share && index == 1;
+            // A share series holds 0/1 outcomes.
+            let seeds: Vec<Vec<f64>> = seeds
+                .iter()
+                .map(|curve| {
+                    curve
+                        .iter()
+                        .map(|&v| {
+                            if shares {
+                                f64::from(u8::from(v >= 2.0))
+                            } else {
+                                v
+                            }
+                        })
+                        .collect()
+                })
+                .collect();
+            let mut series = series(method, if last { series_window } else { window }, &seeds);
+            series.share = shares;
+            chart = chart.with_series(series);
+        }
+        chart
+    }
+
+    proptest::proptest! {
+        /// The law of `render_svgs`: each chart's SVG (or the first error) exactly as
+        /// `render_svg` gives it, whether the series share sizes (and so resamples), differ in
+        /// seeds and lengths, are share series, are equal (merged), or fail.
+        #[test]
+        fn rendering_charts_together_equals_rendering_each(
+            charts in proptest::collection::vec(
+                (
+                    proptest::collection::vec(
+                        proptest::collection::vec(
+                            proptest::collection::vec(
+                                proptest::prop_oneof![
+                                    8 => proptest::strategy::Strategy::prop_map(0_u8..4, f64::from),
+                                    2 => -50.0..300.0_f64,
+                                    1 => proptest::strategy::Just(f64::MAX),
+                                ],
+                                1..7,
+                            ),
+                            1..5,
+                        ),
+                        0..4,
+                    ),
+                    1_usize..3,
+                    proptest::bool::ANY,
+                    proptest::bool::weighted(0.1),
+                    proptest::bool::ANY,
+                ),
+                1..4,
+            ),
+        ) {
+            let charts: Vec<LineChart> = charts
+                .iter()
+                .map(|(runs, window, share, mismatch, duplicate)| {
+                    let mut runs = runs.clone();
+                    // Two series of the same curves draw as one (merged).
+                    if *duplicate && let Some(first) = runs.first().cloned() {
+                        runs.push(first);
+                    }
+                    chart_of(&runs, *window, window + usize::from(*mismatch), *share)
+                })
+                .collect();
+            let each: Result<Vec<String>, FigureError> =
+                charts.iter().map(LineChart::render_svg).collect();
+            let references: Vec<&LineChart> = charts.iter().collect();
+            let together = LineChart::render_svgs(&references);
+            proptest::prop_assert_eq!(
+                together.as_ref().map_err(ToString::to_string),
+                each.as_ref().map_err(ToString::to_string)
+            );
+        }
+    }
+
+    #[test]
+    fn values_near_the_largest_float_get_a_few_ticks() {
+        // Once an endless axis: the range overflowed, the step fell back to 1.
+        let chart = chart_of(&[vec![vec![f64::MAX, 1.0], vec![2.0, 3.0]]], 1, 1, false);
+        let svg = chart.render_svg().unwrap();
+        assert!(svg.len() < 200_000, "{} bytes", svg.len());
+        let ticks = y_ticks((-f64::MAX, f64::MAX));
+        assert!((2..=MAX_Y_TICKS).contains(&ticks.len()), "{}", ticks.len());
+        assert!(ticks.windows(2).all(|pair| pair[0].0 < pair[1].0));
+    }
+
+    #[test]
+    fn charts_rendered_together_share_the_band_of_an_episode() {
+        // Steps and return of one method: equal sizes, so one draw per episode serves both;
+        // the bands still differ (different values) and each equals its own rendering.
+        let steps = tiny_chart(1);
+        let mut returns = tiny_chart(1);
+        for series in &mut returns.series {
+            for curve in &mut series.curves {
+                for value in curve.iter_mut() {
+                    *value = -*value;
+                }
+            }
+        }
+        let svgs = LineChart::render_svgs(&[&steps, &returns]).unwrap();
+        assert_eq!(
+            svgs,
+            [steps.render_svg().unwrap(), returns.render_svg().unwrap()]
+        );
+        assert_ne!(svgs[0], svgs[1]);
     }
 }

@@ -712,7 +712,8 @@ impl ExperimentFigures {
         }
         // A chart whose every line is 0 shows nothing: a sentence says so instead.
         let mut files = Vec::new();
-        for (file, chart) in figures {
+        let mut drawn = Vec::new();
+        for (file, chart) in &figures {
             if chart.shows_nothing() {
                 not_drawn.push(NotDrawn {
                     file: file.clone(),
@@ -728,9 +729,13 @@ impl ExperimentFigures {
                     ),
                 });
             } else {
-                files.push((file, chart.render_svg()?));
+                drawn.push((file.clone(), chart));
             }
         }
+        // Rendered together: the charts' series at an episode share its band resamples.
+        let charts: Vec<&LineChart> = drawn.iter().map(|(_, chart)| *chart).collect();
+        let svgs = LineChart::render_svgs(&charts)?;
+        files.extend(drawn.into_iter().map(|(file, _)| file).zip(svgs));
         if is_robot {
             // Fig. 13–15 plot "episodes that are to reach the target": x is the
             // reaching-episode index, each seed contributing its own first reaching episodes
