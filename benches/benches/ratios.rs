@@ -14,7 +14,9 @@
 //!    hand-written [`eamadm_benches::reference_double_q`] loop; and the `--readings none`
 //!    command ÷ what the hand-written loops take for exactly its work, its learning steps at
 //!    the cost of one of that loop's and its greedy evaluation steps at the cost of one of
-//!    [`eamadm_benches::reference_double_q_evaluated`]'s.
+//!    [`eamadm_benches::reference_double_q_evaluated`]'s. The `--readings none` ratios are
+//!    medians of [`END_TO_END_ROUNDS`] rounds, each timing the reference loop and then the
+//!    command, with the rounds' range.
 //!
 //! Everything runs on one thread (a one-thread rayon pool, `RAYON_NUM_THREADS=1` for the
 //! subprocess), so the ratios compare work, not scheduling. Times are CPU times where Linux
@@ -269,12 +271,8 @@ fn end_to_end(tiny: bool) {
     let all_learning_ns = per(learning + reading_learning, all_steps);
 
     let env = Preset::Task1.env();
-    let start = Clock::start();
-    let mut reference_steps = 0;
-    for seed in 0..u64::from(seeds) {
-        reference_steps += eamadm_benches::reference_double_q(&env, episodes, epsilon, seed);
-    }
-    let reference_ns = per(start.elapsed(), reference_steps);
+    let (reference, reference_steps) = time_reference(&env, seeds, episodes, epsilon);
+    let reference_ns = per(reference, reference_steps);
     // The reference's cost of a greedy evaluation step, from the same loop with the runner's
     // evaluations (its learning episodes are the ones just timed).
     let (mut reference_greedy_steps, mut reference_greedy_time) = (0, Duration::ZERO);
@@ -296,8 +294,6 @@ fn end_to_end(tiny: bool) {
         "the greedy evaluations must leave the reference's learning episodes as they are"
     );
     let reference_greedy_ns = per(reference_greedy_time, reference_greedy_steps);
-    // What the hand-written loops take for exactly the runner's steps of each kind.
-    let reference_work_ns = reference_ns * steps as f64 + reference_greedy_ns * greedy_steps as f64;
     let executed_ns = per(learning, steps + greedy_steps);
     eprintln!(
         "hand-written double Q: {reference_ns:.1} ns/step; runner (learning only, {seeds} \
@@ -321,39 +317,91 @@ fn end_to_end(tiny: bool) {
         );
         return;
     }
-    for (readings, steps, learning_ns) in [
-        ("none", steps, learning_ns),
-        ("all", all_steps, all_learning_ns),
-    ] {
-        let whole = reproduce_paper(&xtask, seeds, readings);
+    // `--readings none`, the issue's measure: rounds of the reference loop and the command in
+    // turn, a ratio per round and their median, so that the machine's drift moves both sides
+    // of a ratio and one slow round cannot move the figure (one round is a single shot that
+    // moved by ±3 % and more from run to run on the 2-core machine).
+    let rounds = if tiny { 1 } else { END_TO_END_ROUNDS };
+    let (mut per_trained, mut per_played, mut per_work) = (Vec::new(), Vec::new(), Vec::new());
+    let mut whole_ns_rounds = Vec::new();
+    for _ in 0..rounds {
+        let (reference, reference_steps) = time_reference(&env, seeds, episodes, epsilon);
+        let reference_ns = per(reference, reference_steps);
+        let whole = reproduce_paper(&xtask, seeds, "none");
         let whole_ns = per(whole, steps);
-        eprintln!(
-            "end to end (reproduce-paper --readings {readings}, {seeds} seeds, {steps} steps): \
-             {whole_ns:.1} ns/step = {:.2}× the hand-written loop, {:.2}× its learning alone",
-            whole_ns / reference_ns,
-            whole_ns / learning_ns,
-        );
-        if readings == "none" {
-            // The same command per step it plays: its runs' greedy evaluations are steps the
-            // reference does not take (the readings' reruns are not counted here).
-            let played_ns = per(whole, steps + greedy_steps);
-            eprintln!(
-                "end to end (reproduce-paper --readings none) per step played ({} steps: \
-                 training and greedy evaluation): {played_ns:.1} ns/step = {:.2}× the \
-                 hand-written loop",
-                steps + greedy_steps,
-                played_ns / reference_ns,
-            );
-            // Like for like: the runner's learning steps at the hand-written loop's cost of a
-            // learning step, and its greedy evaluation steps at the cost of a greedy one.
-            eprintln!(
-                "end to end (reproduce-paper --readings none) ÷ the hand-written loops doing its \
-                 work ({steps} learning steps at {reference_ns:.1} ns, {greedy_steps} greedy \
-                 evaluation steps at {reference_greedy_ns:.1} ns): {:.2}×",
-                whole.as_nanos() as f64 / reference_work_ns,
-            );
-        }
+        whole_ns_rounds.push(whole_ns);
+        per_trained.push(whole_ns / reference_ns);
+        // The runs' greedy evaluations are steps the plain reference does not take.
+        per_played.push(per(whole, steps + greedy_steps) / reference_ns);
+        // Like for like: the runner's learning steps at the hand-written loop's cost of a
+        // learning step, and its greedy evaluation steps at the cost of a greedy one.
+        let reference_work_ns =
+            reference_ns * steps as f64 + reference_greedy_ns * greedy_steps as f64;
+        per_work.push(whole.as_nanos() as f64 / reference_work_ns);
     }
+    let spread = |ratios: &[f64]| {
+        let (median, low, high) = median_and_range(ratios);
+        format!("{median:.2}× (rounds {low:.2}–{high:.2}×)")
+    };
+    eprintln!(
+        "end to end (reproduce-paper --readings none, {seeds} seeds, {steps} steps; median of \
+         {rounds} rounds, each against the hand-written loop timed just before it): {:.1} \
+         ns/step = {} the hand-written loop, {:.2}× its learning alone",
+        median_and_range(&whole_ns_rounds).0,
+        spread(&per_trained),
+        median_and_range(&whole_ns_rounds).0 / learning_ns,
+    );
+    eprintln!(
+        "end to end (reproduce-paper --readings none) per step played ({} steps: training and \
+         greedy evaluation): {}",
+        steps + greedy_steps,
+        spread(&per_played),
+    );
+    eprintln!(
+        "end to end (reproduce-paper --readings none) ÷ the hand-written loops doing its work \
+         ({steps} learning steps at the reference's cost, {greedy_steps} greedy evaluation \
+         steps at {reference_greedy_ns:.1} ns): {}",
+        spread(&per_work),
+    );
+    let whole = reproduce_paper(&xtask, seeds, "all");
+    let whole_ns = per(whole, all_steps);
+    eprintln!(
+        "end to end (reproduce-paper --readings all, {seeds} seeds, {all_steps} steps): \
+         {whole_ns:.1} ns/step = {:.2}× the hand-written loop, {:.2}× its learning alone",
+        whole_ns / reference_ns,
+        whole_ns / all_learning_ns,
+    );
+}
+
+/// Rounds of the `--readings none` ratio (one with `--tiny`).
+const END_TO_END_ROUNDS: usize = 5;
+
+/// The median of `values` (the mean of the middle two for an even count) and their range.
+fn median_and_range(values: &[f64]) -> (f64, f64, f64) {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    let median = if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0
+    };
+    (median, sorted[0], sorted[n - 1])
+}
+
+/// The time of the hand-written loop over `seeds` seeds, and the steps it took.
+fn time_reference(
+    env: &eamadm::mazes::MazeEnv,
+    seeds: u32,
+    episodes: u64,
+    epsilon: f64,
+) -> (Duration, u64) {
+    let start = Clock::start();
+    let mut steps = 0;
+    for seed in 0..u64::from(seeds) {
+        steps += eamadm_benches::reference_double_q(env, episodes, epsilon, seed);
+    }
+    (start.elapsed(), steps)
 }
 
 /// The CPU time (user + system; wall time without `/usr/bin/time`) of
