@@ -28,7 +28,7 @@
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read, Seek as _, SeekFrom, Write};
 use std::ops::ControlFlow;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The most bytes one line (one stored run) may decompress to: far above any run's line (the
@@ -315,6 +315,14 @@ impl LineReader {
         len: u64,
         reopen: bool,
     ) -> io::Result<Vec<u8>> {
+        if reopen
+            && line == 0
+            && let Some(content) = read_stored_member(file, frame, len)?
+        {
+            // A loose run as the store's appends write it: read whole, without a decoder.
+            self.open = None;
+            return Ok(content);
+        }
         let reusable = !reopen
             && self.open.as_ref().is_some_and(|open| {
                 open.file == *file && open.frame == frame && open.position <= line
@@ -348,6 +356,31 @@ impl LineReader {
             }
         }
     }
+}
+
+/// The content of the frame at byte `frame` of `file` if it is a stored gzip member of a
+/// `len`-byte content ([`crate::gzip::compress_stored`], one loose run): one read of exactly
+/// that member's bytes, checked by [`crate::gzip::stored_member_content`] (CRC-32 and length
+/// included). `None` if the bytes there are anything else (a member of an earlier version,
+/// compressed; damage; a file too short), which the caller then decodes as a stream and
+/// reports as it always did.
+///
+/// # Errors
+/// If the file cannot be opened or positioned.
+fn read_stored_member(file: &Path, frame: u64, len: u64) -> io::Result<Option<Vec<u8>>> {
+    if len > MAX_LINE_BYTES {
+        return Ok(None);
+    }
+    let Ok(size) = usize::try_from(crate::gzip::stored_member_len(len)) else {
+        return Ok(None);
+    };
+    let mut handle = crate::no_follow::open_regular(file)?;
+    handle.seek(SeekFrom::Start(frame))?;
+    let mut member = vec![0; size];
+    if handle.read_exact(&mut member).is_err() {
+        return Ok(None);
+    }
+    Ok(crate::gzip::stored_member_content(&member).filter(|content| content.len() as u64 == len))
 }
 
 /// Writes lines into Zstandard frames (see the module docs), reporting where each line lands.

@@ -177,6 +177,47 @@ pub fn compress_stored(bytes: &[u8]) -> io::Result<Vec<u8>> {
     Ok(member)
 }
 
+/// The length of [`compress_stored`]'s member of `len` bytes: its header, a five-byte header
+/// per block of at most 65,535 bytes (one block when empty), the bytes, and the trailer.
+#[must_use]
+pub fn stored_member_len(len: u64) -> u64 {
+    10 + 5 * len.div_ceil(65_535).max(1) + len + 8
+}
+
+/// The content of `member` if it is exactly a member as [`compress_stored`] writes it (its
+/// header, stored blocks, the last one final, and a trailer whose CRC-32 and length match),
+/// read without a DEFLATE decoder; `None` for anything else (another member, damage), which
+/// [`decompress_member`] then reads or rejects.
+#[must_use]
+pub fn stored_member_content(member: &[u8]) -> Option<Vec<u8>> {
+    let (header, mut rest) = member.split_at_checked(10)?;
+    if header != [0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255] {
+        return None;
+    }
+    let mut content = Vec::with_capacity(rest.len().saturating_sub(13));
+    loop {
+        let (&[flags, l0, l1, n0, n1], after) = rest.split_first_chunk::<5>()?;
+        let len = u16::from_le_bytes([l0, l1]);
+        if flags > 1 || u16::from_le_bytes([n0, n1]) != !len {
+            return None;
+        }
+        let (block, after) = after.split_at_checked(usize::from(len))?;
+        content.extend_from_slice(block);
+        rest = after;
+        if flags == 1 {
+            break;
+        }
+    }
+    let (&[c0, c1, c2, c3, i0, i1, i2, i3], after) = rest.split_first_chunk::<8>()?;
+    let mut crc = flate2::Crc::new();
+    crc.update(&content);
+    let length = (content.len() & 0xffff_ffff) as u32;
+    (after.is_empty()
+        && crc.sum() == u32::from_le_bytes([c0, c1, c2, c3])
+        && length == u32::from_le_bytes([i0, i1, i2, i3]))
+    .then_some(content)
+}
+
 /// The content of the first gzip member at the start of `bytes`, and how many bytes of `bytes`
 /// the member takes (header, compressed data and trailer). Fails on a damaged or incomplete
 /// member (the CRC and length in the trailer are checked).
@@ -205,6 +246,37 @@ pub fn split_members(bytes: &[u8]) -> io::Result<Vec<(&[u8], Vec<u8>)>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        /// A stored member reads back by itself as a DEFLATE decoder reads it, at the length
+        /// `stored_member_len` says; any single changed byte makes it `None` or what the
+        /// decoder reads (never other content).
+        #[test]
+        fn a_stored_member_reads_back_without_a_decoder(
+            content in proptest::collection::vec(proptest::num::u8::ANY, 0..140_000),
+            at in proptest::num::usize::ANY,
+            flip in 1_u8..=255,
+        ) {
+            let member = compress_stored(&content).unwrap();
+            proptest::prop_assert_eq!(member.len() as u64, stored_member_len(content.len() as u64));
+            proptest::prop_assert_eq!(stored_member_content(&member), Some(content.clone()));
+            let mut damaged = member.clone();
+            let at = at % damaged.len();
+            damaged[at] ^= flip;
+            if let Some(read) = stored_member_content(&damaged) {
+                let decoded = decompress_member(&damaged).map(|(content, _)| content).ok();
+                proptest::prop_assert_eq!(Some(read), decoded);
+            }
+            proptest::prop_assert_eq!(stored_member_content(&member[..member.len() - 1]), None);
+        }
+    }
+
+    #[test]
+    fn a_compressed_member_is_not_read_as_stored() {
+        let text = b"{\"a\":1}\n".repeat(20);
+        assert_eq!(stored_member_content(&compress(&text).unwrap()), None);
+        assert_eq!(stored_member_content(&[]), None);
+    }
 
     #[test]
     fn compress_is_deterministic_and_round_trips() {
