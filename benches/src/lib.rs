@@ -47,7 +47,7 @@ pub struct ReferenceRun {
 /// the last, one episode that follows `argmax (Q1 + Q2)` (first maximum) without learning and
 /// without drawing from the stream, so the learning episodes are those of
 /// [`reference_double_q`] step for step. The hand-written floor of the work a runner's
-/// ε-greedy run does with `[evaluation] every = k`.
+/// ε-greedy run does with `[evaluation] every = k` (`Some(0)`: only the one after the last).
 ///
 /// ```
 /// use eamadm::mazes::Preset;
@@ -56,9 +56,6 @@ pub struct ReferenceRun {
 /// assert_eq!(run.training_steps, eamadm_benches::reference_double_q(&env, 20, 0.1, 7));
 /// assert!(run.greedy_steps >= 3);
 /// ```
-///
-/// # Panics
-/// If `evaluate_every` is `Some(0)`.
 #[must_use]
 pub fn reference_double_q_evaluated(
     env: &MazeEnv,
