@@ -356,16 +356,8 @@ impl Series {
     }
 
     /// The IQM per episode over the seeds that reach it, and its bootstrap band every `stride`
-    /// episodes (and at the last).
-    fn drawn(&self, stride: usize) -> Result<Drawn, FigureError> {
-        self.drawn_by(stride, &mut |episode, values| {
-            let interval = band_bootstrap(episode)?.interval(values, Statistic::Iqm)?;
-            Ok((interval.low, interval.high))
-        })
-    }
-
-    /// [`Self::drawn`], with each bootstrap band (low, high) asked of `band_of`, given the
-    /// episode and the values there, in episode order.
+    /// episodes (and at the last), each band (low, high) asked of `band_of`, given the episode
+    /// and the values there, in episode order.
     fn drawn_by(&self, stride: usize, band_of: &mut BandOf<'_>) -> Result<Drawn, FigureError> {
         if let Some(failure) = &self.failure {
             return Err(self.error(failure.clone()));
@@ -1049,13 +1041,22 @@ impl LineChart {
 
     /// Validates the input and computes each series' IQM line and band.
     fn drawn(&self) -> Result<(Vec<Drawn>, usize), FigureError> {
+        self.drawn_by(&mut |episode, values| {
+            let interval = band_bootstrap(episode)?.interval(values, Statistic::Iqm)?;
+            Ok((interval.low, interval.high))
+        })
+    }
+
+    /// [`Self::drawn`], each bootstrap band asked of `band_of` ([`Series::drawn_by`]), series
+    /// by series.
+    fn drawn_by(&self, band_of: &mut BandOf<'_>) -> Result<(Vec<Drawn>, usize), FigureError> {
         let stride = self.validated_stride()?;
         let drawn = self
             .series
             .iter()
             .map(|series| {
                 self.check_smoothing(series)?;
-                series.drawn(stride)
+                series.drawn_by(stride, band_of)
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok((drawn, stride))
@@ -1156,11 +1157,17 @@ impl LineChart {
 
     /// Renders the chart as an SVG document.
     pub fn render_svg(&self) -> Result<String, FigureError> {
+        self.merged_or_self().render_merged()
+    }
+
+    /// [`Self::merged`] where it merges series, else this chart as it is.
+    fn merged_or_self(&self) -> std::borrow::Cow<'_, Self> {
         let merged = self.merged();
         if merged.series.len() < self.series.len() {
-            return merged.render_merged();
+            std::borrow::Cow::Owned(merged)
+        } else {
+            std::borrow::Cow::Borrowed(self)
         }
-        self.render_merged()
     }
 
     /// Renders each of `charts` as [`Self::render_svg`] does, bit for bit, errors included,
@@ -1180,35 +1187,16 @@ impl LineChart {
 
     /// [`Self::render_svgs`] when no chart fails; `None` when one does.
     fn render_sharing_bands(charts: &[&Self]) -> Option<Vec<String>> {
-        let merged: Vec<std::borrow::Cow<'_, Self>> = charts
-            .iter()
-            .map(|&chart| {
-                let merged = chart.merged();
-                if merged.series.len() < chart.series.len() {
-                    std::borrow::Cow::Owned(merged)
-                } else {
-                    std::borrow::Cow::Borrowed(chart)
-                }
-            })
-            .collect();
+        let merged: Vec<_> = charts.iter().map(|chart| chart.merged_or_self()).collect();
         // First every line, with the values of each band asked for (in order, per series).
         let mut asked: Vec<(usize, Vec<f64>)> = Vec::new();
         let mut drawn_charts = Vec::with_capacity(merged.len());
         for chart in &merged {
-            let stride = chart.validated_stride().ok()?;
-            let mut drawn = Vec::with_capacity(chart.series.len());
-            for series in &chart.series {
-                chart.check_smoothing(series).ok()?;
-                drawn.push(
-                    series
-                        .drawn_by(stride, &mut |episode, values| {
-                            asked.push((episode, values.to_vec()));
-                            Ok((f64::NAN, f64::NAN))
-                        })
-                        .ok()?,
-                );
-            }
-            drawn_charts.push((drawn, stride));
+            let mut ask = |episode, values: &[f64]| {
+                asked.push((episode, values.to_vec()));
+                Ok((f64::NAN, f64::NAN))
+            };
+            drawn_charts.push(chart.drawn_by(&mut ask).ok()?);
         }
         // Then the bands, episode by episode, each episode's resamples drawn once.
         let mut by_episode: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
