@@ -422,6 +422,11 @@ impl<W: Write> FrameWriter<W> {
     /// # Errors
     /// If a frame cannot be compressed or written.
     pub fn push(&mut self, line: &[u8]) -> io::Result<(u64, u64)> {
+        if self.buffer.capacity() == 0 {
+            // A frame's content at once: grown by doubling, it was copied and its pages faulted
+            // in at every step (untouched, the room costs no memory for a small bundle).
+            self.buffer.reserve(FRAME_CONTENT_BYTES + line.len());
+        }
         let at = (self.written, self.buffer.len() as u64);
         self.buffer.extend_from_slice(line);
         if self.buffer.len() >= FRAME_CONTENT_BYTES {
