@@ -477,6 +477,19 @@ const REFERENCE_COLOUR: &str = "#444444";
 const NOTE_COLOUR: &str = "#444444";
 /// Opacity of the bands and of the per-seed lines.
 const BAND_OPACITY: f64 = 0.16;
+/// The opacity and width (px) of a band drawn as bars ([`band_as_bars`]): a bar is thin, so it
+/// is drawn denser than an area.
+const BAND_BAR_OPACITY: f64 = 0.4;
+const BAND_BAR_WIDTH: f64 = 5.0;
+
+/// Whether a panel holding `points` of a band computed every `stride` episodes draws them as
+/// bars, one per computed episode, instead of an area through them. With the band at every
+/// episode the area is exact; with a stride, an area through fewer than [`MIN_BAND_POINTS`]
+/// points (the zoomed panel of a chart of 1000 seeds holds two) is a straight wedge from one to
+/// the next that no computed interval supports.
+fn band_as_bars(stride: usize, points: usize) -> bool {
+    stride > 1 && points > 0 && points < MIN_BAND_POINTS
+}
 const SEED_OPACITY: f64 = 0.35;
 /// Font sizes in pixels.
 const TITLE_FONT: f64 = 18.0;
@@ -1108,7 +1121,7 @@ impl LineChart {
     }
 
     /// The caption's sentences: estimator, band, smoothing, what the thin lines are.
-    fn notes(&self, stride: usize) -> Vec<String> {
+    fn notes(&self, stride: usize, zoom_bars: bool) -> Vec<String> {
         let (fewest, most) = (
             self.series
                 .iter()
@@ -1130,10 +1143,13 @@ impl LineChart {
         } else {
             "each seed's value".to_owned()
         };
-        let band_points = if stride > 1 {
-            format!(", computed every {stride} episodes")
-        } else {
-            String::new()
+        let band_points = match (stride > 1, zoom_bars) {
+            (true, false) => format!(", computed every {stride} episodes)"),
+            (true, true) => format!(
+                ", computed every {stride} episodes; in the zoomed panel, which holds fewer than \
+                 {MIN_BAND_POINTS} of them, each is a bar at its episode)"
+            ),
+            (false, _) => ")".to_owned(),
         };
         let mut notes = vec![if self.series.iter().all(|s| s.share) {
             format!(
@@ -1146,7 +1162,7 @@ impl LineChart {
             format!(
                 "Line: interquartile mean (IQM) over {over} of {smoothing}, as in the tables. \
                  Band: 95% percentile bootstrap interval of the IQM ({FIGURE_RESAMPLES} \
-                 resamples{band_points})."
+                 resamples{band_points}."
             )
         }];
         if self.series.iter().any(|s| s.per_seed) {
@@ -1349,6 +1365,12 @@ impl LineChart {
             );
             (from, y, left, title)
         });
+        // The zoomed panel shows a band as bars when it holds too few of the band's points.
+        let zoom_bars = zoomed_panel.as_ref().is_some_and(|&(from, ..)| {
+            drawn
+                .iter()
+                .any(|d| band_as_bars(stride, d.band.iter().filter(|(e, ..)| *e >= from).count()))
+        });
         let title_lines = zoomed_panel
             .as_ref()
             .map_or(1, |(.., title)| title.len().max(1));
@@ -1367,7 +1389,7 @@ impl LineChart {
             order: &order,
             widths: &widths,
         };
-        self.draw_plot(&mut body, &main, &lines, 0, true);
+        self.draw_plot(&mut body, &main, &lines, (0, stride), true);
         y_label(&mut body, &main, &self.y_label, axis_room);
         let mut bottom = main.bottom + X_AXIS_ROOM;
         text_element(
@@ -1395,7 +1417,7 @@ impl LineChart {
                 order: &order,
                 widths: &widths,
             };
-            self.draw_plot(&mut body, &zoomed, &lines, from, false);
+            self.draw_plot(&mut body, &zoomed, &lines, (from, stride), false);
             let lines = title.len();
             for (index, line) in title.iter().enumerate() {
                 text_element(
@@ -1433,7 +1455,7 @@ impl LineChart {
         }
         let legend_bottom = self.draw_legend(&mut body, plot_right + PAD, plot_top);
         let mut caption_y = bottom.max(legend_bottom) + 4.0;
-        for note in self.notes(stride) {
+        for note in self.notes(stride, zoom_bars) {
             caption_y = wrapped_text(
                 &mut body,
                 (PAD, caption_y),
@@ -1465,7 +1487,7 @@ impl LineChart {
         svg: &mut String,
         frame: &Frame,
         lines: &Lines<'_>,
-        from: usize,
+        (from, stride): (usize, usize),
         per_seed: bool,
     ) {
         let Lines {
@@ -1478,6 +1500,19 @@ impl LineChart {
             let (series, d) = (&self.series[i], &drawn[i]);
             let band: Vec<&(usize, f64, f64)> =
                 d.band.iter().filter(|(e, ..)| *e >= from).collect();
+            if band_as_bars(stride, band.len()) {
+                for &&(e, low, high) in &band {
+                    let _ = writeln!(
+                        svg,
+                        "<polyline class=\"band\" data-method=\"{}\" fill=\"none\" stroke=\"{}\" \
+                         stroke-opacity=\"{BAND_BAR_OPACITY}\" stroke-width=\"{BAND_BAR_WIDTH}\" points=\"{}\"/>",
+                        escape(&series.method),
+                        series.style.colour,
+                        frame.points([(episode(e), low), (episode(e), high)].into_iter())
+                    );
+                }
+                continue;
+            }
             if band.len() < 2 {
                 continue;
             }
@@ -1956,6 +1991,42 @@ mod tests {
                 .unwrap()
                 .contains("computed every 20 episodes")
         );
+    }
+
+    #[test]
+    fn a_zoomed_panel_with_few_band_points_draws_bars_and_says_so() {
+        let band_elements = |svg: &str, zoomed: bool| {
+            let plots: Vec<&str> = svg.split("class=\"plot").skip(1).collect();
+            let plot = if zoomed { plots[1] } else { plots[0] };
+            let plot = &plot[..plot.find("</g>").unwrap()];
+            (
+                plot.matches("<polygon class=\"band\"").count(),
+                plot.matches("<polyline class=\"band\"").count(),
+            )
+        };
+        let curve: Vec<f64> = (0..100).map(|i| f64::from(i % 7 + i / 10)).collect();
+        // 1000 seeds: the band every 20 episodes, so the last 30 hold episodes 81 and 100 only.
+        let many = LineChart::new("many", "episode", "steps")
+            .with_series(series("softmax", 1, &vec![curve.clone(); 1000]))
+            .with_final_zoom(30);
+        let svg = many.render_svg().unwrap();
+        assert_eq!(band_elements(&svg, false), (1, 0), "the whole run: an area");
+        assert_eq!(
+            band_elements(&svg, true),
+            (0, 2),
+            "the zoom: a bar per point"
+        );
+        assert!(svg.contains("each is a bar at its episode"), "{svg}");
+        assert!(crate::checks::check_figures(&[("many.svg".to_owned(), svg)]).is_empty());
+        // Twenty seeds: the band at every episode, an area in both panels, nothing said.
+        let few = LineChart::new("few", "episode", "steps")
+            .with_series(series("softmax", 1, &vec![curve; 20]))
+            .with_final_zoom(30);
+        let svg = few.render_svg().unwrap();
+        assert_eq!(band_elements(&svg, true), (1, 0));
+        assert!(!svg.contains("bar at its episode"));
+        assert!(!band_as_bars(1, 2) && !band_as_bars(20, 0) && !band_as_bars(20, MIN_BAND_POINTS));
+        assert!(band_as_bars(20, 1) && band_as_bars(20, MIN_BAND_POINTS - 1));
     }
 
     #[test]
