@@ -101,6 +101,19 @@ pub enum FigureError {
         /// The chart's window.
         chart_window: usize,
     },
+    /// A share series ([`Series::share`]) with a value that no share of 0/1 outcomes takes.
+    #[error(
+        "series {series:?} is a share of 0/1 outcomes but has {value} at episode {episode}; push \
+         0/1 curves (1 for a reached episode) or leave `share` unset"
+    )]
+    ShareOutOfRange {
+        /// The series' name.
+        series: String,
+        /// The episode (from 1).
+        episode: usize,
+        /// The value, smoothed over the window, outside [0, 1].
+        value: f64,
+    },
     /// A canvas too narrow for the plot and the legend.
     #[error("chart width {width} px is below the minimum {MIN_WIDTH} px")]
     TooSmall {
@@ -255,12 +268,29 @@ impl Series {
         self.curves.iter().filter_map(|c| c.get(episode)).fold(
             (0, 0),
             |(successes, trials), value| {
+                // Clamped so that a value outside [0, 1] (refused by the chart,
+                // `share_out_of_range`) can neither wrap the counts nor exceed the trials.
                 (
-                    successes + (value * count).round() as u64,
+                    successes + (value.clamp(0.0, 1.0) * count).round() as u64,
                     trials + count as u64,
                 )
             },
         )
+    }
+
+    /// The first (episode index, smoothed value) outside [0, 1] of a share series; `None` for
+    /// a series that is not a share or whose values all are.
+    fn share_out_of_range(&self) -> Option<(usize, f64)> {
+        if !self.share {
+            return None;
+        }
+        self.curves.iter().find_map(|curve| {
+            curve
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(0.0..=1.0).contains(*v))
+                .map(|(episode, &value)| (episode, value))
+        })
     }
 
     /// Adds the next seed's curve (`curve[episode]`).
@@ -304,9 +334,18 @@ impl Series {
     }
 
     /// The pooled share at the last episode of the longest curves, with its successes and
-    /// trials (a [`share`](Self::share) series); `None` without curves.
+    /// trials (a [`share`](Self::share) series); `None` without curves, or when a value lies
+    /// outside [0, 1] (no share of 0/1 outcomes).
     #[must_use]
     pub fn final_share(&self) -> Option<(f64, u64, u64)> {
+        if self
+            .curves
+            .iter()
+            .flatten()
+            .any(|v| !(0.0..=1.0).contains(v))
+        {
+            return None;
+        }
         let last = self.curves_len().checked_sub(1)?;
         let (successes, trials) = self.pooled(last);
         (trials > 0).then(|| (successes as f64 / trials as f64, successes, trials))
@@ -1069,6 +1108,13 @@ impl LineChart {
             .iter()
             .map(|series| {
                 self.check_smoothing(series)?;
+                if let Some((episode, value)) = series.share_out_of_range() {
+                    return Err(FigureError::ShareOutOfRange {
+                        series: series.name.clone(),
+                        episode: episode + 1,
+                        value,
+                    });
+                }
                 series.drawn_by(stride, band_of)
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -2350,6 +2396,35 @@ mod tests {
                 .with_series(success)
                 .shows_nothing()
         );
+    }
+
+    #[test]
+    fn a_share_series_outside_zero_to_one_is_refused_not_wrapped() {
+        for bad in [2.0, -0.5, 1e300] {
+            let mut success = series("softmax", 1, &[vec![1.0; 5], vec![0.0, 0.0, bad, 0.0, 0.0]]);
+            success.share = true;
+            assert_eq!(success.final_share(), None, "{bad}");
+            let chart = LineChart::new("s", "episode", "share").with_series(success);
+            match chart.render_svg() {
+                Err(FigureError::ShareOutOfRange {
+                    series, episode, ..
+                }) => assert_eq!((series.as_str(), episode), ("softmax", 3)),
+                other => panic!("{bad}: {other:?}"),
+            }
+            let error = chart.drawn().unwrap_err().to_string();
+            assert!(
+                error.contains("episode 3") && error.contains("0/1"),
+                "{error}"
+            );
+            // Together with a good chart, the error is the one it gives alone.
+            let good = LineChart::new("g", "episode", "steps").with_series(series(
+                "softmax",
+                1,
+                &[vec![3.0; 5]],
+            ));
+            let together = LineChart::render_svgs(&[&good, &chart]).unwrap_err();
+            assert_eq!(together.to_string(), error);
+        }
     }
 
     /// The text `px` wrote before coordinates were held as tenths: `{:.0}` of the value
