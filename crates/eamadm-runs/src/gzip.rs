@@ -114,7 +114,8 @@ impl<W: Write> Write for TableEncoder<W> {
             // A member's bytes at once: grown by doubling from a small buffer, they were
             // copied and their pages faulted in at every step (untouched, the room of a small
             // table costs no memory).
-            self.buffer.reserve_exact(TABLE_MEMBER_BYTES);
+            self.buffer
+                .reserve_exact(TABLE_MEMBER_BYTES.min(bytes.len().max(64 << 10)));
         }
         self.buffer.extend_from_slice(&bytes[..taken]);
         if self.buffer.len() == TABLE_MEMBER_BYTES {
