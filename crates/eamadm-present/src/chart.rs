@@ -530,6 +530,26 @@ fn band_as_bars(stride: usize, points: usize) -> bool {
     stride > 1 && points > 0 && points < MIN_BAND_POINTS
 }
 const SEED_OPACITY: f64 = 0.35;
+/// Width (px) of the per-seed lines.
+const SEED_WIDTH: f64 = 0.8;
+
+/// A `class` polyline of `series`' colour through `points` at `(width, opacity)`: the thin
+/// lines per seed and the bars of a band ([`band_as_bars`]).
+fn translucent_stroke(
+    svg: &mut String,
+    class: &str,
+    series: &Series,
+    (width, opacity): (f64, f64),
+    points: &str,
+) {
+    let _ = writeln!(
+        svg,
+        "<polyline class=\"{class}\" data-method=\"{}\" fill=\"none\" stroke=\"{}\" \
+         stroke-width=\"{width}\" stroke-opacity=\"{opacity}\" points=\"{points}\"/>",
+        escape(&series.method),
+        series.style.colour,
+    );
+}
 /// Font sizes in pixels.
 const TITLE_FONT: f64 = 18.0;
 const SUBTITLE_FONT: f64 = 13.0;
@@ -1548,13 +1568,13 @@ impl LineChart {
                 d.band.iter().filter(|(e, ..)| *e >= from).collect();
             if band_as_bars(stride, band.len()) {
                 for &&(e, low, high) in &band {
-                    let _ = writeln!(
+                    let bar = frame.points([(episode(e), low), (episode(e), high)].into_iter());
+                    translucent_stroke(
                         svg,
-                        "<polyline class=\"band\" data-method=\"{}\" fill=\"none\" stroke=\"{}\" \
-                         stroke-opacity=\"{BAND_BAR_OPACITY}\" stroke-width=\"{BAND_BAR_WIDTH}\" points=\"{}\"/>",
-                        escape(&series.method),
-                        series.style.colour,
-                        frame.points([(episode(e), low), (episode(e), high)].into_iter())
+                        "band",
+                        series,
+                        (BAND_BAR_WIDTH, BAND_BAR_OPACITY),
+                        &bar,
                     );
                 }
                 continue;
@@ -1581,20 +1601,14 @@ impl LineChart {
                     continue;
                 }
                 for curve in &series.curves {
-                    let _ = writeln!(
-                        svg,
-                        "<polyline class=\"seed\" data-method=\"{}\" fill=\"none\" stroke=\"{}\" \
-                         stroke-width=\"0.8\" stroke-opacity=\"{SEED_OPACITY}\" points=\"{}\"/>",
-                        escape(&series.method),
-                        series.style.colour,
-                        frame.points(
-                            curve
-                                .iter()
-                                .enumerate()
-                                .skip(from)
-                                .map(|(e, &v)| (episode(e), v))
-                        )
+                    let line = frame.points(
+                        curve
+                            .iter()
+                            .enumerate()
+                            .skip(from)
+                            .map(|(e, &v)| (episode(e), v)),
                     );
+                    translucent_stroke(svg, "seed", series, (SEED_WIDTH, SEED_OPACITY), &line);
                 }
             }
         }
