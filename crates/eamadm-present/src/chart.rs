@@ -269,7 +269,7 @@ impl Series {
             (0, 0),
             |(successes, trials), value| {
                 // Clamped so that a value outside [0, 1] (refused by the chart,
-                // `share_out_of_range`) can neither wrap the counts nor exceed the trials.
+                // `outside_zero_to_one`) can neither wrap the counts nor exceed the trials.
                 (
                     successes + (value.clamp(0.0, 1.0) * count).round() as u64,
                     trials + count as u64,
@@ -278,12 +278,9 @@ impl Series {
         )
     }
 
-    /// The first (episode index, smoothed value) outside [0, 1] of a share series; `None` for
-    /// a series that is not a share or whose values all are.
-    fn share_out_of_range(&self) -> Option<(usize, f64)> {
-        if !self.share {
-            return None;
-        }
+    /// The first (episode index, smoothed value) outside [0, 1], which no share of 0/1
+    /// outcomes takes; `None` when every value lies inside.
+    fn outside_zero_to_one(&self) -> Option<(usize, f64)> {
         self.curves.iter().find_map(|curve| {
             curve
                 .iter()
@@ -338,12 +335,7 @@ impl Series {
     /// outside [0, 1] (no share of 0/1 outcomes).
     #[must_use]
     pub fn final_share(&self) -> Option<(f64, u64, u64)> {
-        if self
-            .curves
-            .iter()
-            .flatten()
-            .any(|v| !(0.0..=1.0).contains(v))
-        {
+        if self.outside_zero_to_one().is_some() {
             return None;
         }
         let last = self.curves_len().checked_sub(1)?;
@@ -1128,7 +1120,9 @@ impl LineChart {
             .iter()
             .map(|series| {
                 self.check_smoothing(series)?;
-                if let Some((episode, value)) = series.share_out_of_range() {
+                if let Some((episode, value)) =
+                    series.share.then(|| series.outside_zero_to_one()).flatten()
+                {
                     return Err(FigureError::ShareOutOfRange {
                         series: series.name.clone(),
                         episode: episode + 1,
@@ -1187,7 +1181,7 @@ impl LineChart {
     }
 
     /// The caption's sentences: estimator, band, smoothing, what the thin lines are.
-    fn notes(&self, stride: usize, zoom_bars: bool) -> Vec<String> {
+    fn notes(&self, stride: usize, bars: bool) -> Vec<String> {
         let (fewest, most) = (
             self.series
                 .iter()
@@ -1209,10 +1203,10 @@ impl LineChart {
         } else {
             "each seed's value".to_owned()
         };
-        let band_points = match (stride > 1, zoom_bars) {
+        let band_points = match (stride > 1, bars) {
             (true, false) => format!(", computed every {stride} episodes)"),
             (true, true) => format!(
-                ", computed every {stride} episodes; in the zoomed panel, which holds fewer than \
+                ", computed every {stride} episodes; where a panel holds fewer than \
                  {MIN_BAND_POINTS} of them, each is a bar at its episode)"
             ),
             (false, _) => ")".to_owned(),
@@ -1431,12 +1425,6 @@ impl LineChart {
             );
             (from, y, left, title)
         });
-        // The zoomed panel shows a band as bars when it holds too few of the band's points.
-        let zoom_bars = zoomed_panel.as_ref().is_some_and(|&(from, ..)| {
-            drawn
-                .iter()
-                .any(|d| band_as_bars(stride, d.band.iter().filter(|(e, ..)| *e >= from).count()))
-        });
         let title_lines = zoomed_panel
             .as_ref()
             .map_or(1, |(.., title)| title.len().max(1));
@@ -1455,7 +1443,7 @@ impl LineChart {
             order: &order,
             widths: &widths,
         };
-        self.draw_plot(&mut body, &main, &lines, (0, stride), true);
+        let mut bars = self.draw_plot(&mut body, &main, &lines, (0, stride), true);
         y_label(&mut body, &main, &self.y_label, axis_room);
         let mut bottom = main.bottom + X_AXIS_ROOM;
         text_element(
@@ -1483,7 +1471,7 @@ impl LineChart {
                 order: &order,
                 widths: &widths,
             };
-            self.draw_plot(&mut body, &zoomed, &lines, (from, stride), false);
+            bars |= self.draw_plot(&mut body, &zoomed, &lines, (from, stride), false);
             let lines = title.len();
             for (index, line) in title.iter().enumerate() {
                 text_element(
@@ -1521,7 +1509,7 @@ impl LineChart {
         }
         let legend_bottom = self.draw_legend(&mut body, plot_right + PAD, plot_top);
         let mut caption_y = bottom.max(legend_bottom) + 4.0;
-        for note in self.notes(stride, zoom_bars) {
+        for note in self.notes(stride, bars) {
             caption_y = wrapped_text(
                 &mut body,
                 (PAD, caption_y),
@@ -1547,7 +1535,8 @@ impl LineChart {
         Ok(svg)
     }
 
-    /// One plot: bands, per-seed lines, reference lines, IQM lines, from episode index `from`.
+    /// One plot: bands, per-seed lines, reference lines, IQM lines, from episode index `from`;
+    /// returns whether it drew a band as bars ([`band_as_bars`]).
     fn draw_plot(
         &self,
         svg: &mut String,
@@ -1555,18 +1544,20 @@ impl LineChart {
         lines: &Lines<'_>,
         (from, stride): (usize, usize),
         per_seed: bool,
-    ) {
+    ) -> bool {
         let Lines {
             drawn,
             order,
             widths,
         } = *lines;
         frame.open(svg, "plot", self.metric_range);
+        let mut bars = false;
         for &i in order {
             let (series, d) = (&self.series[i], &drawn[i]);
             let band: Vec<&(usize, f64, f64)> =
                 d.band.iter().filter(|(e, ..)| *e >= from).collect();
             if band_as_bars(stride, band.len()) {
+                bars = true;
                 for &&(e, low, high) in &band {
                     let bar = frame.points([(episode(e), low), (episode(e), high)].into_iter());
                     translucent_stroke(
@@ -1640,6 +1631,7 @@ impl LineChart {
             );
         }
         svg.push_str("</g>\n");
+        bars
     }
 
     /// The panel of seeds at the step cap per episode under `main`; returns its bottom.
@@ -2076,7 +2068,21 @@ mod tests {
             (0, 2),
             "the zoom: a bar per point"
         );
-        assert!(svg.contains("each is a bar at its episode"), "{svg}");
+        // The caption's words, across the lines it wraps to.
+        let words = |svg: &str| {
+            let text: Vec<&str> = svg
+                .split('>')
+                .filter_map(|part| part.split('<').next())
+                .collect();
+            text.join(" ")
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        assert!(
+            words(&svg).contains("each is a bar at its episode"),
+            "{svg}"
+        );
         assert!(crate::checks::check_figures(&[("many.svg".to_owned(), svg)]).is_empty());
         // Twenty seeds: the band at every episode, an area in both panels, nothing said.
         let few = LineChart::new("few", "episode", "steps")
@@ -2084,7 +2090,7 @@ mod tests {
             .with_final_zoom(30);
         let svg = few.render_svg().unwrap();
         assert_eq!(band_elements(&svg, true), (1, 0));
-        assert!(!svg.contains("bar at its episode"));
+        assert!(!words(&svg).contains("bar at its episode"));
         assert!(!band_as_bars(1, 2) && !band_as_bars(20, 0) && !band_as_bars(20, MIN_BAND_POINTS));
         assert!(band_as_bars(20, 1) && band_as_bars(20, MIN_BAND_POINTS - 1));
     }
